@@ -1,0 +1,2 @@
+//! Mesh files: OBJ (read and write), binary STL (write), glTF 2.0 (`.glb` and `.gltf`, read and
+//! write).

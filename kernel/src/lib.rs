@@ -1,0 +1,18 @@
+//! blocksmith-kernel: the pure-Rust geometry behind blocksmith.
+//!
+//! A short tour of the pipeline:
+//! - [`math`]: `Vec3` (glam's `DVec3`) and axis-aligned bounds.
+//! - [`mesh`]: the half-edge polygon [`Mesh`] every other module produces or consumes — building
+//!   from indexed polygons (rejecting non-manifold input), circulators, measures, primitives,
+//!   transforms and triangulation.
+//! - [`io`]: OBJ, binary STL and glTF 2.0 files.
+//!
+//! The kernel knows nothing of the scripting language: errors are typed here and turned into
+//! script errors at the binding edge.
+
+pub mod io;
+pub mod math;
+pub mod mesh;
+
+pub use math::{Aabb, Vec3};
+pub use mesh::{Mesh, MeshError};

@@ -1,0 +1,20 @@
+//! Vectors and bounds: glam's f64 types and an axis-aligned box.
+
+mod aabb;
+
+pub use aabb::Aabb;
+
+/// A point or direction in 3D, in double precision.
+pub type Vec3 = glam::DVec3;
+/// A 3×3 matrix in double precision.
+pub type Mat3 = glam::DMat3;
+/// A 4×4 matrix in double precision.
+pub type Mat4 = glam::DMat4;
+/// A rotation in double precision.
+pub type Quat = glam::DQuat;
+
+/// Whether every component of `v` is finite (neither NaN nor infinite).
+#[must_use]
+pub fn is_finite(v: Vec3) -> bool {
+    v.x.is_finite() && v.y.is_finite() && v.z.is_finite()
+}

@@ -1,0 +1,284 @@
+//! Building a half-edge mesh from indexed polygons, in time linear in the number of corners.
+//!
+//! Steps: validate faces; lay out face half-edges; bucket them by origin vertex (a counting sort);
+//! find each twin by scanning the target's outgoing bucket (vertex valence is small); close every
+//! unmatched half-edge with a boundary half-edge; link boundary loops; check that every vertex's
+//! half-edges form one fan.
+
+use super::{Mesh, MeshError, NONE};
+use crate::math::{is_finite, Vec3};
+
+pub(super) fn check_finite(positions: &[Vec3]) -> Result<(), MeshError> {
+    match positions.iter().position(|p| !is_finite(*p)) {
+        Some(i) => {
+            let p = positions[i];
+            Err(MeshError::NonFinite { vertex: i, x: p.x, y: p.y, z: p.z })
+        }
+        None => Ok(()),
+    }
+}
+
+/// A vertex that appears more than once in a face's corner list.
+fn repeated_vertex(corners: &[u32]) -> Option<u32> {
+    if corners.len() <= 16 {
+        (1..corners.len()).find(|&i| corners[..i].contains(&corners[i])).map(|i| corners[i])
+    } else {
+        let mut sorted = corners.to_vec();
+        sorted.sort_unstable();
+        sorted.windows(2).find(|w| w[0] == w[1]).map(|w| w[0])
+    }
+}
+
+impl Mesh {
+    /// Builds a mesh from positions and faces given as vertex-id lists (counter-clockwise seen
+    /// from outside).
+    ///
+    /// # Errors
+    /// See [`Mesh::from_indexed`].
+    pub fn from_polygons<F: AsRef<[u32]>>(positions: Vec<Vec3>, faces: &[F]) -> Result<Mesh, MeshError> {
+        let mut indices = Vec::new();
+        let mut arities = Vec::with_capacity(faces.len());
+        for f in faces {
+            let f = f.as_ref();
+            indices.extend_from_slice(f);
+            arities.push(f.len() as u32);
+        }
+        Mesh::from_indexed(positions, &indices, &arities)
+    }
+
+    /// Builds a mesh from positions, one flat index list and the arity of each face.
+    ///
+    /// Inputs: `positions` (#V), `indices` (Σ arities), `arities` (#F, each ≥ 3).
+    ///
+    /// # Errors
+    /// - [`MeshError::IndexOutOfRange`] for an index ≥ #V;
+    /// - [`MeshError::DegenerateFace`] for a face with fewer than 3 vertices or a repeated vertex;
+    /// - [`MeshError::NonManifoldEdge`] when two faces use the same directed edge;
+    /// - [`MeshError::NonManifoldVertex`] when a vertex's faces form more than one fan;
+    /// - [`MeshError::NonFinite`] for a NaN or infinite coordinate.
+    pub fn from_indexed(positions: Vec<Vec3>, indices: &[u32], arities: &[u32]) -> Result<Mesh, MeshError> {
+        let nv = positions.len();
+        if nv >= NONE as usize || indices.len() >= (NONE as usize) / 2 {
+            return Err(MeshError::TooLarge { what: format!("{nv} vertices, {} corners", indices.len()) });
+        }
+        check_finite(&positions)?;
+        let total: u64 = arities.iter().map(|&a| u64::from(a)).sum();
+        if total != indices.len() as u64 {
+            return Err(MeshError::DegenerateFace {
+                face: arities.len(),
+                reason: format!("face arities add up to {total} but {} indices were given", indices.len()),
+            });
+        }
+
+        // 1. Validate faces and lay out their half-edges: face f owns ids start..start+arity.
+        let nfh = indices.len();
+        let mut he_origin = Vec::with_capacity(nfh * 2);
+        let mut he_next = Vec::with_capacity(nfh * 2);
+        let mut he_prev = Vec::with_capacity(nfh * 2);
+        let mut he_face = Vec::with_capacity(nfh * 2);
+        let mut face_he = Vec::with_capacity(arities.len());
+        let mut start = 0usize;
+        for (f, &arity) in arities.iter().enumerate() {
+            let arity = arity as usize;
+            let corners = &indices[start..start + arity];
+            if arity < 3 {
+                return Err(MeshError::DegenerateFace {
+                    face: f,
+                    reason: format!("it has {arity} vertices (at least 3 needed)"),
+                });
+            }
+            for &v in corners {
+                if v as usize >= nv {
+                    return Err(MeshError::IndexOutOfRange { face: f, index: u64::from(v), vertex_count: nv });
+                }
+            }
+            if let Some(v) = repeated_vertex(corners) {
+                return Err(MeshError::DegenerateFace { face: f, reason: format!("vertex {v} appears twice") });
+            }
+            face_he.push(start as u32);
+            for i in 0..arity {
+                he_origin.push(corners[i]);
+                he_next.push((start + (i + 1) % arity) as u32);
+                he_prev.push((start + (i + arity - 1) % arity) as u32);
+                he_face.push(f as u32);
+            }
+            start += arity;
+        }
+
+        // 2. Bucket face half-edges by origin (CSR).
+        let mut out_start = vec![0u32; nv + 1];
+        for &v in &he_origin {
+            out_start[v as usize + 1] += 1;
+        }
+        for i in 0..nv {
+            out_start[i + 1] += out_start[i];
+        }
+        let mut fill = out_start.clone();
+        let mut out_list = vec![0u32; nfh];
+        for (h, &v) in he_origin.iter().enumerate() {
+            out_list[fill[v as usize] as usize] = h as u32;
+            fill[v as usize] += 1;
+        }
+        let target = |h: usize| he_origin[he_next[h] as usize];
+
+        // 3. Twins. A repeated directed edge is a non-manifold edge.
+        let mut he_twin = vec![NONE; nfh];
+        for v in 0..nv {
+            let bucket = &out_list[out_start[v] as usize..out_start[v + 1] as usize];
+            for (i, &h) in bucket.iter().enumerate() {
+                let t = target(h as usize);
+                if let Some(&other) = bucket[..i].iter().find(|&&o| target(o as usize) == t) {
+                    return Err(MeshError::NonManifoldEdge {
+                        a: v as u32,
+                        b: t,
+                        first: he_face[other as usize] as usize,
+                        second: he_face[h as usize] as usize,
+                    });
+                }
+                let tb = &out_list[out_start[t as usize] as usize..out_start[t as usize + 1] as usize];
+                if let Some(&tw) = tb.iter().find(|&&o| target(o as usize) == v as u32) {
+                    he_twin[h as usize] = tw;
+                }
+            }
+        }
+
+        // 4. Boundary half-edges close every unmatched face half-edge.
+        let mut boundary_out = vec![NONE; nv];
+        for h in 0..nfh {
+            if he_twin[h] == NONE {
+                let b = he_origin.len() as u32;
+                let from = he_origin[he_next[h] as usize];
+                if boundary_out[from as usize] != NONE {
+                    return Err(MeshError::NonManifoldVertex { vertex: from, fans: 2 });
+                }
+                boundary_out[from as usize] = b;
+                he_origin.push(from);
+                he_next.push(NONE);
+                he_prev.push(NONE);
+                he_face.push(NONE);
+                he_twin.push(h as u32);
+                he_twin[h] = b;
+            }
+        }
+        for b in nfh..he_origin.len() {
+            // b runs from target(h) to origin(h); the boundary continues from origin(h).
+            let to = he_origin[he_twin[b] as usize];
+            let n = boundary_out[to as usize];
+            he_next[b] = n;
+            he_prev[n as usize] = b as u32;
+        }
+
+        // 5. One outgoing half-edge per vertex (boundary first), and one fan per vertex.
+        let mut vertex_out = vec![NONE; nv];
+        for v in 0..nv {
+            let count = out_start[v + 1] - out_start[v];
+            if count == 0 {
+                continue;
+            }
+            let first = if boundary_out[v] != NONE { boundary_out[v] } else { out_list[out_start[v] as usize] };
+            vertex_out[v] = first;
+            let expected = count + u32::from(boundary_out[v] != NONE);
+            let mut seen = 0u32;
+            let mut h = first;
+            loop {
+                seen += 1;
+                h = he_twin[he_prev[h as usize] as usize];
+                if h == first || seen > expected {
+                    break;
+                }
+            }
+            if seen != expected {
+                return Err(MeshError::NonManifoldVertex { vertex: v as u32, fans: 2 });
+            }
+        }
+
+        let nh = he_origin.len();
+        Ok(Mesh {
+            positions,
+            vertex_out,
+            he_origin,
+            he_next,
+            he_prev,
+            he_twin,
+            he_face,
+            face_he,
+            he_crease: vec![false; nh],
+            vertex_corner: vec![false; nv],
+            vertex_colors: None,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn quad_positions() -> Vec<Vec3> {
+        vec![Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 0.0)]
+    }
+
+    #[test]
+    fn single_quad_has_boundary_loop() {
+        let m = Mesh::from_polygons(quad_positions(), &[[0, 1, 2, 3]]).unwrap();
+        assert_eq!((m.vertex_count(), m.edge_count(), m.face_count()), (4, 4, 1));
+        assert!(!m.is_closed());
+        // Every boundary half-edge's next is a boundary half-edge: one loop of four.
+        let b = m.twin(m.face_halfedge(0));
+        let mut h = b;
+        for _ in 0..4 {
+            assert!(m.is_boundary_halfedge(h));
+            h = m.next(h);
+        }
+        assert_eq!(h, b);
+    }
+
+    #[test]
+    fn out_of_range_index_names_face_and_index() {
+        let e = Mesh::from_polygons(quad_positions(), &[[0, 1, 7]]).unwrap_err();
+        assert_eq!(e, MeshError::IndexOutOfRange { face: 0, index: 7, vertex_count: 4 });
+    }
+
+    #[test]
+    fn three_faces_on_one_edge_are_rejected_naming_the_edge() {
+        let mut p = quad_positions();
+        p.push(Vec3::new(0.5, 0.5, 1.0));
+        p.push(Vec3::new(0.5, 0.5, -1.0));
+        // Faces 0, 1 and 2 all contain edge 0-1; faces 1 and 2 both use it as 0→1.
+        let e = Mesh::from_polygons(p, &[vec![1, 0, 2], vec![0, 1, 4], vec![0, 1, 5]]).unwrap_err();
+        assert_eq!(e, MeshError::NonManifoldEdge { a: 0, b: 1, first: 1, second: 2 });
+        assert!(e.to_string().contains("edge (0, 1)"));
+    }
+
+    #[test]
+    fn bowtie_vertex_is_rejected() {
+        let p = vec![
+            Vec3::ZERO,
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(-1.0, 0.0, 0.0),
+            Vec3::new(-1.0, -1.0, 0.0),
+        ];
+        let e = Mesh::from_polygons(p, &[[0, 1, 2], [0, 3, 4]]).unwrap_err();
+        assert!(matches!(e, MeshError::NonManifoldVertex { vertex: 0, .. }), "{e}");
+    }
+
+    #[test]
+    fn nan_coordinate_is_rejected() {
+        let mut p = quad_positions();
+        p[2].y = f64::NAN;
+        let e = Mesh::from_polygons(p, &[[0, 1, 2, 3]]).unwrap_err();
+        assert!(matches!(e, MeshError::NonFinite { vertex: 2, .. }));
+    }
+
+    #[test]
+    fn repeated_vertex_and_short_faces_are_degenerate() {
+        assert!(matches!(
+            Mesh::from_polygons(quad_positions(), &[vec![0, 1, 1]]),
+            Err(MeshError::DegenerateFace { face: 0, .. })
+        ));
+        assert!(matches!(
+            Mesh::from_polygons(quad_positions(), &[vec![0, 1]]),
+            Err(MeshError::DegenerateFace { face: 0, .. })
+        ));
+    }
+}

@@ -1,0 +1,251 @@
+//! Measures: counts, closedness, manifoldness, Euler characteristic, genus, volume, area, bounds.
+
+use super::{Mesh, NONE};
+use crate::math::{Aabb, Vec3};
+
+/// Every measure at once, computed in one pass over the mesh.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Measures {
+    pub vertices: usize,
+    pub edges: usize,
+    pub faces: usize,
+    pub boundary_loops: usize,
+    pub components: usize,
+    pub euler: i64,
+    pub genus: i64,
+    pub volume: f64,
+    pub area: f64,
+    pub bounds: Aabb,
+}
+
+impl Mesh {
+    /// Whether the mesh has no boundary edge.
+    #[must_use]
+    pub fn is_closed(&self) -> bool {
+        self.he_face.iter().all(|&f| f != NONE)
+    }
+
+    /// Whether the connectivity is a valid 2-manifold: every half-edge's twin, next and prev are
+    /// consistent, every edge has at most two faces, and every vertex's faces form one fan.
+    ///
+    /// Meshes built by [`Mesh::from_indexed`] always are; this re-verifies the invariants.
+    #[must_use]
+    pub fn is_manifold(&self) -> bool {
+        let nh = self.halfedge_count() as u32;
+        for h in 0..nh {
+            let (t, n, p) = (self.twin(h), self.next(h), self.prev(h));
+            if t >= nh || n >= nh || p >= nh || self.twin(t) != h || self.prev(n) != h || self.next(p) != h {
+                return false;
+            }
+            if t == h || self.origin(t) != self.origin(n) {
+                return false;
+            }
+        }
+        let mut out_count = vec![0usize; self.vertex_count()];
+        for &o in &self.he_origin {
+            out_count[o as usize] += 1;
+        }
+        for v in 0..self.vertex_count() as u32 {
+            if self.vertex_out[v as usize] == NONE {
+                if out_count[v as usize] != 0 {
+                    return false;
+                }
+                continue;
+            }
+            let ring = self.outgoing(v).take(self.halfedge_count() + 1).count();
+            if ring != out_count[v as usize] || self.outgoing(v).filter(|&h| self.is_boundary_halfedge(h)).count() > 1 {
+                return false;
+            }
+        }
+        true
+    }
+
+    /// The Euler characteristic V − E + F (counting only vertices used by a face).
+    #[must_use]
+    pub fn euler(&self) -> i64 {
+        let used = self.vertex_out.iter().filter(|&&h| h != NONE).count() as i64;
+        used - self.edge_count() as i64 + self.face_count() as i64
+    }
+
+    /// Number of connected components (of faces).
+    #[must_use]
+    pub fn component_count(&self) -> usize {
+        let mut seen = vec![false; self.face_count()];
+        let mut stack = Vec::new();
+        let mut count = 0;
+        for f0 in 0..self.face_count() {
+            if seen[f0] {
+                continue;
+            }
+            count += 1;
+            seen[f0] = true;
+            stack.push(f0 as u32);
+            while let Some(f) = stack.pop() {
+                for h in self.face_halfedges(f) {
+                    let g = self.face(self.twin(h));
+                    if g != NONE && !seen[g as usize] {
+                        seen[g as usize] = true;
+                        stack.push(g);
+                    }
+                }
+            }
+        }
+        count
+    }
+
+    /// The genus: the number of handles, summed over components, from
+    /// χ = 2c − 2g − b (c components, b boundary loops).
+    #[must_use]
+    pub fn genus(&self) -> i64 {
+        let c = self.component_count() as i64;
+        let b = self.boundary_loops().len() as i64;
+        (2 * c - b - self.euler()) / 2
+    }
+
+    /// The vector area of face `f`: its normal scaled by its area (exact for planar faces;
+    /// Newell's formula otherwise).
+    #[must_use]
+    pub fn face_vector_area(&self, f: u32) -> Vec3 {
+        let mut hs = self.face_halfedges(f);
+        let Some(h0) = hs.next() else { return Vec3::ZERO };
+        let p0 = self.position(self.origin(h0));
+        let mut sum = Vec3::ZERO;
+        for h in hs {
+            let a = self.position(self.origin(h)) - p0;
+            let b = self.position(self.target(h)) - p0;
+            sum += a.cross(b);
+        }
+        sum * 0.5
+    }
+
+    /// The unit normal of face `f` (zero for a degenerate face).
+    #[must_use]
+    pub fn face_normal(&self, f: u32) -> Vec3 {
+        self.face_vector_area(f).normalize_or_zero()
+    }
+
+    /// The centroid of face `f`'s corners.
+    #[must_use]
+    pub fn face_centroid(&self, f: u32) -> Vec3 {
+        let (sum, n) = self.face_vertices(f).fold((Vec3::ZERO, 0.0), |(s, n), v| (s + self.position(v), n + 1.0));
+        sum / n
+    }
+
+    /// Area-weighted vertex normals (unit length; zero for isolated vertices).
+    #[must_use]
+    pub fn vertex_normals(&self) -> Vec<Vec3> {
+        let mut normals = vec![Vec3::ZERO; self.vertex_count()];
+        for f in 0..self.face_count() as u32 {
+            let n = self.face_vector_area(f);
+            for v in self.face_vertices(f) {
+                normals[v as usize] += n;
+            }
+        }
+        normals.iter().map(|n| n.normalize_or_zero()).collect()
+    }
+
+    /// Total surface area.
+    #[must_use]
+    pub fn area(&self) -> f64 {
+        (0..self.face_count() as u32).map(|f| self.face_area(f)).sum()
+    }
+
+    /// Area of face `f`: the sum of the triangles of its fan from the first corner (exact for
+    /// planar faces, convex or not, since signed fan triangles cancel outside the polygon).
+    #[must_use]
+    pub fn face_area(&self, f: u32) -> f64 {
+        self.face_vector_area(f).length()
+    }
+
+    /// Signed enclosed volume by the divergence theorem, Σ over fan triangles of
+    /// det(p0, pi, pi+1)/6: positive for a closed, outward-facing mesh.
+    #[must_use]
+    pub fn volume(&self) -> f64 {
+        let mut total = 0.0;
+        for f in 0..self.face_count() as u32 {
+            let mut hs = self.face_halfedges(f);
+            let Some(h0) = hs.next() else { continue };
+            let p0 = self.position(self.origin(h0));
+            for h in hs {
+                let a = self.position(self.origin(h));
+                let b = self.position(self.target(h));
+                total += p0.dot(a.cross(b));
+            }
+        }
+        total / 6.0
+    }
+
+    /// The axis-aligned bounds of the vertices used by faces ([`Aabb::EMPTY`] for none).
+    #[must_use]
+    pub fn bounds(&self) -> Aabb {
+        Aabb::from_points(self.positions.iter().zip(&self.vertex_out).filter(|(_, &h)| h != NONE).map(|(p, _)| p))
+    }
+
+    /// Every measure at once.
+    #[must_use]
+    pub fn measures(&self) -> Measures {
+        Measures {
+            vertices: self.vertex_count(),
+            edges: self.edge_count(),
+            faces: self.face_count(),
+            boundary_loops: self.boundary_loops().len(),
+            components: self.component_count(),
+            euler: self.euler(),
+            genus: self.genus(),
+            volume: self.volume(),
+            area: self.area(),
+            bounds: self.bounds(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::mesh::Mesh;
+    use crate::Vec3;
+
+    fn assert_rel(a: f64, b: f64, tol: f64) {
+        let d = (a - b).abs() / b.abs().max(1e-300);
+        assert!(d <= tol, "got {a}, expected {b}, relative difference {d:e}");
+    }
+
+    #[test]
+    fn cube_measures_are_exact() {
+        // A cube of side 2 has volume 8, area 24, χ = 8 − 12 + 6 = 2, genus 0.
+        let m = Mesh::cube(2.0);
+        assert!(m.is_closed() && m.is_manifold());
+        assert_eq!(m.euler(), 2);
+        assert_eq!(m.genus(), 0);
+        assert_rel(m.volume(), 8.0, 1e-15);
+        assert_rel(m.area(), 24.0, 1e-15);
+    }
+
+    #[test]
+    fn inverted_cube_has_negative_volume() {
+        let m = Mesh::cube(2.0).mirror(Vec3::X);
+        assert_rel(m.volume(), 8.0, 1e-15);
+        let faces: Vec<Vec<u32>> = m
+            .to_polygons()
+            .into_iter()
+            .map(|mut f| {
+                f.reverse();
+                f
+            })
+            .collect();
+        let inv = Mesh::from_polygons(m.positions().to_vec(), &faces).unwrap();
+        assert_rel(inv.volume(), -8.0, 1e-15);
+    }
+
+    #[test]
+    fn nonconvex_planar_face_area_is_exact() {
+        // An L-shaped hexagon: 2×2 square minus a 1×1 corner = area 3.
+        let p = [(0., 0.), (2., 0.), (2., 1.), (1., 1.), (1., 2.), (0., 2.)]
+            .iter()
+            .map(|&(x, y)| Vec3::new(x, y, 0.0))
+            .collect();
+        let m = Mesh::from_polygons(p, &[[0, 1, 2, 3, 4, 5]]).unwrap();
+        assert_rel(m.area(), 3.0, 1e-15);
+        assert_eq!(m.genus(), 0);
+        assert!(!m.is_closed());
+    }
+}

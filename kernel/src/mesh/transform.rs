@@ -1,0 +1,105 @@
+//! Rigid and affine transforms. Each returns a new mesh with the same vertex and face ids;
+//! transforms that reverse orientation (mirrors, odd negative scales) reverse the faces so they
+//! keep facing outward.
+
+use super::Mesh;
+use crate::math::{Mat3, Quat, Vec3};
+
+impl Mesh {
+    /// This mesh moved by `offset`.
+    #[must_use]
+    pub fn translate(&self, offset: Vec3) -> Mesh {
+        self.map_positions(|p| p + offset)
+    }
+
+    /// This mesh turned by `degrees` about `axis` through the origin (right-handed).
+    /// A zero axis leaves the mesh as it is.
+    #[must_use]
+    pub fn rotate(&self, axis: Vec3, degrees: f64) -> Mesh {
+        let Some(axis) = axis.try_normalize() else { return self.clone() };
+        let q = Quat::from_axis_angle(axis, degrees.to_radians());
+        self.map_positions(|p| q * p)
+    }
+
+    /// This mesh scaled about the origin by `factors` per axis. A negative product of factors
+    /// reverses the faces so that they keep facing outward.
+    #[must_use]
+    pub fn scale(&self, factors: Vec3) -> Mesh {
+        let m = self.map_positions(|p| p * factors);
+        if factors.x * factors.y * factors.z < 0.0 {
+            m.reversed()
+        } else {
+            m
+        }
+    }
+
+    /// This mesh reflected through the plane through the origin with normal `normal`, faces
+    /// reversed so that they keep facing outward. A zero normal leaves the mesh as it is.
+    #[must_use]
+    pub fn mirror(&self, normal: Vec3) -> Mesh {
+        let Some(n) = normal.try_normalize() else { return self.clone() };
+        let reflect = Mat3::IDENTITY - 2.0 * Mat3::from_cols(n * n.x, n * n.y, n * n.z);
+        self.map_positions(|p| reflect * p).reversed()
+    }
+
+    /// The same surface with every face's orientation reversed. Vertex and face ids are kept;
+    /// half-edge ids are not.
+    #[must_use]
+    pub fn reversed(&self) -> Mesh {
+        let faces: Vec<Vec<u32>> = self
+            .to_polygons()
+            .into_iter()
+            .map(|mut f| {
+                f.reverse();
+                f
+            })
+            .collect();
+        let mut m =
+            Mesh::from_polygons(self.positions.clone(), &faces).expect("reversing a manifold mesh keeps it manifold");
+        m.copy_attributes_from(self);
+        m
+    }
+
+    /// Copies crease tags (by vertex pair), corner marks and colours from `other`, a mesh with
+    /// the same vertices.
+    pub(crate) fn copy_attributes_from(&mut self, other: &Mesh) {
+        for [a, b] in other.crease_pairs() {
+            if let Some(h) = self.find_halfedge(a, b) {
+                self.set_crease_halfedge(h, true);
+            }
+        }
+        self.vertex_corner.clone_from(&other.vertex_corner);
+        self.vertex_colors.clone_from(&other.vertex_colors);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rotation_by_90_about_z_takes_x_to_y() {
+        let m = Mesh::cube(2.0).translate(Vec3::X * 5.0).rotate(Vec3::Z, 90.0);
+        let c = m.bounds().center();
+        assert!((c - Vec3::new(0.0, 5.0, 0.0)).length() < 1e-12, "{c}");
+    }
+
+    #[test]
+    fn mirror_and_negative_scale_keep_volume_positive() {
+        let m = Mesh::icosphere(1.0, 1).translate(Vec3::new(3.0, 0.0, 0.0));
+        let v = m.volume();
+        for t in [m.mirror(Vec3::X), m.scale(Vec3::new(-1.0, 1.0, 1.0)), m.scale(Vec3::new(-2.0, -1.0, 1.0))] {
+            assert!(t.volume() > 0.0);
+            assert_eq!(t.face_count(), m.face_count());
+        }
+        assert!((m.mirror(Vec3::X).bounds().center().x + 3.0).abs() < 1e-12);
+        assert!((m.mirror(Vec3::X).volume() - v).abs() < 1e-12);
+    }
+
+    #[test]
+    fn transforms_keep_creases() {
+        let mut m = Mesh::cube(1.0);
+        m.crease_all();
+        assert_eq!(m.mirror(Vec3::Y).crease_count(), 12);
+    }
+}
