@@ -11,6 +11,7 @@
 mod attributes;
 mod build;
 mod circulate;
+mod combine;
 mod error;
 mod measure;
 mod primitives;

@@ -1,0 +1,57 @@
+//! `load` and `save`: mesh files by extension (`.obj`, `.glb`, `.gltf`, `.stl`).
+
+use std::fs;
+
+use blocksmith_kernel::io;
+use rhai::plugin::*;
+
+use super::mesh::SharedMesh;
+use crate::context::RunContext;
+use crate::convert::{fail, ScriptResult};
+
+#[export_module]
+pub mod files_api {
+    use super::*;
+
+    /// Reads a mesh file: OBJ (polygons kept), glTF (`.gltf` with its buffers) or GLB, or
+    /// STL. A relative path is tried from the working directory, then next to the script. A
+    /// missing file, an unknown extension or a malformed file is an error naming the path and
+    /// the reason.
+    ///
+    /// ```rhai
+    /// let c = cube(2);
+    /// c.save("doc_example_cube.obj");
+    /// let back = load("doc_example_cube.obj");
+    /// assert_eq(back.face_count, 6);
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn load(ctx: NativeCallContext, path: &str) -> ScriptResult<SharedMesh> {
+        let p = RunContext::of(&ctx).input_path(path);
+        match io::load(&p) {
+            Ok(m) => Ok(SharedMesh::new(m)),
+            Err(e) => fail("load", e),
+        }
+    }
+
+    /// Writes a mesh by extension: `.obj` (polygons), `.glb`, `.gltf` (+ `.bin`), `.stl`
+    /// (binary, triangulated). A relative path goes under the output directory (the working
+    /// directory, or the test output directory under `blocksmith test`). Parent directories are
+    /// created. Also callable as `mesh.save(path)`.
+    ///
+    /// ```rhai
+    /// save(icosphere(1, 1), "doc_example_ico.glb");
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn save(ctx: NativeCallContext, mesh: &mut SharedMesh, path: &str) -> ScriptResult<()> {
+        let p = RunContext::of(&ctx).output_path(path);
+        if let Some(dir) = p.parent().filter(|d| !d.as_os_str().is_empty()) {
+            if let Err(e) = fs::create_dir_all(dir) {
+                return fail("save", format!("cannot create directory {}: {e}", dir.display()));
+            }
+        }
+        match io::save(&mesh.0, &p) {
+            Ok(()) => Ok(()),
+            Err(e) => fail("save", e),
+        }
+    }
+}

@@ -1,0 +1,20 @@
+//! The script API, one module per kernel area (mirroring `kernel/src`). [`register_all`] is the
+//! only place that knows them all.
+
+// pub mod files; (waiting for kernel io)
+pub mod mesh;
+pub mod runtime;
+pub mod values;
+
+use blocksmith_kernel::Vec3;
+use rhai::{exported_module, Engine};
+
+/// Registers every type and function of the script API on `engine`.
+pub fn register_all(engine: &mut Engine) {
+    engine.register_type_with_name::<Vec3>("Vec3");
+    engine.register_type_with_name::<mesh::SharedMesh>("Mesh");
+    engine.register_global_module(exported_module!(values::vec3_api).into());
+    engine.register_global_module(exported_module!(mesh::mesh_api).into());
+    // FILES
+    engine.register_global_module(exported_module!(runtime::runtime_api).into());
+}

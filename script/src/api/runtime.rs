@@ -1,0 +1,109 @@
+//! The script runtime's own functions: assertions for tests and recipes.
+
+use blocksmith_kernel::Vec3;
+use rhai::plugin::*;
+
+use crate::context::{parse_param, RunContext};
+use crate::convert::{fail, number, type_name, vec3, ScriptResult};
+
+fn show(ctx: &NativeCallContext, v: &Dynamic) -> String {
+    ctx.call_native_fn::<String>("to_debug", (v.clone(),)).unwrap_or_else(|_| v.to_string())
+}
+
+#[export_module]
+pub mod runtime_api {
+    use super::*;
+
+    /// Fails the script with `message` unless `condition` is true.
+    ///
+    /// ```rhai
+    /// assert(1 + 1 == 2, "arithmetic works");
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn assert(condition: bool, message: &str) -> ScriptResult<()> {
+        if condition {
+            Ok(())
+        } else {
+            fail("assert", format!("assertion failed: {message}"))
+        }
+    }
+
+    /// Fails the script unless `condition` is true.
+    #[rhai_fn(name = "assert", return_raw)]
+    pub fn assert_plain(condition: bool) -> ScriptResult<()> {
+        if condition {
+            Ok(())
+        } else {
+            fail("assert", "assertion failed")
+        }
+    }
+
+    /// Fails the script unless `a == b` (with the `==` of their types; integers equal floats of
+    /// the same value). The message shows both values.
+    ///
+    /// ```rhai
+    /// assert_eq(cube(1).face_count, 6);
+    /// assert_eq(vec3(1, 2, 3), vec3(1.0, 2.0, 3.0));
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn assert_eq(ctx: NativeCallContext, a: Dynamic, b: Dynamic) -> ScriptResult<()> {
+        let equal = ctx.call_native_fn::<bool>("==", (a.clone(), b.clone())).unwrap_or(false);
+        if equal {
+            Ok(())
+        } else {
+            fail("assert_eq", format!("left != right\n  left:  {}\n  right: {}", show(&ctx, &a), show(&ctx, &b)))
+        }
+    }
+
+    /// Fails the script unless `|a − b| ≤ eps`, for numbers or vectors (distance). The
+    /// message shows both values and the difference.
+    ///
+    /// ```rhai
+    /// assert_near(0.1 + 0.2, 0.3, 1e-12);
+    /// assert_near(vec3(1, 0, 0), [1, 0, 1e-9], 1e-6);
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn assert_near(a: Dynamic, b: Dynamic, eps: Dynamic) -> ScriptResult<()> {
+        let eps = number("assert_near", "eps", &eps)?;
+        let is_num = |v: &Dynamic| v.is_int() || v.is_float();
+        let (diff, sa, sb) = if is_num(&a) && is_num(&b) {
+            let (x, y) = (number("assert_near", "a", &a)?, number("assert_near", "b", &b)?);
+            ((x - y).abs(), x.to_string(), y.to_string())
+        } else if a.is::<Vec3>() || a.is_array() {
+            let (x, y) = (vec3("assert_near", "a", &a)?, vec3("assert_near", "b", &b)?);
+            (x.distance(y), format!("{x}"), format!("{y}"))
+        } else {
+            return fail(
+                "assert_near",
+                format!("arguments must be numbers or vectors, got {} and {}", type_name(&a), type_name(&b)),
+            );
+        };
+        if diff <= eps {
+            Ok(())
+        } else {
+            fail("assert_near", format!("values differ by {diff:e} > {eps:e}\n  left:  {sa}\n  right: {sb}"))
+        }
+    }
+
+    /// The value given on the command line with `--set name=value` (parsed as integer, float,
+    /// bool, else string), or `default`. An integer given for a float default becomes a float.
+    /// Recipes declare their knobs this way.
+    ///
+    /// ```rhai
+    /// let teeth = param("teeth", 12);
+    /// assert(teeth > 0, "teeth must be positive");
+    /// ```
+    pub fn param(ctx: NativeCallContext, name: &str, default: Dynamic) -> Dynamic {
+        match RunContext::of(&ctx).params.get(name) {
+            None => default,
+            Some(text) => {
+                let v = parse_param(text);
+                if default.is_float() && v.is_int() {
+                    Dynamic::from(v.as_int().unwrap_or_default() as f64)
+                } else {
+                    v
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,286 @@
+//! `blocksmith repl`: an interactive session. Definitions persist between entries; Ctrl-C stops
+//! a running evaluation and keeps the session; Ctrl-D exits. Works with piped standard input too.
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+use rhai::{Dynamic, Engine, Position, Scope, AST};
+use rustyline::completion::{Completer, Pair};
+use rustyline::error::ReadlineError;
+use rustyline::history::DefaultHistory;
+use rustyline::validate::{ValidationContext, ValidationResult, Validator};
+use rustyline::{Context, Editor, Helper, Highlighter, Hinter};
+
+use crate::context::RunContext;
+use crate::diagnostics::{format_error, format_parse_error};
+use crate::run::{compile_file, describe, save_value};
+use crate::{doc, new_engine, EngineOptions};
+
+const HELP: &str = "\
+Enter Rhai statements; the value of the last one is shown. Definitions persist.
+Commands:
+  :help          this text
+  :doc NAME      the reference of a function (`:doc` alone lists everything)
+  :load FILE     run a script in this session (its functions and variables stay)
+  :save PATH     write the last value (a mesh...) to PATH by extension
+  :quit          leave (Ctrl-D too)
+Ctrl-C stops a running evaluation; Tab completes function names.";
+
+/// Completion of function, type and variable names; multi-line input while brackets are open.
+#[derive(Helper, Highlighter, Hinter)]
+struct ReplHelper {
+    names: Vec<String>,
+}
+
+impl Completer for ReplHelper {
+    type Candidate = Pair;
+    fn complete(&self, line: &str, pos: usize, _ctx: &Context<'_>) -> rustyline::Result<(usize, Vec<Pair>)> {
+        let start = line[..pos].rfind(|c: char| !(c.is_alphanumeric() || c == '_')).map_or(0, |i| i + 1);
+        let word = &line[start..pos];
+        let matches = self
+            .names
+            .iter()
+            .filter(|n| !word.is_empty() && n.starts_with(word))
+            .map(|n| Pair { display: n.clone(), replacement: n.clone() })
+            .collect();
+        Ok((start, matches))
+    }
+}
+
+impl Validator for ReplHelper {
+    fn validate(&self, ctx: &mut ValidationContext) -> rustyline::Result<ValidationResult> {
+        Ok(if open_brackets(ctx.input()) > 0 { ValidationResult::Incomplete } else { ValidationResult::Valid(None) })
+    }
+}
+
+/// The number of brackets still open in `text`, ignoring strings and comments.
+#[must_use]
+pub fn open_brackets(text: &str) -> i64 {
+    let mut depth = 0i64;
+    let mut chars = text.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '"' | '`' | '\'' => {
+                while let Some(d) = chars.next() {
+                    if d == '\\' {
+                        chars.next();
+                    } else if d == c {
+                        break;
+                    }
+                }
+            }
+            '/' if chars.peek() == Some(&'/') => {
+                for d in chars.by_ref() {
+                    if d == '\n' {
+                        break;
+                    }
+                }
+            }
+            '(' | '[' | '{' => depth += 1,
+            ')' | ']' | '}' => depth -= 1,
+            _ => {}
+        }
+    }
+    depth
+}
+
+/// `(path, alias)` of each `import "path" as alias;` in an entry.
+fn imports_of(entry: &str) -> Vec<(String, String)> {
+    let mut out = Vec::new();
+    let mut rest = entry;
+    while let Some(i) = rest.find("import") {
+        let after = &rest[i + "import".len()..];
+        rest = after;
+        let a = after.trim_start();
+        let Some(q) = a.strip_prefix('"') else { continue };
+        let Some(end) = q.find('"') else { continue };
+        let path = &q[..end];
+        let tail = q[end + 1..].trim_start();
+        let Some(tail) = tail.strip_prefix("as") else { continue };
+        let alias: String = tail.trim_start().chars().take_while(|c| c.is_alphanumeric() || *c == '_').collect();
+        if !alias.is_empty() {
+            out.push((path.to_string(), alias));
+        }
+    }
+    out
+}
+
+/// One REPL session: the engine, the variables, the functions defined so far and the last value.
+pub struct Session {
+    engine: Engine,
+    scope: Scope<'static>,
+    functions: AST,
+    last: Dynamic,
+    interrupt: Arc<AtomicBool>,
+}
+
+impl Session {
+    /// A new session; `interrupt` stops a running evaluation when set.
+    #[must_use]
+    pub fn new(interrupt: Arc<AtomicBool>) -> Session {
+        let cwd = std::env::current_dir().ok();
+        let context = RunContext { script_dir: cwd, ..RunContext::default() };
+        let engine = new_engine(EngineOptions { context, max_operations: None, interrupt: Some(interrupt.clone()) });
+        Session { engine, scope: Scope::new(), functions: AST::empty(), last: Dynamic::UNIT, interrupt }
+    }
+
+    /// Names for completion: functions, types and the session's variables.
+    #[must_use]
+    pub fn names(&self) -> Vec<String> {
+        let mut n = doc::names(&self.engine);
+        n.extend(self.scope.iter().map(|(name, _, _)| name.to_string()));
+        n.extend(
+            ["Vec3", "Mesh", "let", "const", "fn", "import", "for", "while", "loop", "if", "else", "return"]
+                .map(String::from),
+        );
+        n.sort();
+        n.dedup();
+        n
+    }
+
+    /// Handles one entry (a command or code) and returns what to print; `None` to quit.
+    pub fn handle(&mut self, entry: &str) -> Option<String> {
+        let t = entry.trim();
+        if t.is_empty() {
+            return Some(String::new());
+        }
+        if let Some(cmd) = t.strip_prefix(':') {
+            let (name, arg) = cmd.split_once(char::is_whitespace).map_or((cmd, ""), |(a, b)| (a, b.trim()));
+            return match name {
+                "quit" | "q" | "exit" => None,
+                "help" | "h" => Some(HELP.to_string()),
+                "doc" => Some(doc::render(&self.engine, (!arg.is_empty()).then_some(arg)).unwrap_or_else(|e| e)),
+                "load" if !arg.is_empty() => Some(self.load(arg)),
+                "save" if !arg.is_empty() => {
+                    Some(match save_value(&self.engine, self.last.clone(), &PathBuf::from(arg)) {
+                        Ok(()) => format!("wrote {arg}"),
+                        Err(e) => e.0,
+                    })
+                }
+                "load" | "save" => Some(format!(":{name} needs a path")),
+                _ => Some(format!("unknown command :{name} (try :help)")),
+            };
+        }
+        Some(self.eval(entry, "<repl>"))
+    }
+
+    fn eval(&mut self, source: &str, name: &str) -> String {
+        let ast = match self.engine.compile_with_scope(&self.scope, source) {
+            Ok(a) => a,
+            Err(e) => return format_parse_error(name, source, &e),
+        };
+        self.run_ast(ast, source, name)
+    }
+
+    fn run_ast(&mut self, ast: AST, source: &str, name: &str) -> String {
+        let merged = self.functions.merge(&ast);
+        self.interrupt.store(false, Ordering::SeqCst);
+        let result = self.engine.eval_ast_with_scope::<Dynamic>(&mut self.scope, &merged);
+        self.functions = merged;
+        self.functions.clear_statements();
+        match result {
+            Ok(v) => {
+                self.keep_imports(source);
+                let shown = if v.is_unit() { String::new() } else { format!("=> {}", describe(&self.engine, &v)) };
+                if !v.is_unit() {
+                    self.last = v;
+                }
+                shown
+            }
+            Err(e) => format_error(name, source, &e),
+        }
+    }
+
+    /// Imports are evaluated into the engine as static modules so later entries can use them.
+    fn keep_imports(&mut self, source: &str) {
+        for (path, alias) in imports_of(source) {
+            let resolved = self.engine.module_resolver().resolve(&self.engine, None, &path, Position::NONE);
+            if let Ok(module) = resolved {
+                self.engine.register_static_module(alias, module);
+            }
+        }
+    }
+
+    fn load(&mut self, path: &str) -> String {
+        match compile_file(&self.engine, &PathBuf::from(path)) {
+            Ok((source, ast)) => self.run_ast(ast, &source, path),
+            Err(e) => e.0,
+        }
+    }
+}
+
+fn history_path() -> Option<PathBuf> {
+    std::env::var_os("BLOCKSMITH_HISTORY")
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".blocksmith_history")))
+}
+
+/// Runs the REPL on the terminal (or piped standard input) until `:quit` or end of input.
+///
+/// # Errors
+/// When the terminal cannot be set up.
+pub fn run() -> Result<(), String> {
+    let interrupt = Arc::new(AtomicBool::new(false));
+    let flag = interrupt.clone();
+    // Ctrl-C while a script runs: stop it, keep the session. (While reading a line the
+    // terminal is in raw mode and Ctrl-C reaches rustyline as a key instead.)
+    let _ = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst));
+    let mut session = Session::new(interrupt);
+    let mut editor: Editor<ReplHelper, DefaultHistory> = Editor::new().map_err(|e| format!("repl: {e}"))?;
+    editor.set_helper(Some(ReplHelper { names: session.names() }));
+    let history = history_path();
+    if let Some(h) = &history {
+        let _ = editor.load_history(h);
+    }
+    println!("blocksmith {} — :help for help, Ctrl-D to exit", env!("CARGO_PKG_VERSION"));
+    loop {
+        match editor.readline("bs> ") {
+            Ok(line) => {
+                let _ = editor.add_history_entry(line.as_str());
+                match session.handle(&line) {
+                    None => break,
+                    Some(out) if out.is_empty() => {}
+                    Some(out) => println!("{out}"),
+                }
+                let _ = std::io::stdout().flush();
+                if let Some(h) = editor.helper_mut() {
+                    h.names = session.names();
+                }
+            }
+            Err(ReadlineError::Interrupted) => println!("^C"),
+            Err(ReadlineError::Eof) => break,
+            Err(e) => return Err(format!("repl: {e}")),
+        }
+    }
+    if let Some(h) = &history {
+        let _ = editor.save_history(h);
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn brackets_in_strings_and_comments_do_not_count() {
+        assert_eq!(open_brackets("fn f() {"), 1);
+        assert_eq!(open_brackets("let s = \"{(\"; // [[["), 0);
+        assert_eq!(open_brackets("[1, [2]"), 1);
+    }
+
+    #[test]
+    fn session_keeps_variables_functions_and_imports() {
+        let mut s = Session::new(Arc::new(AtomicBool::new(false)));
+        assert_eq!(s.handle("fn double(x) { x * 2 }").unwrap(), "");
+        assert_eq!(s.handle("let a = double(21);").unwrap(), "");
+        assert_eq!(s.handle("a").unwrap(), "=> 42");
+        assert!(s.handle("cube(2)").unwrap().contains("Mesh(8 vertices"));
+        let err = s.handle("a.nope()").unwrap();
+        assert!(err.starts_with("<repl>:1:"), "{err}");
+        assert_eq!(s.handle("a + 1").unwrap(), "=> 43");
+        assert!(s.handle(":quit").is_none());
+    }
+}

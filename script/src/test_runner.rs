@@ -1,0 +1,109 @@
+//! `blocksmith test`: runs `.rhai` test scripts, each in a fresh engine, one line per script,
+//! then `N passed, N failed`.
+//!
+//! A test passes when it runs to the end without an error. Files whose name starts with `_` are
+//! helpers for `import`, not tests.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::{Duration, Instant};
+
+use crate::context::RunContext;
+use crate::run::run_file;
+use crate::EngineOptions;
+
+/// The outcome of one test script.
+#[derive(Debug, Clone)]
+pub struct TestOutcome {
+    pub path: PathBuf,
+    pub elapsed: Duration,
+    /// `None` when the script passed; the formatted error otherwise.
+    pub error: Option<String>,
+}
+
+/// Every `*.rhai` file under `paths` (files as given, directories searched recursively), sorted.
+///
+/// # Errors
+/// A path that does not exist.
+pub fn collect(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
+    let mut files = Vec::new();
+    for p in paths {
+        if p.is_file() {
+            files.push(p.clone());
+        } else if p.is_dir() {
+            walk(p, &mut files);
+        } else {
+            return Err(format!("error: no such test file or directory: {}", p.display()));
+        }
+    }
+    files.sort();
+    files.dedup();
+    Ok(files)
+}
+
+fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
+    let Ok(rd) = std::fs::read_dir(dir) else { return };
+    let mut entries: Vec<PathBuf> = rd.filter_map(Result::ok).map(|e| e.path()).collect();
+    entries.sort();
+    for p in entries {
+        if p.is_dir() {
+            walk(&p, out);
+        } else if p.extension().is_some_and(|e| e == "rhai")
+            && !p.file_name().and_then(|n| n.to_str()).is_some_and(|n| n.starts_with('_'))
+        {
+            out.push(p);
+        }
+    }
+}
+
+/// Runs each test script in a fresh engine, on as many threads as there are cores; relative
+/// `save` paths go under `output_dir`. Outcomes come back in the order of `files`.
+#[must_use]
+pub fn run_all(files: &[PathBuf], output_dir: &Path) -> Vec<TestOutcome> {
+    let next = AtomicUsize::new(0);
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(files.len().max(1));
+    let mut outcomes: Vec<Option<TestOutcome>> = vec![None; files.len()];
+    let results = std::sync::Mutex::new(&mut outcomes);
+    std::thread::scope(|s| {
+        for _ in 0..threads {
+            s.spawn(|| loop {
+                let i = next.fetch_add(1, Ordering::SeqCst);
+                let Some(path) = files.get(i) else { break };
+                let outcome = run_one(path, output_dir);
+                if let Ok(mut r) = results.lock() {
+                    r[i] = Some(outcome);
+                }
+            });
+        }
+    });
+    outcomes.into_iter().flatten().collect()
+}
+
+fn run_one(path: &Path, output_dir: &Path) -> TestOutcome {
+    let start = Instant::now();
+    let context = RunContext { output_dir: Some(output_dir.to_path_buf()), ..RunContext::default() };
+    let error = run_file(path, EngineOptions { context, ..EngineOptions::default() }).err().map(|e| e.0);
+    TestOutcome { path: path.to_path_buf(), elapsed: start.elapsed(), error }
+}
+
+/// The report: one line per script (failures followed by their error, indented), then
+/// `N passed, N failed`.
+#[must_use]
+pub fn report(outcomes: &[TestOutcome]) -> String {
+    let mut out = String::new();
+    for o in outcomes {
+        let ms = o.elapsed.as_millis();
+        match &o.error {
+            None => out.push_str(&format!("ok   {} ({ms} ms)\n", o.path.display())),
+            Some(e) => {
+                out.push_str(&format!("FAIL {} ({ms} ms)\n", o.path.display()));
+                for line in e.lines() {
+                    out.push_str(&format!("     {line}\n"));
+                }
+            }
+        }
+    }
+    let failed = outcomes.iter().filter(|o| o.error.is_some()).count();
+    out.push_str(&format!("{} passed, {failed} failed\n", outcomes.len() - failed));
+    out
+}
