@@ -1,2 +1,232 @@
-//! Mesh files: OBJ (read and write), binary STL (write), glTF 2.0 (`.glb` and `.gltf`, read and
-//! write).
+//! Mesh files: OBJ (read and write), binary STL (write; binary and ASCII read), glTF 2.0 (`.glb`
+//! and `.gltf` with a separate `.bin` buffer, read and write).
+//!
+//! [`load`] and [`save`] pick the format by the extension (case-insensitive). Each format also
+//! has functions that read from bytes and write to any [`std::io::Write`], so that they can be
+//! used without files; they take the path only to name it in errors.
+//!
+//! Coordinates are written and read verbatim, with no change of axes: glTF's convention is
+//! +Y up, blocksmith's primitives are built around +Z, so a viewer shows them lying on their
+//! side unless the recipe rotates them (trimesh does the same).
+//!
+//! What each format keeps:
+//!
+//! | | positions | polygons | vertex ids | creases, corners | colours |
+//! |---|---|---|---|---|---|
+//! | OBJ | exact (f64) | yes | yes | yes (`t` tags) | RGB |
+//! | glTF | f32 | yes (mesh `extras`) | yes | yes (mesh `extras`) | RGBA |
+//! | STL | f32 | triangles | no (welded by position) | no | no |
+
+mod error;
+pub mod gltf;
+pub mod obj;
+pub mod stl;
+
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::Path;
+
+pub use error::{IoError, KNOWN_EXTENSIONS};
+
+use crate::mesh::{Mesh, MeshError};
+
+/// The file formats, as told by the extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// Wavefront `.obj` text.
+    Obj,
+    /// Binary glTF 2.0, `.glb`.
+    Glb,
+    /// glTF 2.0 JSON, `.gltf`, with its buffer in a `.bin` file beside it.
+    Gltf,
+    /// Stereolithography `.stl` (written binary).
+    Stl,
+}
+
+impl Format {
+    /// The format of `path` by its extension, case-insensitive.
+    ///
+    /// # Errors
+    /// [`IoError::UnknownExtension`] listing the known extensions.
+    pub fn from_path(path: &Path) -> Result<Format, IoError> {
+        let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("").to_ascii_lowercase();
+        match ext.as_str() {
+            "obj" => Ok(Format::Obj),
+            "glb" => Ok(Format::Glb),
+            "gltf" => Ok(Format::Gltf),
+            "stl" => Ok(Format::Stl),
+            _ => Err(IoError::UnknownExtension {
+                path: path.into(),
+                ext: path.extension().map(|e| e.to_string_lossy().into_owned()).unwrap_or_default(),
+            }),
+        }
+    }
+}
+
+/// Reads the mesh in the file at `path`, by extension: `.obj`, `.glb`, `.gltf`, `.stl`.
+///
+/// # Errors
+/// [`IoError::UnknownExtension`] first, then [`IoError::NotFound`] / [`IoError::Read`], then
+/// the format's own errors ([`obj::read_obj`], [`gltf::read_gltf`], [`stl::read_stl`]).
+///
+/// See also [`save`].
+pub fn load(path: impl AsRef<Path>) -> Result<Mesh, IoError> {
+    let path = path.as_ref();
+    let format = Format::from_path(path)?;
+    let bytes = std::fs::read(path).map_err(|e| IoError::from_read(path, e))?;
+    match format {
+        Format::Obj => obj::read_obj(&bytes, path),
+        Format::Glb | Format::Gltf => gltf::read_gltf(&bytes, path.parent(), path),
+        Format::Stl => stl::read_stl(&bytes, path),
+    }
+}
+
+/// Writes `mesh` to the file at `path`, by extension: `.obj`, `.glb`, `.gltf` (which also
+/// writes the buffer to the same path with the extension `.bin`), `.stl`.
+///
+/// # Errors
+/// [`IoError::UnknownExtension`]; [`IoError::Write`] when the file cannot be created or
+/// written; [`IoError::Mesh`] when a face cannot be triangulated (glTF, STL) or the mesh is too
+/// large for the format.
+///
+/// See also [`load`].
+pub fn save(mesh: &Mesh, path: impl AsRef<Path>) -> Result<(), IoError> {
+    let path = path.as_ref();
+    let format = Format::from_path(path)?;
+    match format {
+        Format::Obj => {
+            write_file(path, |w| obj::write_obj(mesh, w).map_err(|e| IoError::Write { path: path.into(), source: e }))
+        }
+        Format::Glb => write_file(path, |w| gltf::write_glb(mesh, w, path)),
+        Format::Stl => write_file(path, |w| stl::write_stl(mesh, w, path)),
+        Format::Gltf => {
+            let bin_path = path.with_extension("bin");
+            let bin_name = bin_path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+            let (json, bin) = gltf::gltf_json_and_buffer(mesh, &gltf::uri_encode(&bin_name), path)?;
+            if let Some(bin) = bin {
+                write_file(&bin_path, |w| {
+                    w.write_all(&bin).map_err(|e| IoError::Write { path: bin_path.clone(), source: e })
+                })?;
+            }
+            write_file(path, |w| w.write_all(&json).map_err(|e| IoError::Write { path: path.into(), source: e }))
+        }
+    }
+}
+
+/// Creates `path` and runs `write` on a buffered writer to it, then flushes.
+fn write_file(path: &Path, write: impl FnOnce(&mut BufWriter<File>) -> Result<(), IoError>) -> Result<(), IoError> {
+    let file = File::create(path).map_err(|e| IoError::Write { path: path.into(), source: e })?;
+    let mut w = BufWriter::with_capacity(1 << 20, file);
+    write(&mut w)?;
+    w.flush().map_err(|e| IoError::Write { path: path.into(), source: e })
+}
+
+/// The triangles of every face, each face's consecutively, and each face's arity.
+///
+/// The first triangle of face `f` starts at the face's first vertex `v0` and holds its first
+/// edge `v0 → v1`, so walking the boundary of a face's triangles from `v0` gives back the face
+/// in its own order (how [`gltf::read_gltf`] re-joins polygons). Convex faces are fans from
+/// `v0`; other faces are triangulated by [`Mesh::triangulate_face`].
+///
+/// Output: (3·T indices, F arities).
+///
+/// # Errors
+/// [`MeshError::Triangulation`] naming the first face that cannot be triangulated;
+/// [`MeshError::TooLarge`] for more than 2³² − 1 triangles.
+pub(crate) fn face_triangles(mesh: &Mesh) -> Result<(Vec<u32>, Vec<u32>), MeshError> {
+    let mut tris = Vec::with_capacity(3 * mesh.face_count() * 2);
+    let mut arities = Vec::with_capacity(mesh.face_count());
+    let mut ids: Vec<u32> = Vec::with_capacity(8);
+    for f in 0..mesh.face_count() as u32 {
+        ids.clear();
+        ids.extend(mesh.face_vertices(f));
+        arities.push(ids.len() as u32);
+        match ids.len() {
+            3 => tris.extend_from_slice(&ids),
+            4 if is_convex_quad(mesh, f, &ids) => {
+                tris.extend_from_slice(&[ids[0], ids[1], ids[2], ids[0], ids[2], ids[3]])
+            }
+            _ => {
+                let mut t = mesh.triangulate_face(f)?;
+                let first = t
+                    .iter()
+                    .position(|tri| (0..3).any(|i| tri[i] == ids[0] && tri[(i + 1) % 3] == ids[1]))
+                    .ok_or_else(|| MeshError::Internal(format!("face {f}'s triangles lack its first edge")))?;
+                t.swap(0, first);
+                let r = t[0].iter().position(|&v| v == ids[0]).unwrap_or(0);
+                t[0].rotate_left(r);
+                for tri in t {
+                    tris.extend_from_slice(&tri);
+                }
+            }
+        }
+    }
+    if tris.len() / 3 > u32::MAX as usize {
+        return Err(MeshError::TooLarge { what: format!("{} triangles", tris.len() / 3) });
+    }
+    Ok((tris, arities))
+}
+
+/// Whether the quad `ids` (face `f`) turns the same way at every corner about its normal: the
+/// same test [`Mesh::triangulate_face`] uses to take a fan.
+fn is_convex_quad(mesh: &Mesh, f: u32, ids: &[u32]) -> bool {
+    let n = mesh.face_vector_area(f);
+    let p = |i: usize| mesh.position(ids[i % 4]);
+    (0..4).all(|i| (p(i + 1) - p(i)).cross(p(i + 2) - p(i + 1)).dot(n) > 0.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Vec3;
+
+    #[test]
+    fn unknown_extension_lists_the_known_ones() {
+        for name in ["mesh.ply", "mesh", "dir.obj/mesh.fbx"] {
+            let e = load(name).unwrap_err();
+            assert!(matches!(e, IoError::UnknownExtension { .. }), "{e}");
+            assert!(e.to_string().starts_with(name) && e.to_string().contains(".obj, .glb, .gltf, .stl"), "{e}");
+            assert!(matches!(save(&Mesh::cube(1.0), name), Err(IoError::UnknownExtension { .. })));
+        }
+    }
+
+    #[test]
+    fn missing_file_is_not_found_naming_the_path() {
+        for name in ["/nonexistent/dir/mesh.obj", "/nonexistent/mesh.GLB", "/nonexistent/m.gltf", "/nonexistent/m.stl"]
+        {
+            let e = load(name).unwrap_err();
+            assert!(matches!(e, IoError::NotFound { .. }), "{e}");
+            assert_eq!(e.to_string(), format!("{name}: file not found"));
+        }
+    }
+
+    #[test]
+    fn unwritable_path_is_a_write_error() {
+        let e = save(&Mesh::cube(1.0), "/nonexistent/dir/cube.obj").unwrap_err();
+        assert!(matches!(e, IoError::Write { .. }) && e.to_string().starts_with("/nonexistent/dir/cube.obj"), "{e}");
+    }
+
+    #[test]
+    fn face_triangles_start_with_each_faces_first_edge() {
+        // An L-shaped hexagon (not convex: triangulated by spade) and a quad.
+        let p = [(0., 0.), (2., 0.), (2., 1.), (1., 1.), (1., 2.), (0., 2.), (3., 0.), (3., 1.)]
+            .iter()
+            .map(|&(x, y)| Vec3::new(x, y, 0.0))
+            .collect();
+        let m = Mesh::from_polygons(p, &[vec![3, 4, 5, 0, 1, 2], vec![1, 6, 7, 2]]).unwrap();
+        let (tris, arities) = face_triangles(&m).unwrap();
+        assert_eq!(arities, vec![6, 4]);
+        assert_eq!(tris.len(), 3 * (4 + 2));
+        assert_eq!(&tris[..2], &[3, 4]);
+        assert_eq!(&tris[12..], &[1, 6, 7, 1, 7, 2]);
+        // The triangles cover the hexagon: their areas add up to 3.
+        let area: f64 = tris[..12]
+            .chunks(3)
+            .map(|t| {
+                let (a, b, c) = (m.position(t[0]), m.position(t[1]), m.position(t[2]));
+                (b - a).cross(c - a).z / 2.0
+            })
+            .sum();
+        assert!((area - 3.0).abs() < 1e-12, "area {area}");
+    }
+}

@@ -1,0 +1,781 @@
+//! glTF 2.0: write (`.glb`, or `.gltf` JSON with a `.bin` buffer) and read (both).
+//!
+//! Writing builds the document by hand with `gltf::json`: one scene, one node, one mesh with
+//! one triangle primitive. Vertex `i` of the file is vertex `i` of the mesh. Attributes:
+//! `POSITION` (f32, with the min/max the specification requires), `NORMAL` (unit f32,
+//! area-weighted vertex normals; +Z for a vertex no face uses), `COLOR_0` (RGBA f32) when the
+//! mesh has vertex colours, and `u32` indices. Each polygon's triangles are written one after
+//! another, the first holding the polygon's first edge (see [`super::face_triangles`]).
+//!
+//! What glTF cannot say goes in the mesh's `extras` under the key `"blocksmith"`:
+//! `face_arity_runs` (the polygon arities, run-length encoded as `[arity, count]` pairs),
+//! `creases` (vertex pairs) and `corners` (vertex ids). Reading re-joins the triangles into
+//! the polygons when these extras are present and consistent with the triangles; otherwise the
+//! triangles are kept as they are.
+//!
+//! Reading takes every triangle primitive (triangles, strips, fans) of every mesh instanced by
+//! the nodes of the default scene (the first scene when none is marked; every root node when
+//! the file has no scene), applies each node's world transform, and merges them into one mesh,
+//! one vertex per glTF vertex (no welding: files whose vertices are split at seams read as
+//! open pieces). Triangles with a repeated vertex (strip restarts) are dropped, and so are
+//! point and line primitives. Coordinates are taken verbatim (no change of axes).
+
+use std::collections::HashSet;
+use std::io::Write;
+use std::path::Path;
+
+use gltf::json;
+use json::validation::{Checked::Valid, USize64};
+
+use super::error::IoError;
+use crate::math::{Mat4, Vec3};
+use crate::mesh::{Mesh, MeshError};
+
+/// The key of blocksmith's data in the mesh's `extras`.
+const EXTRAS_KEY: &str = "blocksmith";
+
+fn gltf_error(path: &Path, reason: impl Into<String>) -> IoError {
+    IoError::Gltf { path: path.into(), reason: reason.into() }
+}
+
+/// Percent-encodes a file name for a glTF `uri` (keeping letters, digits and `-_.~`).
+#[must_use]
+pub fn uri_encode(name: &str) -> String {
+    let mut out = String::with_capacity(name.len());
+    for b in name.bytes() {
+        if b.is_ascii_alphanumeric() || b"-_.~".contains(&b) {
+            out.push(b as char);
+        } else {
+            out.push_str(&format!("%{b:02X}"));
+        }
+    }
+    out
+}
+
+/// Writes `mesh` as binary glTF (`.glb`) to `out`. See the module documentation for the
+/// layout.
+///
+/// # Errors
+/// [`IoError::Mesh`] when a face cannot be triangulated or the file would pass glTF's 4 GiB
+/// limit; [`IoError::Write`] for errors of `out`. `path` is only named in errors.
+///
+/// See also [`gltf_json_and_buffer`], [`read_gltf`], [`super::save`].
+pub fn write_glb<W: Write>(mesh: &Mesh, out: &mut W, path: &Path) -> Result<(), IoError> {
+    let (root, bin) = document(mesh, None, path)?;
+    let json = json::serialize::to_vec(&root).map_err(|e| internal(path, &e.to_string()))?;
+    let total = 12 + 8 + json.len().next_multiple_of(4) + bin.as_ref().map_or(0, |b| 8 + b.len().next_multiple_of(4));
+    if total > u32::MAX as usize {
+        return Err(IoError::from_mesh(
+            path,
+            MeshError::TooLarge { what: format!("{total} bytes of GLB (at most 4 GiB)") },
+        ));
+    }
+    let glb = gltf::binary::Glb {
+        header: gltf::binary::Header { magic: *b"glTF", version: 2, length: total as u32 },
+        json: json.into(),
+        bin: bin.map(Into::into),
+    };
+    glb.to_writer(out).map_err(|e| match e {
+        gltf::Error::Io(source) => IoError::Write { path: path.into(), source },
+        e => internal(path, &e.to_string()),
+    })
+}
+
+/// The `.gltf` JSON text of `mesh` and its buffer (`None` for a mesh without faces), the JSON
+/// naming the buffer by `bin_uri` (a relative URI, see [`uri_encode`]).
+///
+/// # Errors
+/// [`IoError::Mesh`] when a face cannot be triangulated. `path` is only named in errors.
+///
+/// See also [`write_glb`], [`read_gltf`], [`super::save`].
+pub fn gltf_json_and_buffer(mesh: &Mesh, bin_uri: &str, path: &Path) -> Result<(Vec<u8>, Option<Vec<u8>>), IoError> {
+    let (root, bin) = document(mesh, Some(bin_uri.to_string()), path)?;
+    let json = json::serialize::to_vec_pretty(&root).map_err(|e| internal(path, &e.to_string()))?;
+    Ok((json, bin))
+}
+
+fn internal(path: &Path, reason: &str) -> IoError {
+    IoError::Internal { path: path.into(), reason: reason.into() }
+}
+
+/// Appends `data` to `buffer` as a new view (4-byte aligned) and returns the view.
+fn push_view(
+    root: &mut json::Root,
+    buffer: &mut Vec<u8>,
+    data: &[u8],
+    target: json::buffer::Target,
+) -> json::Index<json::buffer::View> {
+    buffer.resize(buffer.len().next_multiple_of(4), 0);
+    let offset = buffer.len();
+    buffer.extend_from_slice(data);
+    root.push(json::buffer::View {
+        buffer: json::Index::new(0),
+        byte_length: USize64::from(data.len()),
+        byte_offset: Some(USize64::from(offset)),
+        byte_stride: None,
+        name: None,
+        target: Some(Valid(target)),
+        extensions: None,
+        extras: None,
+    })
+}
+
+fn accessor(
+    view: json::Index<json::buffer::View>,
+    count: usize,
+    component: json::accessor::ComponentType,
+    type_: json::accessor::Type,
+    min_max: Option<([f32; 3], [f32; 3])>,
+) -> json::Accessor {
+    json::Accessor {
+        buffer_view: Some(view),
+        byte_offset: None,
+        count: USize64::from(count),
+        component_type: Valid(json::accessor::GenericComponentType(component)),
+        extensions: None,
+        extras: None,
+        type_: Valid(type_),
+        min: min_max.map(|(lo, _)| json::Value::from(lo.to_vec())),
+        max: min_max.map(|(_, hi)| json::Value::from(hi.to_vec())),
+        name: None,
+        normalized: false,
+        sparse: None,
+    }
+}
+
+fn f32_bytes(values: impl Iterator<Item = f32>, len: usize) -> Vec<u8> {
+    let mut out = Vec::with_capacity(4 * len);
+    for v in values {
+        out.extend_from_slice(&v.to_le_bytes());
+    }
+    out
+}
+
+/// The blocksmith `extras` of `mesh` (arity runs, creases, corners), `None` when there is
+/// nothing glTF does not already say.
+fn extras_json(mesh: &Mesh, arities: &[u32]) -> Option<String> {
+    let mut runs: Vec<[u32; 2]> = Vec::new();
+    for &a in arities {
+        match runs.last_mut() {
+            Some([arity, count]) if *arity == a => *count += 1,
+            _ => runs.push([a, 1]),
+        }
+    }
+    let creases = mesh.crease_pairs();
+    let corners: Vec<u32> = (0..mesh.vertex_count() as u32).filter(|&v| mesh.is_corner(v)).collect();
+    let mut fields = serde_json::Map::new();
+    if runs.iter().any(|&[a, _]| a != 3) {
+        fields.insert("face_arity_runs".into(), serde_json::json!(runs));
+    }
+    if !creases.is_empty() {
+        fields.insert("creases".into(), serde_json::json!(creases));
+    }
+    if !corners.is_empty() {
+        fields.insert("corners".into(), serde_json::json!(corners));
+    }
+    if fields.is_empty() {
+        return None;
+    }
+    let mut outer = serde_json::Map::new();
+    outer.insert(EXTRAS_KEY.into(), serde_json::Value::Object(fields));
+    Some(serde_json::Value::Object(outer).to_string())
+}
+
+/// The glTF document of `mesh` and its binary buffer.
+fn document(mesh: &Mesh, uri: Option<String>, path: &Path) -> Result<(json::Root, Option<Vec<u8>>), IoError> {
+    let mut root = json::Root {
+        asset: json::Asset {
+            generator: Some(format!("blocksmith {}", env!("CARGO_PKG_VERSION"))),
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    if mesh.face_count() == 0 {
+        return Ok((root, None));
+    }
+    let (tris, arities) = super::face_triangles(mesh).map_err(|e| IoError::from_mesh(path, e))?;
+    let n = mesh.vertex_count();
+    let mut bin = Vec::with_capacity(n * 24 + tris.len() * 4 + mesh.vertex_colors().map_or(0, |_| n * 16));
+
+    // Positions, rounded to f32 first so that min/max are those of the stored values.
+    let pos32: Vec<[f32; 3]> = mesh.positions().iter().map(|p| [p.x as f32, p.y as f32, p.z as f32]).collect();
+    let mut lo = [f32::INFINITY; 3];
+    let mut hi = [f32::NEG_INFINITY; 3];
+    for p in &pos32 {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let data = f32_bytes(pos32.iter().flatten().copied(), 3 * n);
+    let view = push_view(&mut root, &mut bin, &data, json::buffer::Target::ArrayBuffer);
+    let positions =
+        root.push(accessor(view, n, json::accessor::ComponentType::F32, json::accessor::Type::Vec3, Some((lo, hi))));
+
+    // Normals, normalised again in f32 (the validator checks unit length).
+    let normals = mesh.vertex_normals().into_iter().map(|v| {
+        let n32 = glam::Vec3::new(v.x as f32, v.y as f32, v.z as f32).normalize_or_zero();
+        if n32 == glam::Vec3::ZERO {
+            glam::Vec3::Z
+        } else {
+            n32
+        }
+    });
+    let data = f32_bytes(normals.flat_map(|v| v.to_array()), 3 * n);
+    let view = push_view(&mut root, &mut bin, &data, json::buffer::Target::ArrayBuffer);
+    let normals = root.push(accessor(view, n, json::accessor::ComponentType::F32, json::accessor::Type::Vec3, None));
+
+    let mut attributes = std::collections::BTreeMap::new();
+    attributes.insert(Valid(json::mesh::Semantic::Positions), positions);
+    attributes.insert(Valid(json::mesh::Semantic::Normals), normals);
+    if let Some(colors) = mesh.vertex_colors() {
+        let data = f32_bytes(colors.iter().flatten().map(|c| c.clamp(0.0, 1.0)), 4 * n);
+        let view = push_view(&mut root, &mut bin, &data, json::buffer::Target::ArrayBuffer);
+        let colors = root.push(accessor(view, n, json::accessor::ComponentType::F32, json::accessor::Type::Vec4, None));
+        attributes.insert(Valid(json::mesh::Semantic::Colors(0)), colors);
+    }
+
+    let mut data = Vec::with_capacity(4 * tris.len());
+    for &i in &tris {
+        data.extend_from_slice(&i.to_le_bytes());
+    }
+    let view = push_view(&mut root, &mut bin, &data, json::buffer::Target::ElementArrayBuffer);
+    let indices =
+        root.push(accessor(view, tris.len(), json::accessor::ComponentType::U32, json::accessor::Type::Scalar, None));
+    bin.resize(bin.len().next_multiple_of(4), 0);
+    root.push(json::Buffer { byte_length: USize64::from(bin.len()), name: None, uri, extensions: None, extras: None });
+
+    let extras = match extras_json(mesh, &arities) {
+        Some(s) => Some(json::extras::RawValue::from_string(s).map_err(|e| internal(path, &e.to_string()))?),
+        None => None,
+    };
+    let gmesh = root.push(json::Mesh {
+        extensions: None,
+        extras,
+        name: Some("blocksmith".into()),
+        primitives: vec![json::mesh::Primitive {
+            attributes,
+            extensions: None,
+            extras: None,
+            indices: Some(indices),
+            material: None,
+            mode: Valid(json::mesh::Mode::Triangles),
+            targets: None,
+        }],
+        weights: None,
+    });
+    let node = root.push(json::Node { mesh: Some(gmesh), ..Default::default() });
+    let scene = root.push(json::Scene { extensions: None, extras: None, name: None, nodes: vec![node] });
+    root.scene = Some(scene);
+    Ok((root, Some(bin)))
+}
+
+/// Reads a glTF file (binary `.glb`, or `.gltf` JSON) into one mesh. `base` is the folder that
+/// relative buffer URIs are resolved against (`None`: only embedded buffers). See the module
+/// documentation for what is read.
+///
+/// # Errors
+/// - [`IoError::Gltf`]: not glTF, truncated, invalid JSON or schema, a missing buffer, an
+///   accessor of an unexpected type or reaching past its buffer, sparse accessors, a node
+///   hierarchy that is not a tree;
+/// - [`IoError::IndexOutOfRange`] naming the mesh and primitive of an index past its vertices;
+/// - [`IoError::NonFinite`] for a NaN or infinite coordinate;
+/// - [`IoError::Mesh`] when the triangles are not a manifold mesh.
+///
+/// See also [`write_glb`], [`super::load`].
+pub fn read_gltf(bytes: &[u8], base: Option<&Path>, path: &Path) -> Result<Mesh, IoError> {
+    let gltf::Gltf { document: doc, blob } =
+        gltf::Gltf::from_slice(bytes).map_err(|e| gltf_error(path, e.to_string()))?;
+    for buffer in doc.buffers() {
+        if let gltf::buffer::Source::Uri(uri) = buffer.source() {
+            check_relative_uri(uri)
+                .map_err(|reason| gltf_error(path, format!("buffer {}: {reason}", buffer.index())))?;
+            if base.is_none() && !uri.contains(':') {
+                return Err(gltf_error(
+                    path,
+                    format!("buffer {} is in an external file ({uri:.80}), which needs a folder", buffer.index()),
+                ));
+            }
+        }
+    }
+    let buffers = gltf::import_buffers(&doc, base, blob).map_err(|e| gltf_error(path, format!("buffers: {e}")))?;
+    let instances = mesh_instances(&doc).map_err(|reason| gltf_error(path, reason))?;
+
+    let mut soup = Soup::default();
+    for (gmesh, world) in instances {
+        let extras = blocksmith_extras(&gmesh);
+        let single = gmesh.primitives().len() == 1;
+        for prim in gmesh.primitives() {
+            let at = format!("mesh {} primitive {}", gmesh.index(), prim.index());
+            soup.add_primitive(&prim, &buffers, world, if single { extras.as_ref() } else { None }, &at, path)?;
+        }
+    }
+    soup.build(path)
+}
+
+/// Rejects a relative URI whose percent-decoding is not UTF-8 (gltf would panic on it).
+fn check_relative_uri(uri: &str) -> Result<(), String> {
+    if uri.contains(':') {
+        return Ok(());
+    }
+    let bytes = uri.as_bytes();
+    let mut decoded = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i] == b'%' {
+            let hex = bytes
+                .get(i + 1..i + 3)
+                .and_then(|h| std::str::from_utf8(h).ok())
+                .and_then(|h| u8::from_str_radix(h, 16).ok());
+            if let Some(b) = hex {
+                decoded.push(b);
+                i += 3;
+                continue;
+            }
+        }
+        decoded.push(bytes[i]);
+        i += 1;
+    }
+    String::from_utf8(decoded).map(|_| ()).map_err(|_| format!("the URI {uri:.80} does not decode to UTF-8"))
+}
+
+/// Every mesh the scene instances, with its node's world matrix.
+fn mesh_instances(doc: &gltf::Document) -> Result<Vec<(gltf::Mesh<'_>, Mat4)>, String> {
+    let roots: Vec<gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
+        Some(scene) => scene.nodes().collect(),
+        None => {
+            let mut is_child = vec![false; doc.nodes().len()];
+            for n in doc.nodes() {
+                for c in n.children() {
+                    is_child[c.index()] = true;
+                }
+            }
+            doc.nodes().filter(|n| !is_child[n.index()]).collect()
+        }
+    };
+    let mut seen = vec![false; doc.nodes().len()];
+    // Depth-first in the file's order: children are pushed last-first.
+    let mut stack: Vec<(gltf::Node, Mat4)> = roots.into_iter().rev().map(|n| (n, Mat4::IDENTITY)).collect();
+    let mut out = Vec::new();
+    while let Some((node, parent)) = stack.pop() {
+        if std::mem::replace(&mut seen[node.index()], true) {
+            return Err(format!("node {} is reached twice: the node hierarchy is not a tree", node.index()));
+        }
+        let local = node.transform().matrix().map(|c| c.map(f64::from));
+        let world = parent * Mat4::from_cols_array_2d(&local);
+        if let Some(m) = node.mesh() {
+            out.push((m, world));
+        }
+        let children: Vec<gltf::Node> = node.children().collect();
+        stack.extend(children.into_iter().rev().map(|c| (c, world)));
+    }
+    Ok(out)
+}
+
+/// blocksmith's `extras` on a glTF mesh, if present and well-formed.
+struct Extras {
+    arity_runs: Option<Vec<(u32, u64)>>,
+    creases: Vec<[u32; 2]>,
+    corners: Vec<u32>,
+}
+
+fn blocksmith_extras(m: &gltf::Mesh) -> Option<Extras> {
+    let raw = m.extras().as_ref()?;
+    let value: serde_json::Value = serde_json::from_str(raw.get()).ok()?;
+    let ours = value.get(EXTRAS_KEY)?;
+    let as_u32 = |v: &serde_json::Value| v.as_u64().and_then(|x| u32::try_from(x).ok());
+    let arity_runs = match ours.get("face_arity_runs") {
+        None => None,
+        Some(v) => Some(
+            v.as_array()?
+                .iter()
+                .map(|r| match r.as_array().map(Vec::as_slice) {
+                    Some([a, c]) => Some((as_u32(a)?, c.as_u64()?)),
+                    _ => None,
+                })
+                .collect::<Option<Vec<_>>>()?,
+        ),
+    };
+    let creases = match ours.get("creases") {
+        None => Vec::new(),
+        Some(v) => v
+            .as_array()?
+            .iter()
+            .map(|p| match p.as_array().map(Vec::as_slice) {
+                Some([a, b]) => Some([as_u32(a)?, as_u32(b)?]),
+                _ => None,
+            })
+            .collect::<Option<Vec<_>>>()?,
+    };
+    let corners = match ours.get("corners") {
+        None => Vec::new(),
+        Some(v) => v.as_array()?.iter().map(as_u32).collect::<Option<Vec<_>>>()?,
+    };
+    Some(Extras { arity_runs, creases, corners })
+}
+
+/// Checks that `acc` has one of the `allowed` types and lies inside its buffer, so that gltf's
+/// reader neither panics nor returns less than `count` items.
+fn check_accessor(
+    acc: &gltf::Accessor,
+    buffers: &[gltf::buffer::Data],
+    allowed: &[(gltf::accessor::DataType, gltf::accessor::Dimensions)],
+    what: &str,
+) -> Result<(), String> {
+    let name = format!("the {what} accessor ({})", acc.index());
+    if acc.sparse().is_some() {
+        return Err(format!("{name} is sparse, which is not supported"));
+    }
+    if !allowed.contains(&(acc.data_type(), acc.dimensions())) {
+        return Err(format!(
+            "{name} has type {:?} {:?}, expected one of {allowed:?}",
+            acc.dimensions(),
+            acc.data_type()
+        ));
+    }
+    if acc.count() == 0 {
+        return Err(format!("{name} has no elements"));
+    }
+    let view = acc.view().ok_or_else(|| format!("{name} has no buffer view"))?;
+    let size = acc.size();
+    let stride = view.stride().unwrap_or(size);
+    let buffer_len = buffers.get(view.buffer().index()).map_or(0, |b| b.len());
+    let view_end = view.offset().checked_add(view.length());
+    if stride < size || view_end.is_none_or(|end| end > buffer_len) {
+        return Err(format!("{name}'s buffer view {} does not fit its buffer", view.index()));
+    }
+    let end = (acc.count() - 1)
+        .checked_mul(stride)
+        .and_then(|x| x.checked_add(size))
+        .and_then(|x| x.checked_add(acc.offset()));
+    if end.is_none_or(|end| end > view.length()) {
+        return Err(format!("{name} reaches past the end of its buffer view {}", view.index()));
+    }
+    Ok(())
+}
+
+/// Triangles and vertices gathered from all primitives, before building the mesh.
+#[derive(Default)]
+struct Soup {
+    positions: Vec<Vec3>,
+    colors: Vec<[f32; 4]>,
+    any_color: bool,
+    indices: Vec<u32>,
+    arities: Vec<u32>,
+    /// Crease pairs and corners in merged vertex ids.
+    creases: Vec<Vec<[u32; 2]>>,
+    corners: Vec<u32>,
+}
+
+impl Soup {
+    fn add_primitive(
+        &mut self,
+        prim: &gltf::Primitive,
+        buffers: &[gltf::buffer::Data],
+        world: Mat4,
+        extras: Option<&Extras>,
+        at: &str,
+        path: &Path,
+    ) -> Result<(), IoError> {
+        use gltf::accessor::{DataType as D, Dimensions as N};
+        use gltf::mesh::Mode;
+        let mode = prim.mode();
+        if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+            return Ok(());
+        }
+        let err = |reason: String| gltf_error(path, format!("{at}: {reason}"));
+        let pos_acc = prim.get(&gltf::Semantic::Positions).ok_or_else(|| err("no POSITION attribute".into()))?;
+        check_accessor(&pos_acc, buffers, &[(D::F32, N::Vec3)], "POSITION").map_err(err)?;
+        let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+        let local: Vec<[f32; 3]> =
+            reader.read_positions().ok_or_else(|| err("POSITION cannot be read".into()))?.collect();
+        let nv = local.len();
+        let offset = self.positions.len();
+        if offset + nv >= u32::MAX as usize {
+            return Err(IoError::from_mesh(path, MeshError::TooLarge { what: format!("{} vertices", offset + nv) }));
+        }
+        let identity = world == Mat4::IDENTITY;
+        self.positions.extend(local.iter().map(|p| {
+            let p = Vec3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2]));
+            if identity {
+                p
+            } else {
+                world.transform_point3(p)
+            }
+        }));
+
+        match prim.get(&gltf::Semantic::Colors(0)) {
+            Some(acc) => {
+                let allowed = [
+                    (D::F32, N::Vec3),
+                    (D::F32, N::Vec4),
+                    (D::U8, N::Vec3),
+                    (D::U8, N::Vec4),
+                    (D::U16, N::Vec3),
+                    (D::U16, N::Vec4),
+                ];
+                check_accessor(&acc, buffers, &allowed, "COLOR_0").map_err(err)?;
+                if acc.count() != nv {
+                    return Err(err(format!("COLOR_0 has {} elements but POSITION has {nv}", acc.count())));
+                }
+                let colors = reader.read_colors(0).ok_or_else(|| err("COLOR_0 cannot be read".into()))?;
+                self.colors.resize(offset, [1.0; 4]);
+                self.colors.extend(colors.into_rgba_f32());
+                self.any_color = true;
+            }
+            None => self.colors.resize(offset + nv, [1.0; 4]),
+        }
+
+        let local_indices: Vec<u32> = match prim.indices() {
+            Some(acc) => {
+                check_accessor(
+                    &acc,
+                    buffers,
+                    &[(D::U8, N::Scalar), (D::U16, N::Scalar), (D::U32, N::Scalar)],
+                    "indices",
+                )
+                .map_err(err)?;
+                reader.read_indices().ok_or_else(|| err("the indices cannot be read".into()))?.into_u32().collect()
+            }
+            None => (0..nv as u32).collect(),
+        };
+        if let Some(&bad) = local_indices.iter().find(|&&i| i as usize >= nv) {
+            return Err(IoError::IndexOutOfRange {
+                path: path.into(),
+                at: at.into(),
+                index: i64::from(bad),
+                vertex_count: nv,
+            });
+        }
+        let mut tris: Vec<[u32; 3]> = match mode {
+            Mode::Triangles => {
+                if !local_indices.chunks_exact(3).remainder().is_empty() {
+                    return Err(err(format!("{} indices is not a whole number of triangles", local_indices.len())));
+                }
+                local_indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect()
+            }
+            Mode::TriangleStrip => local_indices
+                .windows(3)
+                .enumerate()
+                .map(|(i, w)| if i % 2 == 0 { [w[0], w[1], w[2]] } else { [w[1], w[0], w[2]] })
+                .collect(),
+            _ => (1..local_indices.len().saturating_sub(1))
+                .map(|i| [local_indices[0], local_indices[i], local_indices[i + 1]])
+                .collect(),
+        };
+        let before = tris.len();
+        tris.retain(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2]);
+
+        let runs = extras.and_then(|e| e.arity_runs.as_ref());
+        let polygons = match runs {
+            Some(runs) if tris.len() == before => rejoin(&tris, runs),
+            _ => None,
+        };
+        let flip = world.determinant() < 0.0;
+        let off = offset as u32;
+        match polygons {
+            Some((indices, arities)) => {
+                let mut start = 0;
+                for a in arities {
+                    let poly = &indices[start..start + a as usize];
+                    if flip {
+                        self.indices.extend(poly.iter().rev().map(|&i| i + off));
+                    } else {
+                        self.indices.extend(poly.iter().map(|&i| i + off));
+                    }
+                    self.arities.push(a);
+                    start += a as usize;
+                }
+            }
+            None => {
+                for [a, b, c] in tris {
+                    let t = if flip { [c, b, a] } else { [a, b, c] };
+                    self.indices.extend(t.map(|i| i + off));
+                    self.arities.push(3);
+                }
+            }
+        }
+        if let Some(e) = extras {
+            if e.creases.iter().flatten().all(|&v| (v as usize) < nv) {
+                self.creases.push(e.creases.iter().map(|&[a, b]| [a + off, b + off]).collect());
+            }
+            if e.corners.iter().all(|&v| (v as usize) < nv) {
+                self.corners.extend(e.corners.iter().map(|&v| v + off));
+            }
+        }
+        Ok(())
+    }
+
+    fn build(self, path: &Path) -> Result<Mesh, IoError> {
+        let mut mesh = Mesh::from_indexed(self.positions, &self.indices, &self.arities)
+            .map_err(|e| IoError::from_mesh(path, e))?;
+        if self.any_color {
+            mesh.set_vertex_colors(Some(self.colors)).map_err(|e| IoError::from_mesh(path, e))?;
+        }
+        for pairs in &self.creases {
+            // All or nothing per primitive: pairs that are not edges mean the extras do not
+            // belong to these triangles, and are ignored.
+            let _ = mesh.crease_edges(pairs);
+        }
+        for v in self.corners {
+            mesh.set_corner(v, true);
+        }
+        Ok(mesh)
+    }
+}
+
+/// Re-joins triangles into polygons following `runs` of arities: each polygon of arity `a`
+/// is the next `a − 2` triangles, walked along their boundary from the first triangle's first
+/// vertex. `None` when the runs do not match the triangles (then the triangles are kept).
+fn rejoin(tris: &[[u32; 3]], runs: &[(u32, u64)]) -> Option<(Vec<u32>, Vec<u32>)> {
+    let total: u64 =
+        runs.iter().try_fold(
+            0u64,
+            |s, &(a, c)| {
+                if a < 3 {
+                    None
+                } else {
+                    s.checked_add(u64::from(a - 2).checked_mul(c)?)
+                }
+            },
+        )?;
+    if total != tris.len() as u64 {
+        return None;
+    }
+    let mut indices = Vec::with_capacity(tris.len() + 2 * runs.len());
+    let mut arities = Vec::new();
+    let mut next = 0usize;
+    let mut edges: Vec<(u32, u32)> = Vec::new();
+    let mut boundary: Vec<(u32, u32)> = Vec::new();
+    for &(arity, count) in runs {
+        let k = (arity - 2) as usize;
+        for _ in 0..count {
+            let group = &tris[next..next + k];
+            next += k;
+            if k == 1 {
+                indices.extend_from_slice(&group[0]);
+                arities.push(3);
+                continue;
+            }
+            edges.clear();
+            edges.extend(group.iter().flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])]));
+            boundary.clear();
+            if k <= 16 {
+                boundary.extend(edges.iter().filter(|&&(a, b)| !edges.contains(&(b, a))));
+            } else {
+                let set: HashSet<(u32, u32)> = edges.iter().copied().collect();
+                boundary.extend(edges.iter().filter(|&&(a, b)| !set.contains(&(b, a))));
+            }
+            if boundary.len() != arity as usize {
+                return None;
+            }
+            boundary.sort_unstable();
+            let start = group[0][0];
+            let mut v = start;
+            for i in 0..arity {
+                let lo = boundary.partition_point(|&(a, _)| a < v);
+                let out = boundary.get(lo).filter(|&&(a, _)| a == v)?;
+                if boundary.get(lo + 1).is_some_and(|&(a, _)| a == v) {
+                    return None;
+                }
+                indices.push(v);
+                v = out.1;
+                if (v == start) != (i + 1 == arity) {
+                    return None;
+                }
+            }
+            arities.push(arity);
+        }
+    }
+    Some((indices, arities))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn glb(mesh: &Mesh) -> Vec<u8> {
+        let mut bytes = Vec::new();
+        write_glb(mesh, &mut bytes, Path::new("mem.glb")).unwrap();
+        bytes
+    }
+
+    fn f32_exact(m: &Mesh) -> Mesh {
+        m.map_positions(|p| Vec3::new(f64::from(p.x as f32), f64::from(p.y as f32), f64::from(p.z as f32)))
+    }
+
+    #[test]
+    fn glb_round_trip_keeps_polygons_creases_corners_and_f32_positions() {
+        let mut m = Mesh::torus(2.0, 0.5, 12, 8).translate(Vec3::new(0.1, 0.2, 0.3));
+        m.crease_edges(&[[0, 1], [1, 9]]).unwrap();
+        m.set_corner(3, true);
+        let back = read_gltf(&glb(&m), None, Path::new("mem.glb")).unwrap();
+        assert_eq!(back.to_polygons(), m.to_polygons());
+        assert_eq!(back.positions(), f32_exact(&m).positions(), "positions are the f32 roundings");
+        assert_eq!(back.crease_pairs().len(), 2);
+        assert!(back.find_halfedge(1, 9).is_some_and(|h| back.is_crease(h)));
+        assert!(back.is_corner(3));
+        assert_eq!(back.genus(), 1);
+    }
+
+    #[test]
+    fn non_convex_polygons_round_trip() {
+        // An L-shaped prism: two non-convex hexagon caps (triangulated by spade) and 6 quads.
+        let l = [(0., 0.), (2., 0.), (2., 1.), (1., 1.), (1., 2.), (0., 2.)];
+        let mut p: Vec<Vec3> = l.iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect();
+        p.extend(l.iter().map(|&(x, y)| Vec3::new(x, y, 1.0)));
+        let mut faces: Vec<Vec<u32>> = vec![(0..6).rev().collect(), (6..12).collect()];
+        faces.extend((0..6u32).map(|i| vec![i, (i + 1) % 6, 6 + (i + 1) % 6, 6 + i]));
+        let m = Mesh::from_polygons(p, &faces).unwrap();
+        let back = read_gltf(&glb(&m), None, Path::new("mem.glb")).unwrap();
+        assert_eq!(back.to_polygons(), m.to_polygons());
+        assert!((back.volume() - 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn colours_round_trip() {
+        let mut m = Mesh::cube(1.0);
+        let colors: Vec<[f32; 4]> = (0..8).map(|i| [i as f32 / 8.0, 0.5, 1.0, 0.25]).collect();
+        m.set_vertex_colors(Some(colors.clone())).unwrap();
+        let back = read_gltf(&glb(&m), None, Path::new("mem.glb")).unwrap();
+        assert_eq!(back.vertex_colors(), Some(colors.as_slice()));
+    }
+
+    #[test]
+    fn triangles_are_kept_when_the_extras_do_not_match() {
+        // Editing the arity runs to claim triangles: the quads stay split.
+        let bytes = glb(&Mesh::cube(2.0));
+        let text = String::from_utf8_lossy(&bytes).into_owned();
+        assert!(text.contains("[[4,6]]"));
+        let edited: Vec<u8> = bytes.windows(7).position(|w| w == b"[[4,6]]").map_or(bytes.clone(), |i| {
+            let mut b = bytes.clone();
+            b[i..i + 7].copy_from_slice(b"[[5,6]]");
+            b
+        });
+        let back = read_gltf(&edited, None, Path::new("mem.glb")).unwrap();
+        assert_eq!(back.face_count(), 12);
+        assert!(back.is_triangle_mesh() && back.is_closed());
+    }
+
+    #[test]
+    fn rejoin_rejects_inconsistent_groups() {
+        // Two triangles that do not share an edge cannot be one quad.
+        assert!(rejoin(&[[0, 1, 2], [3, 4, 5]], &[(4, 1)]).is_none());
+        assert!(rejoin(&[[0, 1, 2], [0, 2, 3]], &[(4, 2)]).is_none());
+        assert_eq!(rejoin(&[[0, 1, 2], [0, 2, 3]], &[(4, 1)]), Some((vec![0, 1, 2, 3], vec![4])));
+    }
+
+    #[test]
+    fn empty_mesh_writes_a_valid_empty_scene() {
+        let m = Mesh::from_polygons(vec![], &[] as &[[u32; 3]]).unwrap();
+        let back = read_gltf(&glb(&m), None, Path::new("mem.glb")).unwrap();
+        assert_eq!((back.vertex_count(), back.face_count()), (0, 0));
+    }
+
+    #[test]
+    fn uri_encoding_escapes_spaces() {
+        assert_eq!(uri_encode("my mesh.bin"), "my%20mesh.bin");
+        assert!(check_relative_uri("a%ffb.bin").is_err());
+        assert!(check_relative_uri("a%20b.bin").is_ok());
+    }
+}

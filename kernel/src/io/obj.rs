@@ -1,0 +1,523 @@
+//! Wavefront OBJ: read (through tobj, keeping polygons) and write.
+//!
+//! What is read: `v x y z` positions (with an optional `w` that divides them, or `r g b` vertex
+//! colours on every vertex), `f` faces of any arity by position index (texture and normal indices
+//! are ignored; negative indices count back from the last vertex), and the subdivision tags of
+//! OpenSubdiv's shape files: `t crease 2/1/0 a b s` tags the edge between the 0-based vertices
+//! `a` and `b` as a crease when its sharpness `s` is positive, `t corner 1/1/0 v s` marks vertex
+//! `v` as a corner. Objects and groups (`o`, `g`), materials, smoothing groups, normals and
+//! texture coordinates are accepted and ignored: every face goes into one mesh whose vertex `i`
+//! is the file's `i`-th `v` line (OBJ indices are global, so faces of different objects that
+//! share a vertex stay joined). A line whose keyword OBJ does not define is an error.
+//!
+//! What is written: the same subset, every coordinate with enough digits to read back the very
+//! same `f64`, crease and corner tags as `t` lines (sharpness 10, OpenSubdiv's "infinitely
+//! sharp").
+//!
+//! How tobj is used: tobj numbers a model's vertices in the order faces first use them, drops
+//! unused ones, and starts a new model (with its own vertex copies) at every `o`, `g` or
+//! `usemtl`. To keep vertex ids, the reader hands tobj only the `v` and `f` lines, preceded by
+//! one point element `f i` per vertex so that tobj's first-use order is the file order; the
+//! point elements are skipped afterwards. Normals and texture coordinates are not handed over
+//! either (they are ignored, and a bad texture index can overflow inside tobj).
+
+use std::io::{BufReader, Write};
+use std::path::Path;
+
+use super::error::IoError;
+use crate::math::Vec3;
+use crate::mesh::Mesh;
+
+/// Keywords of the OBJ specification that the reader accepts and ignores (besides `v`, `f`
+/// and `t`, which it reads, and comments).
+const IGNORED_KEYWORDS: &[&str] = &[
+    "vt",
+    "vn",
+    "vp",
+    "l",
+    "p",
+    "o",
+    "g",
+    "s",
+    "mg",
+    "mtllib",
+    "usemtl",
+    "maplib",
+    "usemap",
+    "lod",
+    "bevel",
+    "c_interp",
+    "d_interp",
+    "shadow_obj",
+    "trace_obj",
+    "ctech",
+    "stech",
+    "cstype",
+    "deg",
+    "bmat",
+    "step",
+    "curv",
+    "curv2",
+    "surf",
+    "parm",
+    "trim",
+    "hole",
+    "scrv",
+    "sp",
+    "end",
+    "con",
+    "call",
+    "csh",
+];
+
+/// OpenSubdiv's sharpness for an infinitely sharp crease or corner, written on `t` lines.
+const INFINITE_SHARPNESS: &str = "10";
+
+/// A crease or corner tag read from a `t` line.
+enum Tag {
+    Crease { line: usize, a: u32, b: u32 },
+    Corner { line: usize, v: u32 },
+}
+
+/// What the first pass over the text found.
+struct Scan {
+    /// The `v` and `f` lines only, preceded by one point element per vertex, for tobj.
+    for_tobj: Vec<u8>,
+    vertex_count: usize,
+    has_colors: bool,
+    tags: Vec<Tag>,
+}
+
+fn obj_error(path: &Path, line: usize, reason: impl Into<String>) -> IoError {
+    IoError::Obj { path: path.into(), line, reason: reason.into() }
+}
+
+/// The lines of `text` with their 1-based numbers, without line terminators.
+fn numbered_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
+    text.split('\n').enumerate().map(|(i, l)| (i + 1, l.strip_suffix('\r').unwrap_or(l)))
+}
+
+/// First pass: check every keyword, count the vertices and their colours, read the tags and
+/// collect the lines tobj needs.
+fn scan(text: &str, path: &Path) -> Result<Scan, IoError> {
+    let mut kept: Vec<&str> = Vec::new();
+    let mut n = 0usize;
+    let mut colored = 0usize;
+    let mut first_plain = None;
+    let mut first_colored = None;
+    let mut tags = Vec::new();
+    for (number, line) in numbered_lines(text) {
+        let mut words = line.split_whitespace();
+        let Some(keyword) = words.next() else { continue };
+        match keyword {
+            "v" => {
+                match words.count() {
+                    3 | 4 => {
+                        first_plain.get_or_insert(number);
+                    }
+                    6 => {
+                        colored += 1;
+                        first_colored.get_or_insert(number);
+                    }
+                    n => {
+                        return Err(obj_error(
+                            path,
+                            number,
+                            format!("a vertex needs x y z, optionally w or r g b; this one has {n} numbers"),
+                        ))
+                    }
+                }
+                n += 1;
+                kept.push(line);
+            }
+            "f" => {
+                let n = words.count();
+                if n < 3 {
+                    return Err(obj_error(path, number, format!("a face needs at least 3 vertices, this one has {n}")));
+                }
+                kept.push(line);
+            }
+            "t" => {
+                tags.extend(parse_tag(words, number, path)?);
+            }
+            k if k.starts_with('#') => {}
+            k if IGNORED_KEYWORDS.contains(&k) => {}
+            k => {
+                let shown: String = k.chars().take(40).collect();
+                return Err(obj_error(path, number, format!("unknown keyword {shown:?} (not an OBJ statement)")));
+            }
+        }
+    }
+    if colored != 0 && colored != n {
+        let line = first_plain.max(first_colored).unwrap_or(0);
+        return Err(obj_error(path, line, "some vertices have colours (v x y z r g b) and others do not"));
+    }
+    // tobj reads one model; the point elements `f 1` … `f n` make its vertex order the file's.
+    let mut for_tobj = Vec::with_capacity(n * 10 + kept.iter().map(|l| l.len() + 1).sum::<usize>());
+    let mut ibuf = itoa::Buffer::new();
+    for i in 1..=n {
+        for_tobj.extend_from_slice(b"f ");
+        for_tobj.extend_from_slice(ibuf.format(i).as_bytes());
+        for_tobj.push(b'\n');
+    }
+    for line in kept {
+        for_tobj.extend_from_slice(line.as_bytes());
+        for_tobj.push(b'\n');
+    }
+    Ok(Scan { for_tobj, vertex_count: n, has_colors: colored > 0, tags })
+}
+
+/// Parses the words after `t`: crease or corner tags (a crease tag with `k` vertices tags the
+/// `k - 1` edges of the chain they form), none for other tags (holes, boundary interpolation,
+/// crease method) or for zero sharpness, which are ignored.
+fn parse_tag<'a>(mut words: impl Iterator<Item = &'a str>, line: usize, path: &Path) -> Result<Vec<Tag>, IoError> {
+    let name = words.next().unwrap_or("");
+    let min_ints = match name {
+        "crease" => 2,
+        "corner" => 1,
+        _ => return Ok(Vec::new()),
+    };
+    let bad = || obj_error(path, line, format!("malformed `t {name}` tag (expected `t {name} {min_ints}/1/0 ...`)"));
+    let counts: Vec<usize> =
+        words.next().unwrap_or("").split('/').map(str::parse).collect::<Result<_, _>>().map_err(|_| bad())?;
+    let (ni, nf) = match counts.as_slice() {
+        [ni, nf, 0] | [ni, nf] if *ni >= min_ints && *nf >= 1 => (*ni, *nf),
+        _ => return Err(bad()),
+    };
+    let ints: Vec<u32> =
+        (0..ni).map(|_| words.next().and_then(|w| w.parse().ok())).collect::<Option<_>>().ok_or_else(bad)?;
+    let floats: Vec<f64> =
+        (0..nf).map(|_| words.next().and_then(|w| w.parse().ok())).collect::<Option<_>>().ok_or_else(bad)?;
+    if words.next().is_some() {
+        return Err(bad());
+    }
+    // blocksmith's creases are on or off: a tag counts when its sharpness is positive.
+    if !floats.iter().all(|&s| s > 0.0) {
+        return Ok(Vec::new());
+    }
+    Ok(match name {
+        "crease" => ints.windows(2).map(|w| Tag::Crease { line, a: w[0], b: w[1] }).collect(),
+        _ => ints.iter().map(|&v| Tag::Corner { line, v }).collect(),
+    })
+}
+
+/// Finds the line responsible for an error tobj reported without one.
+fn diagnose(text: &str, path: &Path, vertex_count: usize, tobj_error: &tobj::LoadError) -> IoError {
+    let mut seen = 0usize;
+    for (number, line) in numbered_lines(text) {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => {
+                seen += 1;
+                let values: Vec<&str> = words.collect();
+                if let Some(bad) = values.iter().find(|w| w.parse::<f64>().is_err()) {
+                    let shown: String = bad.chars().take(40).collect();
+                    return obj_error(path, number, format!("{shown:?} is not a number"));
+                }
+                if values.len() == 4 && values[3].parse::<f64>() == Ok(0.0) {
+                    return obj_error(path, number, "the vertex weight w is 0");
+                }
+            }
+            Some("f") => {
+                for word in words {
+                    let mut parts = word.split('/');
+                    let first = parts.next().unwrap_or("");
+                    let Ok(index) = first.parse::<i64>() else {
+                        let shown: String = word.chars().take(40).collect();
+                        return obj_error(path, number, format!("{shown:?} is not a vertex index"));
+                    };
+                    if parts.any(|p| !p.is_empty() && p.parse::<i64>().is_err()) || word.split('/').count() > 3 {
+                        let shown: String = word.chars().take(40).collect();
+                        return obj_error(path, number, format!("{shown:?} is not a vertex index"));
+                    }
+                    let resolved = if index < 0 { seen as i64 + index } else { index - 1 };
+                    if index == 0 || resolved < 0 || resolved >= vertex_count as i64 {
+                        return IoError::IndexOutOfRange {
+                            path: path.into(),
+                            at: format!("line {number}"),
+                            index,
+                            vertex_count,
+                        };
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    obj_error(path, 0, format!("tobj: {tobj_error}"))
+}
+
+/// tobj's options: polygons kept, one index per position, point elements kept (they carry the
+/// vertex order), lines dropped.
+// Field by field: other tobj features (merging, reordering) add fields that must stay off.
+#[allow(clippy::field_reassign_with_default)]
+fn tobj_options() -> tobj::LoadOptions {
+    let mut options = tobj::LoadOptions::default();
+    options.triangulate = false;
+    options.single_index = false;
+    options.ignore_points = false;
+    options.ignore_lines = true;
+    options
+}
+
+/// Reads an OBJ file's text into a mesh, keeping its polygons and its vertex order.
+///
+/// Inputs: the bytes of the file (UTF-8) and the path to name in errors. See the module
+/// documentation for what is read and what is ignored.
+///
+/// # Errors
+/// - [`IoError::Obj`] with the line number: an unknown keyword, a number that does not parse,
+///   a face with fewer than 3 vertices, colours on some vertices only, a malformed or
+///   out-of-range `t` tag, text that is not UTF-8;
+/// - [`IoError::IndexOutOfRange`] naming the line of a face index past the vertices (or 0);
+/// - [`IoError::NonFinite`] for a NaN or infinite coordinate;
+/// - [`IoError::Mesh`] when the faces are not a manifold mesh (the face number counts `f`
+///   lines from 0).
+///
+/// See also [`write_obj`], [`super::load`].
+pub fn read_obj(bytes: &[u8], path: &Path) -> Result<Mesh, IoError> {
+    let text = std::str::from_utf8(bytes).map_err(|e| {
+        let line = bytes[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count() + 1;
+        obj_error(path, line, "the text is not valid UTF-8")
+    })?;
+    let scan = scan(text, path)?;
+    let options = tobj_options();
+    let mut reader = BufReader::new(scan.for_tobj.as_slice());
+    let (models, _) = tobj::load_obj_buf(&mut reader, &options, |_| Err(tobj::LoadError::GenericFailure))
+        .map_err(|e| diagnose(text, path, scan.vertex_count, &e))?;
+    let internal = |reason: &str| IoError::Internal { path: path.into(), reason: reason.into() };
+    let [model] = <[tobj::Model; 1]>::try_from(models).map_err(|_| internal("tobj returned other than one model"))?;
+    let m = model.mesh;
+    let n = scan.vertex_count;
+    if m.positions.len() != 3 * n || m.indices.len() < n || m.face_arities.len() < n {
+        return Err(internal("tobj's vertex count differs from the file's"));
+    }
+    if m.indices[..n].iter().enumerate().any(|(i, &v)| v as usize != i) || m.face_arities[..n].iter().any(|&a| a != 1) {
+        return Err(internal("tobj did not keep the file's vertex order"));
+    }
+    if scan.has_colors && m.vertex_color.len() != 3 * n {
+        let e = tobj::LoadError::ColorParseError;
+        return Err(diagnose(text, path, n, &e));
+    }
+    let positions: Vec<Vec3> = m.positions.chunks_exact(3).map(|p| Vec3::new(p[0], p[1], p[2])).collect();
+    let arities = &m.face_arities[n..];
+    let mut mesh = Mesh::from_indexed(positions, &m.indices[n..], arities).map_err(|e| IoError::from_mesh(path, e))?;
+    if scan.has_colors {
+        let colors = m.vertex_color.chunks_exact(3).map(|c| [c[0] as f32, c[1] as f32, c[2] as f32, 1.0]).collect();
+        mesh.set_vertex_colors(Some(colors)).map_err(|e| IoError::from_mesh(path, e))?;
+    }
+    for tag in &scan.tags {
+        match *tag {
+            Tag::Crease { line, a, b } => {
+                mesh.crease_edges(&[[a, b]]).map_err(|_| {
+                    obj_error(
+                        path,
+                        line,
+                        format!("`t crease` names vertices {a} and {b}, which are not joined by an edge"),
+                    )
+                })?;
+            }
+            Tag::Corner { line, v } => {
+                if v as usize >= mesh.vertex_count() {
+                    return Err(obj_error(
+                        path,
+                        line,
+                        format!(
+                            "`t corner` names vertex {v}, but there are {} vertices (tags count from 0)",
+                            mesh.vertex_count()
+                        ),
+                    ));
+                }
+                mesh.set_corner(v, true);
+            }
+        }
+    }
+    Ok(mesh)
+}
+
+/// Writes `mesh` as OBJ text: a header comment, one `v` line per vertex (with `r g b` when the
+/// mesh has vertex colours; alpha is not written), one `f` line per face (1-based), and `t`
+/// lines for crease edges and corners (0-based, as OpenSubdiv writes them).
+///
+/// Coordinates are written with the shortest decimal form that reads back as the same `f64`,
+/// so [`read_obj`] returns the same positions, polygons, creases and corners.
+///
+/// # Errors
+/// Only those of `out`.
+///
+/// See also [`read_obj`], [`super::save`].
+pub fn write_obj<W: Write>(mesh: &Mesh, out: &mut W) -> std::io::Result<()> {
+    let mut buf: Vec<u8> = Vec::with_capacity(1 << 16);
+    let mut fbuf = zmij::Buffer::new();
+    let mut ibuf = itoa::Buffer::new();
+    writeln!(
+        buf,
+        "# blocksmith {}: {} vertices, {} faces",
+        env!("CARGO_PKG_VERSION"),
+        mesh.vertex_count(),
+        mesh.face_count()
+    )?;
+    let colors = mesh.vertex_colors();
+    for (i, p) in mesh.positions().iter().enumerate() {
+        buf.extend_from_slice(b"v");
+        for c in [p.x, p.y, p.z] {
+            buf.push(b' ');
+            buf.extend_from_slice(fbuf.format(c).as_bytes());
+        }
+        if let Some(colors) = colors {
+            for &c in &colors[i][..3] {
+                buf.push(b' ');
+                // The f64 form of the f32 value reads back exactly.
+                buf.extend_from_slice(fbuf.format(f64::from(c)).as_bytes());
+            }
+        }
+        buf.push(b'\n');
+        if buf.len() > (1 << 16) {
+            out.write_all(&buf)?;
+            buf.clear();
+        }
+    }
+    for f in 0..mesh.face_count() as u32 {
+        buf.push(b'f');
+        for v in mesh.face_vertices(f) {
+            buf.push(b' ');
+            buf.extend_from_slice(ibuf.format(v + 1).as_bytes());
+        }
+        buf.push(b'\n');
+        if buf.len() > (1 << 16) {
+            out.write_all(&buf)?;
+            buf.clear();
+        }
+    }
+    for [a, b] in mesh.crease_pairs() {
+        writeln!(buf, "t crease 2/1/0 {a} {b} {INFINITE_SHARPNESS}")?;
+    }
+    for v in (0..mesh.vertex_count() as u32).filter(|&v| mesh.is_corner(v)) {
+        writeln!(buf, "t corner 1/1/0 {v} {INFINITE_SHARPNESS}")?;
+    }
+    out.write_all(&buf)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read(text: &str) -> Result<Mesh, IoError> {
+        read_obj(text.as_bytes(), Path::new("t/test.obj"))
+    }
+
+    fn round_trip(mesh: &Mesh) -> Mesh {
+        let mut bytes = Vec::new();
+        write_obj(mesh, &mut bytes).unwrap();
+        read_obj(&bytes, Path::new("mem.obj")).unwrap()
+    }
+
+    #[test]
+    fn round_trip_keeps_ids_positions_polygons_creases_and_corners() {
+        // A torus of quads moved off the origin so every coordinate has many digits.
+        let mut m = Mesh::torus(2.0, 0.5, 12, 8).translate(Vec3::new(0.1, -1.0 / 3.0, 1e-7));
+        m.crease_edges(&[[0, 1], [8, 0]]).unwrap();
+        m.set_corner(5, true);
+        let back = round_trip(&m);
+        assert_eq!(back.positions(), m.positions(), "positions must be bit-exact");
+        assert_eq!(back.to_polygons(), m.to_polygons());
+        assert_eq!(back.crease_pairs().len(), 2);
+        assert!(back.find_halfedge(0, 1).is_some_and(|h| back.is_crease(h)));
+        assert!(back.find_halfedge(8, 0).is_some_and(|h| back.is_crease(h)));
+        assert!(back.is_corner(5) && (0..back.vertex_count() as u32).filter(|&v| back.is_corner(v)).count() == 1);
+        assert!(back.vertex_colors().is_none());
+    }
+
+    #[test]
+    fn round_trip_keeps_colours_and_unused_vertices() {
+        let mut m =
+            Mesh::from_polygons(vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::new(5.0, 5.0, 5.0)], &[[0u32, 1, 2]]).unwrap();
+        let colors = vec![[0.1f32, 0.2, 0.3, 1.0], [1.0, 0.0, 0.5, 1.0], [0.7, 0.7, 0.7, 1.0], [0.0, 0.0, 0.0, 1.0]];
+        m.set_vertex_colors(Some(colors.clone())).unwrap();
+        let back = round_trip(&m);
+        // Vertex 3 is used by no face; it keeps its id and position all the same.
+        assert_eq!(back.positions(), m.positions());
+        assert_eq!(back.vertex_colors(), Some(colors.as_slice()));
+    }
+
+    #[test]
+    fn quads_load_as_quads_and_negative_indices_count_back() {
+        let text = "# a unit square and a triangle on top, relative indices\n\
+                    v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 1\nvt 0 0\n\
+                    o square\nf 1/1/1 2//1 3 4\nv 0.5 2 0\no roof\nf -2 -3 -1\n";
+        let m = read(text).unwrap();
+        assert_eq!(m.to_polygons(), vec![vec![0, 1, 2, 3], vec![3, 2, 4]]);
+    }
+
+    #[test]
+    fn objects_sharing_vertices_stay_joined() {
+        // Two objects using the same two vertices: one mesh of 4 vertices, one interior edge.
+        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 -1 0\ng a\nf 1 2 3\ng b\nusemtl red\nf 2 1 4\n";
+        let m = read(text).unwrap();
+        assert_eq!((m.vertex_count(), m.edge_count(), m.face_count()), (4, 5, 2));
+    }
+
+    #[test]
+    fn junk_line_names_its_line() {
+        let e = read("v 0 0 0\nv 1 0 0\nv 0 1 0\nhello world\nf 1 2 3\n").unwrap_err();
+        assert!(matches!(e, IoError::Obj { line: 4, .. }), "{e}");
+        assert!(e.to_string().starts_with("t/test.obj:4: malformed OBJ: unknown keyword \"hello\""), "{e}");
+    }
+
+    #[test]
+    fn bad_index_names_line_and_index() {
+        let e = read("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n").unwrap_err();
+        match &e {
+            IoError::IndexOutOfRange { at, index: 9, vertex_count: 3, .. } => assert_eq!(at, "line 5"),
+            _ => panic!("{e}"),
+        }
+        assert!(e.to_string().contains("t/test.obj"));
+        // Index 0 does not exist in OBJ (indices start at 1).
+        assert!(matches!(read("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n"), Err(IoError::IndexOutOfRange { index: 0, .. })));
+        assert!(matches!(
+            read("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n"),
+            Err(IoError::IndexOutOfRange { index: -4, .. })
+        ));
+    }
+
+    #[test]
+    fn malformed_numbers_and_short_faces_name_their_line() {
+        assert!(matches!(read("v 0 0 0\nv 1 zero 0\n"), Err(IoError::Obj { line: 2, .. })));
+        assert!(matches!(read("v 0 0\n"), Err(IoError::Obj { line: 1, .. })));
+        assert!(matches!(read("v 0 0 0\nv 1 0 0\nf 1 2\n"), Err(IoError::Obj { line: 3, .. })));
+        assert!(matches!(read("v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 x\n"), Err(IoError::Obj { line: 4, .. })));
+        assert!(matches!(read("v 0 0 0 1 0 0\nv 1 0 0\n"), Err(IoError::Obj { line: 2, .. })));
+        assert!(matches!(read("v 0 0 0\nt crease 2/1/0 0\n"), Err(IoError::Obj { line: 2, .. })));
+        assert!(matches!(read_obj(b"v 0 0 0\n\xff\n", Path::new("x.obj")), Err(IoError::Obj { line: 2, .. })));
+    }
+
+    #[test]
+    fn nan_coordinate_is_an_error_naming_the_vertex() {
+        let e = read("v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n").unwrap_err();
+        assert!(matches!(e, IoError::NonFinite { vertex: 1, .. }), "{e}");
+    }
+
+    #[test]
+    fn non_manifold_soup_is_an_error_naming_the_edge() {
+        // Three triangles on the edge 1–2.
+        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 0 0 -1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n";
+        let e = read(text).unwrap_err();
+        assert!(matches!(e, IoError::Mesh { .. }), "{e}");
+        assert!(e.to_string().contains("edge (0, 1)") && e.to_string().starts_with("t/test.obj"), "{e}");
+    }
+
+    #[test]
+    fn crease_tag_on_a_non_edge_is_an_error() {
+        let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\nt crease 2/1/0 0 2 10\n";
+        assert!(matches!(read(text), Err(IoError::Obj { line: 6, .. })));
+        // Zero sharpness means "not a crease" and is accepted.
+        let ok = read("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\nt crease 2/1/0 0 1 0\n").unwrap();
+        assert_eq!(ok.crease_count(), 0);
+    }
+
+    #[test]
+    fn empty_text_is_an_empty_mesh() {
+        let m = read("# nothing\n\n").unwrap();
+        assert_eq!((m.vertex_count(), m.face_count()), (0, 0));
+    }
+}
