@@ -284,8 +284,28 @@ fn document(mesh: &Mesh, uri: Option<String>, path: &Path) -> Result<(json::Root
 ///
 /// See also [`write_glb`], [`super::load`].
 pub fn read_gltf(bytes: &[u8], base: Option<&Path>, path: &Path) -> Result<Mesh, IoError> {
+    if let Some(h) = bytes.get(..12).filter(|h| h.starts_with(b"glTF")) {
+        // gltf subtracts the header size from this length unchecked.
+        let length = u32::from_le_bytes([h[8], h[9], h[10], h[11]]);
+        if length < 12 {
+            return Err(gltf_error(
+                path,
+                format!("the GLB header gives a total length of {length} bytes (at least 12)"),
+            ));
+        }
+    }
     let gltf::Gltf { document: doc, blob } =
-        gltf::Gltf::from_slice(bytes).map_err(|e| gltf_error(path, e.to_string()))?;
+        gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| gltf_error(path, e.to_string()))?;
+    // gltf's own validation indexes the POSITION accessor before checking that it exists.
+    let root = doc.into_json();
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            if prim.attributes.values().any(|a| a.value() >= root.accessors.len()) {
+                return Err(gltf_error(path, format!("mesh {m} primitive {p} names an accessor that does not exist")));
+            }
+        }
+    }
+    let doc = gltf::Document::from_json(root).map_err(|e| gltf_error(path, e.to_string()))?;
     for buffer in doc.buffers() {
         if let gltf::buffer::Source::Uri(uri) = buffer.source() {
             check_relative_uri(uri)
