@@ -13,6 +13,7 @@
 pub mod io;
 pub mod math;
 pub mod mesh;
+pub mod voxel;
 
 pub use math::{Aabb, Vec3};
 pub use mesh::{Mesh, MeshError};
