@@ -98,19 +98,20 @@ fn internal(path: &Path, reason: &str) -> IoError {
     IoError::Internal { path: path.into(), reason: reason.into() }
 }
 
-/// Appends `data` to `buffer` as a new view (4-byte aligned) and returns the view.
+/// Appends a new view (4-byte aligned) to `buffer`, its bytes written by `fill`, and returns
+/// the view.
 fn push_view(
     root: &mut json::Root,
     buffer: &mut Vec<u8>,
-    data: &[u8],
     target: json::buffer::Target,
+    fill: impl FnOnce(&mut Vec<u8>),
 ) -> json::Index<json::buffer::View> {
     buffer.resize(buffer.len().next_multiple_of(4), 0);
     let offset = buffer.len();
-    buffer.extend_from_slice(data);
+    fill(buffer);
     root.push(json::buffer::View {
         buffer: json::Index::new(0),
-        byte_length: USize64::from(data.len()),
+        byte_length: USize64::from(buffer.len() - offset),
         byte_offset: Some(USize64::from(offset)),
         byte_stride: None,
         name: None,
@@ -143,12 +144,70 @@ fn accessor(
     }
 }
 
-fn f32_bytes(values: impl Iterator<Item = f32>, len: usize) -> Vec<u8> {
-    let mut out = Vec::with_capacity(4 * len);
-    for v in values {
-        out.extend_from_slice(&v.to_le_bytes());
+/// Appends `values` little-endian (resize, then fill in place: the loop vectorises).
+fn push_f32s(out: &mut Vec<u8>, values: &[f32]) {
+    let start = out.len();
+    out.resize(start + 4 * values.len(), 0);
+    for (chunk, v) in out[start..].chunks_exact_mut(4).zip(values) {
+        chunk.copy_from_slice(&v.to_le_bytes());
     }
-    out
+}
+
+fn push_u32s(out: &mut Vec<u8>, values: &[u32]) {
+    let start = out.len();
+    out.resize(start + 4 * values.len(), 0);
+    for (chunk, v) in out[start..].chunks_exact_mut(4).zip(values) {
+        chunk.copy_from_slice(&v.to_le_bytes());
+    }
+}
+
+/// Area-weighted unit vertex normals in f32, from the faces' triangles: each face's vector area
+/// (the sum of its triangles', which for any triangulation of a polygon is the polygon's) is
+/// added to each of its corners, as [`Mesh::vertex_normals`] does. A vertex no face uses gets +Z
+/// (glTF requires unit normals).
+fn vertex_normals_f32(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> Vec<[f32; 3]> {
+    let p = mesh.positions();
+    let mut sums = vec![Vec3::ZERO; p.len()];
+    let mut start = 0;
+    let mut corners: Vec<u32> = Vec::new();
+    for &a in arities {
+        let t = &tris[start..start + 3 * (a as usize - 2)];
+        start += t.len();
+        let mut area = Vec3::ZERO;
+        for tri in t.chunks_exact(3) {
+            let (a, b, c) = (p[tri[0] as usize], p[tri[1] as usize], p[tri[2] as usize]);
+            area += (b - a).cross(c - a);
+        }
+        if a == 3 {
+            for &v in t {
+                sums[v as usize] += area;
+            }
+        } else if a == 4 && t[3] == t[0] && t[4] == t[2] {
+            // A quad's fan (v0 v1 v2)(v0 v2 v3).
+            for v in [t[0], t[1], t[2], t[5]] {
+                sums[v as usize] += area;
+            }
+        } else {
+            // The corners of a triangulated polygon are its triangles' vertices, each once.
+            corners.clear();
+            corners.extend_from_slice(t);
+            corners.sort_unstable();
+            corners.dedup();
+            for &v in &corners {
+                sums[v as usize] += area;
+            }
+        }
+    }
+    sums.iter()
+        .map(|s| {
+            let n = glam::Vec3::new(s.x as f32, s.y as f32, s.z as f32).normalize_or_zero();
+            if n == glam::Vec3::ZERO {
+                [0.0, 0.0, 1.0]
+            } else {
+                n.to_array()
+            }
+        })
+        .collect()
 }
 
 /// The blocksmith `extras` of `mesh` (arity runs, creases, corners), `None` when there is
@@ -198,48 +257,37 @@ fn document(mesh: &Mesh, uri: Option<String>, path: &Path) -> Result<(json::Root
     let mut bin = Vec::with_capacity(n * 24 + tris.len() * 4 + mesh.vertex_colors().map_or(0, |_| n * 16));
 
     // Positions, rounded to f32 first so that min/max are those of the stored values.
-    let pos32: Vec<[f32; 3]> = mesh.positions().iter().map(|p| [p.x as f32, p.y as f32, p.z as f32]).collect();
+    let pos32: Vec<f32> = mesh.positions().iter().flat_map(|p| [p.x as f32, p.y as f32, p.z as f32]).collect();
     let mut lo = [f32::INFINITY; 3];
     let mut hi = [f32::NEG_INFINITY; 3];
-    for p in &pos32 {
+    for p in pos32.chunks_exact(3) {
         for k in 0..3 {
             lo[k] = lo[k].min(p[k]);
             hi[k] = hi[k].max(p[k]);
         }
     }
-    let data = f32_bytes(pos32.iter().flatten().copied(), 3 * n);
-    let view = push_view(&mut root, &mut bin, &data, json::buffer::Target::ArrayBuffer);
+    let view = push_view(&mut root, &mut bin, json::buffer::Target::ArrayBuffer, |b| push_f32s(b, &pos32));
+    drop(pos32);
     let positions =
         root.push(accessor(view, n, json::accessor::ComponentType::F32, json::accessor::Type::Vec3, Some((lo, hi))));
 
-    // Normals, normalised again in f32 (the validator checks unit length).
-    let normals = mesh.vertex_normals().into_iter().map(|v| {
-        let n32 = glam::Vec3::new(v.x as f32, v.y as f32, v.z as f32).normalize_or_zero();
-        if n32 == glam::Vec3::ZERO {
-            glam::Vec3::Z
-        } else {
-            n32
-        }
-    });
-    let data = f32_bytes(normals.flat_map(|v| v.to_array()), 3 * n);
-    let view = push_view(&mut root, &mut bin, &data, json::buffer::Target::ArrayBuffer);
+    let normals = vertex_normals_f32(mesh, &tris, &arities);
+    let view =
+        push_view(&mut root, &mut bin, json::buffer::Target::ArrayBuffer, |b| push_f32s(b, normals.as_flattened()));
+    drop(normals);
     let normals = root.push(accessor(view, n, json::accessor::ComponentType::F32, json::accessor::Type::Vec3, None));
 
     let mut attributes = std::collections::BTreeMap::new();
     attributes.insert(Valid(json::mesh::Semantic::Positions), positions);
     attributes.insert(Valid(json::mesh::Semantic::Normals), normals);
     if let Some(colors) = mesh.vertex_colors() {
-        let data = f32_bytes(colors.iter().flatten().map(|c| c.clamp(0.0, 1.0)), 4 * n);
-        let view = push_view(&mut root, &mut bin, &data, json::buffer::Target::ArrayBuffer);
+        let clamped: Vec<f32> = colors.as_flattened().iter().map(|c| c.clamp(0.0, 1.0)).collect();
+        let view = push_view(&mut root, &mut bin, json::buffer::Target::ArrayBuffer, |b| push_f32s(b, &clamped));
         let colors = root.push(accessor(view, n, json::accessor::ComponentType::F32, json::accessor::Type::Vec4, None));
         attributes.insert(Valid(json::mesh::Semantic::Colors(0)), colors);
     }
 
-    let mut data = Vec::with_capacity(4 * tris.len());
-    for &i in &tris {
-        data.extend_from_slice(&i.to_le_bytes());
-    }
-    let view = push_view(&mut root, &mut bin, &data, json::buffer::Target::ElementArrayBuffer);
+    let view = push_view(&mut root, &mut bin, json::buffer::Target::ElementArrayBuffer, |b| push_u32s(b, &tris));
     let indices =
         root.push(accessor(view, tris.len(), json::accessor::ComponentType::U32, json::accessor::Type::Scalar, None));
     bin.resize(bin.len().next_multiple_of(4), 0);
@@ -790,6 +838,25 @@ mod tests {
         let m = Mesh::from_polygons(vec![], &[] as &[[u32; 3]]).unwrap();
         let back = read_gltf(&glb(&m), None, Path::new("mem.glb")).unwrap();
         assert_eq!((back.vertex_count(), back.face_count()), (0, 0));
+    }
+
+    #[test]
+    fn normals_from_triangles_match_the_meshs_vertex_normals() {
+        // The L-prism has non-convex caps (triangulated by spade), the torus quads, the icosphere
+        // triangles: a face's triangles add up to its vector area whatever the triangulation.
+        let l = [(0., 0.), (2., 0.), (2., 1.), (1., 1.), (1., 2.), (0., 2.)];
+        let mut p: Vec<Vec3> = l.iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect();
+        p.extend(l.iter().map(|&(x, y)| Vec3::new(x, y, 1.0)));
+        let mut faces: Vec<Vec<u32>> = vec![(0..6).rev().collect(), (6..12).collect()];
+        faces.extend((0..6u32).map(|i| vec![i, (i + 1) % 6, 6 + (i + 1) % 6, 6 + i]));
+        for m in [Mesh::from_polygons(p, &faces).unwrap(), Mesh::torus(2.0, 0.5, 10, 6), Mesh::icosphere(1.0, 1)] {
+            let (tris, arities) = crate::io::face_triangles(&m).unwrap();
+            let ours = vertex_normals_f32(&m, &tris, &arities);
+            for (a, b) in ours.iter().zip(m.vertex_normals()) {
+                let d = (glam::Vec3::from_array(*a) - b.as_vec3()).length();
+                assert!(d < 1e-6, "{a:?} vs {b:?}, difference {d}");
+            }
+        }
     }
 
     #[test]

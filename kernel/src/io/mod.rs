@@ -143,7 +143,7 @@ pub(crate) fn face_triangles(mesh: &Mesh) -> Result<(Vec<u32>, Vec<u32>), MeshEr
         arities.push(ids.len() as u32);
         match ids.len() {
             3 => tris.extend_from_slice(&ids),
-            4 if is_convex_quad(mesh, f, &ids) => {
+            4 if is_convex_quad(mesh, &ids) => {
                 tris.extend_from_slice(&[ids[0], ids[1], ids[2], ids[0], ids[2], ids[3]])
             }
             _ => {
@@ -167,12 +167,13 @@ pub(crate) fn face_triangles(mesh: &Mesh) -> Result<(Vec<u32>, Vec<u32>), MeshEr
     Ok((tris, arities))
 }
 
-/// Whether the quad `ids` (face `f`) turns the same way at every corner about its normal: the
-/// same test [`Mesh::triangulate_face`] uses to take a fan.
-fn is_convex_quad(mesh: &Mesh, f: u32, ids: &[u32]) -> bool {
-    let n = mesh.face_vector_area(f);
-    let p = |i: usize| mesh.position(ids[i % 4]);
-    (0..4).all(|i| (p(i + 1) - p(i)).cross(p(i + 2) - p(i + 1)).dot(n) > 0.0)
+/// Whether the quad `ids` turns the same way at every corner about its normal: the test
+/// [`Mesh::triangulate_face`] uses to take a fan, with the quad's vector area ½ (p₂ − p₀) ×
+/// (p₃ − p₁) (Newell's, in closed form) as the normal.
+fn is_convex_quad(mesh: &Mesh, ids: &[u32]) -> bool {
+    let p = [ids[0], ids[1], ids[2], ids[3]].map(|v| mesh.position(v));
+    let n = (p[2] - p[0]).cross(p[3] - p[1]);
+    (0..4).all(|i| (p[(i + 1) % 4] - p[i]).cross(p[(i + 2) % 4] - p[(i + 1) % 4]).dot(n) > 0.0)
 }
 
 #[cfg(test)]
