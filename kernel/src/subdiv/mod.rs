@@ -1,0 +1,34 @@
+//! Subdivision surfaces: Catmull–Clark and Loop refinement with infinitely sharp creases and
+//! corners, limit positions and normals, and evaluation of the Catmull–Clark limit surface
+//! anywhere.
+//!
+//! Layout (as OpenSubdiv separates `Sdc`, `Vtr`, `Far` and `Osd`):
+//! - `topology`: one level of connectivity as flat arrays, vertex rules (smooth, crease, corner);
+//! - [`refiner`]: [`Refiner`] refines the topology once and applies the rules to positions many
+//!   times, or hands them out as [`StencilTable`]s; [`Mesh::catmull_clark`] and
+//!   [`Mesh::loop_subdivide`] are its one-shot forms;
+//! - `masks`, `limit`: limit masks, [`Mesh::catmull_clark_limit`], [`Mesh::loop_limit`], their
+//!   normals and stencils;
+//! - `patch`, `evaluator`: [`LimitEvaluator`], the Catmull–Clark limit surface at any
+//!   (face, u, v) of an all-quad mesh.
+//!
+//! Boundaries follow OpenSubdiv's default "edge only" interpolation, which Blender's subdivision
+//! modifier uses: boundary edges are sharp, and a boundary vertex with two edges (the corner of an
+//! open grid) follows the crease rule and moves; mark it with [`Mesh::set_corner`] to pin it.
+
+mod catmull_clark;
+mod error;
+mod limit;
+mod loop_scheme;
+mod masks;
+pub mod refiner;
+mod ring;
+mod stencil;
+#[cfg(test)]
+mod test_meshes;
+mod topology;
+
+pub use error::SubdivError;
+pub use limit::{catmull_clark_limit_stencils, loop_limit_stencils};
+pub use refiner::{loop_beta, Refiner, Scheme, MAX_FACES};
+pub use stencil::StencilTable;

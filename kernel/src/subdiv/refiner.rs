@@ -1,0 +1,426 @@
+//! The topology refiner: connectivity refined once, positions refined many times.
+//!
+//! [`Refiner::new`] builds the topology of every level from a mesh (no positions involved), then
+//! [`Refiner::refine_positions`] applies the subdivision rules to any set of control positions, as
+//! often as needed, and [`Refiner::stencils`] / [`Refiner::composed_stencils`] give the same maps as
+//! explicit sparse weights. This is OpenSubdiv's split between `Far::TopologyRefiner`,
+//! `Far::PrimvarRefiner` and `Far::StencilTableFactory`.
+//!
+//! # Id layout of a refined level
+//! - **Catmull–Clark**: vertex points keep their parent's ids `0..V`, then one edge point per
+//!   parent edge (`V + e`, edges in level order; level 0 uses [`Mesh::edges`] order), then one face
+//!   point per parent face (`V + E + f`). Each parent face of arity n makes n quads, in corner order
+//!   starting at the face's first vertex: child `k` of face `f` is
+//!   `[vertex point of v_k, edge point of (v_k, v_k+1), face point of f, edge point of (v_k-1, v_k)]`,
+//!   and the children of face `f` follow those of face `f - 1`.
+//! - **Loop**: vertex points `0..V`, then edge points `V + e`. Triangle `(v0, v1, v2)` with edge
+//!   points `m0 = (v0, v1)`, `m1 = (v1, v2)`, `m2 = (v2, v0)` makes `[v0, m0, m2]`, `[v1, m1, m0]`,
+//!   `[v2, m2, m1]`, `[m0, m1, m2]`, in that order.
+//!
+//! (OpenSubdiv numbers face points first; keeping the parent ids first lets operations that only
+//! move vertices and the limit functions keep vertex ids.) Crease tags survive: both halves of a
+//! tagged edge are tagged; corner marks stay on the vertex point.
+//!
+//! # Rules
+//! Catmull & Clark (1978) with the infinitely sharp rules of Hoppe et al. (1994) and DeRose et al.
+//! (1998), as OpenSubdiv's `Sdc` implements them (see [`super::topology`] for the classification):
+//! face point = centroid; smooth edge point = (v0 + v1 + f0 + f1) / 4; sharp edge point = midpoint;
+//! smooth vertex point = ((n − 2) v + (Σ e_i + Σ f_i) / n) / n; crease vertex point =
+//! (e_a + 6 v + e_b) / 8; corner = v. Loop (1987) with Loop's original weights, as seed 002 uses:
+//! smooth edge point = 3/8 (v0 + v1) + 1/8 (opposite vertices); smooth vertex point =
+//! (1 − nβ) v + β Σ e_i with β = (5/8 − (3/8 + ¼ cos 2π/n)²) / n; crease vertex point =
+//! (e_a + 6 v + e_b) / 8; sharp edge point = midpoint.
+
+use crate::math::Vec3;
+use crate::mesh::Mesh;
+
+use super::stencil::{RowBuilder, StencilTable};
+use super::topology::{check_size, Level, Rule, NONE};
+use super::SubdivError;
+
+/// The most faces a refinement may produce (about 5 GB of output mesh).
+pub const MAX_FACES: u64 = 50_000_000;
+
+/// A subdivision scheme.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Scheme {
+    /// Catmull–Clark: any polygons in, quads out.
+    CatmullClark,
+    /// Loop: triangles in, triangles out.
+    Loop,
+}
+
+/// Refined topology of a mesh down to a fixed number of levels.
+///
+/// Holds the full topology of levels `0..levels` (each is needed to refine the next); the last
+/// level's faces are produced on demand by [`Refiner::faces`].
+#[derive(Clone, Debug)]
+pub struct Refiner {
+    scheme: Scheme,
+    levels: Vec<Level>,
+    depth: u32,
+}
+
+/// Loop's original β for a smooth vertex of valence n (Loop 1987, §3.1; seed 002 §2.2).
+#[must_use]
+pub fn loop_beta(n: usize) -> f64 {
+    let nf = n as f64;
+    let c = 0.375 + 0.25 * (std::f64::consts::TAU / nf).cos();
+    (0.625 - c * c) / nf
+}
+
+impl Refiner {
+    /// Refines the topology of `mesh` `levels` times with `scheme`.
+    ///
+    /// # Errors
+    /// - [`SubdivError::NotTriangles`] for [`Scheme::Loop`] on a mesh with a non-triangle face;
+    /// - [`SubdivError::TooLarge`] when the last level would have more than [`MAX_FACES`] faces.
+    pub fn new(mesh: &Mesh, scheme: Scheme, levels: u32) -> Result<Refiner, SubdivError> {
+        let base = Level::from_mesh(mesh);
+        Refiner::from_level(base, scheme, levels, MAX_FACES)
+    }
+
+    pub(crate) fn from_level(base: Level, scheme: Scheme, depth: u32, limit: u64) -> Result<Refiner, SubdivError> {
+        let is_loop = scheme == Scheme::Loop;
+        if is_loop {
+            if let Some((face, arity)) = base.first_face_not_of_arity(3) {
+                return Err(SubdivError::NotTriangles { face, arity });
+            }
+        }
+        check_size(&base, depth, is_loop, limit)?;
+        let mut levels = vec![base];
+        for _ in 1..depth {
+            let last = levels.last().expect("at least the base level");
+            let next = if is_loop { last.refine_loop() } else { last.refine_catmull_clark() };
+            levels.push(next);
+        }
+        Ok(Refiner { scheme, levels, depth })
+    }
+
+    /// The scheme this refiner applies.
+    #[must_use]
+    pub fn scheme(&self) -> Scheme {
+        self.scheme
+    }
+
+    /// The number of levels below the base mesh.
+    #[must_use]
+    pub fn depth(&self) -> u32 {
+        self.depth
+    }
+
+    /// Number of vertices at `level` (0 = the base mesh, up to [`Refiner::depth`]).
+    #[must_use]
+    pub fn vertex_count(&self, level: u32) -> usize {
+        let l = level as usize;
+        if l < self.levels.len() {
+            self.levels[l].num_vertices
+        } else {
+            let p = &self.levels[l - 1];
+            match self.scheme {
+                Scheme::CatmullClark => p.num_vertices + p.edge_count() + p.face_count(),
+                Scheme::Loop => p.num_vertices + p.edge_count(),
+            }
+        }
+    }
+
+    /// Number of faces at `level`.
+    #[must_use]
+    pub fn face_count(&self, level: u32) -> usize {
+        let l = level as usize;
+        if l < self.levels.len() {
+            self.levels[l].face_count()
+        } else {
+            let p = &self.levels[l - 1];
+            match self.scheme {
+                Scheme::CatmullClark => p.face_verts.len(),
+                Scheme::Loop => 4 * p.face_count(),
+            }
+        }
+    }
+
+    /// Refines positions of the base vertices down to the last level (one position per vertex of
+    /// [`Refiner::faces`]). Cheap enough to call for every frame of an animation.
+    ///
+    /// # Panics
+    /// When `positions.len()` differs from the base vertex count (a caller bug).
+    #[must_use]
+    pub fn refine_positions(&self, positions: &[Vec3]) -> Vec<Vec3> {
+        assert_eq!(positions.len(), self.levels[0].num_vertices, "one position per base vertex");
+        let mut p = positions.to_vec();
+        for l in 1..=self.depth {
+            p = self.refine_level(l, &p);
+        }
+        p
+    }
+
+    /// Refines positions of level `level - 1` to level `level` (1 ≤ level ≤ depth).
+    ///
+    /// # Panics
+    /// When `level` is out of range or `src` has the wrong length (caller bugs).
+    #[must_use]
+    pub fn refine_level(&self, level: u32, src: &[Vec3]) -> Vec<Vec3> {
+        assert!(level >= 1 && level <= self.depth, "level {level} out of 1..={}", self.depth);
+        let parent = &self.levels[level as usize - 1];
+        assert_eq!(src.len(), parent.num_vertices, "one position per parent vertex");
+        match self.scheme {
+            Scheme::CatmullClark => interpolate_catmull_clark(parent, src),
+            Scheme::Loop => interpolate_loop(parent, src),
+        }
+    }
+
+    /// The stencils from level `level - 1` to level `level` (1 ≤ level ≤ depth).
+    ///
+    /// # Panics
+    /// When `level` is out of range (a caller bug).
+    #[must_use]
+    pub fn stencils(&self, level: u32) -> StencilTable {
+        assert!(level >= 1 && level <= self.depth, "level {level} out of 1..={}", self.depth);
+        let parent = &self.levels[level as usize - 1];
+        match self.scheme {
+            Scheme::CatmullClark => stencils_catmull_clark(parent),
+            Scheme::Loop => stencils_loop(parent),
+        }
+    }
+
+    /// The stencils from the base vertices straight to the last level (levels composed).
+    #[must_use]
+    pub fn composed_stencils(&self) -> StencilTable {
+        let mut t = StencilTable::identity(self.levels[0].num_vertices);
+        for l in 1..=self.depth {
+            t = t.then(&self.stencils(l));
+        }
+        t
+    }
+
+    /// The faces of the last level: one flat index list and one arity per face.
+    #[must_use]
+    pub fn faces(&self) -> (Vec<u32>, Vec<u32>) {
+        if self.depth == 0 {
+            let b = &self.levels[0];
+            let ar = (0..b.face_count()).map(|f| b.face_range(f).len() as u32).collect();
+            return (b.face_verts.clone(), ar);
+        }
+        self.levels.last().expect("base level").child_faces(self.scheme == Scheme::Loop)
+    }
+
+    /// The mesh of the last level with the given positions (from [`Refiner::refine_positions`]),
+    /// carrying the crease tags and corner marks down.
+    ///
+    /// # Errors
+    /// [`SubdivError::Internal`] if the refined faces do not form a valid mesh (a bug).
+    pub fn to_mesh(&self, positions: Vec<Vec3>) -> Result<Mesh, SubdivError> {
+        let (idx, ar) = self.faces();
+        let last = self.levels.last().expect("base level");
+        let (creases, corners): (Vec<[u32; 2]>, &[bool]) = if self.depth == 0 {
+            let pairs = (0..last.edge_count()).filter(|&e| last.edge_crease[e]).map(|e| last.edge_verts[e]).collect();
+            (pairs, &last.vertex_corner)
+        } else {
+            (last.child_crease_pairs(), &last.vertex_corner)
+        };
+        let mut mesh = Mesh::from_indexed(positions, &idx, &ar)
+            .map_err(|e| SubdivError::Internal(format!("refined faces do not form a mesh: {e}")))?;
+        mesh.crease_edges(&creases).map_err(|e| SubdivError::Internal(format!("crease tags lost: {e}")))?;
+        for (v, &c) in corners.iter().enumerate() {
+            if c {
+                mesh.set_corner(v as u32, true);
+            }
+        }
+        Ok(mesh)
+    }
+}
+
+/// One Catmull–Clark step of positions: face points, then edge points, then vertex points.
+fn interpolate_catmull_clark(lv: &Level, p: &[Vec3]) -> Vec<Vec3> {
+    let (nv, ne, nf) = (lv.num_vertices, lv.edge_count(), lv.face_count());
+    let mut out = vec![Vec3::ZERO; nv + ne + nf];
+    let (vout, rest) = out.split_at_mut(nv);
+    let (eout, fout) = rest.split_at_mut(ne);
+    for (f, fp) in fout.iter_mut().enumerate() {
+        let r = lv.face_range(f);
+        let n = r.len() as f64;
+        let mut s = Vec3::ZERO;
+        for &v in &lv.face_verts[r] {
+            s += p[v as usize];
+        }
+        *fp = s / n;
+    }
+    for (e, ep) in eout.iter_mut().enumerate() {
+        let [a, b] = lv.edge_verts[e];
+        let [f0, f1] = lv.edge_faces[e];
+        *ep = if lv.edge_crease[e] || f1 == NONE {
+            (p[a as usize] + p[b as usize]) * 0.5
+        } else {
+            (p[a as usize] + p[b as usize] + fout[f0 as usize] + fout[f1 as usize]) * 0.25
+        };
+    }
+    for (v, vp) in vout.iter_mut().enumerate() {
+        *vp = match lv.vertex_rule[v] {
+            Rule::Corner => p[v],
+            Rule::Crease => {
+                let [a, b] = lv.crease_ends[v];
+                (p[a as usize] + p[v] * 6.0 + p[b as usize]) * 0.125
+            }
+            Rule::Smooth => {
+                let edges = lv.vertex_edges(v);
+                let n = edges.len() as f64;
+                let mut s = Vec3::ZERO;
+                for &e in edges {
+                    s += p[lv.other_end(e as usize, v as u32) as usize];
+                }
+                for &f in lv.vertex_faces(v) {
+                    s += fout[f as usize];
+                }
+                (p[v] * (n - 2.0) + s / n) / n
+            }
+        };
+    }
+    out
+}
+
+/// The vertex opposite edge `e` in triangle `f`.
+#[inline]
+fn opposite_in_triangle(lv: &Level, f: u32, e: usize) -> u32 {
+    let s = 3 * f as usize;
+    let k = (0..3).find(|&k| lv.face_edges[s + k] as usize == e).unwrap_or(0);
+    lv.face_verts[s + (k + 2) % 3]
+}
+
+/// One Loop step of positions.
+fn interpolate_loop(lv: &Level, p: &[Vec3]) -> Vec<Vec3> {
+    let (nv, ne) = (lv.num_vertices, lv.edge_count());
+    let mut out = vec![Vec3::ZERO; nv + ne];
+    let (vout, eout) = out.split_at_mut(nv);
+    for (e, ep) in eout.iter_mut().enumerate() {
+        let [a, b] = lv.edge_verts[e];
+        let [f0, f1] = lv.edge_faces[e];
+        *ep = if lv.edge_crease[e] || f1 == NONE {
+            (p[a as usize] + p[b as usize]) * 0.5
+        } else {
+            let c = opposite_in_triangle(lv, f0, e);
+            let d = opposite_in_triangle(lv, f1, e);
+            (p[a as usize] + p[b as usize]) * 0.375 + (p[c as usize] + p[d as usize]) * 0.125
+        };
+    }
+    let mut beta_cache: Vec<f64> = Vec::new();
+    for (v, vp) in vout.iter_mut().enumerate() {
+        *vp = match lv.vertex_rule[v] {
+            Rule::Corner => p[v],
+            Rule::Crease => {
+                let [a, b] = lv.crease_ends[v];
+                (p[a as usize] + p[v] * 6.0 + p[b as usize]) * 0.125
+            }
+            Rule::Smooth => {
+                let edges = lv.vertex_edges(v);
+                let n = edges.len();
+                if beta_cache.len() <= n {
+                    beta_cache.extend((beta_cache.len()..=n).map(|k| if k == 0 { 0.0 } else { loop_beta(k) }));
+                }
+                let beta = beta_cache[n];
+                let mut s = Vec3::ZERO;
+                for &e in edges {
+                    s += p[lv.other_end(e as usize, v as u32) as usize];
+                }
+                p[v] * (1.0 - n as f64 * beta) + s * beta
+            }
+        };
+    }
+    out
+}
+
+/// Catmull–Clark stencils of one step, rows in child-vertex order.
+fn stencils_catmull_clark(lv: &Level) -> StencilTable {
+    let (nv, ne, nf) = (lv.num_vertices, lv.edge_count(), lv.face_count());
+    let mut b = RowBuilder::new(nv, nv + ne + nf, 9 * nv + 6 * ne + lv.face_verts.len());
+    let face_row = |b: &mut RowBuilder, f: usize, w: f64| {
+        let r = lv.face_range(f);
+        let wf = w / r.len() as f64;
+        for &v in &lv.face_verts[r] {
+            b.add(v, wf);
+        }
+    };
+    for v in 0..nv {
+        match lv.vertex_rule[v] {
+            Rule::Corner => b.add(v as u32, 1.0),
+            Rule::Crease => {
+                let [a, c] = lv.crease_ends[v];
+                b.add(v as u32, 0.75);
+                b.add(a, 0.125);
+                b.add(c, 0.125);
+            }
+            Rule::Smooth => {
+                let edges = lv.vertex_edges(v);
+                let n = edges.len() as f64;
+                let w = 1.0 / (n * n);
+                b.add(v as u32, (n - 2.0) / n);
+                for &e in edges {
+                    b.add(lv.other_end(e as usize, v as u32), w);
+                }
+                for &f in lv.vertex_faces(v) {
+                    face_row(&mut b, f as usize, w);
+                }
+            }
+        }
+        b.end_row();
+    }
+    for e in 0..ne {
+        let [a, c] = lv.edge_verts[e];
+        let [f0, f1] = lv.edge_faces[e];
+        if lv.edge_crease[e] || f1 == NONE {
+            b.add(a, 0.5);
+            b.add(c, 0.5);
+        } else {
+            b.add(a, 0.25);
+            b.add(c, 0.25);
+            face_row(&mut b, f0 as usize, 0.25);
+            face_row(&mut b, f1 as usize, 0.25);
+        }
+        b.end_row();
+    }
+    for f in 0..nf {
+        face_row(&mut b, f, 1.0);
+        b.end_row();
+    }
+    b.finish()
+}
+
+/// Loop stencils of one step, rows in child-vertex order.
+fn stencils_loop(lv: &Level) -> StencilTable {
+    let (nv, ne) = (lv.num_vertices, lv.edge_count());
+    let mut b = RowBuilder::new(nv, nv + ne, 7 * nv + 4 * ne);
+    for v in 0..nv {
+        match lv.vertex_rule[v] {
+            Rule::Corner => b.add(v as u32, 1.0),
+            Rule::Crease => {
+                let [a, c] = lv.crease_ends[v];
+                b.add(v as u32, 0.75);
+                b.add(a, 0.125);
+                b.add(c, 0.125);
+            }
+            Rule::Smooth => {
+                let edges = lv.vertex_edges(v);
+                let beta = loop_beta(edges.len());
+                b.add(v as u32, 1.0 - edges.len() as f64 * beta);
+                for &e in edges {
+                    b.add(lv.other_end(e as usize, v as u32), beta);
+                }
+            }
+        }
+        b.end_row();
+    }
+    for e in 0..ne {
+        let [a, c] = lv.edge_verts[e];
+        let [f0, f1] = lv.edge_faces[e];
+        if lv.edge_crease[e] || f1 == NONE {
+            b.add(a, 0.5);
+            b.add(c, 0.5);
+        } else {
+            b.add(a, 0.375);
+            b.add(c, 0.375);
+            b.add(opposite_in_triangle(lv, f0, e), 0.125);
+            b.add(opposite_in_triangle(lv, f1, e), 0.125);
+        }
+        b.end_row();
+    }
+    b.finish()
+}
