@@ -13,6 +13,7 @@
 pub mod io;
 pub mod math;
 pub mod mesh;
+pub mod polar;
 pub mod subdiv;
 pub mod voxel;
 

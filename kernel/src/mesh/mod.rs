@@ -12,6 +12,7 @@ mod attributes;
 mod build;
 mod circulate;
 mod combine;
+pub mod edit;
 mod error;
 mod measure;
 mod primitives;

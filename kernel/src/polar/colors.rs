@@ -1,0 +1,130 @@
+//! Feature colour coding (seed 004, appendix B.1.3): feature ids mapped to a small set of evenly
+//! spaced hues, neighbouring features in different hues, written as vertex colours so that any
+//! glTF viewer shows the structure.
+
+use super::PolarMesh;
+use crate::mesh::Mesh;
+
+/// The fewest hues used: few enough to tell apart, enough that neighbours rarely need more.
+const MIN_HUES: usize = 6;
+
+/// RGB of hue `h` in [0, 1) at saturation 0.65 and value 0.95.
+fn hue_rgb(h: f64) -> [f32; 4] {
+    let (s, v) = (0.65, 0.95);
+    let h6 = (h.rem_euclid(1.0)) * 6.0;
+    let i = h6.floor() as u32 % 6;
+    let f = h6 - h6.floor();
+    let (p, q, t) = (v * (1.0 - s), v * (1.0 - s * f), v * (1.0 - s * (1.0 - f)));
+    let (r, g, b) = match i {
+        0 => (v, t, p),
+        1 => (q, v, p),
+        2 => (p, v, t),
+        3 => (p, q, v),
+        4 => (t, p, v),
+        _ => (v, p, q),
+    };
+    [r as f32, g as f32, b as f32, 1.0]
+}
+
+impl PolarMesh {
+    /// The colour index of every feature (by feature id of [`PolarMesh::feature_ids`]) and the
+    /// number of hues: a greedy colouring in feature order, so features that share an edge
+    /// always differ; at least 6 hues.
+    #[must_use]
+    pub fn feature_palette(&self) -> (Vec<u32>, usize) {
+        let m = &self.mesh;
+        let (ids, count) = self.feature_ids();
+        let mut neighbours: Vec<Vec<u32>> = vec![Vec::new(); count];
+        for h in m.edges() {
+            let (a, b) = (ids[m.face(h) as usize], ids[m.face(m.twin(h)) as usize]);
+            if a != b {
+                neighbours[a as usize].push(b);
+                neighbours[b as usize].push(a);
+            }
+        }
+        let mut colour = vec![u32::MAX; count];
+        let mut used = Vec::new();
+        for i in 0..count {
+            used.clear();
+            used.extend(neighbours[i].iter().map(|&n| colour[n as usize]).filter(|&c| c != u32::MAX));
+            used.sort_unstable();
+            used.dedup();
+            let mut c = 0u32;
+            for &u in &used {
+                if u == c {
+                    c += 1;
+                } else if u > c {
+                    break;
+                }
+            }
+            colour[i] = c;
+        }
+        let hues = colour.iter().map(|&c| c as usize + 1).max().unwrap_or(1).max(MIN_HUES);
+        (colour, hues)
+    }
+
+    /// One RGBA colour per vertex showing the features (appendix B.1.3): each feature gets one
+    /// of evenly spaced hues, neighbouring features different ones. A vertex on a boundary
+    /// between features takes the colour of its smallest feature (fewest faces; lowest id on
+    /// ties), so a small branch shows in full against its parent.
+    #[must_use]
+    pub fn feature_colors(&self) -> Vec<[f32; 4]> {
+        let m = &self.mesh;
+        let (ids, count) = self.feature_ids();
+        let (colour, hues) = self.feature_palette();
+        let mut size = vec![0usize; count];
+        for &i in &ids {
+            size[i as usize] += 1;
+        }
+        (0..m.vertex_count() as u32)
+            .map(|v| {
+                let best = m.vertex_faces(v).map(|f| ids[f as usize]).min_by_key(|&i| (size[i as usize], i));
+                best.map_or([1.0; 4], |i| hue_rgb(f64::from(colour[i as usize]) / hues as f64))
+            })
+            .collect()
+    }
+
+    /// A copy of the mesh with [`PolarMesh::feature_colors`] as its vertex colours, ready to save
+    /// as glTF.
+    #[must_use]
+    pub fn to_colored_mesh(&self) -> Mesh {
+        let mut m = self.mesh.clone();
+        m.set_vertex_colors(Some(self.feature_colors())).expect("one colour per vertex");
+        m
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn neighbouring_features_get_different_hues() {
+        let mut pm = PolarMesh::uv_sphere(1.0, 8, 4);
+        let p = pm.add_feature(&[9, 10, 11]).unwrap();
+        let (colour, hues) = pm.feature_palette();
+        assert_eq!(colour.len(), 3);
+        assert_eq!(hues, 6);
+        // The three features all touch each other at the nesting loop: three distinct colours.
+        let mut c = colour.clone();
+        c.sort_unstable();
+        c.dedup();
+        assert_eq!(c.len(), 3);
+        let cols = pm.feature_colors();
+        assert_eq!(cols.len(), pm.vertex_count());
+        // The branch's pole and the south pole lie in different features: different colours.
+        assert_ne!(cols[p as usize], cols[0]);
+        let m = pm.to_colored_mesh();
+        assert_eq!(m.vertex_colors().map(<[_]>::len), Some(pm.vertex_count()));
+    }
+
+    #[test]
+    fn hues_are_evenly_spaced_and_valid() {
+        for i in 0..6 {
+            let c = hue_rgb(f64::from(i) / 6.0);
+            assert!(c.iter().all(|x| (0.0..=1.0).contains(x)));
+        }
+        assert_eq!(hue_rgb(0.0)[0], 0.95);
+        assert_ne!(hue_rgb(0.0), hue_rgb(0.5));
+    }
+}
