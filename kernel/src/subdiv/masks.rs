@@ -204,6 +204,23 @@ fn sector_tangents(scheme: MaskScheme, n: usize, s: usize, t: usize) -> (Mask, M
 /// `e` and `f` are the ring's points in ring order (`f` ignored for Loop; entries of empty face
 /// slots are never read).
 pub(crate) fn limit_normal(scheme: MaskScheme, t: &RingTopo, c: Vec3, e: &[Vec3], f: &[Vec3]) -> Option<Vec3> {
+    normal_impl(scheme, t, c, e, f, None)
+}
+
+/// The limit normal of the surface seen from face slot `slot`: at a crease or corner, the normal of
+/// the sector holding that face (the surface's one-sided normal there); elsewhere [`limit_normal`].
+pub(crate) fn limit_normal_in_slot(
+    scheme: MaskScheme,
+    t: &RingTopo,
+    c: Vec3,
+    e: &[Vec3],
+    f: &[Vec3],
+    slot: usize,
+) -> Option<Vec3> {
+    normal_impl(scheme, t, c, e, f, Some(slot))
+}
+
+fn normal_impl(scheme: MaskScheme, t: &RingTopo, c: Vec3, e: &[Vec3], f: &[Vec3], slot: Option<usize>) -> Option<Vec3> {
     let n = t.valence();
     if n < 2 {
         return None;
@@ -243,6 +260,11 @@ pub(crate) fn limit_normal(scheme: MaskScheme, t: &RingTopo, c: Vec3, e: &[Vec3]
             let tt = if next > s { next } else { next + n };
             if (s..tt).any(|i| !t.face[i % n]) {
                 continue;
+            }
+            if let Some(k) = slot {
+                if !(s..tt).any(|i| i % n == k) {
+                    continue;
+                }
             }
             let (t1, t2) = sector_tangents(scheme, n, s, tt);
             add(&t1, &t2);

@@ -18,9 +18,11 @@
 
 mod catmull_clark;
 mod error;
+mod evaluator;
 mod limit;
 mod loop_scheme;
 mod masks;
+mod patch;
 pub mod refiner;
 mod ring;
 mod stencil;
@@ -29,6 +31,7 @@ mod test_meshes;
 mod topology;
 
 pub use error::SubdivError;
+pub use evaluator::{LimitEvaluator, LimitSample};
 pub use limit::{catmull_clark_limit_stencils, loop_limit_stencils};
 pub use refiner::{loop_beta, Refiner, Scheme, MAX_FACES};
 pub use stencil::StencilTable;

@@ -53,6 +53,8 @@ pub(crate) struct MeshRing {
     pub(crate) edges: Vec<u32>,
     /// For quad face slots, the vertex opposite the centre; [`NONE`] for empty or non-quad slots.
     pub(crate) opposite: Vec<u32>,
+    /// Face id of each face slot, [`NONE`] for a gap.
+    pub(crate) faces: Vec<u32>,
     /// Whether every face of the ring is a quad.
     pub(crate) all_quads: bool,
 }
@@ -70,6 +72,7 @@ pub(crate) fn mesh_ring(mesh: &Mesh, v: u32) -> MeshRing {
         topo: RingTopo { sharp: Vec::with_capacity(n), face: Vec::with_capacity(n), corner: mesh.is_corner(v) },
         edges: Vec::with_capacity(n),
         opposite: Vec::with_capacity(n),
+        faces: Vec::with_capacity(n),
         all_quads: true,
     };
     for i in 0..n {
@@ -78,6 +81,7 @@ pub(crate) fn mesh_ring(mesh: &Mesh, v: u32) -> MeshRing {
         let boundary_edge = mesh.is_boundary_halfedge(h) || mesh.is_boundary_halfedge(mesh.twin(h));
         ring.topo.sharp.push(mesh.is_crease(h) || boundary_edge);
         let f = mesh.face(h);
+        ring.faces.push(f);
         ring.topo.face.push(f != NONE);
         if f == NONE {
             ring.opposite.push(NONE);
