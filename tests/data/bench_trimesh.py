@@ -2,6 +2,7 @@
 target/bench-data/ (run `cargo bench -p blocksmith-kernel --bench mesh_core` first).
 
     /tmp/venv/bin/python tests/data/bench_trimesh.py            # timings, medians of 5 runs
+    /tmp/venv/bin/python tests/data/bench_trimesh.py --only STEP MESH   # one step, 5 runs
     /usr/bin/time -v /tmp/venv/bin/python tests/data/bench_trimesh.py --peak STEP MESH
 
 STEP: build, measures, write-glb, write-obj, read-glb, read-obj (as kernel/examples/
@@ -94,8 +95,11 @@ if __name__ == "__main__":
         print("TRIMESH_PEAK step=%s mesh=%s seconds=%.3f" % (sys.argv[2], sys.argv[3], time.perf_counter() - t))
         sys.exit(0)
     print("trimesh", trimesh.__version__, "numpy", np.__version__)
+    only = sys.argv[2:4] if len(sys.argv) == 4 and sys.argv[1] == "--only" else None
     for which in ["quads", "tris"]:
         for step in STEPS:
+            if only and [step, which] != only:
+                continue
             run, prep = make_step(step, which)
             times = []
             for _ in range(5):

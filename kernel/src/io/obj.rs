@@ -21,7 +21,7 @@
 //! point elements are skipped afterwards. Normals and texture coordinates are not handed over
 //! either (they are ignored, and a bad texture index can overflow inside tobj).
 
-use std::io::{BufReader, Write};
+use std::io::Write;
 use std::path::Path;
 
 use super::error::IoError;
@@ -81,8 +81,6 @@ enum Tag {
 
 /// What the first pass over the text found.
 struct Scan {
-    /// The `v` and `f` lines only, preceded by one point element per vertex, for tobj.
-    for_tobj: Vec<u8>,
     vertex_count: usize,
     has_colors: bool,
     tags: Vec<Tag>,
@@ -97,10 +95,8 @@ fn numbered_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
     text.split('\n').enumerate().map(|(i, l)| (i + 1, l.strip_suffix('\r').unwrap_or(l)))
 }
 
-/// First pass: check every keyword, count the vertices and their colours, read the tags and
-/// collect the lines tobj needs.
+/// First pass: check every keyword, count the vertices and their colours, and read the tags.
 fn scan(text: &str, path: &Path) -> Result<Scan, IoError> {
-    let mut kept: Vec<&str> = Vec::new();
     let mut n = 0usize;
     let mut colored = 0usize;
     let mut first_plain = None;
@@ -128,14 +124,12 @@ fn scan(text: &str, path: &Path) -> Result<Scan, IoError> {
                     }
                 }
                 n += 1;
-                kept.push(line);
             }
             "f" => {
                 let n = words.count();
                 if n < 3 {
                     return Err(obj_error(path, number, format!("a face needs at least 3 vertices, this one has {n}")));
                 }
-                kept.push(line);
             }
             "t" => {
                 tags.extend(parse_tag(words, number, path)?);
@@ -153,18 +147,70 @@ fn scan(text: &str, path: &Path) -> Result<Scan, IoError> {
         return Err(obj_error(path, line, "some vertices have colours (v x y z r g b) and others do not"));
     }
     // tobj reads one model; the point elements `f 1` … `f n` make its vertex order the file's.
-    let mut for_tobj = Vec::with_capacity(n * 10 + kept.iter().map(|l| l.len() + 1).sum::<usize>());
-    let mut ibuf = itoa::Buffer::new();
-    for i in 1..=n {
-        for_tobj.extend_from_slice(b"f ");
-        for_tobj.extend_from_slice(ibuf.format(i).as_bytes());
-        for_tobj.push(b'\n');
+    Ok(Scan { vertex_count: n, has_colors: colored > 0, tags })
+}
+
+/// What tobj reads, made on the fly from the text (no copy of the file): one point element
+/// `f i` per vertex (so that tobj's first-use order is the file's vertex order), then the `v`
+/// and `f` lines of the text, in order.
+struct TobjInput<'a> {
+    next_point: usize,
+    vertex_count: usize,
+    rest: &'a str,
+    chunk: Vec<u8>,
+    pos: usize,
+}
+
+impl<'a> TobjInput<'a> {
+    const CHUNK: usize = 1 << 16;
+
+    fn new(text: &'a str, vertex_count: usize) -> Self {
+        TobjInput { next_point: 1, vertex_count, rest: text, chunk: Vec::with_capacity(Self::CHUNK + 256), pos: 0 }
     }
-    for line in kept {
-        for_tobj.extend_from_slice(line.as_bytes());
-        for_tobj.push(b'\n');
+
+    /// Refills the chunk with the next lines (empty at the end).
+    fn refill(&mut self) {
+        self.chunk.clear();
+        self.pos = 0;
+        let mut ibuf = itoa::Buffer::new();
+        while self.next_point <= self.vertex_count && self.chunk.len() < Self::CHUNK {
+            self.chunk.extend_from_slice(b"f ");
+            self.chunk.extend_from_slice(ibuf.format(self.next_point).as_bytes());
+            self.chunk.push(b'\n');
+            self.next_point += 1;
+        }
+        while !self.rest.is_empty() && self.chunk.len() < Self::CHUNK {
+            let (line, rest) = self.rest.split_once('\n').unwrap_or((self.rest, ""));
+            self.rest = rest;
+            if matches!(line.split_whitespace().next(), Some("v" | "f")) {
+                self.chunk.extend_from_slice(line.as_bytes());
+                self.chunk.push(b'\n');
+            }
+        }
     }
-    Ok(Scan { for_tobj, vertex_count: n, has_colors: colored > 0, tags })
+}
+
+impl std::io::Read for TobjInput<'_> {
+    fn read(&mut self, out: &mut [u8]) -> std::io::Result<usize> {
+        let avail = std::io::BufRead::fill_buf(self)?;
+        let n = avail.len().min(out.len());
+        out[..n].copy_from_slice(&avail[..n]);
+        std::io::BufRead::consume(self, n);
+        Ok(n)
+    }
+}
+
+impl std::io::BufRead for TobjInput<'_> {
+    fn fill_buf(&mut self) -> std::io::Result<&[u8]> {
+        if self.pos == self.chunk.len() {
+            self.refill();
+        }
+        Ok(&self.chunk[self.pos..])
+    }
+
+    fn consume(&mut self, amount: usize) {
+        self.pos = (self.pos + amount).min(self.chunk.len());
+    }
 }
 
 /// Parses the words after `t`: crease or corner tags (a crease tag with `k` vertices tags the
@@ -282,7 +328,7 @@ pub fn read_obj(bytes: &[u8], path: &Path) -> Result<Mesh, IoError> {
     })?;
     let scan = scan(text, path)?;
     let options = tobj_options();
-    let mut reader = BufReader::new(scan.for_tobj.as_slice());
+    let mut reader = TobjInput::new(text, scan.vertex_count);
     let (models, _) = tobj::load_obj_buf(&mut reader, &options, |_| Err(tobj::LoadError::GenericFailure))
         .map_err(|e| diagnose(text, path, scan.vertex_count, &e))?;
     let internal = |reason: &str| IoError::Internal { path: path.into(), reason: reason.into() };
@@ -513,6 +559,22 @@ mod tests {
         // Zero sharpness means "not a crease" and is accepted.
         let ok = read("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\nt crease 2/1/0 0 1 0\n").unwrap();
         assert_eq!(ok.crease_count(), 0);
+    }
+
+    #[test]
+    fn unicode_spaces_and_crlf_are_read_like_tobj_reads_them() {
+        // An ideographic space separates words as ASCII spaces do; CRLF line ends are fine.
+        let m = read("v\u{3000}0 0 0\r\nv 1 0 0\r\nv 0 1 0\r\nf 1 2\u{3000}3\r\n").unwrap();
+        assert_eq!(m.to_polygons(), vec![vec![0, 1, 2]]);
+    }
+
+    #[test]
+    fn many_vertices_cross_the_reader_chunks() {
+        // More point elements and lines than one 64 KiB chunk of tobj's input holds.
+        let m = Mesh::torus(2.0, 0.5, 100, 60);
+        let back = round_trip(&m);
+        assert_eq!(back.positions(), m.positions());
+        assert_eq!(back.to_polygons(), m.to_polygons());
     }
 
     #[test]
