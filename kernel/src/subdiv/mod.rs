@@ -23,6 +23,8 @@ mod limit;
 mod loop_scheme;
 mod masks;
 mod patch;
+#[cfg(test)]
+mod reference_tests;
 pub mod refiner;
 mod ring;
 mod stencil;
