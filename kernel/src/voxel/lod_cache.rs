@@ -250,6 +250,20 @@ mod tests {
     }
 
     #[test]
+    #[ignore = "256³ grid: run in release (cargo test --release -- --ignored)"]
+    fn a_256_grid_with_hierarchy_and_surface_cache_fits_in_64_mib() {
+        // Densities 16 MiB, levels 1–2 in i16 32 MiB, deeper levels 2 MiB, leaving ~14 MiB for the
+        // surface cache at 6 bytes per triangle.
+        let mut v = Voxels::new(256).unwrap();
+        v.fill_sphere(Vec3::splat(128.0), 100.0).unwrap();
+        let _ = v.hierarchy();
+        let mesh = v.to_mesh(0, DEFAULT_ISO).unwrap();
+        assert!(mesh.is_closed() && mesh.is_manifold() && mesh.genus() == 0);
+        let mib = v.memory_bytes() as f64 / 1048576.0;
+        assert!(mib < 64.0, "{mib:.1} MiB for {} triangles", mesh.face_count());
+    }
+
+    #[test]
     fn edits_re_mesh_only_touched_blocks_and_match_a_fresh_mesh() {
         // After a small edit the cached surface must equal one computed from scratch, while only
         // the blocks around the edit were re-meshed.

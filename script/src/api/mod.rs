@@ -5,6 +5,7 @@
 pub mod mesh;
 pub mod runtime;
 pub mod values;
+pub mod voxel;
 
 use blocksmith_kernel::Vec3;
 use rhai::{exported_module, Engine};
@@ -16,5 +17,6 @@ pub fn register_all(engine: &mut Engine) {
     engine.register_global_module(exported_module!(values::vec3_api).into());
     engine.register_global_module(exported_module!(mesh::mesh_api).into());
     // FILES
+    voxel::register(engine);
     engine.register_global_module(exported_module!(runtime::runtime_api).into());
 }
