@@ -28,8 +28,9 @@ fn hue_rgb(h: f64) -> [f32; 4] {
 
 impl PolarMesh {
     /// The colour index of every feature (by feature id of [`PolarMesh::feature_ids`]) and the
-    /// number of hues: a greedy colouring in feature order, so features that share an edge
-    /// always differ; at least 6 hues.
+    /// number of hues. There are `max(6, 1 + most neighbours of one feature)` hues; feature `i`
+    /// takes hue `i mod hues` unless a neighbour already has it, then the next free one, so
+    /// features that share an edge always differ and separate features still vary.
     #[must_use]
     pub fn feature_palette(&self) -> (Vec<u32>, usize) {
         let m = &self.mesh;
@@ -42,24 +43,17 @@ impl PolarMesh {
                 neighbours[b as usize].push(a);
             }
         }
-        let mut colour = vec![u32::MAX; count];
-        let mut used = Vec::new();
-        for i in 0..count {
-            used.clear();
-            used.extend(neighbours[i].iter().map(|&n| colour[n as usize]).filter(|&c| c != u32::MAX));
-            used.sort_unstable();
-            used.dedup();
-            let mut c = 0u32;
-            for &u in &used {
-                if u == c {
-                    c += 1;
-                } else if u > c {
-                    break;
-                }
-            }
-            colour[i] = c;
+        for n in &mut neighbours {
+            n.sort_unstable();
+            n.dedup();
         }
-        let hues = colour.iter().map(|&c| c as usize + 1).max().unwrap_or(1).max(MIN_HUES);
+        let hues = neighbours.iter().map(|n| n.len() + 1).max().unwrap_or(1).max(MIN_HUES);
+        let mut colour = vec![u32::MAX; count];
+        for i in 0..count {
+            let taken = |c: u32| neighbours[i].iter().any(|&n| colour[n as usize] == c);
+            let start = (i % hues) as u32;
+            colour[i] = (0..hues as u32).map(|k| (start + k) % hues as u32).find(|&c| !taken(c)).unwrap_or(start);
+        }
         (colour, hues)
     }
 
@@ -104,6 +98,7 @@ mod tests {
         let p = pm.add_feature(&[9, 10, 11]).unwrap();
         let (colour, hues) = pm.feature_palette();
         assert_eq!(colour.len(), 3);
+        // Each feature has 2 neighbours: the minimum of 6 hues.
         assert_eq!(hues, 6);
         // The three features all touch each other at the nesting loop: three distinct colours.
         let mut c = colour.clone();

@@ -208,6 +208,30 @@ impl PolarMesh {
         Ok(())
     }
 
+    /// Moves vertex `v` to `position` (low-level modelling; the topology never changes).
+    ///
+    /// # Errors
+    /// [`PolarError::NoSuchElement`], [`PolarError::NonFinite`]; nothing moves on error.
+    pub fn set_position(&mut self, v: u32, position: Vec3) -> Result<(), PolarError> {
+        self.vertex_id(i64::from(v))?;
+        let p = Self::checked("position", position)?;
+        self.mesh.set_position(v, p).map_err(|e| PolarError::Internal(e.to_string()))
+    }
+
+    /// The vertices within distance `radius` of `center`, ascending (a linear scan): a
+    /// selection for the low-level operations.
+    ///
+    /// # Errors
+    /// [`PolarError::NonFinite`] for a non-finite centre or radius.
+    pub fn vertices_near(&self, center: Vec3, radius: f64) -> Result<Vec<u32>, PolarError> {
+        let c = Self::checked("centre", center)?;
+        if !radius.is_finite() {
+            return Err(PolarError::NonFinite { what: format!("radius {radius}") });
+        }
+        let r2 = radius * radius;
+        Ok((0..self.vertex_count() as u32).filter(|&v| self.position(v).distance_squared(c) <= r2).collect())
+    }
+
     fn checked(what: &str, v: Vec3) -> Result<Vec3, PolarError> {
         if is_finite(v) {
             Ok(v)

@@ -40,6 +40,8 @@ mod skeleton;
 mod split_feature;
 #[cfg(test)]
 mod tests_property;
+#[cfg(test)]
+mod tests_recipes;
 
 pub use add_feature::FeatureOptions;
 pub use add_refinement::Refinement;

@@ -206,4 +206,29 @@ mod tests {
         assert_eq!(pm.poles().len(), 3);
         assert_eq!(pm.features().len(), 3);
     }
+
+    #[test]
+    fn a_handle_bounded_by_two_loops_is_removed_and_the_genus_drops() {
+        // Two branches on different loops merged into a handle: a feature bounded by two nesting
+        // loops, which the thesis could not remove directly (§4.5.4). Removing it zips both
+        // gaps: genus 1 → 0, χ 0 → 2, and the sphere's counts come back.
+        let mut pm = PolarMesh::uv_sphere(1.0, 8, 6);
+        let orig = pm.clone();
+        let p = pm.add_feature(&[9, 10, 11]).unwrap();
+        let q = pm.add_feature(&[28, 27, 26]).unwrap();
+        pm.merge_features(i64::from(p), i64::from(q)).unwrap();
+        pm.check().unwrap();
+        assert_eq!(pm.mesh().genus(), 1);
+        // A face of the bridge: next to the first gap's far side, away from the sphere body.
+        let fid = (0..pm.face_count() as u32).find(|&f| pm.select_feature(i64::from(f)).unwrap().len() == 4).unwrap();
+        pm.remove_feature(i64::from(fid)).unwrap();
+        pm.check().unwrap();
+        assert_eq!(pm.mesh().genus(), 0);
+        let (a, b) = (pm.mesh(), orig.mesh());
+        assert_eq!(
+            (a.vertex_count(), a.edge_count(), a.face_count()),
+            (b.vertex_count(), b.edge_count(), b.face_count())
+        );
+        assert_eq!(pm.features().len(), 1);
+    }
 }

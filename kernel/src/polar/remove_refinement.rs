@@ -171,4 +171,24 @@ mod tests {
         assert!(e.to_string().contains("§4.2.4 c"), "{e}");
         assert_eq!(pm, before);
     }
+
+    #[test]
+    fn refinements_supporting_a_nested_feature_are_refused() {
+        // §4.2.4 b: after a feature on the equator (vertices 9..=11), neither the equator nor
+        // the meridian through split vertex 9 may go; a loop elsewhere still can.
+        let mut pm = PolarMesh::uv_sphere(1.0, 8, 4);
+        pm.add_feature(&[9, 10, 11]).unwrap();
+        let before = pm.clone();
+        let eq = pm.mesh().find_halfedge(13, 14).unwrap();
+        let e = pm.remove_refinement(i64::from(eq)).unwrap_err();
+        assert!(matches!(e, PolarError::RefinementSupportsFeature { vertex: 9 | 11, .. }), "{e}");
+        assert!(e.to_string().contains("§4.2.4 b"), "{e}");
+        let meridian = pm.mesh().find_halfedge(1, 9).unwrap();
+        let e = pm.remove_refinement(i64::from(meridian)).unwrap_err();
+        assert!(matches!(e, PolarError::RefinementSupportsFeature { vertex: 9, .. }), "{e}");
+        assert_eq!(pm, before);
+        let low = pm.mesh().find_halfedge(1, 2).unwrap();
+        pm.remove_refinement(i64::from(low)).unwrap();
+        pm.check().unwrap();
+    }
 }
