@@ -4,7 +4,7 @@
 
 use std::f64::consts::TAU;
 
-use super::{Frame, PolarMesh};
+use super::PolarMesh;
 use crate::math::Vec3;
 
 fn verts_where(pm: &PolarMesh, f: impl Fn(Vec3) -> bool) -> Vec<u32> {
@@ -106,8 +106,6 @@ fn gear(teeth: usize) -> (PolarMesh, Vec<u32>, u32) {
         // with the pole in its middle (a flat top); then a loop halfway up.
         let axis = (pm.position(run[0]) + pm.position(run[3])).truncate().normalize().extend(0.0);
         let tip = pm.add_refinement(i64::from(pm.fan_of(p)[0])).unwrap();
-        let base_centre = pm.fan_of(p).iter().map(|&x| pm.position(pm.ends(pm.mesh().next(x))[0])).sum::<Vec3>();
-        let _ = base_centre;
         let mut centre = Vec3::ZERO;
         for &t in &tip.vertices {
             // The base vertex below t: along the backbone from t away from the pole.
