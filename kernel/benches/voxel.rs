@@ -163,7 +163,7 @@ fn sculpt(c: &mut Criterion) {
     g.bench_function("stroke_new_offset", |b| {
         b.iter(|| {
             i += 1;
-            black_box(obj.sculpt(&tool, &stroke(i, if i % 2 == 0 { 0.25 } else { 0.75 })).unwrap())
+            black_box(obj.sculpt(&tool, &stroke(i, if i.is_multiple_of(2) { 0.25 } else { 0.75 })).unwrap())
         })
     });
     let mut i = 0u64;

@@ -65,7 +65,8 @@ fn inverse8(mut a: [i64; 8]) -> [i64; 8] {
             }
         }
     }
-    a.map(|v| v / 8)
+    // Exact: every entry is 8 × an integer, so the shift divides without rounding.
+    a.map(|v| v >> 3)
 }
 
 /// A coefficient store: `i16` for levels 1–2, `i64` above.
@@ -181,6 +182,33 @@ fn copy_lows<S: Store>(store: &[S], stride: usize, side: usize) -> Vec<i64> {
         }
     }
     out
+}
+
+/// One row of blocks of an inverse level: the averages `parent` and the details at `bases[o] + x`
+/// (octants 1–7) become two rows of children in each of two planes:
+/// `rows = [(y0, z0), (y1, z0), (y0, z1), (y1, z1)]`.
+fn inverse_row<S: Store>(store: &[S], bases: &[usize; 8], parent: &[i64], rows: [&mut [i64]; 4]) {
+    let [r00, r10, r01, r11] = rows;
+    for (x, &p) in parent.iter().enumerate() {
+        let v = inverse8([
+            p,
+            store[bases[1] + x].to_i64(),
+            store[bases[2] + x].to_i64(),
+            store[bases[3] + x].to_i64(),
+            store[bases[4] + x].to_i64(),
+            store[bases[5] + x].to_i64(),
+            store[bases[6] + x].to_i64(),
+            store[bases[7] + x].to_i64(),
+        ]);
+        r00[2 * x] = v[0];
+        r00[2 * x + 1] = v[1];
+        r10[2 * x] = v[2];
+        r10[2 * x + 1] = v[3];
+        r01[2 * x] = v[4];
+        r01[2 * x + 1] = v[5];
+        r11[2 * x] = v[6];
+        r11[2 * x + 1] = v[7];
+    }
 }
 
 impl HaarHierarchy {
@@ -360,27 +388,27 @@ impl HaarHierarchy {
         let mut out = vec![0i64; od[0] * od[1] * od[2]];
         let plane = od[0] * od[1];
         let pl = level + 1;
+        let h = self.n >> pl;
+        let stride = if pl <= 2 { self.n } else { self.n / 4 };
         super::for_each_chunk(parallel, &mut out, 2 * plane, |bz, chunk| {
             let (a, b) = chunk.split_at_mut(plane);
+            let gz = plo[2] + bz;
             for by in 0..pd[1] {
-                for bx in 0..pd[0] {
-                    let block = [plo[0] + bx, plo[1] + by, plo[2] + bz];
-                    let mut c = [0i64; 8];
-                    c[0] = parent[(bz * pd[1] + by) * pd[0] + bx];
-                    for (o, v) in c.iter_mut().enumerate().skip(1) {
-                        *v = self.read(self.slot(pl, o, block));
-                    }
-                    let v = inverse8(c);
-                    let r0 = 2 * by * od[0] + 2 * bx;
-                    let r1 = r0 + od[0];
-                    a[r0] = v[0];
-                    a[r0 + 1] = v[1];
-                    a[r1] = v[2];
-                    a[r1 + 1] = v[3];
-                    b[r0] = v[4];
-                    b[r0 + 1] = v[5];
-                    b[r1] = v[6];
-                    b[r1 + 1] = v[7];
+                let gy = plo[1] + by;
+                // Where each octant's row of coefficients starts in the store.
+                let bases: [usize; 8] = std::array::from_fn(|o| {
+                    ((gz + ((o >> 2) & 1) * h) * stride + gy + ((o >> 1) & 1) * h) * stride + (o & 1) * h + plo[0]
+                });
+                let prow = &parent[(bz * pd[1] + by) * pd[0]..][..pd[0]];
+                let r0 = 2 * by * od[0];
+                let r1 = r0 + od[0];
+                let (a0, a1) = a[r0..r1 + od[0]].split_at_mut(od[0]);
+                let (b0, b1) = b[r0..r1 + od[0]].split_at_mut(od[0]);
+                let rows = [a0, a1, b0, b1];
+                if pl <= 2 {
+                    inverse_row(&self.near, &bases, prow, rows);
+                } else {
+                    inverse_row(&self.deep, &bases, prow, rows);
                 }
             }
         });

@@ -264,6 +264,20 @@ mod tests {
     }
 
     #[test]
+    fn serial_and_parallel_surfaces_are_identical() {
+        // Blocks are meshed and welded independently and vertices numbered by owner block, so the
+        // schedule cannot change the output.
+        let mut v =
+            Voxels::from_mesh(&Mesh::torus(2.0, 0.8, 32, 16).rotate(Vec3::new(1.0, 0.5, 0.2), 40.0), 64).unwrap();
+        let mut s = v.clone();
+        s.set_parallel(false);
+        s.clear_caches();
+        for level in [0, 1, 2] {
+            assert_eq!(v.to_mesh(level, DEFAULT_ISO).unwrap(), s.to_mesh(level, DEFAULT_ISO).unwrap(), "level {level}");
+        }
+    }
+
+    #[test]
     fn edits_re_mesh_only_touched_blocks_and_match_a_fresh_mesh() {
         // After a small edit the cached surface must equal one computed from scratch, while only
         // the blocks around the edit were re-meshed.

@@ -9,8 +9,6 @@
 //! different blocks weld by name into one indexed, manifold mesh (see [`mc_table`](super::mc_table)
 //! for why it is closed and manifold).
 
-use rayon::prelude::*;
-
 use super::mc_table::{table, EDGES};
 use super::{map_range, VoxelError};
 use crate::math::Vec3;
@@ -70,12 +68,23 @@ pub(super) fn mesh_block(img: Image<'_>, iso: f64, b: [usize; 3]) -> Vec<u16> {
     let lim = [(cells - origin[0]).min(BLOCK), (cells - origin[1]).min(BLOCK), (cells - origin[2]).min(BLOCK)];
     let mut inside = [false; BS * BS * BS];
     let (mut any_in, mut any_out) = (false, false);
+    let m = img.m;
     for lz in 0..=lim[2] {
+        let pz = origin[2] + lz;
         for ly in 0..=lim[1] {
-            for lx in 0..=lim[0] {
-                let v = img.padded([origin[0] + lx, origin[1] + ly, origin[2] + lz]);
+            let py = origin[1] + ly;
+            let row = &mut inside[(lz * BS + ly) * BS..][..=lim[0]];
+            if pz == 0 || pz > m || py == 0 || py > m {
+                row.fill(false);
+                any_out = true;
+                continue;
+            }
+            let r = ((pz - 1) * m + py - 1) * m;
+            for (lx, slot) in row.iter_mut().enumerate() {
+                let px = origin[0] + lx;
+                let v = if px == 0 || px > m { 0 } else { img.values[r + px - 1] };
                 let is_in = u16::from(v) >= threshold;
-                inside[(lz * BS + ly) * BS + lx] = is_in;
+                *slot = is_in;
                 any_in |= is_in;
                 any_out |= !is_in;
             }
@@ -111,8 +120,13 @@ pub(super) fn mesh_block(img: Image<'_>, iso: f64, b: [usize; 3]) -> Vec<u16> {
 
 /// Welds the triangles of all blocks (`blocks[(bz · nb + by) · nb + bx]`, as from
 /// [`mesh_block`]) into one mesh; vertex positions interpolate the iso crossing along each edge
-/// and are mapped by `map` from image coordinates. Vertices are numbered in the order of their
-/// edges in the padded lattice, so the output does not depend on how blocks were computed.
+/// and are mapped by `map` from image coordinates.
+///
+/// Welding: each grid edge is owned by the block holding its lower sample, so a corner on a
+/// block's upper face belongs to the neighbour. Every block gathers the edges it owns from its
+/// own corners and those of its 7 lower neighbours, sorts them, and numbers them after the
+/// vertices of the blocks before it; a corner is then found by binary search in its owner's
+/// short list. Vertex numbers depend only on the triangles, not on how blocks were scheduled.
 pub(super) fn assemble(
     img: Image<'_>,
     iso: f64,
@@ -121,44 +135,72 @@ pub(super) fn assemble(
     parallel: bool,
 ) -> Result<Mesh, VoxelError> {
     let nb = block_count(img.m);
-    let s = img.m + 2;
-    let decode = |bi: usize, k: u16| -> u32 {
-        let b = [bi % nb, (bi / nb) % nb, bi / (nb * nb)];
-        let (k, axis) = (usize::from(k) / 3, usize::from(k) % 3);
-        let p = [b[0] * BLOCK + k % BS, b[1] * BLOCK + (k / BS) % BS, b[2] * BLOCK + k / (BS * BS)];
-        (((p[2] * s + p[1]) * s + p[0]) * 3 + axis) as u32
-    };
-    let corners: Vec<u32> =
-        map_range(parallel, blocks.len(), |bi| blocks[bi].iter().map(|&k| decode(bi, k)).collect::<Vec<u32>>())
-            .into_iter()
-            .flatten()
-            .collect();
-    if corners.is_empty() {
+    let count = blocks.len();
+    // Each corner as (which of the 8 blocks at or above its block owns it, its key there).
+    let refs: Vec<Vec<(u8, u16)>> = map_range(parallel, count, |b| {
+        blocks[b]
+            .iter()
+            .map(|&k| {
+                let (s, axis) = (usize::from(k) / 3, usize::from(k) % 3);
+                let (x, y, z) = (s % BS, (s / BS) % BS, s / (BS * BS));
+                let d = u8::from(x == BLOCK) | u8::from(y == BLOCK) << 1 | u8::from(z == BLOCK) << 2;
+                let (x, y, z) = (x % BLOCK, y % BLOCK, z % BLOCK);
+                (d, (((z * BS + y) * BS + x) * 3 + axis) as u16)
+            })
+            .collect()
+    });
+    let step = |d: u8| usize::from(d & 1) + usize::from((d >> 1) & 1) * nb + usize::from(d >> 2) * nb * nb;
+    let owned: Vec<Vec<u16>> = map_range(parallel, count, |b| {
+        let (bx, by, bz) = (b % nb, (b / nb) % nb, b / (nb * nb));
+        let mut keys = Vec::new();
+        for d in 0..8u8 {
+            let (dx, dy, dz) = (usize::from(d & 1), usize::from((d >> 1) & 1), usize::from(d >> 2));
+            if bx < dx || by < dy || bz < dz {
+                continue;
+            }
+            keys.extend(refs[b - step(d)].iter().filter(|r| r.0 == d).map(|r| r.1));
+        }
+        keys.sort_unstable();
+        keys.dedup();
+        keys
+    });
+    let mut base = Vec::with_capacity(count + 1);
+    let mut total = 0u32;
+    for o in &owned {
+        base.push(total);
+        total += o.len() as u32;
+    }
+    if total == 0 {
         return Ok(Mesh::default());
     }
-    let mut keys = corners.clone();
-    if parallel {
-        keys.par_sort_unstable();
-    } else {
-        keys.sort_unstable();
-    }
-    keys.dedup();
-    let find = |c: &u32| keys.binary_search(c).expect("every corner key is in the sorted key list") as u32;
-    let indices: Vec<u32> =
-        if parallel { corners.par_iter().map(find).collect() } else { corners.iter().map(find).collect() };
-    let position = |&key: &u32| -> Vec3 {
-        let (rest, axis) = (key as usize / 3, key as usize % 3);
-        let p = [rest % s, (rest / s) % s, rest / (s * s)];
-        let mut q = p;
-        q[axis] += 1;
-        let (va, vb) = (f64::from(img.padded(p)), f64::from(img.padded(q)));
-        let t = (va - iso) / (va - vb);
-        let mut pos = Vec3::new(p[0] as f64 - 0.5, p[1] as f64 - 0.5, p[2] as f64 - 0.5);
-        pos[axis] += t;
-        map(pos)
-    };
-    let positions: Vec<Vec3> =
-        if parallel { keys.par_iter().map(position).collect() } else { keys.iter().map(position).collect() };
+    let indices: Vec<u32> = map_range(parallel, count, |b| {
+        refs[b]
+            .iter()
+            .map(|&(d, k)| {
+                let o = b + step(d);
+                base[o] + owned[o].binary_search(&k).expect("every corner's edge is in its owner's list") as u32
+            })
+            .collect::<Vec<u32>>()
+    })
+    .concat();
+    let positions: Vec<Vec3> = map_range(parallel, count, |b| {
+        let origin = [(b % nb) * BLOCK, ((b / nb) % nb) * BLOCK, (b / (nb * nb)) * BLOCK];
+        owned[b]
+            .iter()
+            .map(|&k| {
+                let (s, axis) = (usize::from(k) / 3, usize::from(k) % 3);
+                let p = [origin[0] + s % BS, origin[1] + (s / BS) % BS, origin[2] + s / (BS * BS)];
+                let mut q = p;
+                q[axis] += 1;
+                let (va, vb) = (f64::from(img.padded(p)), f64::from(img.padded(q)));
+                let t = (va - iso) / (va - vb);
+                let mut pos = Vec3::new(p[0] as f64 - 0.5, p[1] as f64 - 0.5, p[2] as f64 - 0.5);
+                pos[axis] += t;
+                map(pos)
+            })
+            .collect::<Vec<Vec3>>()
+    })
+    .concat();
     let arities = vec![3u32; indices.len() / 3];
     Mesh::from_indexed(positions, &indices, &arities)
         .map_err(|e| VoxelError::Internal(format!("marching cubes produced an invalid mesh: {e}")))

@@ -42,7 +42,7 @@ pub use haar1d::{haar1d, ihaar1d};
 pub use haar3d::HaarHierarchy;
 pub use lod_cache::DEFAULT_ISO;
 pub use marching_cubes::marching_cubes;
-pub use rotate::{rotate_tool, Placement, RotatedVoxels, RotationMethod};
+pub use rotate::{rotate_tool, sample_tool, Placement, RotatedVoxels, RotationMethod};
 pub use sculpt::{SculptMode, SculptOptions, SculptReport};
 
 use rayon::prelude::*;

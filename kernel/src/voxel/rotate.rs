@@ -10,12 +10,15 @@
 //!
 //! with K, J, I the columns of Rᵀρ — the tool's basis seen from the object (Algorithm 1's B).
 //! Nearest sampling reads tool voxel ⌊q⌋; antialiased sampling (§3.2) interpolates the 8 tool
-//! samples around q trilinearly (samples at voxel centres, zero outside the tool).
+//! samples around q trilinearly (samples at voxel centres, zero outside the tool), in integers
+//! with 16-bit weights. Both methods sample q in 32.32 fixed point, so they differ only where
+//! rounding q to 2⁻³² moves it across a voxel boundary or changes a weight's last bit.
 //!
 //! Methods: [`RotationMethod::BruteForce`] multiplies every destination voxel's position by the
 //! inverse rotation; [`RotationMethod::Incremental`] follows Algorithm 1 — a row's first voxel is
-//! mapped once and the next ones step by K — and also skips each row's voxels whose q lies outside
-//! the tool (a line clipped against a box). Row starts are computed directly rather than stepped
+//! mapped once and the next ones step by K (in 32.32 fixed point, so the additions are exact) — and also
+//! skips each row's voxels whose q lies outside the tool's occupied box (a line clipped against a
+//! box). Row starts are computed directly rather than stepped
 //! from the previous row so rows can run in parallel with identical results.
 //! [`RotationMethod::Direct`] is the forward mapping of §3.1.2, kept only to show the holes it
 //! leaves (Fig. 3).
@@ -170,58 +173,135 @@ impl RotatedVoxels {
     }
 }
 
-/// Samples the tool at q: nearest voxel, or trilinear between voxel centres (§3.2).
-#[inline]
-pub(super) fn sample(tool: &[u8], n: usize, q: Vec3, antialias: bool) -> u8 {
-    let nf = n as f64;
-    if !antialias {
-        if q.x >= 0.0 && q.y >= 0.0 && q.z >= 0.0 && q.x < nf && q.y < nf && q.z < nf {
-            return tool[((q.z as usize) * n + q.y as usize) * n + q.x as usize];
-        }
-        return 0;
-    }
-    let u = q - Vec3::splat(0.5);
-    if !(u.x > -1.0 && u.y > -1.0 && u.z > -1.0 && u.x < nf && u.y < nf && u.z < nf) {
-        return 0;
-    }
-    let f = u.floor();
-    let w = u - f;
-    let (x0, y0, z0) = (f.x as i64, f.y as i64, f.z as i64);
-    let ni = n as i64;
-    let at = |x: i64, y: i64, z: i64| -> f64 {
-        if x < 0 || y < 0 || z < 0 || x >= ni || y >= ni || z >= ni {
-            0.0
-        } else {
-            f64::from(tool[((z * ni + y) * ni + x) as usize])
-        }
-    };
-    let lerp = |a: f64, b: f64, t: f64| a + (b - a) * t;
-    let c00 = lerp(at(x0, y0, z0), at(x0 + 1, y0, z0), w.x);
-    let c10 = lerp(at(x0, y0 + 1, z0), at(x0 + 1, y0 + 1, z0), w.x);
-    let c01 = lerp(at(x0, y0, z0 + 1), at(x0 + 1, y0, z0 + 1), w.x);
-    let c11 = lerp(at(x0, y0 + 1, z0 + 1), at(x0 + 1, y0 + 1, z0 + 1), w.x);
-    let v = lerp(lerp(c00, c10, w.y), lerp(c01, c11, w.y), w.z);
-    v.round().clamp(0.0, 255.0) as u8
+/// 2³² as a float: tool coordinates in 32.32 fixed point.
+const FIXED_ONE: f64 = 4_294_967_296.0;
+
+/// A tool coordinate in 32.32 fixed point (truncated: within 2⁻³² of `v`, exact for dyadic
+/// values such as those of quarter turns; a cast, not a call to `round`).
+#[inline(always)]
+fn fixed(v: f64) -> i64 {
+    (v * FIXED_ONE) as i64
 }
 
-/// The x range `[a, b)` of a row (start q₀, step K, `len` voxels) whose q may reach the tool
-/// (conservative by a voxel: the samples decide exactly).
-pub(super) fn clip_row(q0: Vec3, k: Vec3, len: usize, n: usize) -> (usize, usize) {
-    let (lo, hi) = (-1.0, n as f64 + 1.0);
+/// The tool voxel containing q (0 outside the tool); q in 32.32 fixed point.
+#[inline(always)]
+fn nearest(tool: &[u8], n: usize, q: [i64; 3]) -> u8 {
+    let nu = n as u64;
+    let (i, j, l) = ((q[0] >> 32) as u64, (q[1] >> 32) as u64, (q[2] >> 32) as u64);
+    if i < nu && j < nu && l < nu {
+        tool[((l * nu + j) * nu + i) as usize]
+    } else {
+        0
+    }
+}
+
+/// Trilinear interpolation (§3.2) of the tool's samples (at voxel centres, zero outside) at q
+/// (32.32 fixed point), in exact integer arithmetic with 16-bit weights, rounded half up.
+#[inline(always)]
+fn trilinear(tool: &[u8], n: usize, q: [i64; 3]) -> u8 {
+    const HALF: i64 = 1 << 31;
+    let u = [q[0] - HALF, q[1] - HALF, q[2] - HALF];
+    let (x0, y0, z0) = (u[0] >> 32, u[1] >> 32, u[2] >> 32);
+    let ni = n as i64;
+    if x0 < -1 || y0 < -1 || z0 < -1 || x0 >= ni || y0 >= ni || z0 >= ni {
+        return 0;
+    }
+    let w = [(u[0] >> 16) & 0xFFFF, (u[1] >> 16) & 0xFFFF, (u[2] >> 16) & 0xFFFF];
+    // The 8 samples around u, x fastest.
+    let c: [i64; 8] = if x0 >= 0 && y0 >= 0 && z0 >= 0 && x0 + 1 < ni && y0 + 1 < ni && z0 + 1 < ni {
+        let i = ((z0 * ni + y0) * ni + x0) as usize;
+        let (r, p) = (n, n * n);
+        [
+            i64::from(tool[i]),
+            i64::from(tool[i + 1]),
+            i64::from(tool[i + r]),
+            i64::from(tool[i + r + 1]),
+            i64::from(tool[i + p]),
+            i64::from(tool[i + p + 1]),
+            i64::from(tool[i + p + r]),
+            i64::from(tool[i + p + r + 1]),
+        ]
+    } else {
+        let at = |x: i64, y: i64, z: i64| -> i64 {
+            if x < 0 || y < 0 || z < 0 || x >= ni || y >= ni || z >= ni {
+                0
+            } else {
+                i64::from(tool[((z * ni + y) * ni + x) as usize])
+            }
+        };
+        [
+            at(x0, y0, z0),
+            at(x0 + 1, y0, z0),
+            at(x0, y0 + 1, z0),
+            at(x0 + 1, y0 + 1, z0),
+            at(x0, y0, z0 + 1),
+            at(x0 + 1, y0, z0 + 1),
+            at(x0, y0 + 1, z0 + 1),
+            at(x0 + 1, y0 + 1, z0 + 1),
+        ]
+    };
+    const ONE: i64 = 1 << 16;
+    let lerp = |a: i64, b: i64, t: i64| a * (ONE - t) + b * t;
+    let (c00, c10) = (lerp(c[0], c[1], w[0]), lerp(c[2], c[3], w[0]));
+    let (c01, c11) = (lerp(c[4], c[5], w[0]), lerp(c[6], c[7], w[0]));
+    // Scaled by 2⁴⁸: at most 255 · 2⁴⁸ < 2⁵⁶.
+    let v = lerp(lerp(c00, c10, w[1]), lerp(c01, c11, w[1]), w[2]);
+    ((v + (1 << 47)) >> 48) as u8
+}
+
+/// Samples the tool at q (tool grid coordinates): the nearest voxel, or trilinear between voxel
+/// centres with `antialias` (§3.2).
+#[must_use]
+pub fn sample_tool(tool: &Voxels, q: Vec3, antialias: bool) -> u8 {
+    if !crate::math::is_finite(q) || q.abs().max_element() > 1e9 {
+        return 0;
+    }
+    let q = [fixed(q.x), fixed(q.y), fixed(q.z)];
+    if antialias {
+        trilinear(&tool.data, tool.n, q)
+    } else {
+        nearest(&tool.data, tool.n, q)
+    }
+}
+
+/// The tool's occupied box in tool grid coordinates, widened to where a sample can be non-zero
+/// (half a voxel for the interpolation, half more for safety); `None` for an empty tool.
+pub(super) fn sample_bounds(tool: &Voxels) -> Option<(Vec3, Vec3)> {
+    let n = tool.n;
+    let (mut lo, mut hi) = ([usize::MAX; 3], [0usize; 3]);
+    for (zy, row) in tool.data.chunks_exact(n).enumerate() {
+        let (Some(a), Some(b)) = (row.iter().position(|&v| v != 0), row.iter().rposition(|&v| v != 0)) else {
+            continue;
+        };
+        let (y, z) = (zy % n, zy / n);
+        lo = [lo[0].min(a), lo[1].min(y), lo[2].min(z)];
+        hi = [hi[0].max(b), hi[1].max(y), hi[2].max(z)];
+    }
+    (lo[0] != usize::MAX).then(|| {
+        let l = Vec3::new(lo[0] as f64, lo[1] as f64, lo[2] as f64) - Vec3::ONE;
+        let h = Vec3::new(hi[0] as f64, hi[1] as f64, hi[2] as f64) + Vec3::splat(2.0);
+        (l, h)
+    })
+}
+
+/// The x range `[a, b)` of a row (start q₀, step K, `len` voxels) whose q lies in the box
+/// `bounds` of tool coordinates (conservative by a voxel: the samples decide exactly).
+pub(super) fn clip_row(q0: Vec3, k: Vec3, len: usize, bounds: (Vec3, Vec3)) -> (usize, usize) {
+    let (lo, hi) = bounds;
     let (mut a, mut b) = (f64::NEG_INFINITY, f64::INFINITY);
     for c in 0..3 {
         if k[c] == 0.0 {
-            if q0[c] <= lo || q0[c] >= hi {
+            if q0[c] < lo[c] || q0[c] > hi[c] {
                 return (0, 0);
             }
         } else {
-            let (t1, t2) = ((lo - q0[c]) / k[c], (hi - q0[c]) / k[c]);
+            let (t1, t2) = ((lo[c] - q0[c]) / k[c], (hi[c] - q0[c]) / k[c]);
             a = a.max(t1.min(t2));
             b = b.min(t1.max(t2));
         }
     }
-    let start = a.ceil().max(0.0);
-    let end = (b.floor() + 1.0).min(len as f64);
+    let start = a.floor().max(0.0);
+    let end = (b.ceil() + 1.0).min(len as f64);
     if end <= start {
         (0, 0)
     } else {
@@ -229,12 +309,41 @@ pub(super) fn clip_row(q0: Vec3, k: Vec3, len: usize, n: usize) -> (usize, usize
     }
 }
 
-/// Fills `out[x]` for x in `[a, b)` of one row by Algorithm 1's stepping from q at x = a.
+/// Fills `out` for one row by Algorithm 1's stepping from `q` (the row's first voxel) by `k`, in
+/// 32.32 fixed point: the additions are exact, so the row costs three integer additions per voxel
+/// besides the sampling.
 #[inline]
-pub(super) fn step_row(tool: &[u8], n: usize, mut q: Vec3, k: Vec3, out: &mut [u8], antialias: bool) {
-    for v in out.iter_mut() {
-        *v = sample(tool, n, q, antialias);
-        q += k;
+pub(super) fn step_row(tool: &[u8], n: usize, q: Vec3, k: Vec3, out: &mut [u8], antialias: bool) {
+    let mut q = [fixed(q.x), fixed(q.y), fixed(q.z)];
+    let k = [fixed(k.x), fixed(k.y), fixed(k.z)];
+    if antialias {
+        for v in out.iter_mut() {
+            *v = trilinear(tool, n, q);
+            q = [q[0] + k[0], q[1] + k[1], q[2] + k[2]];
+        }
+    } else {
+        for v in out.iter_mut() {
+            *v = nearest(tool, n, q);
+            q = [q[0] + k[0], q[1] + k[1], q[2] + k[2]];
+        }
+    }
+}
+
+/// One plane of the brute-force rotation: a full matrix product per voxel, then `f` samples.
+fn brute_plane(
+    plane: &mut [u8],
+    width: usize,
+    z: usize,
+    origin: Vec3,
+    base: Vec3,
+    inv: Mat3,
+    f: impl Fn([i64; 3]) -> u8,
+) {
+    for (y, row) in plane.chunks_mut(width).enumerate() {
+        for (x, v) in row.iter_mut().enumerate() {
+            let q = base + inv * (origin + Vec3::new(x as f64, y as f64, z as f64));
+            *v = f([fixed(q.x), fixed(q.y), fixed(q.z)]);
+        }
     }
 }
 
@@ -273,20 +382,23 @@ pub fn rotate_tool(
         RotationMethod::BruteForce => {
             let inv = placement.inverse();
             let base = placement.base(n);
+            // One full product per voxel; the sampler is chosen outside the loop.
             for_each_chunk(parallel, &mut values, dims[0] * dims[1], |z, plane| {
-                for (y, row) in plane.chunks_mut(dims[0]).enumerate() {
-                    for (x, v) in row.iter_mut().enumerate() {
-                        let r = origin + Vec3::new(x as f64, y as f64, z as f64);
-                        *v = sample(data, n, base + inv * r, antialias);
-                    }
+                if antialias {
+                    brute_plane(plane, dims[0], z, origin, base, inv, |q| trilinear(data, n, q));
+                } else {
+                    brute_plane(plane, dims[0], z, origin, base, inv, |q| nearest(data, n, q));
                 }
             });
         }
         RotationMethod::Incremental => {
+            let Some(bounds) = sample_bounds(tool) else {
+                return Ok(RotatedVoxels { lo, dims, values });
+            };
             for_each_chunk(parallel, &mut values, dims[0] * dims[1], |z, plane| {
                 for (y, row) in plane.chunks_mut(dims[0]).enumerate() {
                     let q0 = b + j * y as f64 + i * z as f64;
-                    let (xa, xb) = clip_row(q0, k, dims[0], n);
+                    let (xa, xb) = clip_row(q0, k, dims[0], bounds);
                     if xa < xb {
                         step_row(data, n, q0 + k * xa as f64, k, &mut row[xa..xb], antialias);
                     }

@@ -4,7 +4,7 @@
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use super::rotate::{clip_row, frame, step_row, Placement};
+use super::rotate::{clip_row, frame, sample_bounds, step_row, Placement};
 use super::{for_each_chunk, VoxelError, Voxels};
 use crate::math::Vec3;
 
@@ -113,6 +113,8 @@ struct CacheKey {
 #[derive(Clone, Debug)]
 pub(super) struct ToolCache {
     key: CacheKey,
+    /// Where the tool's samples can be non-zero (tool coordinates); `None` for an empty tool.
+    bounds: Option<(Vec3, Vec3)>,
     rel: [i64; 3],
     dims: [usize; 3],
     values: Vec<u16>,
@@ -163,7 +165,13 @@ impl Voxels {
         };
         let mut cache = match self.tool_cache.take() {
             Some(c) if c.key == key => c,
-            _ => ToolCache { key, rel, dims, values: vec![UNSET; dims[0] * dims[1] * dims[2]] },
+            _ => ToolCache {
+                key,
+                bounds: sample_bounds(tool),
+                rel,
+                dims,
+                values: vec![UNSET; dims[0] * dims[1] * dims[2]],
+            },
         };
         debug_assert!(cache.rel == rel && cache.dims == dims, "the reach depends only on the cache key");
         let unset_before = cache.values.iter().filter(|&&v| v == UNSET).count();
@@ -173,6 +181,7 @@ impl Voxels {
         let subtract = options.mode == SculptMode::Subtract;
         let (nu, data, tdata, tn, aa) = (self.n, &self.data[..], &tool.data[..], tool.n, options.antialias);
         let contact = |g: usize| !subtract || data[g] > 0;
+        let bounds = cache.bounds;
         let cx = ((clo[0] - glo[0]) as usize, (chi[0] - glo[0]) as usize);
         for_each_chunk(self.parallel, &mut cache.values, dims[0] * dims[1], |z, plane| {
             let gz = glo[2] + z as i64;
@@ -186,7 +195,7 @@ impl Voxels {
                     continue;
                 }
                 let q0 = b + k * (rel[0] as f64) + j * ((rel[1] + y as i64) as f64) + i * ((rel[2] + z as i64) as f64);
-                let (xa, xb) = clip_row(q0, k, dims[0], tn);
+                let (xa, xb) = bounds.map_or((0, 0), |b| clip_row(q0, k, dims[0], b));
                 let gbase = (gz as usize * nu + gy as usize) * nu;
                 let mut x = cx.0;
                 while x < cx.1 {
