@@ -155,6 +155,18 @@ impl EditLog {
         Some(follow(&self.vertex_moves, old))
     }
 
+    /// Where every vertex the edit moved lives now, as `old id → new id` (only moved vertices
+    /// are listed). Time proportional to the number of moves; use it for many look-ups.
+    #[must_use]
+    pub fn vertex_map(&self) -> HashMap<u32, u32> {
+        let mut original_at: HashMap<u32, u32> = HashMap::with_capacity(self.vertex_moves.len());
+        for &(from, to) in &self.vertex_moves {
+            let o = original_at.remove(&from).unwrap_or(from);
+            original_at.insert(to, o);
+        }
+        original_at.into_iter().map(|(slot, o)| (o, slot)).collect()
+    }
+
     /// Where a half-edge that survived the edit lives now (the id is followed through the moves;
     /// the answer is meaningless for a half-edge the edit deleted).
     #[must_use]
@@ -470,6 +482,9 @@ impl Mesh {
         }
         let resolve = |v: u32| if (v as usize) < nv0 { v } else { new_vid[v as usize - nv0] };
         let mut he_id: Vec<u32> = Vec::with_capacity(total_corners);
+        // New elements take the lowest dead slots: the leftover (higher) ones are then filled
+        // by moving elements from the end, which are never new ones, so new ids are final.
+        dead_he.sort_unstable();
         let mut free_he = dead_he.iter().copied();
         for plan in &plans {
             he_id.push(match *plan {
@@ -489,16 +504,18 @@ impl Mesh {
             });
         }
         let mut leftover_he: Vec<u32> = free_he.collect();
+        let mut dead_f: Vec<u32> = remove.to_vec();
+        dead_f.sort_unstable();
         let mut face_slot: Vec<u32> = Vec::with_capacity(add.len());
         for i in 0..add.len() {
-            face_slot.push(if i < remove.len() {
-                remove[i]
+            face_slot.push(if i < dead_f.len() {
+                dead_f[i]
             } else {
                 self.face_he.push(NONE);
                 (self.face_he.len() - 1) as u32
             });
         }
-        let mut leftover_f: Vec<u32> = remove.iter().skip(add.len()).copied().collect();
+        let mut leftover_f: Vec<u32> = dead_f.iter().skip(add.len()).copied().collect();
         let mut leftover_v: Vec<u32> = dead_v.iter().skip(nnew).copied().collect();
         log.grown = [self.positions.len(), self.he_origin.len(), self.face_he.len()];
 
@@ -577,8 +594,10 @@ impl Mesh {
             self.face_he.pop();
         }
         log.final_len = [self.positions.len(), self.he_origin.len(), self.face_he.len()];
-        log.new_faces = face_slot.iter().map(|&f| follow(&log.face_moves, f)).collect();
-        log.new_vertices = new_vid.iter().map(|&v| follow(&log.vertex_moves, v)).collect();
+        debug_assert!(log.face_moves.iter().all(|&(from, _)| !face_slot.contains(&from)));
+        debug_assert!(log.vertex_moves.iter().all(|&(from, _)| !new_vid.contains(&from)));
+        log.new_faces = face_slot;
+        log.new_vertices = new_vid;
         Ok(log)
     }
 

@@ -126,8 +126,12 @@ impl PolarMesh {
         let mut remove = faces;
         remove.extend_from_slice(&outside);
         let log = self.rebuild(&remove, &polys, &[], &[])?;
+        let moved = log.vertex_map();
         for (k, p) in midpoints {
-            let v = log.map_vertex(k).ok_or_else(|| PolarError::Internal(format!("zipped vertex {k} was deleted")))?;
+            if log.removed_vertices().binary_search(&k).is_ok() {
+                return Err(PolarError::Internal(format!("zipped vertex {k} was deleted")));
+            }
+            let v = moved.get(&k).copied().unwrap_or(k);
             self.mesh.set_position(v, p).map_err(|e: EditError| PolarError::Internal(e.to_string()))?;
         }
         Ok(())

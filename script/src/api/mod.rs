@@ -3,6 +3,7 @@
 
 // pub mod files; (waiting for kernel io)
 pub mod mesh;
+pub mod polar;
 pub mod runtime;
 pub mod values;
 pub mod voxel;
@@ -18,5 +19,6 @@ pub fn register_all(engine: &mut Engine) {
     engine.register_global_module(exported_module!(mesh::mesh_api).into());
     // FILES
     voxel::register(engine);
+    polar::register(engine);
     engine.register_global_module(exported_module!(runtime::runtime_api).into());
 }

@@ -1,0 +1,783 @@
+//! `PolarMesh` and `Skeleton`: polar meshes, their seven operations, low-level modelling and the
+//! inferred skeleton (Brazzolotto, seed 004; kernel `polar`).
+
+use std::fs;
+use std::rc::Rc;
+
+use blocksmith_kernel::io;
+use blocksmith_kernel::polar::{FeatureOptions, Frame, LoopFrame, PolarMesh, Skeleton};
+use blocksmith_kernel::Vec3;
+use rhai::plugin::*;
+use rhai::{exported_module, Array, Engine, Map, INT};
+
+use super::mesh::SharedMesh;
+use crate::context::RunContext;
+use crate::convert::{count, factor3, fail, id_pairs, ids, kernel, number, type_name, vec3, Options, ScriptResult};
+
+/// A polar mesh as scripts hold it (script type `PolarMesh`): shared and copied on write, so
+/// passing one around is cheap and no script sees another variable's mesh change. The seven
+/// operations and the low-level moves change the mesh they are called on.
+#[derive(Clone, Debug)]
+pub struct SharedPolar(pub Rc<PolarMesh>);
+
+impl SharedPolar {
+    fn get_mut(&mut self) -> &mut PolarMesh {
+        Rc::make_mut(&mut self.0)
+    }
+}
+
+/// An inferred skeleton (script type `Skeleton`), read only.
+#[derive(Clone, Debug)]
+pub struct SharedSkeleton(pub Rc<Skeleton>);
+
+/// Registers the `PolarMesh` and `Skeleton` types and every polar function on `engine`.
+pub fn register(engine: &mut Engine) {
+    engine.register_type_with_name::<SharedPolar>("PolarMesh");
+    engine.register_type_with_name::<SharedSkeleton>("Skeleton");
+    engine.register_global_module(exported_module!(polar_api).into());
+}
+
+fn int(x: u32) -> Dynamic {
+    Dynamic::from(INT::from(x))
+}
+
+fn id_array(xs: &[u32]) -> Array {
+    xs.iter().map(|&x| int(x)).collect()
+}
+
+fn id_list(func: &str, arg: &str, v: &Dynamic) -> ScriptResult<Vec<u32>> {
+    match v.clone().try_cast::<Array>() {
+        Some(a) => ids(func, arg, &a),
+        None => fail(func, format!("argument `{arg}` must be an array of vertex ids, got {}", type_name(v))),
+    }
+}
+
+fn frame_map(f: &LoopFrame) -> Map {
+    let mut m = Map::new();
+    m.insert("center".into(), Dynamic::from(f.center));
+    m.insert("normal".into(), Dynamic::from(f.normal));
+    m.insert("tangent".into(), Dynamic::from(f.tangent));
+    m.insert("bitangent".into(), Dynamic::from(f.bitangent));
+    m
+}
+
+/// `center` (optional) and `frame` from an option map.
+fn center_frame(opts: &Options) -> ScriptResult<(Option<Vec3>, Frame)> {
+    let center = if opts.has("center") { Some(opts.vec3("center", Vec3::ZERO)?) } else { None };
+    let frame = match opts.choice("frame", "global", &["global", "local"])?.as_str() {
+        "local" => Frame::Local,
+        _ => Frame::Global,
+    };
+    Ok((center, frame))
+}
+
+fn skeleton_node(func: &str, sk: &Skeleton, i: INT) -> ScriptResult<u32> {
+    if i < 0 || i as usize >= sk.node_count() {
+        return fail(func, format!("node {i} does not exist (the skeleton has {})", sk.node_count()));
+    }
+    Ok(i as u32)
+}
+
+#[export_module]
+pub mod polar_api {
+    use super::*;
+
+    // ---- Building ----------------------------------------------------------------------
+
+    /// The regular octahedron of circumradius 1 as a polar mesh: poles at −z (vertex 0) and +z
+    /// (vertex 5), the equator (vertices 1–4) its one loop. The thesis's starting point (§4.8).
+    ///
+    /// ```rhai
+    /// let pm = polar_octahedron();
+    /// assert_eq(pm.poles(), [0, 5]);
+    /// assert_eq(pm.face_count, 8);
+    /// ```
+    pub fn polar_octahedron() -> SharedPolar {
+        SharedPolar(Rc::new(PolarMesh::octahedron()))
+    }
+
+    /// A latitude–longitude sphere as a polar mesh: poles at −z (vertex 0) and +z (the last
+    /// vertex), `rings − 1` latitude loops of `segments` edges.
+    ///
+    /// ```rhai
+    /// let pm = polar_sphere(1, 8, 4);
+    /// assert_eq(pm.loops().len(), 3);
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn polar_sphere(radius: Dynamic, segments: INT, rings: INT) -> ScriptResult<SharedPolar> {
+        let r = number("polar_sphere", "radius", &radius)?;
+        if r <= 0.0 {
+            return fail("polar_sphere", format!("argument `radius` must be positive, got {r}"));
+        }
+        if segments < 3 || rings < 2 {
+            return fail("polar_sphere", format!("needs `segments` ≥ 3 and `rings` ≥ 2, got {segments} and {rings}"));
+        }
+        let s = count("polar_sphere", "segments", segments, 100_000)?;
+        let n = count("polar_sphere", "rings", rings, 100_000)?;
+        Ok(SharedPolar(Rc::new(PolarMesh::uv_sphere(r, s, n))))
+    }
+
+    /// Marks a closed mesh as a polar mesh: option `poles` (vertex ids) and `loops` (loop edges
+    /// as `[a, b]` vertex pairs). Markers are completed by propagation (spokes of poles are
+    /// backbones, their opposite edges loops; quads alternate), so give the poles plus one loop
+    /// edge in every part no pole reaches. An invalid marking is an error naming the first broken
+    /// rule.
+    ///
+    /// ```rhai
+    /// let s = uv_sphere(1, 8, 4);
+    /// let pm = polar_from(s, #{ poles: [0, s.vertex_count - 1] });
+    /// pm.check();
+    /// let t = polar_from(torus(2, 0.5, 8, 6), #{ loops: [[0, 1]] });
+    /// assert_eq(t.loops().len(), 8);
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn polar_from(mesh: SharedMesh, options: Map) -> ScriptResult<SharedPolar> {
+        let opts = Options::new("polar_from", options, &["poles", "loops"])?;
+        let poles = match opts.raw("poles") {
+            Some(v) => id_list("polar_from", "poles", v)?,
+            None => Vec::new(),
+        };
+        let loops = match opts.raw("loops") {
+            Some(v) => match v.clone().try_cast::<Array>() {
+                Some(a) => id_pairs("polar_from", "loops", &a)?,
+                None => {
+                    return fail(
+                        "polar_from",
+                        format!("option `loops` must be an array of [a, b] pairs, got {}", type_name(v)),
+                    )
+                }
+            },
+            None => Vec::new(),
+        };
+        kernel("polar_from", PolarMesh::from_mesh((*mesh.0).clone(), &poles, &loops)).map(|p| SharedPolar(Rc::new(p)))
+    }
+
+    // ---- Queries ------------------------------------------------------------------------
+
+    /// Number of vertices.
+    #[rhai_fn(get = "vertex_count", pure)]
+    pub fn vertex_count(pm: &mut SharedPolar) -> INT {
+        pm.0.vertex_count() as INT
+    }
+    /// Number of faces.
+    #[rhai_fn(get = "face_count", pure)]
+    pub fn face_count(pm: &mut SharedPolar) -> INT {
+        pm.0.face_count() as INT
+    }
+    /// Number of edges.
+    #[rhai_fn(get = "edge_count", pure)]
+    pub fn edge_count(pm: &mut SharedPolar) -> INT {
+        pm.0.mesh().edge_count() as INT
+    }
+    /// Number of half-edges (ids run from 0 to this − 1).
+    #[rhai_fn(get = "halfedge_count", pure)]
+    pub fn halfedge_count(pm: &mut SharedPolar) -> INT {
+        pm.0.halfedge_count() as INT
+    }
+
+    /// The number of connected parts.
+    ///
+    /// ```rhai
+    /// let pm = polar_sphere(1, 8, 6);
+    /// pm.split_feature(pm.halfedge(17, 18));
+    /// assert_eq(pm.component_count(), 2);
+    /// ```
+    #[rhai_fn(pure)]
+    pub fn component_count(pm: &mut SharedPolar) -> INT {
+        pm.0.mesh().component_count() as INT
+    }
+
+    /// The poles, ascending.
+    ///
+    /// ```rhai
+    /// assert_eq(polar_octahedron().poles().len(), 2);
+    /// ```
+    #[rhai_fn(pure)]
+    pub fn poles(pm: &mut SharedPolar) -> Array {
+        id_array(&pm.0.poles())
+    }
+    /// Whether vertex `v` is a pole.
+    ///
+    /// ```rhai
+    /// assert(polar_octahedron().is_pole(0));
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn is_pole(pm: &mut SharedPolar, v: INT) -> ScriptResult<bool> {
+        Ok(pm.0.is_pole(kernel("is_pole", pm.0.vertex_id(v))?))
+    }
+    /// Whether half-edge `h` lies on a loop (otherwise on a backbone).
+    #[rhai_fn(pure, return_raw)]
+    pub fn is_loop(pm: &mut SharedPolar, h: INT) -> ScriptResult<bool> {
+        Ok(pm.0.is_loop(kernel("is_loop", pm.0.halfedge_id(h))?))
+    }
+    /// The Loop iterator (§3.3.1): the loop or backbone through half-edge `h`, as half-edges in
+    /// walking order (a loop is closed; a backbone runs pole to pole).
+    ///
+    /// ```rhai
+    /// let pm = polar_octahedron();
+    /// let h = pm.fan(0)[0];
+    /// assert_eq(pm.walk(h).len(), 2); // pole → equator → pole
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn walk(pm: &mut SharedPolar, h: INT) -> ScriptResult<Array> {
+        kernel("walk", pm.0.walk(h)).map(|w| id_array(&w))
+    }
+    /// The Parallel iterator (§3.3.2): the edges parallel to `h` (the ones `add_refinement(h)`
+    /// splits), as half-edges pointing the same way.
+    ///
+    /// ```rhai
+    /// let pm = polar_octahedron();
+    /// assert_eq(pm.parallel(pm.fan(0)[0]).len(), 4);
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn parallel(pm: &mut SharedPolar, h: INT) -> ScriptResult<Array> {
+        kernel("parallel", pm.0.parallel(h)).map(|w| id_array(&w))
+    }
+    /// The Fan iterator (§3.3.3): the half-edges leaving pole `pole`, in the order of its loop.
+    ///
+    /// ```rhai
+    /// assert_eq(polar_octahedron().fan(5).len(), 4);
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn fan(pm: &mut SharedPolar, pole: INT) -> ScriptResult<Array> {
+        kernel("fan", pm.0.fan(pole)).map(|w| id_array(&w))
+    }
+    /// Every loop once, each an array of half-edges (a closed walk).
+    ///
+    /// ```rhai
+    /// assert_eq(polar_octahedron().loops().len(), 1);
+    /// ```
+    #[rhai_fn(pure)]
+    pub fn loops(pm: &mut SharedPolar) -> Array {
+        pm.0.loops().iter().map(|l| Dynamic::from_array(id_array(l))).collect()
+    }
+    /// Every feature (§3.4) once, each an array of faces.
+    ///
+    /// ```rhai
+    /// let pm = polar_sphere(1, 8, 4);
+    /// assert_eq(pm.features().len(), 1);
+    /// pm.add_feature([9, 10, 11]);
+    /// assert_eq(pm.features().len(), 3);
+    /// ```
+    #[rhai_fn(pure)]
+    pub fn features(pm: &mut SharedPolar) -> Array {
+        pm.0.features().iter().map(|f| Dynamic::from_array(id_array(f))).collect()
+    }
+    /// The number of edges at vertex `v`.
+    #[rhai_fn(pure, return_raw)]
+    pub fn valence(pm: &mut SharedPolar, v: INT) -> ScriptResult<INT> {
+        Ok(pm.0.valence(kernel("valence", pm.0.vertex_id(v))?) as INT)
+    }
+    /// The position of vertex `v`.
+    ///
+    /// ```rhai
+    /// assert_eq(polar_octahedron().position(5), vec3(0, 0, 1));
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn position(pm: &mut SharedPolar, v: INT) -> ScriptResult<Vec3> {
+        Ok(pm.0.position(kernel("position", pm.0.vertex_id(v))?))
+    }
+    /// All vertex positions, indexed by vertex id.
+    #[rhai_fn(pure)]
+    pub fn positions(pm: &mut SharedPolar) -> Array {
+        pm.0.mesh().positions().iter().map(|p| Dynamic::from(*p)).collect()
+    }
+    /// `[from, to]`: the vertices of half-edge `h`.
+    ///
+    /// ```rhai
+    /// let pm = polar_octahedron();
+    /// assert_eq(pm.ends(pm.fan(0)[0])[0], 0);
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn ends(pm: &mut SharedPolar, h: INT) -> ScriptResult<Array> {
+        let h = kernel("ends", pm.0.halfedge_id(h))?;
+        Ok(id_array(&pm.0.ends(h)))
+    }
+    /// The face of half-edge `h`.
+    #[rhai_fn(pure, return_raw)]
+    pub fn face_of(pm: &mut SharedPolar, h: INT) -> ScriptResult<INT> {
+        let h = kernel("face_of", pm.0.halfedge_id(h))?;
+        Ok(INT::from(pm.0.face_of(h)))
+    }
+    /// The vertices of face `f`, in order.
+    #[rhai_fn(pure, return_raw)]
+    pub fn face_vertices(pm: &mut SharedPolar, f: INT) -> ScriptResult<Array> {
+        let f = kernel("face_vertices", pm.0.face_id(f))?;
+        Ok(pm.0.mesh().face_vertices(f).map(int).collect())
+    }
+    /// The half-edges leaving vertex `v`.
+    #[rhai_fn(pure, return_raw)]
+    pub fn outgoing(pm: &mut SharedPolar, v: INT) -> ScriptResult<Array> {
+        let v = kernel("outgoing", pm.0.vertex_id(v))?;
+        Ok(pm.0.mesh().outgoing(v).map(int).collect())
+    }
+    /// The half-edge from vertex `a` to vertex `b`, or an error if they are not neighbours.
+    ///
+    /// ```rhai
+    /// let pm = polar_octahedron();
+    /// assert_eq(pm.ends(pm.halfedge(1, 2)), [1, 2]);
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn halfedge(pm: &mut SharedPolar, a: INT, b: INT) -> ScriptResult<INT> {
+        let (a, b) = (kernel("halfedge", pm.0.vertex_id(a))?, kernel("halfedge", pm.0.vertex_id(b))?);
+        match pm.0.mesh().find_halfedge(a, b) {
+            Some(h) => Ok(INT::from(h)),
+            None => fail("halfedge", format!("vertices {a} and {b} are not joined by an edge")),
+        }
+    }
+    /// The vertex nearest to point `p`.
+    ///
+    /// ```rhai
+    /// assert_eq(polar_octahedron().nearest_vertex([0, 0, 2]), 5);
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn nearest_vertex(pm: &mut SharedPolar, p: Dynamic) -> ScriptResult<INT> {
+        let p = vec3("nearest_vertex", "p", &p)?;
+        kernel("nearest_vertex", pm.0.nearest_vertex(p)).map(INT::from)
+    }
+    /// The half-edge nearest to point `p` (of the nearest edge, the half on `p`'s side).
+    #[rhai_fn(pure, return_raw)]
+    pub fn nearest_halfedge(pm: &mut SharedPolar, p: Dynamic) -> ScriptResult<INT> {
+        let p = vec3("nearest_halfedge", "p", &p)?;
+        kernel("nearest_halfedge", pm.0.nearest_halfedge(p)).map(INT::from)
+    }
+    /// The face nearest to point `p`.
+    #[rhai_fn(pure, return_raw)]
+    pub fn nearest_face(pm: &mut SharedPolar, p: Dynamic) -> ScriptResult<INT> {
+        let p = vec3("nearest_face", "p", &p)?;
+        kernel("nearest_face", pm.0.nearest_face(p)).map(INT::from)
+    }
+    /// The vertices within `radius` of point `p`, ascending: a selection for the low-level moves.
+    ///
+    /// ```rhai
+    /// assert_eq(polar_octahedron().vertices_near([0, 0, 1], 0.1), [5]);
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn vertices_near(pm: &mut SharedPolar, p: Dynamic, radius: Dynamic) -> ScriptResult<Array> {
+        let p = vec3("vertices_near", "p", &p)?;
+        let r = number("vertices_near", "radius", &radius)?;
+        kernel("vertices_near", pm.0.vertices_near(p, r)).map(|v| id_array(&v))
+    }
+    /// Verifies every polar invariant of chapter 3; an error names the first one broken.
+    ///
+    /// ```rhai
+    /// polar_octahedron().check();
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn check(pm: &mut SharedPolar) -> ScriptResult<()> {
+        kernel("check", pm.0.check())
+    }
+    /// The underlying mesh (same vertex ids and positions).
+    ///
+    /// ```rhai
+    /// assert_eq(polar_octahedron().to_mesh().genus(), 0);
+    /// ```
+    #[rhai_fn(pure)]
+    pub fn to_mesh(pm: &mut SharedPolar) -> SharedMesh {
+        SharedMesh::new(pm.0.to_mesh())
+    }
+    /// The mesh with each feature in its own hue as vertex colours (appendix B.1.3),
+    /// neighbouring features in different hues.
+    #[rhai_fn(pure)]
+    pub fn to_colored_mesh(pm: &mut SharedPolar) -> SharedMesh {
+        SharedMesh::new(pm.0.to_colored_mesh())
+    }
+    /// Writes the mesh with its feature colours (see `to_colored_mesh`) by extension, like a
+    /// mesh's `save`. Also callable as `pm.save(path)`.
+    ///
+    /// ```rhai
+    /// polar_octahedron().save("doc_example_polar.glb");
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn save(ctx: NativeCallContext, pm: &mut SharedPolar, path: &str) -> ScriptResult<()> {
+        let p = RunContext::of(&ctx).output_path(path);
+        if let Some(dir) = p.parent().filter(|d| !d.as_os_str().is_empty()) {
+            if let Err(e) = fs::create_dir_all(dir) {
+                return fail("save", format!("cannot create directory {}: {e}", dir.display()));
+            }
+        }
+        kernel("save", io::save(&pm.0.to_colored_mesh(), &p))
+    }
+    /// A one-line summary.
+    #[rhai_fn(name = "to_string", name = "to_debug", pure)]
+    pub fn to_string(pm: &mut SharedPolar) -> String {
+        format!(
+            "PolarMesh({} vertices, {} faces, {} poles, {} loops)",
+            pm.0.vertex_count(),
+            pm.0.face_count(),
+            pm.0.poles().len(),
+            pm.0.loops().len()
+        )
+    }
+
+    // ---- The seven operations (ch. 4) ------------------------------------------------------
+
+    /// Add refinement (§4.1): splits every edge parallel to `h` at its midpoint and joins the new
+    /// vertices: on a backbone a new loop, on a loop edge a new backbone. Returns the new loop or
+    /// backbone as half-edges.
+    ///
+    /// ```rhai
+    /// let pm = polar_octahedron();
+    /// let l = pm.add_refinement(pm.fan(0)[0]);
+    /// assert_eq(l.len(), 4);
+    /// assert_eq(pm.loops().len(), 2);
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn add_refinement(pm: &mut SharedPolar, h: INT) -> ScriptResult<Array> {
+        add_refinement_with(pm, h, Map::new())
+    }
+    /// Add refinement with option `at`: where along `h` (0 < at < 1, default 0.5) the edges are
+    /// split, measured in `h`'s direction.
+    ///
+    /// ```rhai
+    /// let pm = polar_octahedron();
+    /// pm.add_refinement(pm.halfedge(0, 1), #{ at: 0.25 });
+    /// assert_near(pm.position(pm.vertex_count - 1).z, -0.75, 1e-12);
+    /// ```
+    #[rhai_fn(name = "add_refinement", return_raw)]
+    pub fn add_refinement_with(pm: &mut SharedPolar, h: INT, options: Map) -> ScriptResult<Array> {
+        let opts = Options::new("add_refinement", options, &["at"])?;
+        let t = opts.number("at", 0.5)?;
+        let r = kernel("add_refinement", pm.get_mut().add_refinement_at(h, t))?;
+        Ok(id_array(&r.halfedges))
+    }
+    /// Remove refinement (§4.2): removes the loop or backbone through `h`. Refused (§4.2.4) for
+    /// the last loop between two poles, a refinement carrying a nested feature, or a backbone
+    /// whose removal leaves a region below valency 3.
+    ///
+    /// ```rhai
+    /// let pm = polar_octahedron();
+    /// let l = pm.add_refinement(pm.fan(0)[0]);
+    /// pm.remove_refinement(l[0]);
+    /// assert_eq(pm.face_count, 8);
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn remove_refinement(pm: &mut SharedPolar, h: INT) -> ScriptResult<()> {
+        kernel("remove_refinement", pm.get_mut().remove_refinement(h))
+    }
+    /// Add feature (§4.3): nests a new feature on consecutive loop vertices `verts` (at least 3)
+    /// and returns its pole (valence 2(|verts| − 1)). The gap opens on the side of the faces to
+    /// the left of the run walked in the given order.
+    ///
+    /// ```rhai
+    /// let pm = polar_sphere(1, 8, 4);
+    /// let p = pm.add_feature([9, 10, 11]);
+    /// assert_eq(pm.valence(p), 4);
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn add_feature(pm: &mut SharedPolar, verts: Array) -> ScriptResult<INT> {
+        add_feature_with(pm, verts, Map::new())
+    }
+    /// Add feature with options `depth` (how far up the backbones the gap reaches, 0–1, default
+    /// 0.5) and `height` (how far the pole stands out, in gap edge lengths, default 0.25).
+    ///
+    /// ```rhai
+    /// let pm = polar_sphere(1, 8, 4);
+    /// pm.add_feature([9, 10, 11, 12], #{ depth: 0.3, height: 0 });
+    /// pm.check();
+    /// ```
+    #[rhai_fn(name = "add_feature", return_raw)]
+    pub fn add_feature_with(pm: &mut SharedPolar, verts: Array, options: Map) -> ScriptResult<INT> {
+        let opts = Options::new("add_feature", options, &["depth", "height"])?;
+        let o = FeatureOptions::DEFAULT
+            .with_depth(opts.number("depth", FeatureOptions::DEFAULT.depth)?)
+            .with_height(opts.number("height", FeatureOptions::DEFAULT.height)?);
+        let v = ids("add_feature", "verts", &verts)?;
+        kernel("add_feature", pm.get_mut().add_feature_with(&v, &o)).map(INT::from)
+    }
+    /// Select feature (§4.4): the faces of the feature face `f` belongs to, ascending.
+    ///
+    /// ```rhai
+    /// let pm = polar_sphere(1, 8, 4);
+    /// assert_eq(pm.select_feature(0).len(), pm.face_count);
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn select_feature(pm: &mut SharedPolar, f: INT) -> ScriptResult<Array> {
+        kernel("select_feature", pm.0.select_feature(f)).map(|v| id_array(&v))
+    }
+    /// Remove feature (§4.5): removes the feature of face `f` and closes the gap by zipping its
+    /// boundary loop. Needs exactly two split vertices on the boundary and equal paths between
+    /// them (§4.5.4); a feature between two loops (a handle) is removed too.
+    ///
+    /// ```rhai
+    /// let pm = polar_sphere(1, 8, 4);
+    /// let p = pm.add_feature([9, 10, 11]);
+    /// pm.remove_feature(pm.face_of(pm.fan(p)[0]));
+    /// assert_eq(pm.features().len(), 1);
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn remove_feature(pm: &mut SharedPolar, f: INT) -> ScriptResult<()> {
+        kernel("remove_feature", pm.get_mut().remove_feature(f))
+    }
+    /// Merge features (§4.6): bridges the loops of poles `p1` and `p2` (equal valences) with a
+    /// ring of quads, pairing vertices by least total distance; both poles disappear.
+    ///
+    /// ```rhai
+    /// let pm = polar_sphere(1, 8, 5);
+    /// pm.merge_features(0, pm.vertex_count - 1);
+    /// assert_eq(pm.to_mesh().genus(), 1);
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn merge_features(pm: &mut SharedPolar, p1: INT, p2: INT) -> ScriptResult<()> {
+        kernel("merge_features", pm.get_mut().merge_features(p1, p2))
+    }
+    /// Split feature (§4.7): replaces the loop through `h` and the rings beside it by two pole
+    /// fans; returns the two new poles.
+    ///
+    /// ```rhai
+    /// let pm = polar_sphere(1, 8, 6);
+    /// let p = pm.split_feature(pm.halfedge(17, 18));
+    /// assert_eq(p.len(), 2);
+    /// assert_eq(pm.to_mesh().euler(), 4); // two spheres
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn split_feature(pm: &mut SharedPolar, h: INT) -> ScriptResult<Array> {
+        kernel("split_feature", pm.get_mut().split_feature(h)).map(|p| id_array(&p))
+    }
+
+    // ---- Low-level modelling (§2.4) --------------------------------------------------------
+
+    /// Moves the vertices `verts` by `offset` (world axes).
+    ///
+    /// ```rhai
+    /// let pm = polar_octahedron();
+    /// pm.move([5], [0, 0, 1]);
+    /// assert_eq(pm.position(5), vec3(0, 0, 2));
+    /// ```
+    #[rhai_fn(name = "move", return_raw)]
+    pub fn move_(pm: &mut SharedPolar, verts: Array, offset: Dynamic) -> ScriptResult<()> {
+        move_with(pm, verts, offset, Map::new())
+    }
+    /// Moves the vertices `verts` by `offset`, with option `frame`: `"global"` (world axes,
+    /// default) or `"local"` (x, y in the selection's plane, z along its normal; for a loop, the
+    /// loop's own centre and normal).
+    ///
+    /// ```rhai
+    /// let pm = polar_sphere(1, 8, 4);
+    /// pm.move([9, 10, 11, 12, 13, 14, 15, 16], [0, 0, 0.5], #{ frame: "local" });
+    /// assert_near(pm.position(9).z, 0.5, 1e-12);
+    /// ```
+    #[rhai_fn(name = "move", return_raw)]
+    pub fn move_with(pm: &mut SharedPolar, verts: Array, offset: Dynamic, options: Map) -> ScriptResult<()> {
+        let opts = Options::new("move", options, &["frame"])?;
+        let (_, frame) = center_frame(&opts)?;
+        let v = ids("move", "verts", &verts)?;
+        let d = vec3("move", "offset", &offset)?;
+        kernel("move", pm.get_mut().move_vertices(&v, d, frame))
+    }
+    /// Scales the vertices `verts` by `factor` (a number, or a vector per axis) about their
+    /// centre.
+    ///
+    /// ```rhai
+    /// let pm = polar_sphere(1, 8, 4);
+    /// pm.scale([9, 10, 11, 12, 13, 14, 15, 16], 2);
+    /// assert_near(pm.position(9).x, 2.0, 1e-12);
+    /// ```
+    #[rhai_fn(name = "scale", return_raw)]
+    pub fn scale(pm: &mut SharedPolar, verts: Array, factor: Dynamic) -> ScriptResult<()> {
+        scale_with(pm, verts, factor, Map::new())
+    }
+    /// Scales with options `center` (default: the selection's centre) and `frame` (`"global"` or
+    /// `"local"`: a vector factor then acts along the selection's tangent, bitangent, normal).
+    ///
+    /// ```rhai
+    /// let pm = polar_sphere(1, 8, 4);
+    /// pm.scale([9, 10, 11, 12, 13, 14, 15, 16], [1.5, 1.5, 1], #{ frame: "local", center: [0, 0, 0] });
+    /// assert_near(pm.position(9).x, 1.5, 1e-12);
+    /// ```
+    #[rhai_fn(name = "scale", return_raw)]
+    pub fn scale_with(pm: &mut SharedPolar, verts: Array, factor: Dynamic, options: Map) -> ScriptResult<()> {
+        let opts = Options::new("scale", options, &["center", "frame"])?;
+        let (center, frame) = center_frame(&opts)?;
+        let v = ids("scale", "verts", &verts)?;
+        let f = factor3("scale", "factor", &factor)?;
+        kernel("scale", pm.get_mut().scale_vertices(&v, f, center, frame))
+    }
+    /// Turns the vertices `verts` by `degrees` about `axis` through their centre (right-handed).
+    ///
+    /// ```rhai
+    /// let pm = polar_octahedron();
+    /// pm.rotate([1, 2, 3, 4], [0, 0, 1], 90);
+    /// assert_near(pm.position(1), vec3(0, 1, 0), 1e-12);
+    /// ```
+    #[rhai_fn(name = "rotate", return_raw)]
+    pub fn rotate(pm: &mut SharedPolar, verts: Array, axis: Dynamic, degrees: Dynamic) -> ScriptResult<()> {
+        rotate_with(pm, verts, axis, degrees, Map::new())
+    }
+    /// Turns with options `center` (default: the selection's centre) and `frame` (`"local"`:
+    /// the axis is given in the selection's frame, `[0, 0, 1]` its normal).
+    ///
+    /// ```rhai
+    /// let pm = polar_octahedron();
+    /// pm.rotate([5], [1, 0, 0], 90, #{ center: [0, 0, 0] });
+    /// assert_near(pm.position(5), vec3(0, -1, 0), 1e-12);
+    /// ```
+    #[rhai_fn(name = "rotate", return_raw)]
+    pub fn rotate_with(
+        pm: &mut SharedPolar,
+        verts: Array,
+        axis: Dynamic,
+        degrees: Dynamic,
+        options: Map,
+    ) -> ScriptResult<()> {
+        let opts = Options::new("rotate", options, &["center", "frame"])?;
+        let (center, frame) = center_frame(&opts)?;
+        let v = ids("rotate", "verts", &verts)?;
+        let a = vec3("rotate", "axis", &axis)?;
+        let d = number("rotate", "degrees", &degrees)?;
+        kernel("rotate", pm.get_mut().rotate_vertices(&v, a, d, center, frame))
+    }
+    /// Moves vertex `v` to point `p`.
+    ///
+    /// ```rhai
+    /// let pm = polar_octahedron();
+    /// pm.set_position(5, [0, 0, 3]);
+    /// assert_eq(pm.position(5).z, 3.0);
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn set_position(pm: &mut SharedPolar, v: INT, p: Dynamic) -> ScriptResult<()> {
+        let v = kernel("set_position", pm.0.vertex_id(v))?;
+        let p = vec3("set_position", "p", &p)?;
+        kernel("set_position", pm.get_mut().set_position(v, p))
+    }
+    /// The frame of the loop (or backbone) through `h`: `#{center, normal, tangent, bitangent}`;
+    /// the normal follows the right-hand rule along the walk.
+    ///
+    /// ```rhai
+    /// let pm = polar_octahedron();
+    /// let f = pm.loop_frame(pm.halfedge(1, 2));
+    /// assert_near(f.normal, vec3(0, 0, 1), 1e-12);
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn loop_frame(pm: &mut SharedPolar, h: INT) -> ScriptResult<Map> {
+        kernel("loop_frame", pm.0.loop_frame(h)).map(|f| frame_map(&f))
+    }
+    /// The local frame of a vertex selection (the one `"local"` moves use):
+    /// `#{center, normal, tangent, bitangent}`.
+    #[rhai_fn(pure, return_raw)]
+    pub fn selection_frame(pm: &mut SharedPolar, verts: Array) -> ScriptResult<Map> {
+        let v = ids("selection_frame", "verts", &verts)?;
+        kernel("selection_frame", pm.0.selection_frame(&v)).map(|f| frame_map(&f))
+    }
+
+    // ---- Skeleton (§7.1–7.2) -------------------------------------------------------------
+
+    /// The inferred skeleton (§7.1), rooted at the node of the first pole (or node 0).
+    ///
+    /// ```rhai
+    /// let sk = polar_sphere(1, 8, 5).skeleton();
+    /// assert_eq(sk.node_count, 6);   // 2 poles + 4 loops
+    /// assert_eq(sk.cycle_count(), 0);
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn skeleton(pm: &mut SharedPolar) -> ScriptResult<SharedSkeleton> {
+        skeleton_with(pm, Map::new())
+    }
+    /// The inferred skeleton with option `root`: a vertex whose node becomes the root.
+    ///
+    /// ```rhai
+    /// let pm = polar_sphere(1, 8, 5);
+    /// let sk = pm.skeleton(#{ root: pm.vertex_count - 1 });
+    /// assert(sk.is_pole(sk.root));
+    /// assert_eq(sk.parent(sk.root), ());
+    /// ```
+    #[rhai_fn(name = "skeleton", pure, return_raw)]
+    pub fn skeleton_with(pm: &mut SharedPolar, options: Map) -> ScriptResult<SharedSkeleton> {
+        let opts = Options::new("skeleton", options, &["root"])?;
+        let root = if opts.has("root") {
+            let r = opts.int("root", 0)?;
+            Some(kernel("skeleton", pm.0.vertex_id(r))?)
+        } else {
+            None
+        };
+        kernel("skeleton", pm.0.skeleton(root)).map(|s| SharedSkeleton(Rc::new(s)))
+    }
+    /// Number of skeleton nodes (poles and loop complexes).
+    #[rhai_fn(get = "node_count", pure)]
+    pub fn node_count(sk: &mut SharedSkeleton) -> INT {
+        sk.0.node_count() as INT
+    }
+    /// Number of segments (one per region).
+    #[rhai_fn(get = "segment_count", pure)]
+    pub fn segment_count(sk: &mut SharedSkeleton) -> INT {
+        sk.0.segment_count() as INT
+    }
+    /// The root node.
+    #[rhai_fn(get = "root", pure)]
+    pub fn root(sk: &mut SharedSkeleton) -> INT {
+        INT::from(sk.0.root())
+    }
+    /// The segments as `[node, node]` pairs.
+    #[rhai_fn(pure)]
+    pub fn segments(sk: &mut SharedSkeleton) -> Array {
+        sk.0.segments().iter().map(|s| Dynamic::from_array(id_array(s))).collect()
+    }
+    /// The position of node `i` (a pole, or the centre of a loop).
+    #[rhai_fn(name = "position", pure, return_raw)]
+    pub fn node_position(sk: &mut SharedSkeleton, i: INT) -> ScriptResult<Vec3> {
+        Ok(sk.0.position(skeleton_node("position", &sk.0, i)?))
+    }
+    /// The parent of node `i` in the rooted tree, or `()` for a root.
+    #[rhai_fn(pure, return_raw)]
+    pub fn parent(sk: &mut SharedSkeleton, i: INT) -> ScriptResult<Dynamic> {
+        let i = skeleton_node("parent", &sk.0, i)?;
+        Ok(sk.0.parent(i).map_or(Dynamic::UNIT, int))
+    }
+    /// The children of node `i` in the rooted tree.
+    #[rhai_fn(pure, return_raw)]
+    pub fn children(sk: &mut SharedSkeleton, i: INT) -> ScriptResult<Array> {
+        let i = skeleton_node("children", &sk.0, i)?;
+        Ok(id_array(sk.0.children(i)))
+    }
+    /// The depth of node `i` below its root.
+    #[rhai_fn(pure, return_raw)]
+    pub fn depth(sk: &mut SharedSkeleton, i: INT) -> ScriptResult<INT> {
+        let i = skeleton_node("depth", &sk.0, i)?;
+        Ok(INT::from(sk.0.depth(i)))
+    }
+    /// Whether node `i` is a pole.
+    #[rhai_fn(name = "is_pole", pure, return_raw)]
+    pub fn node_is_pole(sk: &mut SharedSkeleton, i: INT) -> ScriptResult<bool> {
+        Ok(sk.0.is_pole(skeleton_node("is_pole", &sk.0, i)?))
+    }
+    /// The vertices bound to node `i`.
+    #[rhai_fn(pure, return_raw)]
+    pub fn vertices(sk: &mut SharedSkeleton, i: INT) -> ScriptResult<Array> {
+        let i = skeleton_node("vertices", &sk.0, i)?;
+        Ok(id_array(sk.0.vertices(i)))
+    }
+    /// The number of independent cycles (the genus of a connected polar mesh).
+    ///
+    /// ```rhai
+    /// let t = polar_from(torus(2, 0.5, 8, 6), #{ loops: [[0, 1]] });
+    /// assert_eq(t.skeleton().cycle_count(), 1);
+    /// ```
+    #[rhai_fn(pure)]
+    pub fn cycle_count(sk: &mut SharedSkeleton) -> INT {
+        sk.0.cycle_count() as INT
+    }
+    /// The node vertex `v` is bound to.
+    #[rhai_fn(pure, return_raw)]
+    pub fn node_of(sk: &mut SharedSkeleton, v: INT) -> ScriptResult<INT> {
+        let n = sk.0.vertex_nodes().len();
+        if v < 0 || v as usize >= n {
+            return fail("node_of", format!("vertex {v} does not exist (the skeleton binds {n})"));
+        }
+        Ok(INT::from(sk.0.node_of(v as u32)))
+    }
+    /// Every node, depth first from the root (parents before children).
+    #[rhai_fn(pure)]
+    pub fn order(sk: &mut SharedSkeleton) -> Array {
+        id_array(sk.0.depth_first_order())
+    }
+    /// A one-line summary.
+    #[rhai_fn(name = "to_string", name = "to_debug", pure)]
+    pub fn skeleton_to_string(sk: &mut SharedSkeleton) -> String {
+        format!(
+            "Skeleton({} nodes, {} segments, {} cycles)",
+            sk.0.node_count(),
+            sk.0.segment_count(),
+            sk.0.cycle_count()
+        )
+    }
+}
