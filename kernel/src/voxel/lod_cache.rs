@@ -250,7 +250,6 @@ mod tests {
     }
 
     #[test]
-    #[ignore = "256³ grid: run in release (cargo test --release -- --ignored)"]
     fn a_256_grid_with_hierarchy_and_surface_cache_fits_in_64_mib() {
         // Densities 16 MiB, levels 1–2 in i16 32 MiB, deeper levels 2 MiB, leaving ~14 MiB for the
         // surface cache at 6 bytes per triangle.

@@ -281,6 +281,20 @@ mod tests {
     }
 
     #[test]
+    fn samples_exactly_at_the_iso_level_still_give_closed_manifold_meshes() {
+        // Densities 0–3 with integer iso levels: many samples equal the level (they count as
+        // outside), so vertices land exactly on samples and coincide in space, yet stay distinct
+        // edge vertices: the connectivity is still a closed 2-manifold.
+        for (side, seed) in [(6usize, 7u64), (12, 8)] {
+            let values: Vec<u8> = random_bytes(side * side * side, seed).iter().map(|v| v % 4).collect();
+            for iso in [0.0, 1.0, 2.0] {
+                let mesh = marching_cubes(&values, side, iso).unwrap();
+                assert!(mesh.face_count() > 0 && mesh.is_closed() && mesh.is_manifold(), "side {side} iso {iso}");
+            }
+        }
+    }
+
+    #[test]
     fn checkerboard_separates_every_inside_voxel() {
         // Inside voxels touching only along edges or corners are separated by the face rule: a
         // 4³ checkerboard has 32 inside voxels and gives 32 octahedra (genus 0 each).
