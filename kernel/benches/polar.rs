@@ -14,6 +14,7 @@ use std::hint::black_box;
 use std::time::{Duration, Instant};
 
 use blocksmith_kernel::polar::PolarMesh;
+use blocksmith_kernel::Mesh;
 use criterion::{criterion_group, criterion_main, Criterion};
 
 const SEGMENTS: u32 = 64;
@@ -132,6 +133,34 @@ fn operations(c: &mut Criterion) {
     }
 }
 
+/// Backbones with a fixed affected region: on a torus whose loops run around the main circle
+/// (8,000 edges: 157, 1563, 15625 of them) and whose backbones run around the tube (64 edges), a
+/// new backbone splits one ring of 64 faces at every mesh size.
+fn backbones_on_a_torus(c: &mut Criterion) {
+    for (label, around) in [("10k", 157u32), ("100k", 1563), ("1M", 15625)] {
+        let torus = Mesh::torus(2.0, 0.5, around, SEGMENTS);
+        // Vertex (i, j) is i·64 + j: the edge (0, 0)–(1, 0) runs along the main circle.
+        let mut pm = PolarMesh::from_mesh(torus, &[], &[[0, SEGMENTS]]).unwrap();
+        let mid = (around / 2) * SEGMENTS;
+        let mut g = c.benchmark_group(format!("polar/torus_{label}_faces"));
+        g.sample_size(20).warm_up_time(Duration::from_millis(300)).measurement_time(Duration::from_secs(2));
+        // Adds a backbone then removes it, timing both.
+        let pair = |pm: &mut PolarMesh| {
+            let t = Instant::now();
+            let r = pm.add_refinement(he(pm, mid, mid + SEGMENTS)).unwrap();
+            let add = t.elapsed();
+            let t = Instant::now();
+            pm.remove_refinement(i64::from(r.halfedges[0])).unwrap();
+            [add, t.elapsed()]
+        };
+        for (which, name) in ["add_refinement_backbone", "remove_refinement_backbone"].iter().enumerate() {
+            g.bench_function(*name, |b| b.iter_custom(|n| (0..n).map(|_| pair(&mut pm)[which]).sum::<Duration>()));
+        }
+        g.finish();
+        pm.check().expect("the benchmark cycles keep the mesh polar");
+    }
+}
+
 fn skeleton(c: &mut Criterion) {
     // 400 segments × 1000 bands: 2 + 999·400 = 399,602 vertices, 400,000 faces.
     let pm = PolarMesh::uv_sphere(1.0, 400, 1000);
@@ -143,5 +172,5 @@ fn skeleton(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, operations, skeleton);
+criterion_group!(benches, operations, backbones_on_a_torus, skeleton);
 criterion_main!(benches);

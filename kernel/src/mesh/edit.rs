@@ -21,6 +21,7 @@
 //! keep theirs. New vertices are not corners and, when the mesh has colours, are white.
 
 use std::collections::{HashMap, HashSet};
+use std::hash::{BuildHasherDefault, Hasher};
 
 use thiserror::Error;
 
@@ -71,6 +72,48 @@ pub enum EditError {
     #[error("the mesh would be too large for 32-bit ids")]
     TooLarge,
 }
+
+/// A fast hasher for small integer keys (the multiply–rotate hash of rustc's `FxHasher`): edits
+/// hash element ids, where SipHash's protection against crafted keys costs time and buys nothing.
+#[derive(Clone, Copy, Default)]
+pub struct IdHasher(u64);
+
+impl IdHasher {
+    #[inline]
+    fn add(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x517c_c1b7_2722_0a95);
+    }
+}
+
+impl Hasher for IdHasher {
+    #[inline]
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.add(u64::from(b));
+        }
+    }
+    #[inline]
+    fn write_u32(&mut self, x: u32) {
+        self.add(u64::from(x));
+    }
+    #[inline]
+    fn write_u64(&mut self, x: u64) {
+        self.add(x);
+    }
+    #[inline]
+    fn write_usize(&mut self, x: usize) {
+        self.add(x as u64);
+    }
+    #[inline]
+    fn finish(&self) -> u64 {
+        self.0
+    }
+}
+
+/// A hash map keyed by element ids, with [`IdHasher`].
+pub type IdMap<K, V> = HashMap<K, V, BuildHasherDefault<IdHasher>>;
+/// A hash set of element ids, with [`IdHasher`].
+pub type IdSet<K> = HashSet<K, BuildHasherDefault<IdHasher>>;
 
 /// What an edit changed: the final ids of what it added, and every move of an existing element.
 ///
@@ -311,7 +354,7 @@ impl Mesh {
         }
 
         // 1. The patch: removed faces, the edges inside it and the border it leaves.
-        let mut removed: HashSet<u32> = HashSet::with_capacity(remove.len() * 2);
+        let mut removed: IdSet<u32> = IdSet::with_capacity_and_hasher(remove.len() * 2, Default::default());
         for &f in remove {
             self.check_face_id(f)?;
             if !removed.insert(f) {
@@ -319,7 +362,7 @@ impl Mesh {
             }
         }
         let is_removed = |f: u32| f != NONE && removed.contains(&f);
-        let mut border: HashMap<(u32, u32), u32> = HashMap::new();
+        let mut border: IdMap<(u32, u32), u32> = IdMap::default();
         let mut dead_he: Vec<u32> = Vec::new();
         let mut patch_vertices: Vec<u32> = Vec::new();
         for &f in remove {
@@ -364,7 +407,8 @@ impl Mesh {
         }
 
         // 3. Every directed edge of the new polygons: used once, paired, not clashing.
-        let mut directed: HashMap<(u32, u32), usize> = HashMap::with_capacity(total_corners * 2);
+        let mut directed: IdMap<(u32, u32), usize> =
+            IdMap::with_capacity_and_hasher(total_corners * 2, Default::default());
         let mut corner_edges: Vec<(u32, u32)> = Vec::with_capacity(total_corners);
         for poly in add {
             let poly = poly.as_ref();
@@ -404,25 +448,31 @@ impl Mesh {
             return Err(EditError::HoleNotCovered { a: b, b: a });
         }
 
-        // 4. Every vertex the edit touches keeps (or gets) one closed fan of faces.
-        let mut new_corners: HashMap<u32, Vec<Corner>> = HashMap::new();
+        // 4. Every vertex the edit touches keeps (or gets) one closed fan of faces. The new
+        // corners, sorted by vertex, are read alongside the sorted affected vertices.
+        let mut new_corners: Vec<(u32, Corner)> = Vec::with_capacity(total_corners);
         for poly in add {
             let poly = poly.as_ref();
             let n = poly.len();
             for k in 0..n {
-                new_corners.entry(poly[k]).or_default().push((poly[(k + n - 1) % n], poly[(k + 1) % n]));
+                new_corners.push((poly[k], (poly[(k + n - 1) % n], poly[(k + 1) % n])));
             }
         }
+        new_corners.sort_unstable_by_key(|c| c.0);
         patch_vertices.sort_unstable();
         patch_vertices.dedup();
         let mut affected: Vec<u32> = patch_vertices.clone();
-        affected.extend(new_corners.keys().copied());
+        affected.extend(new_corners.iter().map(|c| c.0));
         affected.sort_unstable();
         affected.dedup();
         let mut dead_v: Vec<u32> = Vec::new();
-        let mut kept_out: HashMap<u32, u32> = HashMap::new();
+        // Per affected vertex: a kept outgoing half-edge (NONE if none) and whether it has new
+        // corners.
+        let mut kept_out: Vec<u32> = vec![NONE; affected.len()];
+        let mut has_new: Vec<bool> = vec![false; affected.len()];
         let mut corners: Vec<Corner> = Vec::new();
-        for &v in &affected {
+        let mut at = 0usize;
+        for (i, &v) in affected.iter().enumerate() {
             corners.clear();
             if (v as usize) < nv0 {
                 if self.is_boundary_vertex(v) {
@@ -431,12 +481,16 @@ impl Mesh {
                 for h in self.outgoing(v) {
                     if !is_removed(self.face(h)) {
                         corners.push((self.origin(self.prev(h)), self.target(h)));
-                        kept_out.entry(v).or_insert(h);
+                        if kept_out[i] == NONE {
+                            kept_out[i] = h;
+                        }
                     }
                 }
             }
-            if let Some(c) = new_corners.get(&v) {
-                corners.extend_from_slice(c);
+            while at < new_corners.len() && new_corners[at].0 == v {
+                corners.push(new_corners[at].1);
+                has_new[i] = true;
+                at += 1;
             }
             if corners.is_empty() {
                 if v as usize >= nv0 {
@@ -450,7 +504,7 @@ impl Mesh {
             }
         }
         for i in 0..nnew {
-            if !new_corners.contains_key(&((nv0 + i) as u32)) {
+            if new_corners.binary_search_by_key(&((nv0 + i) as u32), |c| c.0).is_err() {
                 return Err(EditError::UnusedNewVertex { index: i });
             }
         }
@@ -544,11 +598,9 @@ impl Mesh {
         for (c, &(a, _)) in corner_edges.iter().enumerate() {
             self.vertex_out[resolve(a) as usize] = he_id[c];
         }
-        for &v in &affected {
-            if (v as usize) < nv0 && !new_corners.contains_key(&v) {
-                if let Some(&h) = kept_out.get(&v) {
-                    self.vertex_out[v as usize] = h;
-                }
+        for (i, &v) in affected.iter().enumerate() {
+            if (v as usize) < nv0 && !has_new[i] && kept_out[i] != NONE {
+                self.vertex_out[v as usize] = kept_out[i];
             }
         }
         for &v in &leftover_v {

@@ -1,10 +1,9 @@
 //! Add refinement (§4.1): a new loop across a ring of backbones, or a new backbone across a ring
 //! of loop edges.
 
-use std::collections::HashMap;
-
 use super::{PolarError, PolarMesh, Poly};
 use crate::math::Vec3;
+use crate::mesh::edit::IdMap;
 
 /// What [`PolarMesh::add_refinement`] created.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -58,7 +57,7 @@ impl PolarMesh {
         let m = &self.mesh;
         let ring = self.ring_of(h);
         let nv = m.vertex_count() as u32;
-        let mut index: HashMap<u32, u32> = HashMap::with_capacity(ring.edges.len());
+        let mut index: IdMap<u32, u32> = IdMap::with_capacity_and_hasher(ring.edges.len(), Default::default());
         let mut positions: Vec<Vec3> = Vec::with_capacity(ring.edges.len());
         for (j, &d) in ring.edges.iter().enumerate() {
             index.insert(m.edge_key(d), nv + j as u32);

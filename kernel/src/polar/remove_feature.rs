@@ -10,10 +10,8 @@
 //! touch) and each is the one of the pole case. Removing it lowers the genus by one, or splits
 //! the part it bridged in two.
 
-use std::collections::{HashMap, HashSet};
-
 use super::{PolarError, PolarMesh};
-use crate::mesh::edit::EditError;
+use crate::mesh::edit::{EditError, IdMap, IdSet};
 
 impl PolarMesh {
     /// Remove feature (seed 004, §4.5): removes the feature of face `f` (see
@@ -36,7 +34,7 @@ impl PolarMesh {
         let f = self.face_id(f)?;
         let m = &self.mesh;
         let faces = self.feature_faces(f);
-        let inside: HashSet<u32> = faces.iter().copied().collect();
+        let inside: IdSet<u32> = faces.iter().copied().collect();
         let mut boundary: Vec<u32> = Vec::new();
         let mut poles: Vec<u32> = Vec::new();
         for &g in &faces {
@@ -51,8 +49,8 @@ impl PolarMesh {
         }
         poles.sort_unstable();
         poles.dedup();
-        let on_boundary: HashSet<u32> = boundary.iter().copied().collect();
-        let mut done: HashSet<u32> = HashSet::with_capacity(boundary.len());
+        let on_boundary: IdSet<u32> = boundary.iter().copied().collect();
+        let mut done: IdSet<u32> = IdSet::with_capacity_and_hasher(boundary.len(), Default::default());
         let mut walks: Vec<Vec<u32>> = Vec::new();
         for &x in &boundary {
             if done.contains(&x) {
@@ -71,9 +69,9 @@ impl PolarMesh {
             (loops, poles) => return Err(PolarError::FeatureBoundary { face: f, loops, poles }),
         }
         // Zip plan: for every boundary loop, pairs (kept, merged) of vertices.
-        let mut rename: HashMap<u32, u32> = HashMap::new();
+        let mut rename: IdMap<u32, u32> = IdMap::default();
         let mut pairs: Vec<(u32, u32)> = Vec::new();
-        let mut all_walk_vertices: HashSet<u32> = HashSet::new();
+        let mut all_walk_vertices: IdSet<u32> = IdSet::default();
         for w in &walks {
             let verts: Vec<u32> = w.iter().map(|&x| m.origin(x)).collect();
             for &v in &verts {

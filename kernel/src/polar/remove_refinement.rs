@@ -1,8 +1,7 @@
 //! Remove refinement (§4.2): delete a loop or a backbone, merging the faces on its two sides.
 
-use std::collections::HashSet;
-
 use super::{PolarError, PolarMesh, Poly};
+use crate::mesh::edit::IdSet;
 
 impl PolarMesh {
     /// Remove refinement (seed 004, §4.2): removes the loop or backbone through half-edge `h`
@@ -27,7 +26,7 @@ impl PolarMesh {
         let m = &self.mesh;
         let line = self.walk_of(h);
         let is_loop_line = self.is_loop(h);
-        let mut inner: HashSet<u32> = HashSet::with_capacity(line.len() * 2);
+        let mut inner: IdSet<u32> = IdSet::with_capacity_and_hasher(line.len() * 2, Default::default());
         for &x in &line {
             for v in [m.origin(x), m.target(x)] {
                 if !self.is_pole(v) {
@@ -78,7 +77,7 @@ impl PolarMesh {
             }
         }
         let mut faces = Vec::with_capacity(2 * line.len());
-        let mut seen = HashSet::with_capacity(2 * line.len());
+        let mut seen: IdSet<u32> = IdSet::with_capacity_and_hasher(2 * line.len(), Default::default());
         for &x in &line {
             for f in [m.face(x), m.face(m.twin(x))] {
                 if !seen.insert(f) {

@@ -7,9 +7,8 @@
 //! straight on together, at a split vertex they always part, so either both walks of an edge
 //! pass a split vertex or neither does.
 
-use std::collections::{HashMap, HashSet};
-
 use super::{PolarError, PolarMesh};
+use crate::mesh::edit::{IdMap, IdSet};
 
 /// A union–find over dense ids.
 pub(crate) struct Dsu(Vec<u32>);
@@ -66,8 +65,9 @@ impl PolarMesh {
     /// The faces of the feature of `f`, in the order found.
     pub(crate) fn feature_faces(&self, f: u32) -> Vec<u32> {
         let m = &self.mesh;
-        let mut nesting: HashMap<u32, bool> = HashMap::new();
-        let mut seen: HashSet<u32> = HashSet::from([f]);
+        let mut nesting: IdMap<u32, bool> = IdMap::default();
+        let mut seen: IdSet<u32> = IdSet::default();
+        seen.insert(f);
         let mut out = vec![f];
         let mut i = 0;
         while i < out.len() {

@@ -1,9 +1,8 @@
 //! Split feature (§4.7): replace a loop and the two rings beside it by two pole fans.
 
-use std::collections::HashSet;
-
 use super::{PolarError, PolarMesh, Poly};
 use crate::math::Vec3;
+use crate::mesh::edit::IdSet;
 
 impl PolarMesh {
     /// Split feature (seed 004, §4.7): removes the loop through half-edge `h0` (the split loop)
@@ -27,7 +26,7 @@ impl PolarMesh {
         }
         let m = &self.mesh;
         let split = self.walk_of(h0);
-        let mverts: HashSet<u32> = split.iter().map(|&x| m.origin(x)).collect();
+        let mverts: IdSet<u32> = split.iter().map(|&x| m.origin(x)).collect();
         let mut sorted: Vec<u32> = mverts.iter().copied().collect();
         sorted.sort_unstable();
         if let Some(&v) = sorted.iter().find(|&&v| m.valence(v) != 4) {
