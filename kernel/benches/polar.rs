@@ -88,7 +88,7 @@ fn operations(c: &mut Criterion) {
         // Add, select and remove a feature on three loop vertices.
         let run = [ring(j, 2), ring(j, 3), ring(j, 4)];
         let home = pm.position(run[1]);
-        let mut feature_cycle = |pm: &mut PolarMesh, which: usize| {
+        let feature_cycle = |pm: &mut PolarMesh, which: usize| {
             let t = Instant::now();
             let p = pm.add_feature(&run).unwrap();
             let d0 = t.elapsed();
@@ -111,7 +111,7 @@ fn operations(c: &mut Criterion) {
         let p = pm.add_feature(&[ring(j, 10), ring(j, 11), ring(j, 12)]).unwrap();
         let q = pm.add_feature(&[ring(j + 6, 12), ring(j + 6, 11), ring(j + 6, 10)]).unwrap();
         let mut poles = [p, q];
-        let mut merge_split = |pm: &mut PolarMesh, poles: &mut [u32; 2], which: usize| {
+        let merge_split = |pm: &mut PolarMesh, poles: &mut [u32; 2], which: usize| {
             let t = Instant::now();
             pm.merge_features(i64::from(poles[0]), i64::from(poles[1])).unwrap();
             let d0 = t.elapsed();
@@ -168,7 +168,7 @@ fn skeleton(c: &mut Criterion) {
     g.sample_size(10).measurement_time(Duration::from_secs(5));
     g.bench_function("infer", |b| b.iter(|| black_box(pm.skeleton(None).unwrap())));
     g.bench_function("feature_ids", |b| b.iter(|| black_box(pm.feature_ids())));
-    g.bench_function("check", |b| b.iter(|| black_box(pm.check().unwrap())));
+    g.bench_function("check", |b| b.iter(|| black_box(pm.check()).unwrap()));
     g.finish();
 }
 
