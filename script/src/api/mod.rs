@@ -5,6 +5,7 @@
 pub mod mesh;
 pub mod polar;
 pub mod runtime;
+pub mod subdiv;
 pub mod values;
 pub mod voxel;
 
@@ -19,6 +20,7 @@ pub fn register_all(engine: &mut Engine) {
     engine.register_global_module(exported_module!(mesh::mesh_api).into());
     // FILES
     voxel::register(engine);
+    subdiv::register(engine);
     polar::register(engine);
     engine.register_global_module(exported_module!(runtime::runtime_api).into());
 }

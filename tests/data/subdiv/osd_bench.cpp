@@ -1,0 +1,90 @@
+// Times OpenSubdiv's own CPU refiner on an OBJ file: uniform refinement of the topology
+// (Far::TopologyRefinerFactory::Create + RefineUniform) and of positions
+// (Far::PrimvarRefiner::Interpolate, double), for Catmull-Clark and Loop — the counterpart of
+// kernel/benches/subdiv.rs (which times the same phases of blocksmith's Refiner).
+//
+//   g++ -O2 -o osd_bench osd_bench.cpp -losdCPU
+//   ./osd_bench target/peers/meshes/ico6.obj 3 5      # mesh, levels, repetitions
+// Prints one line per scheme: OSD_BENCH scheme=... topology_med_s=... positions_med_s=... F=...
+#include <opensubdiv/far/primvarRefiner.h>
+#include <opensubdiv/far/topologyDescriptor.h>
+#include <opensubdiv/far/topologyRefinerFactory.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+using namespace OpenSubdiv;
+
+struct Vertex {
+    double p[3];
+    void Clear(void* = 0) { p[0] = p[1] = p[2] = 0.0; }
+    void AddWithWeight(Vertex const& s, double w) {
+        p[0] += w * s.p[0];
+        p[1] += w * s.p[1];
+        p[2] += w * s.p[2];
+    }
+};
+
+static double now() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+static double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+}
+
+int main(int argc, char** argv) {
+    if (argc < 2) { fprintf(stderr, "usage: osd_bench mesh.obj [levels] [reps]\n"); return 1; }
+    int levels = argc > 2 ? atoi(argv[2]) : 3, reps = argc > 3 ? atoi(argv[3]) : 5;
+    std::ifstream in(argv[1]);
+    std::string line;
+    std::vector<Vertex> verts;
+    std::vector<int> counts, indices;
+    while (std::getline(in, line)) {
+        std::istringstream s(line);
+        std::string k;
+        s >> k;
+        if (k == "v") { Vertex v; s >> v.p[0] >> v.p[1] >> v.p[2]; verts.push_back(v); }
+        else if (k == "f") { int n = 0; std::string t; while (s >> t) { indices.push_back(atoi(t.c_str()) - 1); ++n; } counts.push_back(n); }
+    }
+    Far::TopologyDescriptor desc;
+    desc.numVertices = (int)verts.size();
+    desc.numFaces = (int)counts.size();
+    desc.numVertsPerFace = counts.data();
+    desc.vertIndicesPerFace = indices.data();
+    Sdc::Options options;
+    options.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
+    typedef Far::TopologyRefinerFactory<Far::TopologyDescriptor> Factory;
+    for (Sdc::SchemeType type : {Sdc::SCHEME_CATMARK, Sdc::SCHEME_LOOP}) {
+        std::vector<double> tt, tp;
+        int nf = 0;
+        for (int r = 0; r < reps; ++r) {
+            double t0 = now();
+            Far::TopologyRefiner* refiner = Factory::Create(desc, Factory::Options(type, options));
+            refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(levels));
+            double t1 = now();
+            std::vector<Vertex> a = verts, b;
+            Far::PrimvarRefinerReal<double> pv(*refiner);
+            for (int l = 1; l <= levels; ++l) {
+                b.resize(refiner->GetLevel(l).GetNumVertices());
+                pv.Interpolate(l, a, b);
+                std::swap(a, b);
+            }
+            double t2 = now();
+            nf = refiner->GetLevel(levels).GetNumFaces();
+            tt.push_back(t1 - t0);
+            tp.push_back(t2 - t1);
+            delete refiner;
+        }
+        printf("OSD_BENCH scheme=%s levels=%d F0=%zu F=%d topology_med_s=%.4f positions_med_s=%.4f total_med_s=%.4f reps=%d\n",
+               type == Sdc::SCHEME_LOOP ? "loop" : "catmark", levels, counts.size(), nf, median(tt), median(tp),
+               median(tt) + median(tp), reps);
+    }
+    return 0;
+}
