@@ -33,6 +33,10 @@ impl Rng {
 struct Tally {
     ok: [usize; 8],
     refused: [usize; 8],
+    /// Features bounded by two loops removed (χ + 2), the case the thesis could not handle.
+    two_loop_removals: usize,
+    /// Merges that joined two parts of one connected mesh (a handle: genus + 1).
+    handles: usize,
 }
 
 const NAMES: [&str; 8] =
@@ -52,7 +56,7 @@ fn random_loop_halfedge(pm: &PolarMesh, rng: &mut Rng) -> Option<u32> {
 
 /// One valid-looking random operation. Returns the op index and whether it succeeded; panics on
 /// any broken invariant.
-fn random_op(pm: &mut PolarMesh, rng: &mut Rng) -> (usize, bool) {
+fn random_op(pm: &mut PolarMesh, rng: &mut Rng, tally: &mut Tally) -> (usize, bool) {
     let big = pm.face_count() > 2500;
     let op = loop {
         let op = rng.below(8);
@@ -124,6 +128,12 @@ fn random_op(pm: &mut PolarMesh, rng: &mut Rng) -> (usize, bool) {
         Ok(()) => {
             assert_polar(pm, NAMES[op]);
             assert_eq!(pm.mesh().euler(), chi + delta, "{} changed χ by {}", NAMES[op], pm.mesh().euler() - chi);
+            if op == 3 && delta == 2 {
+                tally.two_loop_removals += 1;
+            }
+            if op == 4 && pm.mesh().genus() > before.mesh().genus() {
+                tally.handles += 1;
+            }
             (op, true)
         }
         Err(e) => {
@@ -183,7 +193,7 @@ fn run_sequences(count: u64, ops: usize) -> Tally {
             if rng.below(4) == 0 {
                 random_invalid_call(&mut pm, &mut rng);
             } else {
-                let (op, ok) = random_op(&mut pm, &mut rng);
+                let (op, ok) = random_op(&mut pm, &mut rng, &mut tally);
                 if ok {
                     tally.ok[op] += 1;
                 } else {
@@ -211,5 +221,6 @@ fn thousand_random_sequences_keep_every_invariant() {
     for (i, name) in NAMES.iter().enumerate() {
         assert!(tally.ok[i] > 0, "{name} never succeeded: {tally:?}");
     }
+    assert!(tally.two_loop_removals > 0 && tally.handles > 0, "{tally:?}");
     eprintln!("{tally:?}");
 }
