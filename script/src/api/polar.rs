@@ -5,7 +5,9 @@ use std::fs;
 use std::rc::Rc;
 
 use blocksmith_kernel::io;
-use blocksmith_kernel::polar::{FeatureOptions, Frame, LoopFrame, PolarMesh, Skeleton};
+use blocksmith_kernel::polar::{
+    FeatureOptions, Frame, LoopFrame, PolarMesh as KernelPolar, Skeleton as KernelSkeleton,
+};
 use blocksmith_kernel::Vec3;
 use rhai::plugin::*;
 use rhai::{exported_module, Array, Engine, Map, INT};
@@ -18,22 +20,22 @@ use crate::convert::{count, factor3, fail, id_pairs, ids, kernel, number, type_n
 /// passing one around is cheap and no script sees another variable's mesh change. The seven
 /// operations and the low-level moves change the mesh they are called on.
 #[derive(Clone, Debug)]
-pub struct SharedPolar(pub Rc<PolarMesh>);
+pub struct PolarMesh(pub Rc<KernelPolar>);
 
-impl SharedPolar {
-    fn get_mut(&mut self) -> &mut PolarMesh {
+impl PolarMesh {
+    fn get_mut(&mut self) -> &mut KernelPolar {
         Rc::make_mut(&mut self.0)
     }
 }
 
 /// An inferred skeleton (script type `Skeleton`), read only.
 #[derive(Clone, Debug)]
-pub struct SharedSkeleton(pub Rc<Skeleton>);
+pub struct Skeleton(pub Rc<KernelSkeleton>);
 
 /// Registers the `PolarMesh` and `Skeleton` types and every polar function on `engine`.
 pub fn register(engine: &mut Engine) {
-    engine.register_type_with_name::<SharedPolar>("PolarMesh");
-    engine.register_type_with_name::<SharedSkeleton>("Skeleton");
+    engine.register_type_with_name::<PolarMesh>("PolarMesh");
+    engine.register_type_with_name::<Skeleton>("Skeleton");
     engine.register_global_module(exported_module!(polar_api).into());
 }
 
@@ -71,7 +73,7 @@ fn center_frame(opts: &Options) -> ScriptResult<(Option<Vec3>, Frame)> {
     Ok((center, frame))
 }
 
-fn skeleton_node(func: &str, sk: &Skeleton, i: INT) -> ScriptResult<u32> {
+fn skeleton_node(func: &str, sk: &KernelSkeleton, i: INT) -> ScriptResult<u32> {
     if i < 0 || i as usize >= sk.node_count() {
         return fail(func, format!("node {i} does not exist (the skeleton has {})", sk.node_count()));
     }
@@ -92,8 +94,8 @@ pub mod polar_api {
     /// assert_eq(pm.poles(), [0, 5]);
     /// assert_eq(pm.face_count, 8);
     /// ```
-    pub fn polar_octahedron() -> SharedPolar {
-        SharedPolar(Rc::new(PolarMesh::octahedron()))
+    pub fn polar_octahedron() -> PolarMesh {
+        PolarMesh(Rc::new(KernelPolar::octahedron()))
     }
 
     /// A latitude–longitude sphere as a polar mesh: poles at −z (vertex 0) and +z (the last
@@ -104,7 +106,7 @@ pub mod polar_api {
     /// assert_eq(pm.loops().len(), 3);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn polar_sphere(radius: Dynamic, segments: INT, rings: INT) -> ScriptResult<SharedPolar> {
+    pub fn polar_sphere(radius: Dynamic, segments: INT, rings: INT) -> ScriptResult<PolarMesh> {
         let r = number("polar_sphere", "radius", &radius)?;
         if r <= 0.0 {
             return fail("polar_sphere", format!("argument `radius` must be positive, got {r}"));
@@ -114,7 +116,7 @@ pub mod polar_api {
         }
         let s = count("polar_sphere", "segments", segments, 100_000)?;
         let n = count("polar_sphere", "rings", rings, 100_000)?;
-        Ok(SharedPolar(Rc::new(PolarMesh::uv_sphere(r, s, n))))
+        Ok(PolarMesh(Rc::new(KernelPolar::uv_sphere(r, s, n))))
     }
 
     /// Marks a closed mesh as a polar mesh: option `poles` (vertex ids) and `loops` (loop edges
@@ -131,7 +133,7 @@ pub mod polar_api {
     /// assert_eq(t.loops().len(), 8);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn polar_from(mesh: SharedMesh, options: Map) -> ScriptResult<SharedPolar> {
+    pub fn polar_from(mesh: SharedMesh, options: Map) -> ScriptResult<PolarMesh> {
         let opts = Options::new("polar_from", options, &["poles", "loops"])?;
         let poles = match opts.raw("poles") {
             Some(v) => id_list("polar_from", "poles", v)?,
@@ -149,29 +151,29 @@ pub mod polar_api {
             },
             None => Vec::new(),
         };
-        kernel("polar_from", PolarMesh::from_mesh((*mesh.0).clone(), &poles, &loops)).map(|p| SharedPolar(Rc::new(p)))
+        kernel("polar_from", KernelPolar::from_mesh((*mesh.0).clone(), &poles, &loops)).map(|p| PolarMesh(Rc::new(p)))
     }
 
     // ---- Queries ------------------------------------------------------------------------
 
     /// Number of vertices.
     #[rhai_fn(get = "vertex_count", pure)]
-    pub fn vertex_count(pm: &mut SharedPolar) -> INT {
+    pub fn vertex_count(pm: &mut PolarMesh) -> INT {
         pm.0.vertex_count() as INT
     }
     /// Number of faces.
     #[rhai_fn(get = "face_count", pure)]
-    pub fn face_count(pm: &mut SharedPolar) -> INT {
+    pub fn face_count(pm: &mut PolarMesh) -> INT {
         pm.0.face_count() as INT
     }
     /// Number of edges.
     #[rhai_fn(get = "edge_count", pure)]
-    pub fn edge_count(pm: &mut SharedPolar) -> INT {
+    pub fn edge_count(pm: &mut PolarMesh) -> INT {
         pm.0.mesh().edge_count() as INT
     }
     /// Number of half-edges (ids run from 0 to this − 1).
     #[rhai_fn(get = "halfedge_count", pure)]
-    pub fn halfedge_count(pm: &mut SharedPolar) -> INT {
+    pub fn halfedge_count(pm: &mut PolarMesh) -> INT {
         pm.0.halfedge_count() as INT
     }
 
@@ -183,7 +185,7 @@ pub mod polar_api {
     /// assert_eq(pm.component_count(), 2);
     /// ```
     #[rhai_fn(pure)]
-    pub fn component_count(pm: &mut SharedPolar) -> INT {
+    pub fn component_count(pm: &mut PolarMesh) -> INT {
         pm.0.mesh().component_count() as INT
     }
 
@@ -193,7 +195,7 @@ pub mod polar_api {
     /// assert_eq(polar_octahedron().poles().len(), 2);
     /// ```
     #[rhai_fn(pure)]
-    pub fn poles(pm: &mut SharedPolar) -> Array {
+    pub fn poles(pm: &mut PolarMesh) -> Array {
         id_array(&pm.0.poles())
     }
     /// Whether vertex `v` is a pole.
@@ -202,12 +204,12 @@ pub mod polar_api {
     /// assert(polar_octahedron().is_pole(0));
     /// ```
     #[rhai_fn(pure, return_raw)]
-    pub fn is_pole(pm: &mut SharedPolar, v: INT) -> ScriptResult<bool> {
+    pub fn is_pole(pm: &mut PolarMesh, v: INT) -> ScriptResult<bool> {
         Ok(pm.0.is_pole(kernel("is_pole", pm.0.vertex_id(v))?))
     }
     /// Whether half-edge `h` lies on a loop (otherwise on a backbone).
     #[rhai_fn(pure, return_raw)]
-    pub fn is_loop(pm: &mut SharedPolar, h: INT) -> ScriptResult<bool> {
+    pub fn is_loop(pm: &mut PolarMesh, h: INT) -> ScriptResult<bool> {
         Ok(pm.0.is_loop(kernel("is_loop", pm.0.halfedge_id(h))?))
     }
     /// The Loop iterator (§3.3.1): the loop or backbone through half-edge `h`, as half-edges in
@@ -219,7 +221,7 @@ pub mod polar_api {
     /// assert_eq(pm.walk(h).len(), 2); // pole → equator → pole
     /// ```
     #[rhai_fn(pure, return_raw)]
-    pub fn walk(pm: &mut SharedPolar, h: INT) -> ScriptResult<Array> {
+    pub fn walk(pm: &mut PolarMesh, h: INT) -> ScriptResult<Array> {
         kernel("walk", pm.0.walk(h)).map(|w| id_array(&w))
     }
     /// The Parallel iterator (§3.3.2): the edges parallel to `h` (the ones `add_refinement(h)`
@@ -230,7 +232,7 @@ pub mod polar_api {
     /// assert_eq(pm.parallel(pm.fan(0)[0]).len(), 4);
     /// ```
     #[rhai_fn(pure, return_raw)]
-    pub fn parallel(pm: &mut SharedPolar, h: INT) -> ScriptResult<Array> {
+    pub fn parallel(pm: &mut PolarMesh, h: INT) -> ScriptResult<Array> {
         kernel("parallel", pm.0.parallel(h)).map(|w| id_array(&w))
     }
     /// The Fan iterator (§3.3.3): the half-edges leaving pole `pole`, in the order of its loop.
@@ -239,7 +241,7 @@ pub mod polar_api {
     /// assert_eq(polar_octahedron().fan(5).len(), 4);
     /// ```
     #[rhai_fn(pure, return_raw)]
-    pub fn fan(pm: &mut SharedPolar, pole: INT) -> ScriptResult<Array> {
+    pub fn fan(pm: &mut PolarMesh, pole: INT) -> ScriptResult<Array> {
         kernel("fan", pm.0.fan(pole)).map(|w| id_array(&w))
     }
     /// Every loop once, each an array of half-edges (a closed walk).
@@ -248,7 +250,7 @@ pub mod polar_api {
     /// assert_eq(polar_octahedron().loops().len(), 1);
     /// ```
     #[rhai_fn(pure)]
-    pub fn loops(pm: &mut SharedPolar) -> Array {
+    pub fn loops(pm: &mut PolarMesh) -> Array {
         pm.0.loops().iter().map(|l| Dynamic::from_array(id_array(l))).collect()
     }
     /// Every feature (§3.4) once, each an array of faces.
@@ -260,12 +262,12 @@ pub mod polar_api {
     /// assert_eq(pm.features().len(), 3);
     /// ```
     #[rhai_fn(pure)]
-    pub fn features(pm: &mut SharedPolar) -> Array {
+    pub fn features(pm: &mut PolarMesh) -> Array {
         pm.0.features().iter().map(|f| Dynamic::from_array(id_array(f))).collect()
     }
     /// The number of edges at vertex `v`.
     #[rhai_fn(pure, return_raw)]
-    pub fn valence(pm: &mut SharedPolar, v: INT) -> ScriptResult<INT> {
+    pub fn valence(pm: &mut PolarMesh, v: INT) -> ScriptResult<INT> {
         Ok(pm.0.valence(kernel("valence", pm.0.vertex_id(v))?) as INT)
     }
     /// The position of vertex `v`.
@@ -274,12 +276,12 @@ pub mod polar_api {
     /// assert_eq(polar_octahedron().position(5), vec3(0, 0, 1));
     /// ```
     #[rhai_fn(pure, return_raw)]
-    pub fn position(pm: &mut SharedPolar, v: INT) -> ScriptResult<Vec3> {
+    pub fn position(pm: &mut PolarMesh, v: INT) -> ScriptResult<Vec3> {
         Ok(pm.0.position(kernel("position", pm.0.vertex_id(v))?))
     }
     /// All vertex positions, indexed by vertex id.
     #[rhai_fn(pure)]
-    pub fn positions(pm: &mut SharedPolar) -> Array {
+    pub fn positions(pm: &mut PolarMesh) -> Array {
         pm.0.mesh().positions().iter().map(|p| Dynamic::from(*p)).collect()
     }
     /// `[from, to]`: the vertices of half-edge `h`.
@@ -289,25 +291,25 @@ pub mod polar_api {
     /// assert_eq(pm.ends(pm.fan(0)[0])[0], 0);
     /// ```
     #[rhai_fn(pure, return_raw)]
-    pub fn ends(pm: &mut SharedPolar, h: INT) -> ScriptResult<Array> {
+    pub fn ends(pm: &mut PolarMesh, h: INT) -> ScriptResult<Array> {
         let h = kernel("ends", pm.0.halfedge_id(h))?;
         Ok(id_array(&pm.0.ends(h)))
     }
     /// The face of half-edge `h`.
     #[rhai_fn(pure, return_raw)]
-    pub fn face_of(pm: &mut SharedPolar, h: INT) -> ScriptResult<INT> {
+    pub fn face_of(pm: &mut PolarMesh, h: INT) -> ScriptResult<INT> {
         let h = kernel("face_of", pm.0.halfedge_id(h))?;
         Ok(INT::from(pm.0.face_of(h)))
     }
     /// The vertices of face `f`, in order.
     #[rhai_fn(pure, return_raw)]
-    pub fn face_vertices(pm: &mut SharedPolar, f: INT) -> ScriptResult<Array> {
+    pub fn face_vertices(pm: &mut PolarMesh, f: INT) -> ScriptResult<Array> {
         let f = kernel("face_vertices", pm.0.face_id(f))?;
         Ok(pm.0.mesh().face_vertices(f).map(int).collect())
     }
     /// The half-edges leaving vertex `v`.
     #[rhai_fn(pure, return_raw)]
-    pub fn outgoing(pm: &mut SharedPolar, v: INT) -> ScriptResult<Array> {
+    pub fn outgoing(pm: &mut PolarMesh, v: INT) -> ScriptResult<Array> {
         let v = kernel("outgoing", pm.0.vertex_id(v))?;
         Ok(pm.0.mesh().outgoing(v).map(int).collect())
     }
@@ -318,7 +320,7 @@ pub mod polar_api {
     /// assert_eq(pm.ends(pm.halfedge(1, 2)), [1, 2]);
     /// ```
     #[rhai_fn(pure, return_raw)]
-    pub fn halfedge(pm: &mut SharedPolar, a: INT, b: INT) -> ScriptResult<INT> {
+    pub fn halfedge(pm: &mut PolarMesh, a: INT, b: INT) -> ScriptResult<INT> {
         let (a, b) = (kernel("halfedge", pm.0.vertex_id(a))?, kernel("halfedge", pm.0.vertex_id(b))?);
         match pm.0.mesh().find_halfedge(a, b) {
             Some(h) => Ok(INT::from(h)),
@@ -331,19 +333,19 @@ pub mod polar_api {
     /// assert_eq(polar_octahedron().nearest_vertex([0, 0, 2]), 5);
     /// ```
     #[rhai_fn(pure, return_raw)]
-    pub fn nearest_vertex(pm: &mut SharedPolar, p: Dynamic) -> ScriptResult<INT> {
+    pub fn nearest_vertex(pm: &mut PolarMesh, p: Dynamic) -> ScriptResult<INT> {
         let p = vec3("nearest_vertex", "p", &p)?;
         kernel("nearest_vertex", pm.0.nearest_vertex(p)).map(INT::from)
     }
     /// The half-edge nearest to point `p` (of the nearest edge, the half on `p`'s side).
     #[rhai_fn(pure, return_raw)]
-    pub fn nearest_halfedge(pm: &mut SharedPolar, p: Dynamic) -> ScriptResult<INT> {
+    pub fn nearest_halfedge(pm: &mut PolarMesh, p: Dynamic) -> ScriptResult<INT> {
         let p = vec3("nearest_halfedge", "p", &p)?;
         kernel("nearest_halfedge", pm.0.nearest_halfedge(p)).map(INT::from)
     }
     /// The face nearest to point `p`.
     #[rhai_fn(pure, return_raw)]
-    pub fn nearest_face(pm: &mut SharedPolar, p: Dynamic) -> ScriptResult<INT> {
+    pub fn nearest_face(pm: &mut PolarMesh, p: Dynamic) -> ScriptResult<INT> {
         let p = vec3("nearest_face", "p", &p)?;
         kernel("nearest_face", pm.0.nearest_face(p)).map(INT::from)
     }
@@ -353,7 +355,7 @@ pub mod polar_api {
     /// assert_eq(polar_octahedron().vertices_near([0, 0, 1], 0.1), [5]);
     /// ```
     #[rhai_fn(pure, return_raw)]
-    pub fn vertices_near(pm: &mut SharedPolar, p: Dynamic, radius: Dynamic) -> ScriptResult<Array> {
+    pub fn vertices_near(pm: &mut PolarMesh, p: Dynamic, radius: Dynamic) -> ScriptResult<Array> {
         let p = vec3("vertices_near", "p", &p)?;
         let r = number("vertices_near", "radius", &radius)?;
         kernel("vertices_near", pm.0.vertices_near(p, r)).map(|v| id_array(&v))
@@ -364,7 +366,7 @@ pub mod polar_api {
     /// polar_octahedron().check();
     /// ```
     #[rhai_fn(pure, return_raw)]
-    pub fn check(pm: &mut SharedPolar) -> ScriptResult<()> {
+    pub fn check(pm: &mut PolarMesh) -> ScriptResult<()> {
         kernel("check", pm.0.check())
     }
     /// The underlying mesh (same vertex ids and positions).
@@ -373,13 +375,13 @@ pub mod polar_api {
     /// assert_eq(polar_octahedron().to_mesh().genus(), 0);
     /// ```
     #[rhai_fn(pure)]
-    pub fn to_mesh(pm: &mut SharedPolar) -> SharedMesh {
+    pub fn to_mesh(pm: &mut PolarMesh) -> SharedMesh {
         SharedMesh::new(pm.0.to_mesh())
     }
     /// The mesh with each feature in its own hue as vertex colours (appendix B.1.3),
     /// neighbouring features in different hues.
     #[rhai_fn(pure)]
-    pub fn to_colored_mesh(pm: &mut SharedPolar) -> SharedMesh {
+    pub fn to_colored_mesh(pm: &mut PolarMesh) -> SharedMesh {
         SharedMesh::new(pm.0.to_colored_mesh())
     }
     /// Writes the mesh with its feature colours (see `to_colored_mesh`) by extension, like a
@@ -389,7 +391,7 @@ pub mod polar_api {
     /// polar_octahedron().save("doc_example_polar.glb");
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn save(ctx: NativeCallContext, pm: &mut SharedPolar, path: &str) -> ScriptResult<()> {
+    pub fn save(ctx: NativeCallContext, pm: &mut PolarMesh, path: &str) -> ScriptResult<()> {
         let p = RunContext::of(&ctx).output_path(path);
         if let Some(dir) = p.parent().filter(|d| !d.as_os_str().is_empty()) {
             if let Err(e) = fs::create_dir_all(dir) {
@@ -400,7 +402,7 @@ pub mod polar_api {
     }
     /// A one-line summary.
     #[rhai_fn(name = "to_string", name = "to_debug", pure)]
-    pub fn to_string(pm: &mut SharedPolar) -> String {
+    pub fn to_string(pm: &mut PolarMesh) -> String {
         format!(
             "PolarMesh({} vertices, {} faces, {} poles, {} loops)",
             pm.0.vertex_count(),
@@ -423,7 +425,7 @@ pub mod polar_api {
     /// assert_eq(pm.loops().len(), 2);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn add_refinement(pm: &mut SharedPolar, h: INT) -> ScriptResult<Array> {
+    pub fn add_refinement(pm: &mut PolarMesh, h: INT) -> ScriptResult<Array> {
         add_refinement_with(pm, h, Map::new())
     }
     /// Add refinement with option `at`: where along `h` (0 < at < 1, default 0.5) the edges are
@@ -435,7 +437,7 @@ pub mod polar_api {
     /// assert_near(pm.position(pm.vertex_count - 1).z, -0.75, 1e-12);
     /// ```
     #[rhai_fn(name = "add_refinement", return_raw)]
-    pub fn add_refinement_with(pm: &mut SharedPolar, h: INT, options: Map) -> ScriptResult<Array> {
+    pub fn add_refinement_with(pm: &mut PolarMesh, h: INT, options: Map) -> ScriptResult<Array> {
         let opts = Options::new("add_refinement", options, &["at"])?;
         let t = opts.number("at", 0.5)?;
         let r = kernel("add_refinement", pm.get_mut().add_refinement_at(h, t))?;
@@ -452,7 +454,7 @@ pub mod polar_api {
     /// assert_eq(pm.face_count, 8);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn remove_refinement(pm: &mut SharedPolar, h: INT) -> ScriptResult<()> {
+    pub fn remove_refinement(pm: &mut PolarMesh, h: INT) -> ScriptResult<()> {
         kernel("remove_refinement", pm.get_mut().remove_refinement(h))
     }
     /// Add feature (§4.3): nests a new feature on consecutive loop vertices `verts` (at least 3)
@@ -465,7 +467,7 @@ pub mod polar_api {
     /// assert_eq(pm.valence(p), 4);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn add_feature(pm: &mut SharedPolar, verts: Array) -> ScriptResult<INT> {
+    pub fn add_feature(pm: &mut PolarMesh, verts: Array) -> ScriptResult<INT> {
         add_feature_with(pm, verts, Map::new())
     }
     /// Add feature with options `depth` (how far up the backbones the gap reaches, 0–1, default
@@ -477,7 +479,7 @@ pub mod polar_api {
     /// pm.check();
     /// ```
     #[rhai_fn(name = "add_feature", return_raw)]
-    pub fn add_feature_with(pm: &mut SharedPolar, verts: Array, options: Map) -> ScriptResult<INT> {
+    pub fn add_feature_with(pm: &mut PolarMesh, verts: Array, options: Map) -> ScriptResult<INT> {
         let opts = Options::new("add_feature", options, &["depth", "height"])?;
         let o = FeatureOptions::DEFAULT
             .with_depth(opts.number("depth", FeatureOptions::DEFAULT.depth)?)
@@ -492,7 +494,7 @@ pub mod polar_api {
     /// assert_eq(pm.select_feature(0).len(), pm.face_count);
     /// ```
     #[rhai_fn(pure, return_raw)]
-    pub fn select_feature(pm: &mut SharedPolar, f: INT) -> ScriptResult<Array> {
+    pub fn select_feature(pm: &mut PolarMesh, f: INT) -> ScriptResult<Array> {
         kernel("select_feature", pm.0.select_feature(f)).map(|v| id_array(&v))
     }
     /// Remove feature (§4.5): removes the feature of face `f` and closes the gap by zipping its
@@ -506,7 +508,7 @@ pub mod polar_api {
     /// assert_eq(pm.features().len(), 1);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn remove_feature(pm: &mut SharedPolar, f: INT) -> ScriptResult<()> {
+    pub fn remove_feature(pm: &mut PolarMesh, f: INT) -> ScriptResult<()> {
         kernel("remove_feature", pm.get_mut().remove_feature(f))
     }
     /// Merge features (§4.6): bridges the loops of poles `p1` and `p2` (equal valences) with a
@@ -518,7 +520,7 @@ pub mod polar_api {
     /// assert_eq(pm.to_mesh().genus(), 1);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn merge_features(pm: &mut SharedPolar, p1: INT, p2: INT) -> ScriptResult<()> {
+    pub fn merge_features(pm: &mut PolarMesh, p1: INT, p2: INT) -> ScriptResult<()> {
         kernel("merge_features", pm.get_mut().merge_features(p1, p2))
     }
     /// Split feature (§4.7): replaces the loop through `h` and the rings beside it by two pole
@@ -531,7 +533,7 @@ pub mod polar_api {
     /// assert_eq(pm.to_mesh().euler(), 4); // two spheres
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn split_feature(pm: &mut SharedPolar, h: INT) -> ScriptResult<Array> {
+    pub fn split_feature(pm: &mut PolarMesh, h: INT) -> ScriptResult<Array> {
         kernel("split_feature", pm.get_mut().split_feature(h)).map(|p| id_array(&p))
     }
 
@@ -545,7 +547,7 @@ pub mod polar_api {
     /// assert_eq(pm.position(5), vec3(0, 0, 2));
     /// ```
     #[rhai_fn(name = "move", return_raw)]
-    pub fn move_(pm: &mut SharedPolar, verts: Array, offset: Dynamic) -> ScriptResult<()> {
+    pub fn move_(pm: &mut PolarMesh, verts: Array, offset: Dynamic) -> ScriptResult<()> {
         move_with(pm, verts, offset, Map::new())
     }
     /// Moves the vertices `verts` by `offset`, with option `frame`: `"global"` (world axes,
@@ -558,7 +560,7 @@ pub mod polar_api {
     /// assert_near(pm.position(9).z, 0.5, 1e-12);
     /// ```
     #[rhai_fn(name = "move", return_raw)]
-    pub fn move_with(pm: &mut SharedPolar, verts: Array, offset: Dynamic, options: Map) -> ScriptResult<()> {
+    pub fn move_with(pm: &mut PolarMesh, verts: Array, offset: Dynamic, options: Map) -> ScriptResult<()> {
         let opts = Options::new("move", options, &["frame"])?;
         let (_, frame) = center_frame(&opts)?;
         let v = ids("move", "verts", &verts)?;
@@ -574,7 +576,7 @@ pub mod polar_api {
     /// assert_near(pm.position(9).x, 2.0, 1e-12);
     /// ```
     #[rhai_fn(name = "scale", return_raw)]
-    pub fn scale(pm: &mut SharedPolar, verts: Array, factor: Dynamic) -> ScriptResult<()> {
+    pub fn scale(pm: &mut PolarMesh, verts: Array, factor: Dynamic) -> ScriptResult<()> {
         scale_with(pm, verts, factor, Map::new())
     }
     /// Scales with options `center` (default: the selection's centre) and `frame` (`"global"` or
@@ -586,7 +588,7 @@ pub mod polar_api {
     /// assert_near(pm.position(9).x, 1.5, 1e-12);
     /// ```
     #[rhai_fn(name = "scale", return_raw)]
-    pub fn scale_with(pm: &mut SharedPolar, verts: Array, factor: Dynamic, options: Map) -> ScriptResult<()> {
+    pub fn scale_with(pm: &mut PolarMesh, verts: Array, factor: Dynamic, options: Map) -> ScriptResult<()> {
         let opts = Options::new("scale", options, &["center", "frame"])?;
         let (center, frame) = center_frame(&opts)?;
         let v = ids("scale", "verts", &verts)?;
@@ -601,7 +603,7 @@ pub mod polar_api {
     /// assert_near(pm.position(1), vec3(0, 1, 0), 1e-12);
     /// ```
     #[rhai_fn(name = "rotate", return_raw)]
-    pub fn rotate(pm: &mut SharedPolar, verts: Array, axis: Dynamic, degrees: Dynamic) -> ScriptResult<()> {
+    pub fn rotate(pm: &mut PolarMesh, verts: Array, axis: Dynamic, degrees: Dynamic) -> ScriptResult<()> {
         rotate_with(pm, verts, axis, degrees, Map::new())
     }
     /// Turns with options `center` (default: the selection's centre) and `frame` (`"local"`:
@@ -614,7 +616,7 @@ pub mod polar_api {
     /// ```
     #[rhai_fn(name = "rotate", return_raw)]
     pub fn rotate_with(
-        pm: &mut SharedPolar,
+        pm: &mut PolarMesh,
         verts: Array,
         axis: Dynamic,
         degrees: Dynamic,
@@ -635,7 +637,7 @@ pub mod polar_api {
     /// assert_eq(pm.position(5).z, 3.0);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn set_position(pm: &mut SharedPolar, v: INT, p: Dynamic) -> ScriptResult<()> {
+    pub fn set_position(pm: &mut PolarMesh, v: INT, p: Dynamic) -> ScriptResult<()> {
         let v = kernel("set_position", pm.0.vertex_id(v))?;
         let p = vec3("set_position", "p", &p)?;
         kernel("set_position", pm.get_mut().set_position(v, p))
@@ -649,13 +651,13 @@ pub mod polar_api {
     /// assert_near(f.normal, vec3(0, 0, 1), 1e-12);
     /// ```
     #[rhai_fn(pure, return_raw)]
-    pub fn loop_frame(pm: &mut SharedPolar, h: INT) -> ScriptResult<Map> {
+    pub fn loop_frame(pm: &mut PolarMesh, h: INT) -> ScriptResult<Map> {
         kernel("loop_frame", pm.0.loop_frame(h)).map(|f| frame_map(&f))
     }
     /// The local frame of a vertex selection (the one `"local"` moves use):
     /// `#{center, normal, tangent, bitangent}`.
     #[rhai_fn(pure, return_raw)]
-    pub fn selection_frame(pm: &mut SharedPolar, verts: Array) -> ScriptResult<Map> {
+    pub fn selection_frame(pm: &mut PolarMesh, verts: Array) -> ScriptResult<Map> {
         let v = ids("selection_frame", "verts", &verts)?;
         kernel("selection_frame", pm.0.selection_frame(&v)).map(|f| frame_map(&f))
     }
@@ -670,7 +672,7 @@ pub mod polar_api {
     /// assert_eq(sk.cycle_count(), 0);
     /// ```
     #[rhai_fn(pure, return_raw)]
-    pub fn skeleton(pm: &mut SharedPolar) -> ScriptResult<SharedSkeleton> {
+    pub fn skeleton(pm: &mut PolarMesh) -> ScriptResult<Skeleton> {
         skeleton_with(pm, Map::new())
     }
     /// The inferred skeleton with option `root`: a vertex whose node becomes the root.
@@ -682,7 +684,7 @@ pub mod polar_api {
     /// assert_eq(sk.parent(sk.root), ());
     /// ```
     #[rhai_fn(name = "skeleton", pure, return_raw)]
-    pub fn skeleton_with(pm: &mut SharedPolar, options: Map) -> ScriptResult<SharedSkeleton> {
+    pub fn skeleton_with(pm: &mut PolarMesh, options: Map) -> ScriptResult<Skeleton> {
         let opts = Options::new("skeleton", options, &["root"])?;
         let root = if opts.has("root") {
             let r = opts.int("root", 0)?;
@@ -690,59 +692,59 @@ pub mod polar_api {
         } else {
             None
         };
-        kernel("skeleton", pm.0.skeleton(root)).map(|s| SharedSkeleton(Rc::new(s)))
+        kernel("skeleton", pm.0.skeleton(root)).map(|s| Skeleton(Rc::new(s)))
     }
     /// Number of skeleton nodes (poles and loop complexes).
     #[rhai_fn(get = "node_count", pure)]
-    pub fn node_count(sk: &mut SharedSkeleton) -> INT {
+    pub fn node_count(sk: &mut Skeleton) -> INT {
         sk.0.node_count() as INT
     }
     /// Number of segments (one per region).
     #[rhai_fn(get = "segment_count", pure)]
-    pub fn segment_count(sk: &mut SharedSkeleton) -> INT {
+    pub fn segment_count(sk: &mut Skeleton) -> INT {
         sk.0.segment_count() as INT
     }
     /// The root node.
     #[rhai_fn(get = "root", pure)]
-    pub fn root(sk: &mut SharedSkeleton) -> INT {
+    pub fn root(sk: &mut Skeleton) -> INT {
         INT::from(sk.0.root())
     }
     /// The segments as `[node, node]` pairs.
     #[rhai_fn(pure)]
-    pub fn segments(sk: &mut SharedSkeleton) -> Array {
+    pub fn segments(sk: &mut Skeleton) -> Array {
         sk.0.segments().iter().map(|s| Dynamic::from_array(id_array(s))).collect()
     }
     /// The position of node `i` (a pole, or the centre of a loop).
     #[rhai_fn(name = "position", pure, return_raw)]
-    pub fn node_position(sk: &mut SharedSkeleton, i: INT) -> ScriptResult<Vec3> {
+    pub fn node_position(sk: &mut Skeleton, i: INT) -> ScriptResult<Vec3> {
         Ok(sk.0.position(skeleton_node("position", &sk.0, i)?))
     }
     /// The parent of node `i` in the rooted tree, or `()` for a root.
     #[rhai_fn(pure, return_raw)]
-    pub fn parent(sk: &mut SharedSkeleton, i: INT) -> ScriptResult<Dynamic> {
+    pub fn parent(sk: &mut Skeleton, i: INT) -> ScriptResult<Dynamic> {
         let i = skeleton_node("parent", &sk.0, i)?;
         Ok(sk.0.parent(i).map_or(Dynamic::UNIT, int))
     }
     /// The children of node `i` in the rooted tree.
     #[rhai_fn(pure, return_raw)]
-    pub fn children(sk: &mut SharedSkeleton, i: INT) -> ScriptResult<Array> {
+    pub fn children(sk: &mut Skeleton, i: INT) -> ScriptResult<Array> {
         let i = skeleton_node("children", &sk.0, i)?;
         Ok(id_array(sk.0.children(i)))
     }
     /// The depth of node `i` below its root.
     #[rhai_fn(pure, return_raw)]
-    pub fn depth(sk: &mut SharedSkeleton, i: INT) -> ScriptResult<INT> {
+    pub fn depth(sk: &mut Skeleton, i: INT) -> ScriptResult<INT> {
         let i = skeleton_node("depth", &sk.0, i)?;
         Ok(INT::from(sk.0.depth(i)))
     }
     /// Whether node `i` is a pole.
     #[rhai_fn(name = "is_pole", pure, return_raw)]
-    pub fn node_is_pole(sk: &mut SharedSkeleton, i: INT) -> ScriptResult<bool> {
+    pub fn node_is_pole(sk: &mut Skeleton, i: INT) -> ScriptResult<bool> {
         Ok(sk.0.is_pole(skeleton_node("is_pole", &sk.0, i)?))
     }
     /// The vertices bound to node `i`.
     #[rhai_fn(pure, return_raw)]
-    pub fn vertices(sk: &mut SharedSkeleton, i: INT) -> ScriptResult<Array> {
+    pub fn vertices(sk: &mut Skeleton, i: INT) -> ScriptResult<Array> {
         let i = skeleton_node("vertices", &sk.0, i)?;
         Ok(id_array(sk.0.vertices(i)))
     }
@@ -753,12 +755,12 @@ pub mod polar_api {
     /// assert_eq(t.skeleton().cycle_count(), 1);
     /// ```
     #[rhai_fn(pure)]
-    pub fn cycle_count(sk: &mut SharedSkeleton) -> INT {
+    pub fn cycle_count(sk: &mut Skeleton) -> INT {
         sk.0.cycle_count() as INT
     }
     /// The node vertex `v` is bound to.
     #[rhai_fn(pure, return_raw)]
-    pub fn node_of(sk: &mut SharedSkeleton, v: INT) -> ScriptResult<INT> {
+    pub fn node_of(sk: &mut Skeleton, v: INT) -> ScriptResult<INT> {
         let n = sk.0.vertex_nodes().len();
         if v < 0 || v as usize >= n {
             return fail("node_of", format!("vertex {v} does not exist (the skeleton binds {n})"));
@@ -767,12 +769,12 @@ pub mod polar_api {
     }
     /// Every node, depth first from the root (parents before children).
     #[rhai_fn(pure)]
-    pub fn order(sk: &mut SharedSkeleton) -> Array {
+    pub fn order(sk: &mut Skeleton) -> Array {
         id_array(sk.0.depth_first_order())
     }
     /// A one-line summary.
     #[rhai_fn(name = "to_string", name = "to_debug", pure)]
-    pub fn skeleton_to_string(sk: &mut SharedSkeleton) -> String {
+    pub fn skeleton_to_string(sk: &mut Skeleton) -> String {
         format!(
             "Skeleton({} nodes, {} segments, {} cycles)",
             sk.0.node_count(),
