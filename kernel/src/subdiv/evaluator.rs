@@ -97,101 +97,156 @@ impl Fan {
         }
     }
 
-    /// One Catmull–Clark step of the fan's points: vertex point, edge points, face points.
-    fn refined_points(&self) -> (Vec3, Vec<Vec3>, Vec<Vec3>) {
+    /// One Catmull–Clark step of the fan's points into `out` (buffers reused).
+    fn refine_points_into(&self, out: &mut Points) {
         let n = self.n();
         let t = &self.topo;
-        let fp: Vec<Vec3> = (0..n)
-            .map(|i| if t.face[i] { (self.c + self.e[i] + self.f[i] + self.e[(i + 1) % n]) * 0.25 } else { Vec3::ZERO })
-            .collect();
-        let ep: Vec<Vec3> = (0..n)
-            .map(|i| {
-                if t.sharp[i] {
-                    (self.c + self.e[i]) * 0.5
-                } else {
-                    (self.c + self.e[i] + fp[(i + n - 1) % n] + fp[i]) * 0.25
-                }
-            })
-            .collect();
-        let vp = match t.rule() {
+        out.fp.clear();
+        out.fp.extend((0..n).map(|i| {
+            if t.face[i] {
+                (self.c + self.e[i] + self.f[i] + self.e[(i + 1) % n]) * 0.25
+            } else {
+                Vec3::ZERO
+            }
+        }));
+        out.ep.clear();
+        for i in 0..n {
+            let p = if t.sharp[i] {
+                (self.c + self.e[i]) * 0.5
+            } else {
+                (self.c + self.e[i] + out.fp[(i + n - 1) % n] + out.fp[i]) * 0.25
+            };
+            out.ep.push(p);
+        }
+        out.vp = match t.rule() {
             Rule::Corner => self.c,
             Rule::Crease => {
-                let s: Vec<usize> = t.sharp_indices();
-                (self.e[s[0]] + self.c * 6.0 + self.e[s[1]]) * 0.125
+                let mut ends = (0..n).filter(|&i| t.sharp[i]);
+                let (a, b) = (ends.next().unwrap_or(0), ends.next().unwrap_or(0));
+                (self.e[a] + self.c * 6.0 + self.e[b]) * 0.125
             }
             Rule::Smooth => {
                 let nf = n as f64;
-                let sum: Vec3 = self.e.iter().copied().sum::<Vec3>() + fp.iter().copied().sum::<Vec3>();
+                let sum: Vec3 = self.e.iter().copied().sum::<Vec3>() + out.fp.iter().copied().sum::<Vec3>();
                 (self.c * (nf - 2.0) + sum / nf) / nf
             }
         };
-        (vp, ep, fp)
+    }
+
+    /// Overwrites this fan, reusing its buffers.
+    fn set(&mut self, c: Vec3, corner: bool, sharp: &[bool], face: &[bool], e: &[Vec3], f: &[Vec3]) {
+        self.c = c;
+        self.topo.corner = corner;
+        self.topo.sharp.clear();
+        self.topo.sharp.extend_from_slice(sharp);
+        self.topo.face.clear();
+        self.topo.face.extend_from_slice(face);
+        self.e.clear();
+        self.e.extend_from_slice(e);
+        self.f.clear();
+        self.f.extend_from_slice(f);
     }
 }
 
+/// A fan's points one level down: vertex point, edge points, face points.
+#[derive(Clone, Debug, Default)]
+struct Points {
+    vp: Vec3,
+    ep: Vec<Vec3>,
+    fp: Vec<Vec3>,
+}
+
+impl Default for Fan {
+    fn default() -> Fan {
+        Fan { topo: RingTopo::default(), c: Vec3::ZERO, e: Vec::new(), f: Vec::new() }
+    }
+}
+
+/// Buffers for adaptive evaluation, kept per thread so evaluation allocates nothing once warm.
+#[derive(Default)]
+struct Scratch {
+    cur: [Fan; 4],
+    next: [Fan; 4],
+    pts: [Points; 4],
+}
+
+thread_local! {
+    static SCRATCH: std::cell::RefCell<Scratch> = std::cell::RefCell::new(Scratch::default());
+}
+
 /// The fans of the child quad in quadrant `k` (0: u,v < ½; 1: u ≥ ½, v < ½; 2: both ≥ ½; 3: u < ½,
-/// v ≥ ½), with corners ordered so the child keeps the parent's (u, v) orientation.
-fn refine_fans(fans: &[Fan; 4], k: usize) -> [Fan; 4] {
-    let pts: Vec<(Vec3, Vec<Vec3>, Vec<Vec3>)> = fans.iter().map(Fan::refined_points).collect();
+/// v ≥ ½) into `out`, with corners ordered so the child keeps the parent's (u, v) orientation.
+fn refine_fans(fans: &[Fan; 4], k: usize, pts: &mut [Points; 4], out: &mut [Fan; 4]) {
+    for (fan, p) in fans.iter().zip(pts.iter_mut()) {
+        fan.refine_points_into(p);
+    }
     let (k1, k2, k3) = ((k + 1) % 4, (k + 2) % 4, (k + 3) % 4);
-    let (vk, ek, fk) = (&pts[k].0, &pts[k].1, &pts[k].2);
-    let (vk1, ek1) = (&pts[k1].0, &pts[k1].1);
-    let (vk3, ek3) = (&pts[k3].0, &pts[k3].1);
+    let (pk, pk1, pk2, pk3) = (&pts[k], &pts[k1], &pts[k2], &pts[k3]);
+    let (vk, ek, fk) = (pk.vp, &pk.ep, &pk.fp);
     let ff = fk[0];
     let (nk, nk1, nk3) = (fans[k].n(), fans[k1].n(), fans[k3].n());
+    let tk = &fans[k].topo;
+    // `out[j]` receives child corner j; corner k is the vertex point, k+1 the edge point of
+    // (q_k, q_k+1), k+2 the face point, k+3 the edge point of (q_k-1, q_k).
 
     // Corner k: the vertex point's fan, same topology.
-    let a = Fan { topo: fans[k].topo.clone(), c: *vk, e: ek.clone(), f: fk.clone() };
+    out[k].set(vk, tk.corner, &tk.sharp, &tk.face, ek, fk);
 
-    // Corner k+1: the edge point of (q_k, q_k+1). Around it: face point, V_k, [face point of the
-    // face G across the edge], V_k+1.
-    let s0 = fans[k].topo.sharp[0];
-    let b = if fans[k].topo.face[nk - 1] {
-        Fan {
-            topo: RingTopo { sharp: vec![false, s0, false, s0], face: vec![true; 4], corner: false },
-            c: ek[0],
-            e: vec![ff, *vk, fk[nk - 1], *vk1],
-            f: vec![ek[1], ek[nk - 1], ek1[2 % nk1], ek1[0]],
-        }
+    // Corner k+1: around the edge point: face point, V_k, [face point of the face G across the
+    // edge], V_k+1.
+    let s0 = tk.sharp[0];
+    if tk.face[nk - 1] {
+        out[k1].set(
+            ek[0],
+            false,
+            &[false, s0, false, s0],
+            &[true; 4],
+            &[ff, vk, fk[nk - 1], pk1.vp],
+            &[ek[1], ek[nk - 1], pk1.ep[2 % nk1], pk1.ep[0]],
+        );
     } else {
-        Fan {
-            topo: RingTopo { sharp: vec![false, true, true], face: vec![true, false, true], corner: false },
-            c: ek[0],
-            e: vec![ff, *vk, *vk1],
-            f: vec![ek[1], Vec3::ZERO, ek1[0]],
-        }
-    };
+        out[k1].set(
+            ek[0],
+            false,
+            &[false, true, true],
+            &[true, false, true],
+            &[ff, vk, pk1.vp],
+            &[ek[1], Vec3::ZERO, pk1.ep[0]],
+        );
+    }
 
-    // Corner k+2: the face point. Around it: the edge points of the quad's four edges.
-    let c = Fan {
-        topo: RingTopo { sharp: vec![false; 4], face: vec![true; 4], corner: false },
-        c: ff,
-        e: vec![ek3[0], ek[0], ek1[0], pts[k2].1[0]],
-        f: vec![*vk, *vk1, pts[k2].0, *vk3],
-    };
+    // Corner k+2: the face point, around it the edge points of the quad's four edges.
+    out[k2].set(
+        ff,
+        false,
+        &[false; 4],
+        &[true; 4],
+        &[pk3.ep[0], ek[0], pk1.ep[0], pk2.ep[0]],
+        &[vk, pk1.vp, pk2.vp, pk3.vp],
+    );
 
-    // Corner k+3: the edge point of (q_k-1, q_k). Around it: V_k, face point, V_k-1, [face point of
-    // the face H across the edge].
-    let s1 = fans[k].topo.sharp[1];
-    let d = if fans[k].topo.face[1] {
-        Fan {
-            topo: RingTopo { sharp: vec![s1, false, s1, false], face: vec![true; 4], corner: false },
-            c: ek[1],
-            e: vec![*vk, ff, *vk3, fk[1]],
-            f: vec![ek[0], ek3[1], ek3[nk3 - 1], ek[2 % nk]],
-        }
+    // Corner k+3: around the edge point of (q_k-1, q_k): V_k, face point, V_k-1, [face point of the
+    // face H across the edge].
+    let s1 = tk.sharp[1];
+    if tk.face[1] {
+        out[k3].set(
+            ek[1],
+            false,
+            &[s1, false, s1, false],
+            &[true; 4],
+            &[vk, ff, pk3.vp, fk[1]],
+            &[ek[0], pk3.ep[1], pk3.ep[nk3 - 1], ek[2 % nk]],
+        );
     } else {
-        Fan {
-            topo: RingTopo { sharp: vec![true, false, true], face: vec![true, true, false], corner: false },
-            c: ek[1],
-            e: vec![*vk, ff, *vk3],
-            f: vec![ek[0], ek3[1], Vec3::ZERO],
-        }
-    };
-    let mut out = [a, b, c, d];
-    // `out` holds corners k, k+1, k+2, k+3; rotate so index j is child corner j.
-    out.rotate_right(k);
-    out
+        out[k3].set(
+            ek[1],
+            false,
+            &[true, false, true],
+            &[true, true, false],
+            &[vk, ff, pk3.vp],
+            &[ek[0], pk3.ep[1], Vec3::ZERO],
+        );
+    }
 }
 
 /// Grid position of quad corner j: (0,0), (1,0), (1,1), (0,1).
@@ -378,38 +433,37 @@ impl LimitEvaluator {
     }
 
     /// Adaptive evaluation of an irregular face; `None` for a degenerate normal.
-    fn eval_irregular(&self, base: &[Fan; 4], mut u: f64, mut v: f64) -> Option<LimitSample> {
-        let mut owned: Option<[Fan; 4]> = None;
-        let mut scale = 1.0;
-        for _ in 0..MAX_DEPTH {
-            let fans = owned.as_ref().unwrap_or(base);
-            if let Some(j) = exact_corner(u, v) {
-                if fans[j].kind().is_none() {
-                    return corner_sample(fans, j, scale);
+    fn eval_irregular(&self, base: &[Fan; 4], u: f64, v: f64) -> Option<LimitSample> {
+        SCRATCH.with(|cell| {
+            let mut guard = cell.borrow_mut();
+            let sc = &mut *guard;
+            for (dst, src) in sc.cur.iter_mut().zip(base) {
+                dst.clone_from(src);
+            }
+            let (mut u, mut v, mut scale) = (u, v, 1.0);
+            for _ in 0..MAX_DEPTH {
+                if let Some(j) = exact_corner(u, v) {
+                    if sc.cur[j].kind().is_none() {
+                        return corner_sample(&sc.cur, j, scale, &mut sc.pts[0]);
+                    }
+                }
+                let k = nearest_corner(u, v);
+                refine_fans(&sc.cur, k, &mut sc.pts, &mut sc.next);
+                std::mem::swap(&mut sc.cur, &mut sc.next);
+                u = 2.0 * u - if k == 1 || k == 2 { 1.0 } else { 0.0 };
+                v = 2.0 * v - if k >= 2 { 1.0 } else { 0.0 };
+                scale *= 2.0;
+                if let Some(p) = patch_from_fans(&sc.cur) {
+                    let (position, du, dv) = patch::eval(&p, u, v);
+                    let (du, dv) = (du * scale, dv * scale);
+                    let normal = du.cross(dv).try_normalize()?;
+                    return Some(LimitSample { position, du, dv, normal });
                 }
             }
-            let k = match (u >= 0.5, v >= 0.5) {
-                (false, false) => 0,
-                (true, false) => 1,
-                (true, true) => 2,
-                (false, true) => 3,
-            };
-            let child = refine_fans(fans, k);
-            u = 2.0 * u - if k == 1 || k == 2 { 1.0 } else { 0.0 };
-            v = 2.0 * v - if k >= 2 { 1.0 } else { 0.0 };
-            scale *= 2.0;
-            if let Some(p) = patch_from_fans(&child) {
-                let (position, du, dv) = patch::eval(&p, u, v);
-                let (du, dv) = (du * scale, dv * scale);
-                let normal = du.cross(dv).try_normalize()?;
-                return Some(LimitSample { position, du, dv, normal });
-            }
-            owned = Some(child);
-        }
-        // (u, v) within 2^-40 of an irregular corner: use that corner's limit.
-        let fans = owned.as_ref().unwrap_or(base);
-        let j = nearest_corner(u, v);
-        corner_sample(fans, j, scale)
+            // (u, v) within 2^-40 of an irregular corner: use that corner's limit.
+            let j = nearest_corner(u, v);
+            corner_sample(&sc.cur, j, scale, &mut sc.pts[0])
+        })
     }
 }
 
@@ -435,14 +489,14 @@ fn nearest_corner(u: f64, v: f64) -> usize {
 
 /// The limit at quad corner `j` from its fan's masks; derivatives as documented on
 /// [`LimitEvaluator::eval`], scaled by `scale` (2^depth).
-fn corner_sample(fans: &[Fan; 4], j: usize, scale: f64) -> Option<LimitSample> {
+fn corner_sample(fans: &[Fan; 4], j: usize, scale: f64, pts: &mut Points) -> Option<LimitSample> {
     let fan = &fans[j];
     let cc = MaskScheme::CatmullClark;
     let position = position_mask(cc, &fan.topo).apply(fan.c, &fan.e, &fan.f);
     let normal = limit_normal_in_slot(cc, &fan.topo, fan.c, &fan.e, &fan.f, 0)?;
-    let (vp, ep, _) = fan.refined_points();
+    fan.refine_points_into(pts);
     let flat = |t: Vec3| (t - normal * t.dot(normal)) * 2.0 * scale;
-    let (t0, t1) = (flat(ep[0] - vp), flat(ep[1] - vp));
+    let (t0, t1) = (flat(pts.ep[0] - pts.vp), flat(pts.ep[1] - pts.vp));
     // Slot 0 points to the next corner, slot 1 to the previous one (see GRID).
     let (du, dv) = match j {
         0 => (t0, t1),
