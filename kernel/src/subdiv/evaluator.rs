@@ -640,8 +640,10 @@ mod tests {
     #[test]
     fn refined_vertices_converge_to_the_limit_at_four_to_the_minus_level() {
         // Vertices of level L sit at (u, v) = (i, j)/2^L; their distance to the limit there shrinks
-        // like 4^-L (the second differences of the control net). Measured on the ±1 cube (all eight
-        // corners extraordinary).
+        // like 4^-L (the second differences of the control net) over regular regions. Measured on
+        // the ±1 cube (all eight corners extraordinary). Deeper down the vertices next to the
+        // valence-3 corners take over, decaying only like λ^L with Catmull–Clark's subdominant
+        // eigenvalue λ = 0.410 for n = 3: 6.2e-5 at level 7, 2.5e-5 at level 8 (ratios 2.9, 2.5).
         let cube = Mesh::cube(2.0);
         let ev = LimitEvaluator::new(&cube).unwrap();
         let dist = |levels: u32| {
@@ -671,8 +673,9 @@ mod tests {
     #[test]
     #[ignore = "heavy: level 8 of the cube; run in release"]
     fn level_eight_limits_match_the_evaluator() {
-        // The limit positions (masks) of level-8 vertices equal the evaluator at the same (u, v);
-        // the raw level-8 vertices are 4^-8 · 0.76 ≈ 1.2e-5 away (see the convergence test).
+        // The limit positions (masks) of level-8 vertices equal the evaluator at the same (u, v).
+        // The raw level-8 vertices are still 2.5e-5 away next to the valence-3 corners, where the
+        // distance decays like 0.410^L (see the convergence test): 1e-6 would take level 12.
         let cube = Mesh::cube(2.0);
         let ev = LimitEvaluator::new(&cube).unwrap();
         let fine = cube.catmull_clark(8).unwrap();
@@ -692,6 +695,6 @@ mod tests {
         }
         eprintln!("level 8: limit masks vs evaluator {worst_limit:e}, raw vertices vs evaluator {worst_raw:e}");
         assert!(worst_limit < 1e-12, "{worst_limit:e}");
-        assert!(worst_raw < 1.3e-5, "{worst_raw:e}");
+        assert!(worst_raw < 3e-5, "{worst_raw:e}");
     }
 }
