@@ -22,6 +22,18 @@
 //! Every operation validates first and edits only the faces it changes (through
 //! [`Mesh::replace_faces`]), so it costs time proportional to the region it affects and leaves
 //! the mesh exactly as it was when it refuses.
+//!
+//! For code that builds polar meshes step by step (L-systems, procedural recipes):
+//! - ids of vertices that an operation does not delete are kept; new vertices get new ids
+//!   (returned by the operation). Removals move the last elements into freed slots, so re-find
+//!   elements by the ids an operation returns, by geometry or through walks after a removal;
+//! - to *grow* a branch, nest a feature on a loop ([`PolarMesh::add_feature`]) and move its pole
+//!   out; to *extend* any polar region by one segment, add a loop on a spoke of its pole
+//!   (`add_refinement(fan(p)[0])`, the loop lands halfway to the pole) and move the pole on;
+//! - to *join* two branches, [`PolarMesh::merge_features`] their poles (equal valences), to cut
+//!   one, [`PolarMesh::split_feature`] a loop with loops on both sides;
+//! - [`PolarMesh::skeleton`] gives nodes, segments, the vertex binding and a rooted tree for
+//!   animation; [`Skeleton::positions_from`] rebuilds positions from skeleton coordinates.
 
 mod add_feature;
 mod add_refinement;
