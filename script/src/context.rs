@@ -50,14 +50,12 @@ impl RunContext {
     }
 
     /// Packs the context as an engine tag.
-    #[must_use]
     pub fn into_tag(self) -> Dynamic {
         Dynamic::from(Rc::new(self))
     }
 }
 
 /// Parses a `--set` value: integer, float, bool, else string.
-#[must_use]
 pub fn parse_param(text: &str) -> Dynamic {
     if let Ok(i) = text.parse::<rhai::INT>() {
         Dynamic::from(i)

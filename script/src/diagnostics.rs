@@ -55,7 +55,7 @@ pub fn format_error(name: &str, source: &str, err: &EvalAltResult) -> String {
 /// Formats a parse error like [`format_error`].
 #[must_use]
 pub fn format_parse_error(name: &str, source: &str, err: &ParseError) -> String {
-    format_at(name, source, err.position(), &strip_position(&err.to_string()).to_string())
+    format_at(name, source, err.position(), strip_position(&err.to_string()))
 }
 
 fn format_at(name: &str, source: &str, pos: Position, message: &str) -> String {

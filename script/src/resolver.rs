@@ -67,6 +67,8 @@ impl ModuleResolver for Resolver {
     ) -> Result<SharedModule, Box<EvalAltResult>> {
         let local = self.local_path(source, path);
         if local.exists() {
+            // Absolute, so the file resolver does not join it to its own base a second time.
+            let local = local.canonicalize().unwrap_or(local);
             return self.files.resolve(engine, None, &local.to_string_lossy(), pos);
         }
         let name = path.trim_end_matches(".rhai");

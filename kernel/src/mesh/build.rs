@@ -96,8 +96,8 @@ impl Mesh {
                 return Err(MeshError::DegenerateFace { face: f, reason: format!("vertex {v} appears twice") });
             }
             face_he.push(start as u32);
-            for i in 0..arity {
-                he_origin.push(corners[i]);
+            for (i, &corner) in corners.iter().enumerate() {
+                he_origin.push(corner);
                 he_next.push((start + (i + 1) % arity) as u32);
                 he_prev.push((start + (i + arity - 1) % arity) as u32);
                 he_face.push(f as u32);

@@ -1,7 +1,7 @@
 //! The script API, one module per kernel area (mirroring `kernel/src`). [`register_all`] is the
 //! only place that knows them all.
 
-// pub mod files; (waiting for kernel io)
+pub mod files;
 pub mod mesh;
 pub mod polar;
 pub mod runtime;
@@ -18,7 +18,7 @@ pub fn register_all(engine: &mut Engine) {
     engine.register_type_with_name::<mesh::SharedMesh>("Mesh");
     engine.register_global_module(exported_module!(values::vec3_api).into());
     engine.register_global_module(exported_module!(mesh::mesh_api).into());
-    // FILES
+    engine.register_global_module(exported_module!(files::files_api).into());
     voxel::register(engine);
     subdiv::register(engine);
     polar::register(engine);

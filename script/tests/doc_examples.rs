@@ -1,0 +1,36 @@
+//! Every ```rhai example in a binding's doc comment runs and passes.
+
+use blocksmith::{doc, new_engine, EngineOptions, RunContext};
+
+#[test]
+fn every_doc_example_runs() {
+    let out = tempfile::tempdir().unwrap();
+    let options = || EngineOptions {
+        context: RunContext { output_dir: Some(out.path().to_path_buf()), ..RunContext::default() },
+        ..EngineOptions::default()
+    };
+    let examples = doc::examples(&new_engine(options()));
+    assert!(examples.len() > 20, "only {} examples found", examples.len());
+    let mut failures = Vec::new();
+    for (name, code) in &examples {
+        // `load` examples read what `save` examples wrote: run them from the output directory.
+        let engine = new_engine(options());
+        let _ = std::env::set_current_dir(out.path());
+        if let Err(e) = engine.run(code) {
+            failures.push(format!("{name}: {e}\n{code}"));
+        }
+    }
+    assert!(failures.is_empty(), "{} doc examples failed:\n{}", failures.len(), failures.join("\n"));
+}
+
+/// The README's tour is a script too: it must keep running as the API grows.
+#[test]
+fn readme_tour_runs() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap();
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let start = readme.find("```rhai\n").expect("a ```rhai block in the README") + "```rhai\n".len();
+    let code = &readme[start..start + readme[start..].find("```").unwrap()];
+    let value = new_engine(EngineOptions::default()).eval::<rhai::Dynamic>(code);
+    let value = value.unwrap_or_else(|e| panic!("README tour failed: {e}\n{code}"));
+    assert!(value.is::<blocksmith::api::mesh::SharedMesh>(), "the tour ends with a Mesh");
+}
