@@ -555,15 +555,15 @@ impl Soup {
         let pos_acc = prim.get(&gltf::Semantic::Positions).ok_or_else(|| err("no POSITION attribute".into()))?;
         check_accessor(&pos_acc, buffers, &[(D::F32, N::Vec3)], "POSITION").map_err(err)?;
         let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
-        let local: Vec<[f32; 3]> =
-            reader.read_positions().ok_or_else(|| err("POSITION cannot be read".into()))?.collect();
-        let nv = local.len();
+        let nv = pos_acc.count();
         let offset = self.positions.len();
         if offset + nv >= u32::MAX as usize {
             return Err(IoError::from_mesh(path, MeshError::TooLarge { what: format!("{} vertices", offset + nv) }));
         }
         let identity = world == Mat4::IDENTITY;
-        self.positions.extend(local.iter().map(|p| {
+        let local = reader.read_positions().ok_or_else(|| err("POSITION cannot be read".into()))?;
+        self.positions.reserve(nv);
+        self.positions.extend(local.map(|p| {
             let p = Vec3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2]));
             if identity {
                 p
@@ -591,7 +591,9 @@ impl Soup {
                 self.colors.extend(colors.into_rgba_f32());
                 self.any_color = true;
             }
-            None => self.colors.resize(offset + nv, [1.0; 4]),
+            // Colours are kept only once some primitive has them (then white for the others).
+            None if self.any_color => self.colors.resize(offset + nv, [1.0; 4]),
+            None => {}
         }
 
         let local_indices: Vec<u32> = match prim.indices() {
@@ -615,6 +617,23 @@ impl Soup {
                 vertex_count: nv,
             });
         }
+        let flip = world.determinant() < 0.0;
+        let off = offset as u32;
+        let runs = extras.and_then(|e| e.arity_runs.as_ref());
+        let degenerate = |t: &[u32]| t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
+        if mode == Mode::Triangles
+            && runs.is_none()
+            && !flip
+            && local_indices.len() % 3 == 0
+            && !local_indices.chunks_exact(3).any(degenerate)
+        {
+            // The common case (plain triangles): straight into the soup, without the
+            // intermediate triangle list.
+            self.indices.extend(local_indices.iter().map(|&i| i + off));
+            self.arities.resize(self.arities.len() + local_indices.len() / 3, 3);
+            self.add_tags(extras, nv, off);
+            return Ok(());
+        }
         let mut tris: Vec<[u32; 3]> = match mode {
             Mode::Triangles => {
                 if !local_indices.chunks_exact(3).remainder().is_empty() {
@@ -632,15 +651,12 @@ impl Soup {
                 .collect(),
         };
         let before = tris.len();
-        tris.retain(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2]);
+        tris.retain(|t| !degenerate(t));
 
-        let runs = extras.and_then(|e| e.arity_runs.as_ref());
         let polygons = match runs {
             Some(runs) if tris.len() == before => rejoin(&tris, runs),
             _ => None,
         };
-        let flip = world.determinant() < 0.0;
-        let off = offset as u32;
         match polygons {
             Some((indices, arities)) => {
                 let mut start = 0;
@@ -663,6 +679,13 @@ impl Soup {
                 }
             }
         }
+        self.add_tags(extras, nv, off);
+        Ok(())
+    }
+
+    /// The crease pairs and corners of `extras` for a primitive of `nv` vertices placed at
+    /// vertex offset `off` (ignored when they name vertices the primitive does not have).
+    fn add_tags(&mut self, extras: Option<&Extras>, nv: usize, off: u32) {
         if let Some(e) = extras {
             if e.creases.iter().flatten().all(|&v| (v as usize) < nv) {
                 self.creases.push(e.creases.iter().map(|&[a, b]| [a + off, b + off]).collect());
@@ -671,14 +694,15 @@ impl Soup {
                 self.corners.extend(e.corners.iter().map(|&v| v + off));
             }
         }
-        Ok(())
     }
 
     fn build(self, path: &Path) -> Result<Mesh, IoError> {
         let mut mesh = Mesh::from_indexed(self.positions, &self.indices, &self.arities)
             .map_err(|e| IoError::from_mesh(path, e))?;
         if self.any_color {
-            mesh.set_vertex_colors(Some(self.colors)).map_err(|e| IoError::from_mesh(path, e))?;
+            let mut colors = self.colors;
+            colors.resize(mesh.vertex_count(), [1.0; 4]);
+            mesh.set_vertex_colors(Some(colors)).map_err(|e| IoError::from_mesh(path, e))?;
         }
         for pairs in &self.creases {
             // All or nothing per primitive: pairs that are not edges mean the extras do not
