@@ -235,7 +235,7 @@ def main():
         for L in (1, 2, 3):
             d = max_nn(osd["levels"][L]["p"], b["level%d" % L]["p"])
             report.append(f"cc {name} L{L}: V={osd['levels'][L]['V']} F={osd['levels'][L]['F']} bpy-vs-osd max {d:.2e}")
-        kept = (1, 2) if name.startswith("torus") else (1, 2, 3)  # keep the files small
+        kept = (1, 2, 3)
         sections = [("level", L, osd["levels"][L]["F"], osd["levels"][L]["p"], 13) for L in kept]
         lim = osd["limit"]
         normals = [tuple(np.asarray(n) / (np.linalg.norm(n) or 1.0)) for n in lim["n"]]
@@ -269,7 +269,7 @@ def main():
                               f"pymeshlab-vs-osd {max_nn(pm[L], osd['levels'][L]['p']):.2e}")
         # pymeshlab agrees with OpenSubdiv everywhere; trimesh differs on boundaries (see README.md).
         src = "pymeshlab 2025.7 Loop, loopweight=Loop, threshold 0 (double)" if pm else "OpenSubdiv 3.5 Loop (double; the peers have no creases)"
-        kept = (1, 2) if name.startswith("torus") else (1, 2, 3)
+        kept = (1, 2, 3)
         sections = [("level", L, osd["levels"][L]["F"], (pm[L] if pm else osd["levels"][L]["p"]), 13) for L in kept]
         lim = osd["limit"]
         normals = [tuple(np.asarray(n) / (np.linalg.norm(n) or 1.0)) for n in lim["n"]]
