@@ -6,10 +6,13 @@
 //!   from indexed polygons (rejecting non-manifold input), circulators, measures, primitives,
 //!   transforms and triangulation.
 //! - [`io`]: OBJ, binary STL and glTF 2.0 files.
+//! - [`blocks`]: modeling with blocks (Leblanc et al.) — blocks with sub-face grids and sharp
+//!   edges, connections, the control mesh, and its adaptive crack-free tessellation.
 //!
 //! The kernel knows nothing of the scripting language: errors are typed here and turned into
 //! script errors at the binding edge.
 
+pub mod blocks;
 pub mod io;
 pub mod math;
 pub mod mesh;

@@ -1,6 +1,7 @@
 //! The script API, one module per kernel area (mirroring `kernel/src`). [`register_all`] is the
 //! only place that knows them all.
 
+pub mod blocks;
 pub mod files;
 pub mod mesh;
 pub mod polar;
@@ -22,5 +23,6 @@ pub fn register_all(engine: &mut Engine) {
     voxel::register(engine);
     subdiv::register(engine);
     polar::register(engine);
+    blocks::register(engine);
     engine.register_global_module(exported_module!(runtime::runtime_api).into());
 }
