@@ -441,6 +441,9 @@ pub mod mesh_api {
     #[rhai_fn(return_raw)]
     pub fn crease(m: &mut SharedMesh, edges: Array) -> ScriptResult<()> {
         let pairs = id_pairs("crease", "edges", &edges)?;
+        if let Some((i, [a, b])) = pairs.iter().enumerate().find(|(_, &[a, b])| m.0.find_halfedge(a, b).is_none()) {
+            return fail("crease", format!("argument `edges[{i}]`: vertices {a} and {b} are not joined by an edge"));
+        }
         let mut copy = (*m.0).clone();
         kernel("crease", copy.crease_edges(&pairs))?;
         m.0 = Rc::new(copy);
