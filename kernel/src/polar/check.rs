@@ -111,3 +111,98 @@ impl PolarMesh {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Vec3;
+    use crate::mesh::Mesh;
+
+    /// The error `check` gives for a copy of `pm` changed by `change`.
+    fn broken(pm: &PolarMesh, change: impl FnOnce(&mut PolarMesh)) -> PolarError {
+        let mut copy = pm.clone();
+        change(&mut copy);
+        copy.check().expect_err("the change must break an invariant")
+    }
+
+    /// A polar mesh of `mesh` with no marker set (to reach the structural checks).
+    fn unmarked(mesh: Mesh) -> PolarMesh {
+        let (nv, nh) = (mesh.vertex_count(), mesh.halfedge_count());
+        PolarMesh { mesh, pole: vec![false; nv], is_loop: vec![false; nh] }
+    }
+
+    fn octahedron_faces() -> Vec<[u32; 3]> {
+        let mut faces = Vec::new();
+        for i in 0..4u32 {
+            let (a, b) = (1 + i, 1 + (i + 1) % 4);
+            faces.push([0, b, a]);
+            faces.push([5, a, b]);
+        }
+        faces
+    }
+
+    #[test]
+    fn markers_that_contradict_the_faces_are_named() {
+        let oct = PolarMesh::octahedron();
+        oct.check().unwrap();
+        // Vertex 1 lies on the equator: promoted to a pole, its triangles have two poles each.
+        let e = broken(&oct, |p| p.pole[1] = true);
+        assert!(matches!(e, PolarError::TriangleWithManyPoles { count: 2, .. }), "{e}");
+        // The -z pole demoted: its four triangles have no pole.
+        let e = broken(&oct, |p| p.pole[0] = false);
+        assert!(matches!(e, PolarError::TriangleWithoutPole { .. }), "{e}");
+        // One half of an equator (loop) edge unmarked: the two halves disagree.
+        let h = oct.mesh.find_halfedge(1, 2).unwrap();
+        let t = oct.mesh.twin(h);
+        let e = broken(&oct, |p| p.is_loop[h as usize] = false);
+        assert!(matches!(e, PolarError::LoopMarkAsymmetric { halfedge } if halfedge == h.min(t)), "{e}");
+        // Both halves unmarked: the triangles on that edge lose the loop opposite their pole.
+        let e = broken(&oct, |p| {
+            p.is_loop[h as usize] = false;
+            p.is_loop[t as usize] = false;
+        });
+        assert!(matches!(e, PolarError::PoleTriangleEdges { .. }), "{e}");
+        // On a UV sphere, a backbone between two quads marked as a loop: those quads no longer
+        // alternate backbone, loop, backbone, loop.
+        let sphere = PolarMesh::uv_sphere(1.0, 8, 6);
+        sphere.check().unwrap();
+        let m = &sphere.mesh;
+        let backbone = (0..m.halfedge_count() as u32)
+            .find(|&h| !sphere.is_loop(h) && [h, m.twin(h)].iter().all(|&x| m.face_halfedges(m.face(x)).count() == 4))
+            .unwrap();
+        let twin = m.twin(backbone);
+        let e = broken(&sphere, |p| {
+            p.is_loop[backbone as usize] = true;
+            p.is_loop[twin as usize] = true;
+        });
+        assert!(matches!(e, PolarError::QuadNotAlternating { .. }), "{e}");
+    }
+
+    #[test]
+    fn structural_faults_are_named() {
+        let ring = |i: u32| {
+            let a = f64::from(i) * std::f64::consts::TAU / 5.0;
+            (a.cos(), a.sin())
+        };
+        let oct_positions = vec![Vec3::NEG_Z, Vec3::X, Vec3::Y, Vec3::NEG_X, Vec3::NEG_Y, Vec3::Z];
+        // The octahedron less one face is open.
+        let mut faces = octahedron_faces();
+        faces.pop();
+        let open = Mesh::from_polygons(oct_positions.clone(), &faces).unwrap();
+        assert!(matches!(unmarked(open).check(), Err(PolarError::NotClosed { .. })));
+        // A seventh vertex that no face uses.
+        let mut positions = oct_positions.clone();
+        positions.push(Vec3::new(3.0, 0.0, 0.0));
+        let extra = Mesh::from_polygons(positions, &octahedron_faces()).unwrap();
+        assert_eq!(unmarked(extra).check(), Err(PolarError::IsolatedVertex { vertex: 6 }));
+        // A pentagonal prism: its first face is a pentagon, neither quad nor triangle.
+        let mut positions = Vec::new();
+        for z in [0.0, 1.0] {
+            positions.extend((0..5).map(|i| Vec3::new(ring(i).0, ring(i).1, z)));
+        }
+        let mut faces: Vec<Vec<u32>> = vec![vec![4, 3, 2, 1, 0], vec![5, 6, 7, 8, 9]];
+        faces.extend((0..5u32).map(|i| vec![i, (i + 1) % 5, 5 + (i + 1) % 5, 5 + i]));
+        let prism = Mesh::from_polygons(positions, &faces).unwrap();
+        assert_eq!(unmarked(prism).check(), Err(PolarError::FaceArity { face: 0, arity: 5 }));
+    }
+}
