@@ -2,12 +2,30 @@
 
 use std::fs;
 
-use blocksmith_kernel::io;
+use blocksmith_kernel::{io, Mesh};
 use rhai::plugin::*;
 
 use super::mesh::SharedMesh;
 use crate::context::RunContext;
 use crate::convert::{fail, ScriptResult};
+
+/// Writes `mesh` to the script path `path` by extension: a relative path goes under the run's
+/// output directory, and missing parent directories are created. Errors name `func`.
+///
+/// # Errors
+/// A directory that cannot be created, or the kernel's file error.
+pub fn write_mesh(ctx: &NativeCallContext, func: &str, mesh: &Mesh, path: &str) -> ScriptResult<()> {
+    let p = RunContext::of(ctx).output_path(path);
+    if let Some(dir) = p.parent().filter(|d| !d.as_os_str().is_empty()) {
+        if let Err(e) = fs::create_dir_all(dir) {
+            return fail(func, format!("cannot create directory {}: {e}", dir.display()));
+        }
+    }
+    match io::save(mesh, &p) {
+        Ok(()) => Ok(()),
+        Err(e) => fail(func, e),
+    }
+}
 
 #[export_module]
 pub mod files_api {
@@ -43,15 +61,6 @@ pub mod files_api {
     /// ```
     #[rhai_fn(return_raw)]
     pub fn save(ctx: NativeCallContext, mesh: &mut SharedMesh, path: &str) -> ScriptResult<()> {
-        let p = RunContext::of(&ctx).output_path(path);
-        if let Some(dir) = p.parent().filter(|d| !d.as_os_str().is_empty()) {
-            if let Err(e) = fs::create_dir_all(dir) {
-                return fail("save", format!("cannot create directory {}: {e}", dir.display()));
-            }
-        }
-        match io::save(&mesh.0, &p) {
-            Ok(()) => Ok(()),
-            Err(e) => fail("save", e),
-        }
+        write_mesh(&ctx, "save", &mesh.0, path)
     }
 }

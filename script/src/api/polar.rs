@@ -1,10 +1,8 @@
 //! `PolarMesh` and `Skeleton`: polar meshes, their seven operations, low-level modelling and the
 //! inferred skeleton (Brazzolotto, seed 004; kernel `polar`).
 
-use std::fs;
 use std::rc::Rc;
 
-use blocksmith_kernel::io;
 use blocksmith_kernel::polar::{
     FeatureOptions, Frame, LoopFrame, PolarMesh as KernelPolar, Skeleton as KernelSkeleton,
 };
@@ -13,7 +11,6 @@ use rhai::plugin::*;
 use rhai::{exported_module, Array, Engine, Map, INT};
 
 use super::mesh::SharedMesh;
-use crate::context::RunContext;
 use crate::convert::{count, factor3, fail, id_pairs, ids, kernel, number, type_name, vec3, Options, ScriptResult};
 
 /// A polar mesh as scripts hold it (script type `PolarMesh`): shared and copied on write, so
@@ -392,13 +389,7 @@ pub mod polar_api {
     /// ```
     #[rhai_fn(return_raw)]
     pub fn save(ctx: NativeCallContext, pm: &mut PolarMesh, path: &str) -> ScriptResult<()> {
-        let p = RunContext::of(&ctx).output_path(path);
-        if let Some(dir) = p.parent().filter(|d| !d.as_os_str().is_empty()) {
-            if let Err(e) = fs::create_dir_all(dir) {
-                return fail("save", format!("cannot create directory {}: {e}", dir.display()));
-            }
-        }
-        kernel("save", io::save(&pm.0.to_colored_mesh(), &p))
+        crate::api::files::write_mesh(&ctx, "save", &pm.0.to_colored_mesh(), path)
     }
     /// A one-line summary.
     #[rhai_fn(name = "to_string", name = "to_debug", pure)]
