@@ -62,7 +62,20 @@ pub fn uri_encode(name: &str) -> String {
 /// See also [`gltf_json_and_buffer`], [`read_gltf`], [`super::save`].
 pub fn write_glb<W: Write>(mesh: &Mesh, out: &mut W, path: &Path) -> Result<(), IoError> {
     let (root, bin) = document(mesh, None, path)?;
-    let json = json::serialize::to_vec(&root).map_err(|e| internal(path, &e.to_string()))?;
+    write_glb_document(&root, bin, out, path)
+}
+
+/// Writes a built glTF document and its binary buffer as a GLB to `out`.
+///
+/// # Errors
+/// As [`write_glb`].
+pub(crate) fn write_glb_document<W: Write>(
+    root: &json::Root,
+    bin: Option<Vec<u8>>,
+    out: &mut W,
+    path: &Path,
+) -> Result<(), IoError> {
+    let json = json::serialize::to_vec(root).map_err(|e| internal(path, &e.to_string()))?;
     let total = 12 + 8 + json.len().next_multiple_of(4) + bin.as_ref().map_or(0, |b| 8 + b.len().next_multiple_of(4));
     if total > u32::MAX as usize {
         return Err(IoError::from_mesh(
@@ -94,16 +107,16 @@ pub fn gltf_json_and_buffer(mesh: &Mesh, bin_uri: &str, path: &Path) -> Result<(
     Ok((json, bin))
 }
 
-fn internal(path: &Path, reason: &str) -> IoError {
+pub(crate) fn internal(path: &Path, reason: &str) -> IoError {
     IoError::Internal { path: path.into(), reason: reason.into() }
 }
 
 /// Appends a new view (4-byte aligned) to `buffer`, its bytes written by `fill`, and returns
 /// the view.
-fn push_view(
+pub(crate) fn push_view(
     root: &mut json::Root,
     buffer: &mut Vec<u8>,
-    target: json::buffer::Target,
+    target: Option<json::buffer::Target>,
     fill: impl FnOnce(&mut Vec<u8>),
 ) -> json::Index<json::buffer::View> {
     buffer.resize(buffer.len().next_multiple_of(4), 0);
@@ -115,13 +128,13 @@ fn push_view(
         byte_offset: Some(USize64::from(offset)),
         byte_stride: None,
         name: None,
-        target: Some(Valid(target)),
+        target: target.map(Valid),
         extensions: None,
         extras: None,
     })
 }
 
-fn accessor(
+pub(crate) fn accessor(
     view: json::Index<json::buffer::View>,
     count: usize,
     component: json::accessor::ComponentType,
@@ -145,7 +158,7 @@ fn accessor(
 }
 
 /// Appends `values` little-endian (resize, then fill in place: the loop vectorises).
-fn push_f32s(out: &mut Vec<u8>, values: &[f32]) {
+pub(crate) fn push_f32s(out: &mut Vec<u8>, values: &[f32]) {
     let start = out.len();
     out.resize(start + 4 * values.len(), 0);
     for (chunk, v) in out[start..].chunks_exact_mut(4).zip(values) {
@@ -241,7 +254,11 @@ fn extras_json(mesh: &Mesh, arities: &[u32]) -> Option<String> {
 }
 
 /// The glTF document of `mesh` and its binary buffer.
-fn document(mesh: &Mesh, uri: Option<String>, path: &Path) -> Result<(json::Root, Option<Vec<u8>>), IoError> {
+pub(crate) fn document(
+    mesh: &Mesh,
+    uri: Option<String>,
+    path: &Path,
+) -> Result<(json::Root, Option<Vec<u8>>), IoError> {
     let mut root = json::Root {
         asset: json::Asset {
             generator: Some(format!("blocksmith {}", env!("CARGO_PKG_VERSION"))),
@@ -266,14 +283,15 @@ fn document(mesh: &Mesh, uri: Option<String>, path: &Path) -> Result<(json::Root
             hi[k] = hi[k].max(p[k]);
         }
     }
-    let view = push_view(&mut root, &mut bin, json::buffer::Target::ArrayBuffer, |b| push_f32s(b, &pos32));
+    let view = push_view(&mut root, &mut bin, Some(json::buffer::Target::ArrayBuffer), |b| push_f32s(b, &pos32));
     drop(pos32);
     let positions =
         root.push(accessor(view, n, json::accessor::ComponentType::F32, json::accessor::Type::Vec3, Some((lo, hi))));
 
     let normals = vertex_normals_f32(mesh, &tris, &arities);
-    let view =
-        push_view(&mut root, &mut bin, json::buffer::Target::ArrayBuffer, |b| push_f32s(b, normals.as_flattened()));
+    let view = push_view(&mut root, &mut bin, Some(json::buffer::Target::ArrayBuffer), |b| {
+        push_f32s(b, normals.as_flattened())
+    });
     drop(normals);
     let normals = root.push(accessor(view, n, json::accessor::ComponentType::F32, json::accessor::Type::Vec3, None));
 
@@ -282,12 +300,12 @@ fn document(mesh: &Mesh, uri: Option<String>, path: &Path) -> Result<(json::Root
     attributes.insert(Valid(json::mesh::Semantic::Normals), normals);
     if let Some(colors) = mesh.vertex_colors() {
         let clamped: Vec<f32> = colors.as_flattened().iter().map(|c| c.clamp(0.0, 1.0)).collect();
-        let view = push_view(&mut root, &mut bin, json::buffer::Target::ArrayBuffer, |b| push_f32s(b, &clamped));
+        let view = push_view(&mut root, &mut bin, Some(json::buffer::Target::ArrayBuffer), |b| push_f32s(b, &clamped));
         let colors = root.push(accessor(view, n, json::accessor::ComponentType::F32, json::accessor::Type::Vec4, None));
         attributes.insert(Valid(json::mesh::Semantic::Colors(0)), colors);
     }
 
-    let view = push_view(&mut root, &mut bin, json::buffer::Target::ElementArrayBuffer, |b| push_u32s(b, &tris));
+    let view = push_view(&mut root, &mut bin, Some(json::buffer::Target::ElementArrayBuffer), |b| push_u32s(b, &tris));
     let indices =
         root.push(accessor(view, tris.len(), json::accessor::ComponentType::U32, json::accessor::Type::Scalar, None));
     bin.resize(bin.len().next_multiple_of(4), 0);
@@ -624,7 +642,7 @@ impl Soup {
         if mode == Mode::Triangles
             && runs.is_none()
             && !flip
-            && local_indices.len() % 3 == 0
+            && local_indices.len().is_multiple_of(3)
             && !local_indices.chunks_exact(3).any(degenerate)
         {
             // The common case (plain triangles): straight into the soup, without the

@@ -1,0 +1,292 @@
+//! The animation of a polar mesh (seed 004, §8.1): the skeleton inferred from the mesh and
+//! reduced to a tree at a chosen root; per node a state (position, thickness); a stack of
+//! modifiers, each applied to every node and receiving the states the previous one produced;
+//! and the skinning that turns node states into vertex positions.
+
+use super::gravity::GravityState;
+use super::skinning::{joint_poses, skin};
+use super::{AnimError, Gravity, Growth, JointPose, Skinning};
+use crate::math::Vec3;
+use crate::mesh::Mesh;
+use crate::polar::{PolarMesh, Skeleton};
+
+/// A node's state: its position in the global frame and its thickness (the scale of its
+/// vertices' offsets from it: 0 collapses its ring on the node, 1 keeps it as modelled).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NodeState {
+    pub position: Vec3,
+    pub thickness: f64,
+}
+
+/// One entry of the modifier stack.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Modifier {
+    /// Growth from the root (§9.1); time-pure.
+    Growth(Growth),
+    /// Gravity (§9.2); simulated step by step.
+    Gravity(Gravity),
+    /// A modifier evaluated by the caller (e.g. a script closure), identified by the caller's
+    /// number; time-pure.
+    Custom(usize),
+}
+
+impl Modifier {
+    fn kind(&self) -> &'static str {
+        match self {
+            Modifier::Growth(_) => "growth",
+            Modifier::Gravity(_) => "gravity",
+            Modifier::Custom(_) => "custom",
+        }
+    }
+}
+
+/// The rooted tree the modifiers walk: parents, children, depths, a depth-first order (parents
+/// before children) and the node pairs of the segments that close cycles.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Tree {
+    pub parent: Vec<Option<u32>>,
+    pub children: Vec<Vec<u32>>,
+    pub depth: Vec<u32>,
+    pub order: Vec<u32>,
+    pub cycle_pairs: Vec<[u32; 2]>,
+}
+
+/// A caller-evaluated modifier: `(caller id, node, t, state in)` → state out, or a message.
+pub type CustomModifier<'a> = dyn FnMut(usize, u32, f64, NodeState) -> Result<NodeState, String> + 'a;
+
+/// A polar mesh ready to be posed.
+#[derive(Clone, Debug)]
+pub struct Animation {
+    rest: Mesh,
+    skeleton: Skeleton,
+    tree: Tree,
+    skinning: Skinning,
+    modifiers: Vec<Modifier>,
+}
+
+impl Animation {
+    /// Infers the skeleton of `pm` (§7.1) rooted at the node of vertex `root` (default: the
+    /// first pole's node) and binds every vertex to its node.
+    ///
+    /// # Errors
+    /// [`AnimError::NoSuchElement`] for a root vertex not on the mesh; [`AnimError::Skeleton`]
+    /// when inference fails.
+    pub fn new(pm: &PolarMesh, root: Option<u32>, skinning: Skinning) -> Result<Animation, AnimError> {
+        let nv = pm.mesh().vertex_count();
+        if let Some(r) = root {
+            if r as usize >= nv {
+                return Err(AnimError::NoSuchElement { what: "vertex", id: i64::from(r), count: nv });
+            }
+        }
+        let skeleton = pm.skeleton(root).map_err(|e| AnimError::Skeleton(e.to_string()))?;
+        let n = skeleton.node_count();
+        let parent: Vec<Option<u32>> = (0..n as u32).map(|i| skeleton.parent(i)).collect();
+        let children = (0..n as u32).map(|i| skeleton.children(i).to_vec()).collect();
+        let depth = (0..n as u32).map(|i| skeleton.depth(i)).collect();
+        let order = skeleton.depth_first_order().to_vec();
+        let cycle_pairs = skeleton.cycle_segments().iter().map(|&s| skeleton.segments()[s as usize]).collect();
+        let tree = Tree { parent, children, depth, order, cycle_pairs };
+        Ok(Animation { rest: pm.to_mesh(), skeleton, tree, skinning, modifiers: Vec::new() })
+    }
+
+    /// The node of vertex `v`'s binding, to pick a root by a face: see [`Skeleton::node_of`].
+    #[must_use]
+    pub fn skeleton(&self) -> &Skeleton {
+        &self.skeleton
+    }
+
+    /// The mesh as modelled (the rest pose).
+    #[must_use]
+    pub fn rest_mesh(&self) -> &Mesh {
+        &self.rest
+    }
+
+    /// The skinning mode.
+    #[must_use]
+    pub fn skinning(&self) -> Skinning {
+        self.skinning
+    }
+
+    /// The modifier stack, in order.
+    #[must_use]
+    pub fn modifiers(&self) -> &[Modifier] {
+        &self.modifiers
+    }
+
+    /// The parent of node `i` in the animation's tree.
+    #[must_use]
+    pub fn parent(&self, i: u32) -> Option<u32> {
+        self.tree.parent[i as usize]
+    }
+
+    /// The depth of node `i` (segments from the root).
+    #[must_use]
+    pub fn depth(&self, i: u32) -> u32 {
+        self.tree.depth[i as usize]
+    }
+
+    /// The nodes, parents before children.
+    #[must_use]
+    pub fn order(&self) -> &[u32] {
+        &self.tree.order
+    }
+
+    /// The deepest node's depth.
+    #[must_use]
+    pub fn max_depth(&self) -> u32 {
+        self.tree.depth.iter().copied().max().unwrap_or(0)
+    }
+
+    /// The time at which every growth modifier has finished (0 without one).
+    #[must_use]
+    pub fn duration(&self) -> f64 {
+        let d = self.max_depth();
+        self.modifiers
+            .iter()
+            .filter_map(|m| if let Modifier::Growth(g) = m { Some(g.end(d)) } else { None })
+            .fold(0.0, f64::max)
+    }
+
+    /// Appends `modifier` to the stack after checking its parameters.
+    ///
+    /// # Errors
+    /// [`AnimError::InvalidParameter`]; the stack is unchanged.
+    pub fn add(&mut self, modifier: Modifier) -> Result<(), AnimError> {
+        match &modifier {
+            Modifier::Growth(g) => g.validate()?,
+            Modifier::Gravity(g) => g.validate()?,
+            Modifier::Custom(_) => {}
+        }
+        self.modifiers.push(modifier);
+        Ok(())
+    }
+
+    /// The rest state of every node: its inferred position, thickness 1.
+    #[must_use]
+    pub fn rest_states(&self) -> Vec<NodeState> {
+        self.skeleton.positions().iter().map(|&position| NodeState { position, thickness: 1.0 }).collect()
+    }
+
+    /// Node states at time `t` from a stack of time-pure modifiers.
+    ///
+    /// # Errors
+    /// [`AnimError::Simulated`] if the stack holds a gravity modifier; a custom modifier's
+    /// error; [`AnimError::BadState`] for a NaN or a negative thickness.
+    pub fn states_at(&self, t: f64, custom: &mut CustomModifier<'_>) -> Result<Vec<NodeState>, AnimError> {
+        if let Some(index) = self.modifiers.iter().position(|m| matches!(m, Modifier::Gravity(_))) {
+            return Err(AnimError::Simulated { index });
+        }
+        self.run_stack(t, 0.0, &mut [], custom)
+    }
+
+    /// The posed mesh at time `t` (vertex ids kept): see [`Animation::states_at`].
+    ///
+    /// # Errors
+    /// As [`Animation::states_at`].
+    pub fn pose(&self, t: f64, custom: &mut CustomModifier<'_>) -> Result<Mesh, AnimError> {
+        let states = self.states_at(t, custom)?;
+        Ok(self.mesh_of(&states))
+    }
+
+    /// Node states of `count` frames at times 0, dt, 2·dt, …: the simulated modifiers step once
+    /// per frame (starting at rest on their input), the others are evaluated at each time.
+    ///
+    /// # Errors
+    /// [`AnimError::InvalidParameter`] for a `dt` that is not finite and > 0; as
+    /// [`Animation::states_at`] otherwise.
+    pub fn frame_states(
+        &self,
+        count: usize,
+        dt: f64,
+        custom: &mut CustomModifier<'_>,
+    ) -> Result<Vec<Vec<NodeState>>, AnimError> {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(AnimError::InvalidParameter {
+                name: "dt",
+                reason: format!("must be a finite number > 0, got {dt}"),
+            });
+        }
+        let mut sims = vec![GravityState::default(); self.modifiers.len()];
+        let mut out = Vec::with_capacity(count);
+        for i in 0..count {
+            let t = i as f64 * dt;
+            // The first frame is the start: the simulation takes its first step after it.
+            let step = if i == 0 { 0.0 } else { dt };
+            out.push(self.run_stack(t, step, &mut sims, custom)?);
+        }
+        Ok(out)
+    }
+
+    /// The posed meshes of [`Animation::frame_states`].
+    ///
+    /// # Errors
+    /// As [`Animation::frame_states`].
+    pub fn frames(&self, count: usize, dt: f64, custom: &mut CustomModifier<'_>) -> Result<Vec<Mesh>, AnimError> {
+        Ok(self.frame_states(count, dt, custom)?.iter().map(|s| self.mesh_of(s)).collect())
+    }
+
+    /// The joint transforms for node `states` under this animation's skinning.
+    #[must_use]
+    pub fn joint_poses(&self, states: &[NodeState]) -> Vec<JointPose> {
+        joint_poses(self.skinning, &self.tree, self.skeleton.positions(), states)
+    }
+
+    /// The rest mesh with its vertices moved by the joints of `states`.
+    #[must_use]
+    pub fn mesh_of(&self, states: &[NodeState]) -> Mesh {
+        let poses = self.joint_poses(states);
+        let positions = skin(self.rest.positions(), self.skeleton.vertex_nodes(), self.skeleton.positions(), &poses);
+        let mut mesh = self.rest.clone();
+        mesh.set_positions(positions).expect("skinned positions are checked finite by the modifier stack");
+        mesh
+    }
+
+    /// Runs the stack at time `t`; `step` is the simulation's time step this frame (0: none),
+    /// `sims` the simulated modifiers' states (empty: none may be simulated).
+    fn run_stack(
+        &self,
+        t: f64,
+        step: f64,
+        sims: &mut [GravityState],
+        custom: &mut CustomModifier<'_>,
+    ) -> Result<Vec<NodeState>, AnimError> {
+        let mut states = self.rest_states();
+        for (index, m) in self.modifiers.iter().enumerate() {
+            match m {
+                Modifier::Growth(g) => g.apply(&self.tree, t, &mut states),
+                Modifier::Gravity(g) => {
+                    let sim = &mut sims[index];
+                    if step > 0.0 {
+                        g.apply(&self.tree, step, sim, &mut states);
+                    } else {
+                        // The first frame: the simulation starts at rest on its input.
+                        g.apply(&self.tree, 0.0, sim, &mut states);
+                    }
+                }
+                Modifier::Custom(id) => {
+                    for &n in &self.tree.order {
+                        let s = states[n as usize];
+                        states[n as usize] =
+                            custom(*id, n, t, s).map_err(|message| AnimError::Custom { index, node: n, message })?;
+                    }
+                }
+            }
+            if let Some((node, s)) = states
+                .iter()
+                .enumerate()
+                .find(|(_, s)| !s.position.is_finite() || !s.thickness.is_finite() || s.thickness < 0.0)
+            {
+                return Err(AnimError::BadState {
+                    index,
+                    kind: m.kind(),
+                    node: node as u32,
+                    what: format!(
+                        "position {} and thickness {} (finite, thickness ≥ 0 needed)",
+                        s.position, s.thickness
+                    ),
+                });
+            }
+        }
+        Ok(states)
+    }
+}

@@ -1,0 +1,191 @@
+//! A rigged, animated glTF 2.0 file of an [`Animation`] (seed 004 ch. 14's wish to export
+//! to standard tools): the rest mesh skinned to the skeleton, one joint per node, and one
+//! animation with a key per frame.
+//!
+//! Joints. Node `i` is two glTF nodes: a frame `node i` (translation and rotation, children
+//! = its tree children's frames) and under it the joint `joint i`, which carries the node's
+//! thickness as its scale — so that a node's thickness does not scale its children, which glTF's
+//! inherited transforms would otherwise do. The skin's joints are the `joint i` nodes (as many as
+//! skeleton nodes), each with the inverse bind matrix T(−rest position); every vertex has weight
+//! 1 on its node's joint, which moves it exactly as [`Animation::mesh_of`] does.
+
+use std::io::Write;
+use std::path::Path;
+
+use gltf::json;
+use json::validation::{Checked::Valid, USize64};
+
+use super::{Animation, NodeState};
+use crate::io::gltf::{accessor, document, internal, push_f32s, push_view, write_glb_document};
+use crate::io::IoError;
+use crate::math::{Quat, Vec3};
+
+fn push_u16s(out: &mut Vec<u8>, values: &[u16]) {
+    for v in values {
+        out.extend_from_slice(&v.to_le_bytes());
+    }
+}
+
+fn f3(v: Vec3) -> [f32; 3] {
+    [v.x as f32, v.y as f32, v.z as f32]
+}
+
+fn q4(q: Quat) -> [f32; 4] {
+    let q = q.normalize();
+    [q.x as f32, q.y as f32, q.z as f32, q.w as f32]
+}
+
+/// Writes `anim` as a GLB with the node states of `frames` (one key each, `fps` keys a second)
+/// to `out`. `path` is only named in errors.
+///
+/// # Errors
+/// [`IoError::Internal`] for more than 65,535 skeleton nodes (glTF joint indices are 16-bit
+/// here) or an empty frame list; the mesh writer's errors.
+pub fn write_animation_glb<W: Write>(
+    anim: &Animation,
+    frames: &[Vec<NodeState>],
+    fps: f64,
+    out: &mut W,
+    path: &Path,
+) -> Result<(), IoError> {
+    let sk = anim.skeleton();
+    let n = sk.node_count();
+    if n > usize::from(u16::MAX) {
+        return Err(internal(path, &format!("{n} skeleton nodes: at most 65535 joints can be written")));
+    }
+    if frames.is_empty() {
+        return Err(internal(path, "an animation needs at least one frame"));
+    }
+    let (mut root, bin) = document(anim.rest_mesh(), None, path)?;
+    let mut bin = bin.unwrap_or_default();
+    let nv = anim.rest_mesh().vertex_count();
+    let rest = sk.positions();
+
+    // Skin attributes: one joint per vertex, weight 1.
+    let joints: Vec<u16> = sk.vertex_nodes().iter().flat_map(|&j| [j as u16, 0, 0, 0]).collect();
+    let view = push_view(&mut root, &mut bin, Some(json::buffer::Target::ArrayBuffer), |b| push_u16s(b, &joints));
+    let joints_acc =
+        root.push(accessor(view, nv, json::accessor::ComponentType::U16, json::accessor::Type::Vec4, None));
+    let weights: Vec<f32> = (0..nv).flat_map(|_| [1.0, 0.0, 0.0, 0.0]).collect();
+    let view = push_view(&mut root, &mut bin, Some(json::buffer::Target::ArrayBuffer), |b| push_f32s(b, &weights));
+    let weights_acc =
+        root.push(accessor(view, nv, json::accessor::ComponentType::F32, json::accessor::Type::Vec4, None));
+    if let Some(prim) = root.meshes.first_mut().and_then(|m| m.primitives.first_mut()) {
+        prim.attributes.insert(Valid(json::mesh::Semantic::Joints(0)), joints_acc);
+        prim.attributes.insert(Valid(json::mesh::Semantic::Weights(0)), weights_acc);
+    }
+
+    // Frame and joint nodes: frames first (index base + i), then joints (base + n + i).
+    let base = root.nodes.len() as u32;
+    let frame_of = |i: u32| json::Index::<json::Node>::new(base + i);
+    let joint_of = |i: u32| json::Index::<json::Node>::new(base + n as u32 + i);
+    for i in 0..n as u32 {
+        let local = match anim.parent(i) {
+            Some(p) => rest[i as usize] - rest[p as usize],
+            None => rest[i as usize],
+        };
+        let mut children = vec![joint_of(i)];
+        children.extend(sk.children(i).iter().filter(|&&c| anim.parent(c) == Some(i)).map(|&c| frame_of(c)));
+        root.push(json::Node {
+            name: Some(format!("node {i}")),
+            translation: Some(f3(local)),
+            children: Some(children),
+            ..Default::default()
+        });
+    }
+    for i in 0..n as u32 {
+        root.push(json::Node { name: Some(format!("joint {i}")), ..Default::default() });
+    }
+    let ibm: Vec<f32> = rest
+        .iter()
+        .flat_map(|p| {
+            let m = crate::math::Mat4::from_translation(-*p);
+            m.to_cols_array().map(|x| x as f32)
+        })
+        .collect();
+    let view = push_view(&mut root, &mut bin, None, |b| push_f32s(b, &ibm));
+    let ibm_acc = root.push(accessor(view, n, json::accessor::ComponentType::F32, json::accessor::Type::Mat4, None));
+    let roots: Vec<u32> = (0..n as u32).filter(|&i| anim.parent(i).is_none()).collect();
+    let skin = root.push(json::Skin {
+        inverse_bind_matrices: Some(ibm_acc),
+        joints: (0..n as u32).map(joint_of).collect(),
+        skeleton: roots.first().map(|&r| frame_of(r)),
+        name: Some("skeleton".into()),
+        extensions: None,
+        extras: None,
+    });
+    if let Some(mesh_node) = root.nodes.first_mut() {
+        mesh_node.skin = Some(skin);
+    }
+    if let Some(scene) = root.scenes.first_mut() {
+        scene.nodes.extend(roots.iter().map(|&r| frame_of(r)));
+    }
+
+    // The animation: per frame the local transform of every frame node and every joint's scale.
+    let count = frames.len();
+    let times: Vec<f32> = (0..count).map(|k| (k as f64 / fps) as f32).collect();
+    let view = push_view(&mut root, &mut bin, None, |b| push_f32s(b, &times));
+    let mut time_acc = accessor(view, count, json::accessor::ComponentType::F32, json::accessor::Type::Scalar, None);
+    time_acc.min = Some(json::Value::from(vec![times[0]]));
+    time_acc.max = Some(json::Value::from(vec![times[count - 1]]));
+    let input = root.push(time_acc);
+    let mut translations = vec![Vec::with_capacity(count * 3); n];
+    let mut rotations = vec![Vec::with_capacity(count * 4); n];
+    let mut scales = vec![Vec::with_capacity(count * 3); n];
+    for states in frames {
+        let poses = anim.joint_poses(states);
+        for i in 0..n {
+            let pose = &poses[i];
+            let (t, r) = match anim.parent(i as u32) {
+                Some(p) => {
+                    let parent = &poses[p as usize];
+                    let inv = parent.rotation.inverse();
+                    (inv * (pose.translation - parent.translation), inv * pose.rotation)
+                }
+                None => (pose.translation, pose.rotation),
+            };
+            translations[i].extend_from_slice(&f3(t));
+            rotations[i].extend_from_slice(&q4(r));
+            scales[i].extend_from_slice(&[pose.scale as f32; 3]);
+        }
+    }
+    let mut channels = Vec::new();
+    let mut samplers = Vec::new();
+    let mut add = |root: &mut json::Root,
+                   bin: &mut Vec<u8>,
+                   node: json::Index<json::Node>,
+                   property: json::animation::Property,
+                   values: &[f32],
+                   type_: json::accessor::Type| {
+        let view = push_view(root, bin, None, |b| push_f32s(b, values));
+        let output = root.push(accessor(view, count, json::accessor::ComponentType::F32, type_, None));
+        samplers.push(json::animation::Sampler {
+            input,
+            interpolation: Valid(json::animation::Interpolation::Linear),
+            output,
+            extensions: None,
+            extras: None,
+        });
+        channels.push(json::animation::Channel {
+            sampler: json::Index::new(samplers.len() as u32 - 1),
+            target: json::animation::Target { node, path: Valid(property), extensions: None, extras: None },
+            extensions: None,
+            extras: None,
+        });
+    };
+    use json::accessor::Type;
+    use json::animation::Property;
+    for i in 0..n {
+        let i32_ = i as u32;
+        add(&mut root, &mut bin, frame_of(i32_), Property::Translation, &translations[i], Type::Vec3);
+        add(&mut root, &mut bin, frame_of(i32_), Property::Rotation, &rotations[i], Type::Vec4);
+        add(&mut root, &mut bin, joint_of(i32_), Property::Scale, &scales[i], Type::Vec3);
+    }
+    root.push(json::Animation { channels, samplers, name: Some("blocksmith".into()), extensions: None, extras: None });
+
+    bin.resize(bin.len().next_multiple_of(4), 0);
+    if let Some(b) = root.buffers.first_mut() {
+        b.byte_length = USize64::from(bin.len());
+    }
+    write_glb_document(&root, Some(bin), out, path)
+}

@@ -1,0 +1,27 @@
+//! Skeleton-driven animation of polar meshes (seed 004, part II): the inferred skeleton as a
+//! rooted tree of nodes with a position and a thickness each, vertices in skeleton coordinates
+//! (§7.2), simple and smooth skinning (§7.3), and a stack of modifiers applied to every node in
+//! order (§8.1) — growth (§9.1), gravity (§9.2) and modifiers supplied by the caller.
+//!
+//! - [`Animation`]: the rest state, the modifier stack, [`Animation::pose`] for time-pure stacks
+//!   and [`Animation::frames`] for simulated ones;
+//! - `skinning`: joint transforms and vertex positions from node states;
+//! - `growth`, `gravity`: the thesis's two behaviours;
+//! - `export`: a glTF 2.0 file with the skeleton as joints, skin weights and one animation.
+
+mod animation;
+mod error;
+mod export;
+mod gravity;
+mod growth;
+mod skinning;
+
+pub use animation::{Animation, CustomModifier, Modifier, NodeState};
+pub use error::AnimError;
+pub use export::write_animation_glb;
+pub use gravity::Gravity;
+pub use growth::{Curve, Growth};
+pub use skinning::{JointPose, Skinning};
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,184 @@
+//! Animation tests on two plants: a horizontal stalk (a chain skeleton) and the stalk with a
+//! branch nested on one of its loops.
+
+use super::*;
+use crate::math::{Quat, Vec3};
+use crate::mesh::Mesh;
+use crate::polar::PolarMesh;
+
+/// A stalk of radius 0.2 along x from x = −1 (the root pole, vertex 0) to x = 1: 8 segments
+/// around, 10 bands (9 loops), so 11 skeleton nodes in a chain.
+fn stalk() -> PolarMesh {
+    let m = Mesh::uv_sphere(0.2, 8, 10).scale(Vec3::new(1.0, 1.0, 5.0)).rotate(Vec3::Y, 90.0);
+    let north = m.vertex_count() as u32 - 1;
+    PolarMesh::from_mesh(m, &[0, north], &[]).unwrap()
+}
+
+/// The stalk with a branch on its middle loop (vertices 41–43 are consecutive on loop 5).
+fn branched() -> PolarMesh {
+    let mut pm = stalk();
+    let pole = pm.add_feature(&[41, 42, 43]).unwrap();
+    pm.move_vertices(&[pole], Vec3::new(0.0, 0.0, 0.3), crate::polar::Frame::Global).unwrap();
+    pm.check().unwrap();
+    pm
+}
+
+fn no_custom() -> impl FnMut(usize, u32, f64, NodeState) -> Result<NodeState, String> {
+    |_, _, _, s| Ok(s)
+}
+
+#[test]
+fn both_skinnings_reproduce_the_rest_pose_bit_for_bit() {
+    for skinning in [Skinning::Simple, Skinning::Smooth] {
+        let pm = branched();
+        let anim = Animation::new(&pm, Some(0), skinning).unwrap();
+        let posed = anim.pose(0.0, &mut no_custom()).unwrap();
+        assert_eq!(posed.positions(), pm.mesh().positions());
+        assert_eq!(posed.face_count(), pm.mesh().face_count());
+    }
+}
+
+#[test]
+fn growth_starts_on_the_root_and_ends_on_the_model() {
+    for curve in [Curve::Linear, Curve::Sigmoid] {
+        let pm = branched();
+        let mut anim = Animation::new(&pm, Some(0), Skinning::Smooth).unwrap();
+        anim.add(Modifier::Growth(Growth { curve, ..Growth::default() })).unwrap();
+        let root = anim.skeleton().position(anim.skeleton().root());
+        let start = anim.pose(0.0, &mut no_custom()).unwrap();
+        let worst = start.positions().iter().map(|p| p.distance(root)).fold(0.0, f64::max);
+        assert!(worst < 1e-9, "{curve:?}: a vertex is {worst} from the root at t = 0");
+        let end = anim.pose(anim.duration(), &mut no_custom()).unwrap();
+        assert_eq!(end.positions(), pm.mesh().positions(), "{curve:?}: the end pose is the model");
+        // Past the end nothing changes.
+        assert_eq!(anim.pose(anim.duration() + 5.0, &mut no_custom()).unwrap().positions(), pm.mesh().positions());
+    }
+}
+
+#[test]
+fn each_node_starts_growing_at_its_delay() {
+    let pm = stalk();
+    let mut anim = Animation::new(&pm, Some(0), Skinning::Simple).unwrap();
+    let g = Growth { delay: 0.5, speed: 1.0, curve: Curve::Linear, ..Growth::default() };
+    anim.add(Modifier::Growth(g)).unwrap();
+    for &n in anim.order() {
+        let Some(p) = anim.parent(n) else { continue };
+        let onset = g.onset(anim.depth(n));
+        let before = anim.states_at(onset - 1e-3, &mut no_custom()).unwrap();
+        let after = anim.states_at(onset + 0.25, &mut no_custom()).unwrap();
+        let len = |s: &[NodeState]| s[n as usize].position.distance(s[p as usize].position);
+        assert!(len(&before) < 1e-12, "node {n} grows before its onset {onset}");
+        let full = anim.rest_states()[n as usize].position.distance(anim.rest_states()[p as usize].position);
+        // Linear: a quarter of the way a quarter after onset.
+        assert!((len(&after) - 0.25 * full).abs() < 1e-9, "node {n}: {} vs {}", len(&after), 0.25 * full);
+    }
+}
+
+#[test]
+fn gravity_bends_the_stalk_keeps_its_segments_and_stays_bounded() {
+    for drag in [0.1, 0.5, 1.0] {
+        let pm = stalk();
+        let mut anim = Animation::new(&pm, Some(0), Skinning::Smooth).unwrap();
+        anim.add(Modifier::Gravity(Gravity { drag, ..Gravity::default() })).unwrap();
+        let rest = anim.rest_states();
+        let frames = anim.frame_states(1000, 1.0 / 24.0, &mut no_custom()).unwrap();
+        let root = anim.skeleton().root() as usize;
+        let tip = *anim.order().last().unwrap() as usize;
+        let reach: f64 = anim
+            .order()
+            .iter()
+            .filter_map(|&n| anim.parent(n).map(|p| (n, p)))
+            .map(|(n, p)| rest[n as usize].position.distance(rest[p as usize].position))
+            .sum();
+        for (k, states) in frames.iter().enumerate() {
+            assert_eq!(states[root].position, rest[root].position, "frame {k}: the root moved");
+            for &n in anim.order() {
+                let Some(p) = anim.parent(n) else { continue };
+                let l0 = rest[n as usize].position.distance(rest[p as usize].position);
+                let l = states[n as usize].position.distance(states[p as usize].position);
+                assert!((l - l0).abs() <= 0.01 * l0, "drag {drag} frame {k}: segment {n} is {l}, rest {l0}");
+                assert!(states[n as usize].position.distance(rest[root].position) <= reach * 1.01 + 1e-9);
+            }
+        }
+        let sunk = rest[tip].position.z - frames.last().unwrap()[tip].position.z;
+        assert!(sunk > 0.05, "drag {drag}: the tip sank only {sunk}");
+        let posed = anim.mesh_of(frames.last().unwrap());
+        assert!(posed.is_closed() && posed.is_manifold());
+    }
+}
+
+#[test]
+fn gravity_needs_frames_not_pose() {
+    let mut anim = Animation::new(&stalk(), None, Skinning::Simple).unwrap();
+    anim.add(Modifier::Gravity(Gravity::default())).unwrap();
+    assert_eq!(anim.pose(1.0, &mut no_custom()).unwrap_err(), AnimError::Simulated { index: 0 });
+    assert!(matches!(anim.frame_states(3, 0.0, &mut no_custom()), Err(AnimError::InvalidParameter { name: "dt", .. })));
+}
+
+#[test]
+fn custom_modifiers_see_the_previous_state_and_their_failures_are_named() {
+    let pm = stalk();
+    let mut anim = Animation::new(&pm, Some(0), Skinning::Simple).unwrap();
+    anim.add(Modifier::Growth(Growth::default())).unwrap();
+    anim.add(Modifier::Custom(7)).unwrap();
+    // A modifier lifting every node by t: it receives the grown state and adds to it.
+    let mut lift = |id: usize, _n: u32, t: f64, s: NodeState| {
+        assert_eq!(id, 7);
+        Ok(NodeState { position: s.position + Vec3::Z * t, ..s })
+    };
+    let t = anim.duration();
+    let posed = anim.pose(t, &mut lift).unwrap();
+    for (a, b) in posed.positions().iter().zip(pm.mesh().positions()) {
+        assert!((a.z - b.z - t).abs() < 1e-12 && (a.x - b.x).abs() < 1e-12);
+    }
+    let mut fails = |_: usize, n: u32, _: f64, s: NodeState| if n == 3 { Err("no".to_string()) } else { Ok(s) };
+    assert!(matches!(anim.pose(1.0, &mut fails), Err(AnimError::Custom { index: 1, node: 3, .. })));
+    let mut nan = |_: usize, _: u32, _: f64, s: NodeState| Ok(NodeState { thickness: f64::NAN, ..s });
+    assert!(matches!(anim.pose(1.0, &mut nan), Err(AnimError::BadState { index: 1, kind: "custom", .. })));
+}
+
+#[test]
+fn smooth_skinning_turns_the_joint_ring_halfway() {
+    // Bend the stalk at its middle node by a custom modifier that rotates every node past it
+    // 60° about y around the middle node: simple skinning turns the middle ring by 0 (its
+    // arriving segment is unchanged), smooth by 30°.
+    let pm = stalk();
+    let rest = Animation::new(&pm, Some(0), Skinning::Simple).unwrap();
+    let mid = rest.order()[5];
+    let pivot = rest.rest_states()[mid as usize].position;
+    let after: Vec<u32> = rest.order()[6..].to_vec();
+    let turn = Quat::from_axis_angle(Vec3::Y, 60f64.to_radians());
+    let bend = |_: usize, n: u32, _: f64, s: NodeState| {
+        Ok(if after.contains(&n) { NodeState { position: pivot + turn * (s.position - pivot), ..s } } else { s })
+    };
+    for (skinning, expected) in [(Skinning::Simple, 0.0), (Skinning::Smooth, 30.0)] {
+        let mut anim = Animation::new(&pm, Some(0), skinning).unwrap();
+        anim.add(Modifier::Custom(0)).unwrap();
+        let states = anim.states_at(0.0, &mut bend.clone()).unwrap();
+        let poses = anim.joint_poses(&states);
+        let angle = poses[mid as usize].rotation.angle_between(Quat::IDENTITY).to_degrees();
+        assert!((angle - expected).abs() < 1e-9, "{skinning:?}: {angle}° (expected {expected}°)");
+        let posed = anim.mesh_of(&states);
+        assert!(posed.is_closed() && posed.is_manifold());
+    }
+}
+
+#[test]
+fn export_writes_one_joint_per_node_and_a_key_per_frame() {
+    let pm = branched();
+    let mut anim = Animation::new(&pm, Some(0), Skinning::Smooth).unwrap();
+    anim.add(Modifier::Growth(Growth::default())).unwrap();
+    anim.add(Modifier::Gravity(Gravity { drag: 0.5, ..Gravity::default() })).unwrap();
+    let frames = anim.frame_states(48, 1.0 / 24.0, &mut no_custom()).unwrap();
+    let mut bytes = Vec::new();
+    write_animation_glb(&anim, &frames, 24.0, &mut bytes, std::path::Path::new("plant.glb")).unwrap();
+    let gltf = gltf::Gltf::from_slice(&bytes).expect("a valid glTF");
+    let n = anim.skeleton().node_count();
+    let skin = gltf.skins().next().expect("a skin");
+    assert_eq!(skin.joints().count(), n);
+    let animation = gltf.animations().next().expect("an animation");
+    assert_eq!(animation.channels().count(), 3 * n);
+    let input = animation.samplers().next().unwrap().input();
+    assert_eq!(input.count(), 48);
+    assert_eq!(input.max().unwrap()[0].as_f64().unwrap() as f32, (47.0 / 24.0) as f32);
+}
