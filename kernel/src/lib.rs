@@ -8,12 +8,15 @@
 //! - [`io`]: OBJ, binary STL and glTF 2.0 files.
 //! - [`blocks`]: modeling with blocks (Leblanc et al.) — blocks with sub-face grids and sharp
 //!   edges, connections, the control mesh, and its adaptive crack-free tessellation.
+//! - [`lsystem`]: L-systems (Brazzolotto part III) — grammars, seeded derivation, and growth
+//!   carried out directly as polar-mesh operations.
 //!
 //! The kernel knows nothing of the scripting language: errors are typed here and turned into
 //! script errors at the binding edge.
 
 pub mod blocks;
 pub mod io;
+pub mod lsystem;
 pub mod math;
 pub mod mesh;
 pub mod polar;

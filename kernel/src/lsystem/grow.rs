@@ -1,0 +1,649 @@
+//! Growth as polar operations (seed 004, §11.1): a derived string is carried out module by
+//! module as operations on one polar mesh, so that the mesh is the string's implicit
+//! representation — every drawn module is one loop or one pole, the backbones the string's
+//! order, the nested features its brackets.
+//!
+//! The symbols (§11 and §10.3):
+//! - `L`, `L0`, `F` — move forward and draw a loop: [`PolarMesh::add_refinement`] on a spoke of
+//!   the branch's tip pole (§4.1: the new loop lands between the last loop and the pole), then
+//!   the low-level moves of §2.4 place it as a circle of the current radius around the turtle,
+//!   perpendicular to its heading, and the pole a cap ahead of it;
+//! - `P` — move forward and draw the pole: the tip pole moves to the turtle; the branch ends;
+//! - `[` — push the turtle; the branch it opens is nested lazily, when it first draws, with
+//!   [`PolarMesh::add_feature`] (§4.3) on the current loop of its parent;
+//! - `[L`, `[R` — draw a loop (like `L`), roll the parent by the divergence angle, push, and turn
+//!   left (`+`) or right (`-`) for a branch nested on that loop;
+//! - `]` — pop: return to the parent's turtle and loop; a branch not ended by `P` keeps its
+//!   tip pole a cap beyond its last loop;
+//! - `f` moves without drawing; `+ - & ^ \ / |` turn (§10.3); `!(r)` sets the radius, `!` alone
+//!   shrinks it by 0.7; every other symbol draws nothing.
+//!
+//! Orientation (the "lack of direction" of §12): a branch opens where the turtle points. Its gap
+//! is the run of free consecutive loop vertices whose centroid lies furthest along the turtle's
+//! heading projected on the loop's plane, found by a sliding window in time linear in the loop
+//! size. A branch keeps its parent's valence when the run fits (a run of valence/2 + 1 vertices,
+//! since the pole of a run of |VV| vertices has valence 2(|VV| − 1), §4.3.1) unless its siblings
+//! on the same loop need room (c branches get runs of at most valence/c vertices), else the
+//! largest run left; runs on one loop never overlap (§4.3.4 d).
+//!
+//! Skeleton (§7.1): the trunk's base pole is the root; every drawn module adds one node (its loop,
+//! or for `P` its pole; a nesting loop and the gaps on it are one node); every branch not ended by
+//! `P` adds its tip pole. Every branch end is a leaf.
+
+use std::fmt::Display;
+
+use super::grammar::Module;
+use super::turtle::Turtle;
+use super::LsystemError;
+use crate::math::Vec3;
+use crate::polar::PolarMesh;
+
+/// What a size callback is asked for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Size {
+    /// The length of a segment.
+    Length,
+    /// The radius of a loop.
+    Radius,
+}
+
+/// The sigmoid of Eq. 11.2, `1 − 1 / (1 + e^(2 − step))`: 0.88 at step 0, 0.5 at step 2, 0.05 at
+/// step 5 — young segments long and thick, old ones short and thin.
+#[must_use]
+pub fn sigmoid(step: f64) -> f64 {
+    1.0 - 1.0 / (1.0 + (2.0 - step).exp())
+}
+
+/// Options of [`grow`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct GrowOptions {
+    /// Radius of the trunk's loops at step 0 before the sigmoid. Default value: 0.25.
+    pub radius: f64,
+    /// Segment length at step 0 before the sigmoid. Default value: 1.
+    pub length: f64,
+    /// Number of vertices on the trunk's loops (at least 6). Default value: 8.
+    pub valence: u32,
+    /// Turning angle of `+ - & ^ \ /` without a parameter, and of `[L` / `[R`, in degrees.
+    /// Default value: 30.
+    pub angle: f64,
+    /// Roll of the parent at every `[L` / `[R`, in degrees, spreading branches around it.
+    /// Default value: 137.5 (the golden angle).
+    pub divergence: f64,
+    /// Whether `radius` and `length` are scaled by the sigmoid of Eq. 11.2 of the step (a thesis
+    /// symbol's first parameter, else the branch depth). Default value: true.
+    pub sigmoid: bool,
+    /// Growth stops with an error once the mesh has more vertices. Default value: 4,000,000.
+    pub max_vertices: usize,
+    /// Growth stops with an error once more branches are nested. Default value: 200,000.
+    pub max_features: usize,
+}
+
+impl GrowOptions {
+    /// The defaults.
+    pub const DEFAULT: GrowOptions = GrowOptions {
+        radius: 0.25,
+        length: 1.0,
+        valence: 8,
+        angle: 30.0,
+        divergence: 137.5,
+        sigmoid: true,
+        max_vertices: 4_000_000,
+        max_features: 200_000,
+    };
+
+    /// With `radius`.
+    #[must_use]
+    pub fn with_radius(mut self, radius: f64) -> GrowOptions {
+        self.radius = radius;
+        self
+    }
+
+    /// With `length`.
+    #[must_use]
+    pub fn with_length(mut self, length: f64) -> GrowOptions {
+        self.length = length;
+        self
+    }
+
+    /// With `valence`.
+    #[must_use]
+    pub fn with_valence(mut self, valence: u32) -> GrowOptions {
+        self.valence = valence;
+        self
+    }
+
+    /// With `angle`.
+    #[must_use]
+    pub fn with_angle(mut self, angle: f64) -> GrowOptions {
+        self.angle = angle;
+        self
+    }
+
+    /// With `divergence`.
+    #[must_use]
+    pub fn with_divergence(mut self, divergence: f64) -> GrowOptions {
+        self.divergence = divergence;
+        self
+    }
+
+    /// With or without the sigmoid.
+    #[must_use]
+    pub fn with_sigmoid(mut self, on: bool) -> GrowOptions {
+        self.sigmoid = on;
+        self
+    }
+
+    /// With caps on vertices and nested branches.
+    #[must_use]
+    pub fn with_caps(mut self, max_vertices: usize, max_features: usize) -> GrowOptions {
+        self.max_vertices = max_vertices;
+        self.max_features = max_features;
+        self
+    }
+
+    fn validate(&self) -> Result<(), LsystemError> {
+        let bad = |s: String| Err(LsystemError::InvalidOption(s));
+        if !(self.radius.is_finite() && self.radius > 0.0) {
+            return bad(format!("radius must be a positive number, got {}", self.radius));
+        }
+        if !(self.length.is_finite() && self.length > 0.0) {
+            return bad(format!("length must be a positive number, got {}", self.length));
+        }
+        if !(6..=100_000).contains(&self.valence) {
+            return bad(format!("valence must lie between 6 and 100000, got {}", self.valence));
+        }
+        if !(self.angle.is_finite() && self.divergence.is_finite()) {
+            return bad(format!("angle and divergence must be finite, got {} and {}", self.angle, self.divergence));
+        }
+        Ok(())
+    }
+}
+
+impl Default for GrowOptions {
+    fn default() -> GrowOptions {
+        GrowOptions::DEFAULT
+    }
+}
+
+/// A grown plant: the polar mesh and the counts that describe its skeleton.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Grown {
+    /// The mesh.
+    pub mesh: PolarMesh,
+    /// The trunk's base pole (the skeleton's root).
+    pub root: u32,
+    /// Drawn modules (`F L L0 P [L [R`), each one skeleton node.
+    pub segments: usize,
+    /// Branches drawn, the trunk included: each ends in a pole, a leaf of the skeleton.
+    pub branches: usize,
+    /// Branches not ended by `P`, whose tip pole is one more node.
+    pub open_ends: usize,
+    /// Nested features (branches but the trunk).
+    pub features: usize,
+}
+
+/// A loop drawn by the growth, with what nesting needs.
+#[derive(Clone, Debug)]
+struct Ring {
+    /// Vertices in order, with the side towards the branch tip on the left of `v[j] → v[j+1]`.
+    verts: Vec<u32>,
+    used: Vec<bool>,
+    center: Vec3,
+    axis: Vec3,
+    radius: f64,
+    length: f64,
+}
+
+#[derive(Clone, Debug)]
+struct Branch {
+    tip: u32,
+    ring: Option<usize>,
+    ended: Option<usize>,
+}
+
+#[derive(Clone, Debug)]
+struct State {
+    turtle: Turtle,
+    branch: Option<usize>,
+    host: Option<usize>,
+    depth: u32,
+    radius: Option<f64>,
+    /// How many branches (this one included) the parent opens on the same loop.
+    siblings: usize,
+}
+
+/// For each `[`, how many `[` its parent opens on the same loop: those at the same depth with no
+/// drawn segment of the parent between them. Other entries are 1.
+fn sibling_counts(modules: &[Module]) -> Vec<usize> {
+    let mut count = vec![1; modules.len()];
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    // open[d]: the `[` indices of the current group of depth-d branches.
+    let mut open: Vec<Vec<usize>> = vec![Vec::new()];
+    for (i, m) in modules.iter().enumerate() {
+        match m.symbol.as_str() {
+            "[" => {
+                if let Some(g) = open.last_mut() {
+                    g.push(i);
+                }
+                open.push(Vec::new());
+            }
+            "[L" | "[R" => {
+                if let Some(g) = open.last_mut() {
+                    groups.push(std::mem::take(g));
+                }
+                open.push(Vec::new());
+            }
+            "]" => {
+                if let Some(g) = open.pop() {
+                    groups.push(g);
+                }
+            }
+            "F" | "L" | "L0" | "P" => {
+                if let Some(g) = open.last_mut() {
+                    groups.push(std::mem::take(g));
+                }
+            }
+            _ => {}
+        }
+    }
+    groups.extend(open);
+    for g in groups {
+        for &i in &g {
+            count[i] = g.len();
+        }
+    }
+    count
+}
+
+/// Grows `modules` as polar operations with lengths and radii `opts.length · S(step)` and
+/// `opts.radius · S(step)` (S the [`sigmoid`] of Eq. 11.2, or 1 without it). See
+/// [`grow_with`].
+///
+/// # Errors
+/// As [`grow_with`].
+pub fn grow(modules: &[Module], opts: &GrowOptions) -> Result<Grown, LsystemError> {
+    let o = *opts;
+    grow_with(modules, opts, &mut |what, step| -> Result<f64, LsystemError> {
+        let s = if o.sigmoid { sigmoid(step) } else { 1.0 };
+        Ok(match what {
+            Size::Length => o.length * s,
+            Size::Radius => o.radius * s,
+        })
+    })
+}
+
+/// Grows `modules` (a derived string) as a sequence of polar operations (§11.1); `size(what,
+/// step)` gives each segment's length and radius from its step — the first parameter of a thesis
+/// symbol (`L(3)`), else the branch depth (a parameter of `F` is its length, as `F(l)` in L-Py).
+/// Time linear in the size of the result.
+///
+/// # Errors
+/// [`LsystemError::InvalidOption`], [`LsystemError::NothingDrawn`],
+/// [`LsystemError::UnbalancedBrackets`], [`LsystemError::DrawAfterPole`],
+/// [`LsystemError::NoRoomForBranch`], [`LsystemError::GrowthCap`] (the caps on vertices and
+/// features), [`LsystemError::Callback`] from `size`, and [`LsystemError::Polar`] for a refused
+/// operation (a bug).
+pub fn grow_with<E: Display>(
+    modules: &[Module],
+    opts: &GrowOptions,
+    size: &mut dyn FnMut(Size, f64) -> Result<f64, E>,
+) -> Result<Grown, LsystemError> {
+    opts.validate()?;
+    super::grammar::check_balance("the string", modules.iter().map(|m| m.symbol.as_str()))?;
+    let mut g =
+        Grower { opts: *opts, mesh: None, root: 0, rings: Vec::new(), branches: Vec::new(), segments: 0, features: 0 };
+    let siblings = sibling_counts(modules);
+    let mut stack: Vec<State> = Vec::new();
+    let mut st = State { turtle: Turtle::default(), branch: None, host: None, depth: 0, radius: None, siblings: 1 };
+    for (i, m) in modules.iter().enumerate() {
+        let s = m.symbol.as_str();
+        match s {
+            "[" => {
+                let mut child = g.child_of(&st);
+                child.siblings = siblings[i];
+                stack.push(std::mem::replace(&mut st, child));
+            }
+            "]" => {
+                st = stack.pop().ok_or_else(|| LsystemError::Internal("unbalanced string after the check".into()))?;
+            }
+            "[L" | "[R" => {
+                let (len, r) = g.sizes(m, &st, size)?;
+                g.draw(i, m, &mut st, len, r, false)?;
+                st.turtle.roll(opts.divergence);
+                let mut child = g.child_of(&st);
+                child.turtle.yaw(if s == "[L" { opts.angle } else { -opts.angle });
+                stack.push(std::mem::replace(&mut st, child));
+            }
+            "F" | "L" | "L0" | "P" => {
+                let (len, r) = g.sizes(m, &st, size)?;
+                g.draw(i, m, &mut st, len, r, s == "P")?;
+            }
+            "f" => {
+                let (len, _) = g.sizes(m, &st, size)?;
+                st.turtle.position += st.turtle.heading * len;
+            }
+            "!" => {
+                let cur = match st.radius {
+                    Some(r) => r,
+                    None => g.sizes(m, &st, size)?.1,
+                };
+                st.radius = Some(m.params.first().copied().unwrap_or(cur * 0.7));
+            }
+            _ => {
+                let deg = m.params.first().copied().unwrap_or(opts.angle);
+                st.turtle.apply(s, deg);
+            }
+        }
+    }
+    let mesh = g.mesh.take().ok_or(LsystemError::NothingDrawn)?;
+    let open_ends = g.branches.iter().filter(|b| b.ended.is_none()).count();
+    Ok(Grown { mesh, root: g.root, segments: g.segments, branches: g.branches.len(), open_ends, features: g.features })
+}
+
+struct Grower {
+    opts: GrowOptions,
+    mesh: Option<PolarMesh>,
+    root: u32,
+    rings: Vec<Ring>,
+    branches: Vec<Branch>,
+    segments: usize,
+    features: usize,
+}
+
+/// How far the tip pole stands beyond a branch's last loop.
+fn cap(radius: f64, length: f64) -> f64 {
+    0.5 * radius.max(length)
+}
+
+/// `v` without its component along unit `axis`, normalised; `None` when (nearly) parallel.
+fn across(v: Vec3, axis: Vec3) -> Option<Vec3> {
+    (v - axis * v.dot(axis)).try_normalize().filter(|d| d.is_finite())
+}
+
+impl Grower {
+    fn child_of(&self, st: &State) -> State {
+        let host = match st.branch {
+            Some(b) => self.branches[b].ring,
+            None => st.host,
+        };
+        State { turtle: st.turtle, branch: None, host, depth: st.depth + 1, radius: st.radius, siblings: 1 }
+    }
+
+    fn sizes<E: Display>(
+        &self,
+        m: &Module,
+        st: &State,
+        size: &mut dyn FnMut(Size, f64) -> Result<f64, E>,
+    ) -> Result<(f64, f64), LsystemError> {
+        let thesis = matches!(m.symbol.as_str(), "P" | "L" | "L0" | "[L" | "[R");
+        let step = match m.params.first() {
+            Some(&p) if thesis => p,
+            _ => f64::from(st.depth),
+        };
+        let call = |what: Size, size: &mut dyn FnMut(Size, f64) -> Result<f64, E>| -> Result<f64, LsystemError> {
+            let name = if what == Size::Length { "length" } else { "radius" };
+            let v = size(what, step).map_err(|e| LsystemError::Callback {
+                place: format!("{name} at step {step} for `{m}`"),
+                choice: 0,
+                message: e.to_string(),
+            })?;
+            if !(v.is_finite() && v > 0.0) {
+                return Err(LsystemError::InvalidOption(format!(
+                    "the {name} at step {step} for `{m}` must be a positive number, got {v}"
+                )));
+            }
+            Ok(v)
+        };
+        let len = match m.params.first() {
+            Some(&l) if !thesis && (m.symbol == "F" || m.symbol == "f") => l,
+            _ => call(Size::Length, size)?,
+        };
+        let r = match st.radius {
+            Some(r) => r,
+            None => call(Size::Radius, size)?,
+        };
+        if !(len.is_finite() && len >= 0.0 && r.is_finite() && r > 0.0) {
+            return Err(LsystemError::InvalidOption(format!("`{m}`: length {len} and radius {r} must be positive")));
+        }
+        Ok((len, r))
+    }
+
+    fn polar<T>(i: usize, r: Result<T, crate::polar::PolarError>) -> Result<T, LsystemError> {
+        r.map_err(|source| LsystemError::Polar { module: i, source })
+    }
+
+    fn check_caps(&self, i: usize, m: &Module) -> Result<(), LsystemError> {
+        let n = self.mesh.as_ref().map_or(0, PolarMesh::vertex_count);
+        if n > self.opts.max_vertices {
+            return Err(LsystemError::GrowthCap {
+                what: "the vertex count",
+                count: n,
+                cap_name: "max_vertices",
+                cap: self.opts.max_vertices,
+                module: i,
+                symbol: m.to_string(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Draws one segment of length `len` and radius `r` for module `i`: a loop, or the pole.
+    fn draw(&mut self, i: usize, m: &Module, st: &mut State, len: f64, r: f64, pole: bool) -> Result<(), LsystemError> {
+        let b = match st.branch {
+            Some(b) => b,
+            None => {
+                self.segments += 1;
+                let b = match st.host {
+                    None if self.mesh.is_none() => return self.trunk(st, len, r, pole, i),
+                    None => {
+                        return Err(LsystemError::InvalidOption(format!(
+                            "module {i} (`{m}`): a branch draws before its parent drew a loop to nest it on; start the branch's parent with a segment"
+                        )))
+                    }
+                    Some(host) => self.nest(i, m, st, host, r)?,
+                };
+                st.branch = Some(b);
+                // The first segment leaves the parent's surface: at least the parent's radius
+                // plus its own away from the parent's axis.
+                let host = &self.rings[st.host.unwrap_or(0)];
+                let len = len.max(host.radius + r);
+                return self.segment(i, m, st, b, len, r, pole);
+            }
+        };
+        self.segments += 1;
+        self.segment(i, m, st, b, len, r, pole)
+    }
+
+    /// The trunk's first segment: a bicone (two poles around one loop of `valence` vertices)
+    /// from the turtle's position.
+    fn trunk(&mut self, st: &mut State, len: f64, r: f64, pole: bool, i: usize) -> Result<(), LsystemError> {
+        let n = self.opts.valence;
+        let mut pm = PolarMesh::uv_sphere(1.0, n, 2);
+        let t = st.turtle;
+        let start = t.position;
+        let ring_at = if pole { start + t.heading * (0.5 * len) } else { start + t.heading * len };
+        let end = start + t.heading * len;
+        let north = n + 1;
+        let mut verts = Vec::with_capacity(n as usize);
+        for v in 1..=n {
+            let p = pm.position(v);
+            let a = p.y.atan2(p.x);
+            let q = ring_at + (t.left * a.cos() + t.up * a.sin()) * r;
+            Self::polar(i, pm.set_position(v, q))?;
+            verts.push(v);
+        }
+        Self::polar(i, pm.set_position(0, start))?;
+        let tip = if pole { end } else { ring_at + t.heading * cap(r, len) };
+        Self::polar(i, pm.set_position(north, tip))?;
+        st.turtle.position = end;
+        let verts = Self::forward_order(&pm, verts, north);
+        self.rings.push(Ring {
+            used: vec![false; verts.len()],
+            verts,
+            center: ring_at,
+            axis: t.heading,
+            radius: r,
+            length: len,
+        });
+        self.branches.push(Branch { tip: north, ring: Some(self.rings.len() - 1), ended: pole.then_some(i) });
+        st.branch = Some(self.branches.len() - 1);
+        self.root = 0;
+        self.mesh = Some(pm);
+        Ok(())
+    }
+
+    /// Orders a ring so that the side of `tip` lies on the left of `v[j] → v[j + 1]` (the side
+    /// [`PolarMesh::add_feature`] opens its gap on).
+    fn forward_order(pm: &PolarMesh, mut verts: Vec<u32>, tip: u32) -> Vec<u32> {
+        let m = pm.mesh();
+        if let Some(h) = m.find_halfedge(verts[0], verts[1]) {
+            if !m.face_vertices(m.face(h)).any(|v| v == tip) {
+                verts.reverse();
+            }
+        }
+        verts
+    }
+
+    /// Nests a branch on ring `host` where the turtle points (sliding window); returns the
+    /// branch.
+    fn nest(&mut self, i: usize, m: &Module, st: &State, host: usize, r: f64) -> Result<usize, LsystemError> {
+        let _ = r;
+        if self.features >= self.opts.max_features {
+            return Err(LsystemError::GrowthCap {
+                what: "the number of nested branches",
+                count: self.features,
+                cap_name: "max_features",
+                cap: self.opts.max_features,
+                module: i,
+                symbol: m.to_string(),
+            });
+        }
+        let ring = &self.rings[host];
+        let pm = self.mesh.as_ref().ok_or_else(|| LsystemError::Internal("nesting before the trunk".into()))?;
+        let n = ring.verts.len();
+        let dir = across(st.turtle.heading, ring.axis)
+            .or_else(|| across(st.turtle.up, ring.axis))
+            .unwrap_or_else(|| ring.axis.any_orthonormal_vector());
+        let pos: Vec<Vec3> = ring.verts.iter().map(|&v| pm.position(v)).collect();
+        let mut best: Option<(usize, usize)> = None;
+        // Keep the valence (a run of n/2 + 1) unless the siblings on this loop need room.
+        let wmax = (n / 2 + 1).min(n / st.siblings.max(1)).clamp(3, n - 1);
+        for w in (3..=wmax).rev() {
+            // Sliding window over the cyclic ring: the sum of positions and the count of used
+            // vertices of the window starting at s, updated in O(1) per step.
+            let mut sum = Vec3::ZERO;
+            let mut used = 0usize;
+            for (p, &u) in pos.iter().zip(&ring.used).take(w) {
+                sum += *p;
+                used += usize::from(u);
+            }
+            let mut top: Option<(f64, usize)> = None;
+            for s in 0..n {
+                if used == 0 {
+                    let score = (sum / w as f64 - ring.center).dot(dir);
+                    if top.is_none_or(|(t, _)| score > t + 1e-12) {
+                        top = Some((score, s));
+                    }
+                }
+                let (out, inn) = (s, (s + w) % n);
+                sum += pos[inn] - pos[out];
+                used = used + usize::from(ring.used[inn]) - usize::from(ring.used[out]);
+            }
+            if let Some((_, s)) = top {
+                best = Some((s, w));
+                break;
+            }
+        }
+        let Some((s, w)) = best else {
+            return Err(LsystemError::NoRoomForBranch { module: i, symbol: m.to_string(), valence: n });
+        };
+        let run: Vec<u32> = (0..w).map(|j| ring.verts[(s + j) % n]).collect();
+        let (axis, g) = (ring.axis, 0.25 * ring.length);
+        let pm = self.mesh.as_mut().ok_or_else(|| LsystemError::Internal("nesting before the trunk".into()))?;
+        let pole = Self::polar(i, pm.add_feature(&run))?;
+        // The gap's far side: each new vertex a quarter segment ahead of its run vertex.
+        let far: Vec<(u32, u32)> = {
+            let mm = pm.mesh();
+            mm.vertex_neighbors(pole)
+                .filter(|v| !run.contains(v))
+                .filter_map(|v| mm.vertex_neighbors(v).find(|u| run.contains(u)).map(|u| (v, u)))
+                .collect()
+        };
+        for (v, u) in far {
+            let p = pm.position(u) + axis * g;
+            Self::polar(i, pm.set_position(v, p))?;
+        }
+        for j in 0..w {
+            self.rings[host].used[(s + j) % n] = true;
+        }
+        self.features += 1;
+        self.branches.push(Branch { tip: pole, ring: None, ended: None });
+        self.check_caps(i, m)?;
+        Ok(self.branches.len() - 1)
+    }
+
+    /// One segment at the tip of branch `b`: a new loop (add_refinement on a spoke, then placed)
+    /// or, for `P`, the pole moved to the segment's end.
+    #[allow(clippy::too_many_arguments)]
+    fn segment(
+        &mut self,
+        i: usize,
+        m: &Module,
+        st: &mut State,
+        b: usize,
+        len: f64,
+        r: f64,
+        pole: bool,
+    ) -> Result<(), LsystemError> {
+        if let Some(e) = self.branches[b].ended {
+            return Err(LsystemError::DrawAfterPole { module: i, symbol: m.to_string(), ended: e });
+        }
+        let h = st.turtle.heading;
+        let end = st.turtle.position + h * len;
+        st.turtle.position = end;
+        let tip = self.branches[b].tip;
+        let pm = self.mesh.as_mut().ok_or_else(|| LsystemError::Internal("a segment before the trunk".into()))?;
+        if pole {
+            Self::polar(i, pm.set_position(tip, end))?;
+            self.branches[b].ended = Some(i);
+            return Ok(());
+        }
+        let spokes: Vec<u32> = pm.mesh().outgoing(tip).collect();
+        let prev_center = spokes.iter().map(|&x| pm.position(pm.mesh().target(x))).sum::<Vec3>() / spokes.len() as f64;
+        let refined = Self::polar(i, pm.add_refinement(i64::from(spokes[0])))?;
+        let verts = refined.vertices;
+        // Each new vertex's direction from the axis, taken from the far end of its spoke.
+        let dirs: Vec<Vec3> = {
+            let mm = pm.mesh();
+            verts
+                .iter()
+                .map(|&v| {
+                    let w = mm
+                        .outgoing(v)
+                        .filter(|&x| !pm.is_loop(x))
+                        .map(|x| mm.target(x))
+                        .find(|&u| u != tip)
+                        .unwrap_or(tip);
+                    across(pm.position(w) - prev_center, h).unwrap_or(Vec3::ZERO)
+                })
+                .collect()
+        };
+        let e1 = dirs.iter().copied().find(|d| *d != Vec3::ZERO).unwrap_or_else(|| h.any_orthonormal_vector());
+        let e1 = across(e1, h).unwrap_or_else(|| h.any_orthonormal_vector());
+        let e2 = h.cross(e1);
+        let turn: f64 = (0..dirs.len()).map(|j| dirs[j].cross(dirs[(j + 1) % dirs.len()]).dot(h)).sum();
+        let sign = if turn < 0.0 { -1.0 } else { 1.0 };
+        let n = verts.len();
+        for (j, &v) in verts.iter().enumerate() {
+            let a = std::f64::consts::TAU * j as f64 / n as f64;
+            let p = end + (e1 * a.cos() + e2 * (sign * a.sin())) * r;
+            Self::polar(i, pm.set_position(v, p))?;
+        }
+        Self::polar(i, pm.set_position(tip, end + h * cap(r, len)))?;
+        let verts = Self::forward_order(pm, verts, tip);
+        self.rings.push(Ring { used: vec![false; n], verts, center: end, axis: h, radius: r, length: len });
+        self.branches[b].ring = Some(self.rings.len() - 1);
+        self.check_caps(i, m)
+    }
+}
