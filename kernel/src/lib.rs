@@ -6,6 +6,8 @@
 //!   from indexed polygons (rejecting non-manifold input), circulators, measures, primitives,
 //!   transforms and triangulation.
 //! - [`io`]: OBJ, binary STL and glTF 2.0 files.
+//! - [`anim`]: skeleton-driven animation of polar meshes (Brazzolotto part II) — skinning, growth,
+//!   gravity, script modifiers, rigged glTF export.
 //! - [`blocks`]: modeling with blocks (Leblanc et al.) — blocks with sub-face grids and sharp
 //!   edges, connections, the control mesh, and its adaptive crack-free tessellation.
 //! - [`lsystem`]: L-systems (Brazzolotto part III) — grammars, seeded derivation, and growth
@@ -14,6 +16,7 @@
 //! The kernel knows nothing of the scripting language: errors are typed here and turned into
 //! script errors at the binding edge.
 
+pub mod anim;
 pub mod blocks;
 pub mod io;
 pub mod lsystem;

@@ -2,12 +2,14 @@
 //! to standard tools): the rest mesh skinned to the skeleton, one joint per node, and one
 //! animation with a key per frame.
 //!
-//! Joints. Node `i` is two glTF nodes: a frame `node i` (translation and rotation, children
-//! = its tree children's frames) and under it the joint `joint i`, which carries the node's
-//! thickness as its scale — so that a node's thickness does not scale its children, which glTF's
-//! inherited transforms would otherwise do. The skin's joints are the `joint i` nodes (as many as
-//! skeleton nodes), each with the inverse bind matrix T(−rest position); every vertex has weight
-//! 1 on its node's joint, which moves it exactly as [`Animation::mesh_of`] does.
+//! Joints. Node `i` is the glTF node `node i`, a child of its tree parent's; the skin's joints are
+//! these nodes (as many as skeleton nodes), each with the inverse bind matrix T(−rest position),
+//! and every vertex has weight 1 on its node's joint, which moves it as [`Animation::mesh_of`]
+//! does. A joint's world transform is T(p)·R·S(thickness); glTF children inherit their parent's
+//! scale, so each local transform divides it out (translation and scale over the parent's
+//! thickness). A thickness of exactly 0 (a grown plant's first frame) is written as 1e-6, so
+//! that the division stays finite: the collapsed rings are a millionth of their size instead of
+//! points.
 
 use std::io::Write;
 use std::path::Path;
@@ -19,6 +21,9 @@ use super::{Animation, NodeState};
 use crate::io::gltf::{accessor, document, internal, push_f32s, push_view, write_glb_document};
 use crate::io::IoError;
 use crate::math::{Quat, Vec3};
+
+/// The smallest joint scale written (see the module documentation).
+const MIN_SCALE: f64 = 1e-6;
 
 fn push_u16s(out: &mut Vec<u8>, values: &[u16]) {
     for v in values {
@@ -75,26 +80,22 @@ pub fn write_animation_glb<W: Write>(
         prim.attributes.insert(Valid(json::mesh::Semantic::Weights(0)), weights_acc);
     }
 
-    // Frame and joint nodes: frames first (index base + i), then joints (base + n + i).
+    // One glTF node per skeleton node (index base + i), children under their tree parent.
     let base = root.nodes.len() as u32;
-    let frame_of = |i: u32| json::Index::<json::Node>::new(base + i);
-    let joint_of = |i: u32| json::Index::<json::Node>::new(base + n as u32 + i);
+    let node_of = |i: u32| json::Index::<json::Node>::new(base + i);
     for i in 0..n as u32 {
         let local = match anim.parent(i) {
             Some(p) => rest[i as usize] - rest[p as usize],
             None => rest[i as usize],
         };
-        let mut children = vec![joint_of(i)];
-        children.extend(sk.children(i).iter().filter(|&&c| anim.parent(c) == Some(i)).map(|&c| frame_of(c)));
+        let children: Vec<_> =
+            sk.children(i).iter().filter(|&&c| anim.parent(c) == Some(i)).map(|&c| node_of(c)).collect();
         root.push(json::Node {
             name: Some(format!("node {i}")),
             translation: Some(f3(local)),
-            children: Some(children),
+            children: if children.is_empty() { None } else { Some(children) },
             ..Default::default()
         });
-    }
-    for i in 0..n as u32 {
-        root.push(json::Node { name: Some(format!("joint {i}")), ..Default::default() });
     }
     let ibm: Vec<f32> = rest
         .iter()
@@ -108,8 +109,8 @@ pub fn write_animation_glb<W: Write>(
     let roots: Vec<u32> = (0..n as u32).filter(|&i| anim.parent(i).is_none()).collect();
     let skin = root.push(json::Skin {
         inverse_bind_matrices: Some(ibm_acc),
-        joints: (0..n as u32).map(joint_of).collect(),
-        skeleton: roots.first().map(|&r| frame_of(r)),
+        joints: (0..n as u32).map(node_of).collect(),
+        skeleton: roots.first().map(|&r| node_of(r)),
         name: Some("skeleton".into()),
         extensions: None,
         extras: None,
@@ -118,10 +119,10 @@ pub fn write_animation_glb<W: Write>(
         mesh_node.skin = Some(skin);
     }
     if let Some(scene) = root.scenes.first_mut() {
-        scene.nodes.extend(roots.iter().map(|&r| frame_of(r)));
+        scene.nodes.extend(roots.iter().map(|&r| node_of(r)));
     }
 
-    // The animation: per frame the local transform of every frame node and every joint's scale.
+    // The animation: per frame the local transform of every joint.
     let count = frames.len();
     let times: Vec<f32> = (0..count).map(|k| (k as f64 / fps) as f32).collect();
     let view = push_view(&mut root, &mut bin, None, |b| push_f32s(b, &times));
@@ -132,21 +133,23 @@ pub fn write_animation_glb<W: Write>(
     let mut translations = vec![Vec::with_capacity(count * 3); n];
     let mut rotations = vec![Vec::with_capacity(count * 4); n];
     let mut scales = vec![Vec::with_capacity(count * 3); n];
+    let scale_of = |s: f64| s.max(MIN_SCALE);
     for states in frames {
         let poses = anim.joint_poses(states);
         for i in 0..n {
             let pose = &poses[i];
-            let (t, r) = match anim.parent(i as u32) {
+            let (t, r, s) = match anim.parent(i as u32) {
                 Some(p) => {
                     let parent = &poses[p as usize];
                     let inv = parent.rotation.inverse();
-                    (inv * (pose.translation - parent.translation), inv * pose.rotation)
+                    let ps = scale_of(parent.scale);
+                    (inv * (pose.translation - parent.translation) / ps, inv * pose.rotation, scale_of(pose.scale) / ps)
                 }
-                None => (pose.translation, pose.rotation),
+                None => (pose.translation, pose.rotation, scale_of(pose.scale)),
             };
             translations[i].extend_from_slice(&f3(t));
             rotations[i].extend_from_slice(&q4(r));
-            scales[i].extend_from_slice(&[pose.scale as f32; 3]);
+            scales[i].extend_from_slice(&[s as f32; 3]);
         }
     }
     let mut channels = Vec::new();
@@ -177,9 +180,9 @@ pub fn write_animation_glb<W: Write>(
     use json::animation::Property;
     for i in 0..n {
         let i32_ = i as u32;
-        add(&mut root, &mut bin, frame_of(i32_), Property::Translation, &translations[i], Type::Vec3);
-        add(&mut root, &mut bin, frame_of(i32_), Property::Rotation, &rotations[i], Type::Vec4);
-        add(&mut root, &mut bin, joint_of(i32_), Property::Scale, &scales[i], Type::Vec3);
+        add(&mut root, &mut bin, node_of(i32_), Property::Translation, &translations[i], Type::Vec3);
+        add(&mut root, &mut bin, node_of(i32_), Property::Rotation, &rotations[i], Type::Vec4);
+        add(&mut root, &mut bin, node_of(i32_), Property::Scale, &scales[i], Type::Vec3);
     }
     root.push(json::Animation { channels, samplers, name: Some("blocksmith".into()), extensions: None, extras: None });
 

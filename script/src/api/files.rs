@@ -1,6 +1,7 @@
 //! `load` and `save`: mesh files by extension (`.obj`, `.glb`, `.gltf`, `.stl`).
 
 use std::fs;
+use std::path::PathBuf;
 
 use blocksmith_kernel::{io, Mesh};
 use rhai::plugin::*;
@@ -9,18 +10,28 @@ use super::mesh::SharedMesh;
 use crate::context::RunContext;
 use crate::convert::{fail, ScriptResult};
 
-/// Writes `mesh` to the script path `path` by extension: a relative path goes under the run's
-/// output directory, and missing parent directories are created. Errors name `func`.
+/// The file a script names by `path` for writing: a relative path goes under the run's output
+/// directory; missing parent directories are created. Errors name `func`.
 ///
 /// # Errors
-/// A directory that cannot be created, or the kernel's file error.
-pub fn write_mesh(ctx: &NativeCallContext, func: &str, mesh: &Mesh, path: &str) -> ScriptResult<()> {
+/// A directory that cannot be created.
+pub fn output_file(ctx: &NativeCallContext, func: &str, path: &str) -> ScriptResult<PathBuf> {
     let p = RunContext::of(ctx).output_path(path);
     if let Some(dir) = p.parent().filter(|d| !d.as_os_str().is_empty()) {
         if let Err(e) = fs::create_dir_all(dir) {
             return fail(func, format!("cannot create directory {}: {e}", dir.display()));
         }
     }
+    Ok(p)
+}
+
+/// Writes `mesh` to the script path `path` by extension: a relative path goes under the run's
+/// output directory, and missing parent directories are created. Errors name `func`.
+///
+/// # Errors
+/// A directory that cannot be created, or the kernel's file error.
+pub fn write_mesh(ctx: &NativeCallContext, func: &str, mesh: &Mesh, path: &str) -> ScriptResult<()> {
+    let p = output_file(ctx, func, path)?;
     match io::save(mesh, &p) {
         Ok(()) => Ok(()),
         Err(e) => fail(func, e),

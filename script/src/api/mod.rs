@@ -1,8 +1,10 @@
 //! The script API, one module per kernel area (mirroring `kernel/src`). [`register_all`] is the
 //! only place that knows them all.
 
+pub mod anim;
 pub mod blocks;
 pub mod files;
+pub mod lsystem;
 pub mod mesh;
 pub mod polar;
 pub mod runtime;
@@ -23,6 +25,8 @@ pub fn register_all(engine: &mut Engine) {
     voxel::register(engine);
     subdiv::register(engine);
     polar::register(engine);
+    lsystem::register(engine);
+    anim::register(engine);
     blocks::register(engine);
     engine.register_global_module(exported_module!(runtime::runtime_api).into());
 }

@@ -1,0 +1,356 @@
+//! `Animation` and `Modifier`: skeleton-driven animation of polar meshes (Brazzolotto part II;
+//! kernel `anim`) — skinning, the modifier stack (growth, gravity, script modifiers), poses,
+//! frames and rigged glTF export.
+
+use std::rc::Rc;
+
+use blocksmith_kernel::anim::{
+    write_animation_glb, Animation as KernelAnimation, Curve, Gravity, Growth, Modifier as KernelModifier, NodeState,
+    Skinning,
+};
+use rhai::plugin::*;
+use rhai::{exported_module, Array, Engine, FnPtr, Map, INT};
+
+use super::files::output_file;
+use super::mesh::SharedMesh;
+use super::polar::{PolarMesh, Skeleton};
+use crate::convert::{fail, kernel, number, type_name, vec3, Options, ScriptResult};
+
+/// An animation as scripts hold it (script type `Animation`): the kernel animation and the
+/// script closures of its `modifier(...)` entries, by number.
+#[derive(Clone)]
+pub struct Animation {
+    anim: Rc<KernelAnimation>,
+    closures: Vec<FnPtr>,
+}
+
+/// One modifier before it is added to an animation (script type `Modifier`).
+#[derive(Clone)]
+pub enum Modifier {
+    Kernel(KernelModifier),
+    Script(FnPtr),
+}
+
+/// Registers `Animation`, `Modifier` and the animation functions on `engine`.
+pub fn register(engine: &mut Engine) {
+    engine.register_type_with_name::<Animation>("Animation");
+    engine.register_type_with_name::<Modifier>("Modifier");
+    engine.register_global_module(exported_module!(anim_api).into());
+}
+
+/// Calls the script modifiers of `closures` for the kernel: `(id, node, t, state)` → state.
+fn script_modifiers<'a>(
+    ctx: &'a NativeCallContext<'a>,
+    closures: &'a [FnPtr],
+) -> impl FnMut(usize, u32, f64, NodeState) -> Result<NodeState, String> + 'a {
+    move |id, node, t, s| {
+        let mut state = Map::new();
+        state.insert("position".into(), Dynamic::from(s.position));
+        state.insert("thickness".into(), Dynamic::from(s.thickness));
+        let out: Dynamic = closures[id]
+            .call_within_context(ctx, (INT::from(node), t, state))
+            .map_err(|e| format!("the script modifier raised: {e}"))?;
+        let Some(map) = out.clone().try_cast::<Map>() else {
+            return Err(format!(
+                "the script modifier must return a map #{{position, thickness}}, got {}",
+                type_name(&out)
+            ));
+        };
+        let position = match map.get("position") {
+            Some(p) => vec3("modifier", "position", p).map_err(|e| e.to_string())?,
+            None => s.position,
+        };
+        let thickness = match map.get("thickness") {
+            Some(x) => number("modifier", "thickness", x).map_err(|e| e.to_string())?,
+            None => s.thickness,
+        };
+        if let Some(bad) = map.keys().find(|k| !["position", "thickness"].contains(&k.as_str())) {
+            return Err(format!("the script modifier returned an unknown key `{bad}` (valid: position, thickness)"));
+        }
+        Ok(NodeState { position, thickness })
+    }
+}
+
+#[export_module]
+pub mod anim_api {
+    use super::*;
+
+    /// An animation of a polar mesh (Brazzolotto §8.1) with the skeleton rooted at the first
+    /// pole's node and smooth skinning; see `animation(pm, options)`.
+    ///
+    /// ```rhai
+    /// let anim = animation(polar_sphere(0.2, 8, 6));
+    /// assert_eq(anim.node_count, 7);
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn animation(pm: PolarMesh) -> ScriptResult<Animation> {
+        animation_with(pm, Map::new())
+    }
+    /// An animation of a polar mesh with options: `root` — a vertex id whose skeleton node
+    /// becomes the root (default: the first pole); `root_face` — a face id instead (its first
+    /// vertex's node); `skinning` — `"smooth"` (default: each joint turned halfway between its
+    /// arriving and leaving segments, Fig. 7.5) or `"simple"` (each vertex follows one joint,
+    /// §7.3).
+    ///
+    /// ```rhai
+    /// let pm = polar_sphere(0.2, 8, 6);
+    /// let anim = animation(pm, #{ root: pm.vertex_count - 1, skinning: "simple" });
+    /// assert_eq(anim.skeleton().root, anim.skeleton().node_of(pm.vertex_count - 1));
+    /// ```
+    #[rhai_fn(name = "animation", return_raw)]
+    pub fn animation_with(pm: PolarMesh, options: Map) -> ScriptResult<Animation> {
+        let opts = Options::new("animation", options, &["root", "root_face", "skinning"])?;
+        let skinning = match opts.choice("skinning", "smooth", &["smooth", "simple"])?.as_str() {
+            "simple" => Skinning::Simple,
+            _ => Skinning::Smooth,
+        };
+        if opts.has("root") && opts.has("root_face") {
+            return fail("animation", "give `root` or `root_face`, not both");
+        }
+        let root = if opts.has("root") {
+            Some(kernel("animation", pm.0.vertex_id(opts.int("root", 0)?))?)
+        } else if opts.has("root_face") {
+            let f = kernel("animation", pm.0.face_id(opts.int("root_face", 0)?))?;
+            pm.0.mesh().face_vertices(f).next()
+        } else {
+            None
+        };
+        let anim = kernel("animation", KernelAnimation::new(&pm.0, root, skinning))?;
+        Ok(Animation { anim: Rc::new(anim), closures: Vec::new() })
+    }
+
+    /// The growth modifier (§9.1) with its defaults; see `growth(options)`.
+    ///
+    /// ```rhai
+    /// let anim = animation(polar_sphere(0.2, 8, 6));
+    /// anim.add(growth());
+    /// assert_eq(anim.duration(), 7.0);   // the far pole is 6 segments deep: 6 × delay 1 + 1 / speed 1
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn growth() -> ScriptResult<Modifier> {
+        growth_with(Map::new())
+    }
+    /// The growth modifier (§9.1): the plant grows from collapsed on its root to its modelled
+    /// shape. Options: `delay` (1: time between a node's onset and its children's, so later
+    /// nodes mature later), `speed` (1: full length 1/speed after onset), `thickness_delay` and
+    /// `thickness_speed` (1, 1: the same for the thickness), `curve` — `"sigmoid"` (default: the
+    /// thesis's 1/(1+e^(5−10x)), rescaled to run exactly from 0 to 1) or `"linear"`.
+    ///
+    /// ```rhai
+    /// let pm = polar_sphere(0.2, 8, 6);
+    /// let anim = animation(pm);
+    /// anim.add(growth(#{ delay: 0.5, speed: 2, curve: "linear" }));
+    /// let end = anim.pose(anim.duration());
+    /// assert_eq(end.positions(), pm.to_mesh().positions());
+    /// ```
+    #[rhai_fn(name = "growth", return_raw)]
+    pub fn growth_with(options: Map) -> ScriptResult<Modifier> {
+        let opts = Options::new("growth", options, &["delay", "speed", "thickness_delay", "thickness_speed", "curve"])?;
+        let d = Growth::default();
+        let g = Growth {
+            delay: opts.number("delay", d.delay)?,
+            speed: opts.number("speed", d.speed)?,
+            thickness_delay: opts.number("thickness_delay", d.thickness_delay)?,
+            thickness_speed: opts.number("thickness_speed", d.thickness_speed)?,
+            curve: match opts.choice("curve", "sigmoid", &["sigmoid", "linear"])?.as_str() {
+                "linear" => Curve::Linear,
+                _ => Curve::Sigmoid,
+            },
+        };
+        kernel("growth", g.validate())?;
+        Ok(Modifier::Kernel(KernelModifier::Growth(g)))
+    }
+
+    /// The gravity modifier (§9.2) with its defaults; see `gravity(options)`.
+    ///
+    /// ```rhai
+    /// let anim = animation(polar_sphere(0.2, 8, 6));
+    /// anim.add(gravity());
+    /// assert_eq(anim.frames(3, 0.1).len(), 3);
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn gravity() -> ScriptResult<Modifier> {
+        gravity_with(Map::new())
+    }
+    /// The gravity modifier (§9.2): per node a Verlet step under gravity, a Hooke force back to
+    /// the nominal offset from the parent and the inherited velocity kept by `drag`, then
+    /// Jakobsen's relaxation restoring the segment lengths; the root is fixed. Simulated: use
+    /// `frames(count, dt)`. Options: `g` (9.81), `down` (`[0, 0, -1]`), `k` (20), `drag` (0.5, in
+    /// (0, 1]), `iterations` (10 relaxation sweeps), `dt` (the simulation step; default one
+    /// step per frame).
+    ///
+    /// ```rhai
+    /// let anim = animation(polar_sphere(0.2, 8, 6));
+    /// anim.add(gravity(#{ drag: 0.1, k: 5 }));
+    /// let frames = anim.frames(10, 1.0 / 24);
+    /// assert_eq(frames.len(), 10);
+    /// ```
+    #[rhai_fn(name = "gravity", return_raw)]
+    pub fn gravity_with(options: Map) -> ScriptResult<Modifier> {
+        let opts = Options::new("gravity", options, &["g", "down", "k", "drag", "iterations", "dt"])?;
+        let d = Gravity::default();
+        let iterations = opts.int("iterations", INT::from(d.iterations))?;
+        if !(0..=1000).contains(&iterations) {
+            return fail("gravity", format!("option `iterations` must be between 0 and 1000, got {iterations}"));
+        }
+        let g = Gravity {
+            g: opts.number("g", d.g)?,
+            down: opts.vec3("down", d.down)?,
+            k: opts.number("k", d.k)?,
+            drag: opts.number("drag", d.drag)?,
+            iterations: iterations as u32,
+            dt: if opts.has("dt") { Some(opts.number("dt", 0.0)?) } else { None },
+        };
+        kernel("gravity", g.validate())?;
+        Ok(Modifier::Kernel(KernelModifier::Gravity(g)))
+    }
+
+    /// A modifier written in the script: `f(node, t, state)` is called for every skeleton node
+    /// (parents first) with the state the previous modifiers produced, a map `#{position,
+    /// thickness}`, and returns the new map (a missing key keeps its value).
+    ///
+    /// ```rhai
+    /// let anim = animation(polar_sphere(0.2, 8, 6));
+    /// anim.add(modifier(|node, t, s| #{ position: s.position + vec3(0, 0, t) }));
+    /// let up = anim.pose(2.0);
+    /// assert_near(up.bounds().min.z, -0.2 + 2.0, 1e-12);
+    /// ```
+    pub fn modifier(f: FnPtr) -> Modifier {
+        Modifier::Script(f)
+    }
+
+    /// Appends a modifier to the stack: each is applied to every node in the order added,
+    /// receiving the states the previous one produced.
+    ///
+    /// ```rhai
+    /// let anim = animation(polar_sphere(0.2, 8, 6));
+    /// anim.add(growth());
+    /// anim.add(modifier(|node, t, s| s));
+    /// assert_eq(anim.modifier_count(), 2);
+    /// ```
+    pub fn add(anim: &mut Animation, m: Modifier) {
+        let entry = match m {
+            Modifier::Kernel(k) => k,
+            Modifier::Script(f) => {
+                anim.closures.push(f);
+                KernelModifier::Custom(anim.closures.len() - 1)
+            }
+        };
+        Rc::make_mut(&mut anim.anim).add(entry).expect("modifiers are validated when they are made");
+    }
+
+    /// The number of modifiers on the stack.
+    #[rhai_fn(pure)]
+    pub fn modifier_count(anim: &mut Animation) -> INT {
+        anim.anim.modifiers().len() as INT
+    }
+
+    /// The number of skeleton nodes.
+    #[rhai_fn(get = "node_count", pure)]
+    pub fn node_count(anim: &mut Animation) -> INT {
+        anim.anim.skeleton().node_count() as INT
+    }
+
+    /// The time at which every growth on the stack has finished (0 without one).
+    #[rhai_fn(pure)]
+    pub fn duration(anim: &mut Animation) -> f64 {
+        anim.anim.duration()
+    }
+
+    /// The skeleton the animation is rooted on.
+    ///
+    /// ```rhai
+    /// let anim = animation(polar_sphere(0.2, 8, 6));
+    /// assert_eq(anim.skeleton().node_count, 7);
+    /// ```
+    #[rhai_fn(pure)]
+    pub fn skeleton(anim: &mut Animation) -> Skeleton {
+        Skeleton(Rc::new(anim.anim.skeleton().clone()))
+    }
+
+    /// The mesh posed at time `t` (vertex ids kept), for a stack of time-pure modifiers
+    /// (growth, script modifiers); a stack with gravity needs `frames`.
+    ///
+    /// ```rhai
+    /// let pm = polar_sphere(0.2, 8, 6);
+    /// let anim = animation(pm);
+    /// anim.add(growth());
+    /// let seed = anim.pose(0);
+    /// assert(seed.bounds().max.z - seed.bounds().min.z < 1e-9);   // collapsed on the root
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn pose(ctx: NativeCallContext, anim: &mut Animation, t: Dynamic) -> ScriptResult<SharedMesh> {
+        let t = number("pose", "t", &t)?;
+        let mut custom = script_modifiers(&ctx, &anim.closures);
+        kernel("pose", anim.anim.pose(t, &mut custom)).map(SharedMesh::new)
+    }
+
+    /// `count` posed meshes at times 0, dt, 2·dt, …: simulated modifiers (gravity) step once a
+    /// frame from rest.
+    ///
+    /// ```rhai
+    /// let anim = animation(polar_sphere(0.2, 8, 6));
+    /// anim.add(growth(#{ curve: "linear" }));
+    /// let frames = anim.frames(5, 2.0);   // t = 0, 2, 4, 6, 8: grown by t = 7
+    /// assert_eq(frames[4].positions(), polar_sphere(0.2, 8, 6).to_mesh().positions());
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn frames(ctx: NativeCallContext, anim: &mut Animation, count: INT, dt: Dynamic) -> ScriptResult<Array> {
+        if !(1..=100_000).contains(&count) {
+            return fail("frames", format!("argument `count` must be between 1 and 100000, got {count}"));
+        }
+        let dt = number("frames", "dt", &dt)?;
+        let mut custom = script_modifiers(&ctx, &anim.closures);
+        let meshes = kernel("frames", anim.anim.frames(count as usize, dt, &mut custom))?;
+        Ok(meshes.into_iter().map(|m| Dynamic::from(SharedMesh::new(m))).collect())
+    }
+
+    /// Writes the animation as a `.glb`: the rest mesh skinned to the skeleton (one joint per
+    /// node), and `frames` keys at `fps` (defaults: 24 fps, frames to cover the growth, or 48).
+    /// Blender and three.js play it.
+    ///
+    /// ```rhai
+    /// let anim = animation(polar_sphere(0.2, 8, 6));
+    /// anim.add(growth());
+    /// anim.save("doc_example_growth.glb", #{ fps: 12, frames: 24 });
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn save(ctx: NativeCallContext, anim: &mut Animation, path: &str, options: Map) -> ScriptResult<()> {
+        let opts = Options::new("save", options, &["fps", "frames"])?;
+        let fps = opts.number("fps", 24.0)?;
+        if fps <= 0.0 {
+            return fail("save", format!("option `fps` must be > 0, got {fps}"));
+        }
+        let default_frames =
+            if anim.anim.duration() > 0.0 { (anim.anim.duration() * fps).ceil() as INT + 1 } else { 48 };
+        let count = opts.int("frames", default_frames)?;
+        if !(1..=100_000).contains(&count) {
+            return fail("save", format!("option `frames` must be between 1 and 100000, got {count}"));
+        }
+        if !path.to_ascii_lowercase().ends_with(".glb") {
+            return fail("save", format!("an Animation is written as .glb, got `{path}`"));
+        }
+        let mut custom = script_modifiers(&ctx, &anim.closures);
+        let frames = kernel("save", anim.anim.frame_states(count as usize, 1.0 / fps, &mut custom))?;
+        let p = output_file(&ctx, "save", path)?;
+        let mut bytes = Vec::new();
+        kernel("save", write_animation_glb(&anim.anim, &frames, fps, &mut bytes, &p))?;
+        std::fs::write(&p, bytes).or_else(|e| fail("save", format!("cannot write {}: {e}", p.display())))
+    }
+    /// `save(path, #{})`: 24 fps, frames covering the growth (or 48).
+    #[rhai_fn(name = "save", return_raw)]
+    pub fn save_default(ctx: NativeCallContext, anim: &mut Animation, path: &str) -> ScriptResult<()> {
+        save(ctx, anim, path, Map::new())
+    }
+
+    /// A one-line summary.
+    #[rhai_fn(name = "to_string", name = "to_debug", pure)]
+    pub fn to_string(anim: &mut Animation) -> String {
+        format!(
+            "Animation({} nodes, {} modifiers, {:?} skinning)",
+            anim.anim.skeleton().node_count(),
+            anim.anim.modifiers().len(),
+            anim.anim.skinning()
+        )
+    }
+}
