@@ -154,7 +154,7 @@ impl Session {
                 "doc" => Some(doc::render(&self.engine, (!arg.is_empty()).then_some(arg)).unwrap_or_else(|e| e)),
                 "load" if !arg.is_empty() => Some(self.load(arg)),
                 "save" if !arg.is_empty() => {
-                    Some(match save_value(&self.engine, self.last.clone(), &PathBuf::from(arg)) {
+                    Some(match save_value(&self.engine, &self.functions, self.last.clone(), &PathBuf::from(arg)) {
                         Ok(()) => format!("wrote {arg}"),
                         Err(e) => e.0,
                     })

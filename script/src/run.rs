@@ -37,21 +37,33 @@ pub fn compile_file(engine: &Engine, path: &Path) -> Result<(String, AST), RunEr
 ///
 /// # Errors
 /// A read, parse or runtime error, formatted.
-pub fn run_file(path: &Path, mut options: EngineOptions) -> Result<Dynamic, RunError> {
+pub fn run_file(path: &Path, options: EngineOptions) -> Result<Dynamic, RunError> {
+    eval_file(path, options).map(|(value, _)| value)
+}
+
+/// As [`run_file`], also returning the script's compiled AST, whose functions (closures
+/// included) the value may still need — see [`save_value`].
+///
+/// # Errors
+/// A read, parse or runtime error, formatted.
+pub fn eval_file(path: &Path, mut options: EngineOptions) -> Result<(Dynamic, AST), RunError> {
     options.context.script_dir = path.parent().map(Path::to_path_buf);
     let engine = new_engine(options);
     let (source, ast) = compile_file(&engine, path)?;
-    engine
+    let value = engine
         .eval_ast_with_scope::<Dynamic>(&mut Scope::new(), &ast)
-        .map_err(|e| RunError(format_error(&path.display().to_string(), &source, &e)))
+        .map_err(|e| RunError(format_error(&path.display().to_string(), &source, &e)))?;
+    Ok((value, ast))
 }
 
 /// Writes `value` to `out` with the script function `save` of the value's type (every savable
 /// type registers one), so the same dispatch serves `run -o`, the REPL's `:save` and scripts.
+/// `functions` are the script's functions, which closures held by the value (an animation's
+/// script modifiers) call when it is written.
 ///
 /// # Errors
 /// When the value is nothing, has no `save`, or saving fails.
-pub fn save_value(engine: &Engine, value: Dynamic, out: &Path) -> Result<(), RunError> {
+pub fn save_value(engine: &Engine, functions: &AST, value: Dynamic, out: &Path) -> Result<(), RunError> {
     if value.is_unit() {
         return Err(RunError(format!(
             "error: nothing to write to {}: the script's last value is empty (end the script with the model)",
@@ -62,7 +74,9 @@ pub fn save_value(engine: &Engine, value: Dynamic, out: &Path) -> Result<(), Run
     let mut scope = Scope::new();
     scope.push("__value", value);
     scope.push("__path", out.display().to_string());
-    engine.run_with_scope(&mut scope, "save(__value, __path)").map_err(|e| {
+    let call = engine.compile("save(__value, __path)").map_err(|e| RunError(format!("error: {e}")))?;
+    let call = functions.clone_functions_only().merge(&call);
+    engine.run_ast_with_scope(&mut scope, &call).map_err(|e| {
         let msg = crate::diagnostics::message(&e);
         if msg.contains("Function not found: save") {
             RunError(format!(
@@ -102,12 +116,12 @@ pub struct RunCommand {
 pub fn execute(cmd: &RunCommand) -> Result<String, RunError> {
     let context = RunContext { params: cmd.params.iter().cloned().collect(), ..RunContext::default() };
     let options = EngineOptions { context, max_operations: cmd.max_operations, interrupt: None };
-    let value = run_file(&cmd.file, options.clone())?;
+    let (value, ast) = eval_file(&cmd.file, options.clone())?;
     let engine = new_engine(options);
     let summary = describe(&engine, &value);
     match &cmd.output {
         Some(out) => {
-            save_value(&engine, value, out)?;
+            save_value(&engine, &ast, value, out)?;
             Ok(format!("wrote {} ({summary})", out.display()))
         }
         None => Ok(summary),

@@ -112,6 +112,22 @@ fn hello_recipe_writes_a_glb() {
 }
 
 #[test]
+fn a_value_holding_script_closures_is_written_after_the_script_ends() {
+    // The animation's modifier is a closure of the script: `-o` writes the value after the run,
+    // and the closure must still find its function.
+    let d = tempfile::tempdir().unwrap();
+    let p = script(
+        &d,
+        "wave.rhai",
+        "let pm = polar_sphere(0.2, 8, 6);\nlet a = animation(pm);\nlet k = 0.5;\na.add(modifier(|n, t, s| #{ position: s.position + vec3(k * t, 0, 0) }));\na\n",
+    );
+    let out = d.path().join("wave.glb");
+    let o = blocksmith().arg("run").arg(&p).arg("-o").arg(&out).output().unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(&std::fs::read(&out).unwrap()[..4], b"glTF");
+}
+
+#[test]
 fn import_finds_files_next_to_the_script_then_the_stdlib() {
     let d = tempfile::tempdir().unwrap();
     script(&d, "shapes.rhai", "fn pillar(h) { box([0, 0, 0], [1, 1, h]) }\n");
