@@ -231,11 +231,18 @@ impl Animation {
         joint_poses(self.skinning, &self.tree, self.skeleton.positions(), states)
     }
 
+    /// The vertex positions (indexed by vertex id) moved by the joints of `states`. Linear in
+    /// the vertex count; one rotation per vertex.
+    #[must_use]
+    pub fn skinned_positions(&self, states: &[NodeState]) -> Vec<Vec3> {
+        let poses = self.joint_poses(states);
+        skin(self.rest.positions(), self.skeleton.vertex_nodes(), self.skeleton.positions(), &poses)
+    }
+
     /// The rest mesh with its vertices moved by the joints of `states`.
     #[must_use]
     pub fn mesh_of(&self, states: &[NodeState]) -> Mesh {
-        let poses = self.joint_poses(states);
-        let positions = skin(self.rest.positions(), self.skeleton.vertex_nodes(), self.skeleton.positions(), &poses);
+        let positions = self.skinned_positions(states);
         let mut mesh = self.rest.clone();
         mesh.set_positions(positions).expect("skinned positions are checked finite by the modifier stack");
         mesh
