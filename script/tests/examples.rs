@@ -76,3 +76,26 @@ fn recipe_parameters_come_from_the_command_line() {
         assert!(big > small, "{recipe} --set {set} wrote {big} bytes, the default {small}");
     }
 }
+
+/// The animation recipes' variants: linear growth (Fig. 9.2) and growth under gravity (Fig. 9.5,
+/// drag 0.5) pass their own checks too, and write their animations.
+#[test]
+fn animation_recipe_variants_run() {
+    let out_dir = workspace().join("target/test-output/examples");
+    std::fs::create_dir_all(&out_dir).unwrap();
+    for (recipe, set, file) in [
+        ("plant_growth", "curve=linear", "plant_growth_linear.glb"),
+        ("plant_gravity", "grow=true", "plant_grow_and_fall.glb"),
+    ] {
+        let out = out_dir.join(file);
+        let o = Command::new(env!("CARGO_BIN_EXE_blocksmith"))
+            .arg("run")
+            .arg(workspace().join("examples").join(format!("{recipe}.rhai")))
+            .args(["--set", set, "-o"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{recipe} --set {set}:\n{}", String::from_utf8_lossy(&o.stderr));
+        assert_eq!(&std::fs::read(&out).unwrap()[..4], b"glTF");
+    }
+}
