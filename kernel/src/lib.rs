@@ -13,6 +13,9 @@
 //! - [`lsystem`]: L-systems (Brazzolotto part III) — grammars, seeded derivation, and growth
 //!   carried out directly as polar-mesh operations.
 //!
+//! - [`solve`]: Shape-Up constraints (Tsoi & Hui, Bouaziz et al.) — a prefactored local/global
+//!   solver, rigid/circle/plane/anchor projections, closeness and Laplacian energies, cylinder fits.
+//!
 //! The kernel knows nothing of the scripting language: errors are typed here and turned into
 //! script errors at the binding edge.
 
@@ -23,6 +26,7 @@ pub mod lsystem;
 pub mod math;
 pub mod mesh;
 pub mod polar;
+pub mod solve;
 pub mod subdiv;
 pub mod voxel;
 

@@ -1,0 +1,111 @@
+//! The cylinder of a circular feature (seed 002 §5, Eqs. 13–14): the axis by principal component
+//! analysis of the feature's vertices, the radius from their distances to it.
+//!
+//! Axis. The covariance C = VᵀV of the centred vertices has singular vectors A₁, A₂, A₃
+//! (descending spread). A ring of a cylinder spreads equally along its two radial directions,
+//! so the axis is A₁ (a tall feature) or A₃ (a flat ring): with Dₖ the largest distance of a
+//! vertex from the line along Aₖ through the centroid, the two radial axes have nearly equal
+//! D, so the axis is A₁ when |D₃ − D₂| < |D₁ − D₂| and A₃ otherwise.
+//!
+//! Radius. Eq. 14 takes the minimum vertex–axis distance ([`RadiusRule::Minimum`], the default,
+//! as the paper); the mean is offered too ([`RadiusRule::Mean`]): on a polygon with n sides the
+//! minimum is the inradius of the vertices' ring only if vertices lie on the circle, which they
+//! do for the paper's features.
+
+use super::svd3::svd3;
+use super::SolveError;
+use crate::math::{Mat3, Vec3};
+
+/// How the radius is taken from the vertex–axis distances.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum RadiusRule {
+    /// The smallest distance (Eq. 14).
+    #[default]
+    Minimum,
+    /// The mean distance.
+    Mean,
+}
+
+/// A fitted cylinder: a point on its axis (the centroid), the unit axis and the radius.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cylinder {
+    pub center: Vec3,
+    pub axis: Vec3,
+    pub radius: f64,
+}
+
+/// Fits the cylinder of `points` (at least 3, finite).
+///
+/// # Errors
+/// [`SolveError::TooFewVertices`] for fewer than 3 points; [`SolveError::NonFinite`].
+pub fn fit_cylinder(points: &[Vec3], rule: RadiusRule) -> Result<Cylinder, SolveError> {
+    if points.len() < 3 {
+        return Err(SolveError::TooFewVertices { what: "a cylinder fit", needed: 3, got: points.len() });
+    }
+    if points.iter().any(|p| !p.is_finite()) {
+        return Err(SolveError::NonFinite { what: "the feature" });
+    }
+    let center = points.iter().copied().sum::<Vec3>() / points.len() as f64;
+    let mut c = Mat3::ZERO;
+    for p in points {
+        let q = *p - center;
+        c += Mat3::from_cols(q * q.x, q * q.y, q * q.z);
+    }
+    let (u, _, _) = svd3(c);
+    let distance = |p: Vec3, axis: Vec3| {
+        let q = p - center;
+        (q - axis * q.dot(axis)).length()
+    };
+    let d: Vec<f64> = (0..3).map(|k| points.iter().map(|&p| distance(p, u.col(k))).fold(0.0, f64::max)).collect();
+    let axis = if (d[2] - d[1]).abs() < (d[0] - d[1]).abs() { u.col(0) } else { u.col(2) };
+    let axis = axis.normalize();
+    let dists = points.iter().map(|&p| distance(p, axis));
+    let radius = match rule {
+        RadiusRule::Minimum => dists.fold(f64::INFINITY, f64::min),
+        RadiusRule::Mean => dists.sum::<f64>() / points.len() as f64,
+    };
+    Ok(Cylinder { center, axis, radius })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ring(n: usize, r: f64, z: f64, axis: Vec3) -> Vec<Vec3> {
+        let e1 = axis.any_orthonormal_vector();
+        let e2 = axis.cross(e1);
+        (0..n)
+            .map(|i| {
+                let a = i as f64 * std::f64::consts::TAU / n as f64;
+                e1 * (r * a.cos()) + e2 * (r * a.sin()) + axis * z + Vec3::new(1.0, -2.0, 0.5)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_flat_ring_and_a_tall_tube_give_their_axes_and_radii() {
+        let axis = Vec3::new(0.2, 0.3, 1.0).normalize();
+        // A single ring (flat: the axis is the direction of least spread, A₃).
+        let c = fit_cylinder(&ring(16, 0.35, 0.0, axis), RadiusRule::Minimum).unwrap();
+        assert!(c.axis.dot(axis).abs() > 1.0 - 1e-12, "{}", c.axis);
+        assert!((c.radius - 0.35).abs() < 1e-12, "{}", c.radius);
+        // Two rings far apart (tall: the axis is the direction of most spread, A₁).
+        let mut tube = ring(12, 0.5, -2.0, axis);
+        tube.extend(ring(12, 0.5, 2.0, axis));
+        let c = fit_cylinder(&tube, RadiusRule::Mean).unwrap();
+        assert!(c.axis.dot(axis).abs() > 1.0 - 1e-12);
+        assert!((c.radius - 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn too_few_or_broken_points_are_refused() {
+        assert!(matches!(
+            fit_cylinder(&[Vec3::ZERO, Vec3::X], RadiusRule::Minimum),
+            Err(SolveError::TooFewVertices { needed: 3, got: 2, .. })
+        ));
+        assert!(matches!(
+            fit_cylinder(&[Vec3::ZERO, Vec3::X, Vec3::NAN], RadiusRule::Minimum),
+            Err(SolveError::NonFinite { .. })
+        ));
+    }
+}
