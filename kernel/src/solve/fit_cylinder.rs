@@ -1,11 +1,13 @@
 //! The cylinder of a circular feature (seed 002 §5, Eqs. 13–14): the axis by principal component
 //! analysis of the feature's vertices, the radius from their distances to it.
 //!
-//! Axis. The covariance C = VᵀV of the centred vertices has singular vectors A₁, A₂, A₃
-//! (descending spread). A ring of a cylinder spreads equally along its two radial directions,
-//! so the axis is A₁ (a tall feature) or A₃ (a flat ring): with Dₖ the largest distance of a
-//! vertex from the line along Aₖ through the centroid, the two radial axes have nearly equal
-//! D, so the axis is A₁ when |D₃ − D₂| < |D₁ − D₂| and A₃ otherwise.
+//! Axis. The covariance C = VᵀV of the centred vertices has singular vectors A₁, A₂, A₃ with
+//! spreads σ₁ ≥ σ₂ ≥ σ₃. A ring of a cylinder spreads equally along its two radial directions, so
+//! the axis is A₁ (a tall feature: σ₂ ≈ σ₃) or A₃ (a flat ring: σ₁ ≈ σ₂). The paper decides by
+//! the largest vertex distances Dₖ from the lines along Aₖ, taking A₁ when |D₃ − D₂| < |D₁ − D₂|;
+//! but for a single flat ring all three D equal the radius and that test is decided by rounding
+//! (found by a test). So the same comparison is made on the spreads, which separate the two
+//! cases cleanly: A₁ when |σ₂ − σ₃| < |σ₁ − σ₂|, else A₃.
 //!
 //! Radius. Eq. 14 takes the minimum vertex–axis distance ([`RadiusRule::Minimum`], the default,
 //! as the paper); the mean is offered too ([`RadiusRule::Mean`]): on a polygon with n sides the
@@ -51,13 +53,12 @@ pub fn fit_cylinder(points: &[Vec3], rule: RadiusRule) -> Result<Cylinder, Solve
         let q = *p - center;
         c += Mat3::from_cols(q * q.x, q * q.y, q * q.z);
     }
-    let (u, _, _) = svd3(c);
+    let (u, spread, _) = svd3(c);
     let distance = |p: Vec3, axis: Vec3| {
         let q = p - center;
         (q - axis * q.dot(axis)).length()
     };
-    let d: Vec<f64> = (0..3).map(|k| points.iter().map(|&p| distance(p, u.col(k))).fold(0.0, f64::max)).collect();
-    let axis = if (d[2] - d[1]).abs() < (d[0] - d[1]).abs() { u.col(0) } else { u.col(2) };
+    let axis = if (spread.y - spread.z).abs() < (spread.x - spread.y).abs() { u.col(0) } else { u.col(2) };
     let axis = axis.normalize();
     let dists = points.iter().map(|&p| distance(p, axis));
     let radius = match rule {
@@ -89,6 +90,16 @@ mod tests {
         let c = fit_cylinder(&ring(16, 0.35, 0.0, axis), RadiusRule::Minimum).unwrap();
         assert!(c.axis.dot(axis).abs() > 1.0 - 1e-12, "{}", c.axis);
         assert!((c.radius - 0.35).abs() < 1e-12, "{}", c.radius);
+        // A ring whose points are all at the same distance from every principal line (a
+        // rounded ring with a 1e-9 wobble): the spreads still tell the axis.
+        let wobbly: Vec<Vec3> = ring(16, 0.8, 0.0, Vec3::Z)
+            .iter()
+            .enumerate()
+            .map(|(i, p)| *p + Vec3::Z * (1e-9 * (i % 3) as f64))
+            .collect();
+        let c = fit_cylinder(&wobbly, RadiusRule::Minimum).unwrap();
+        assert!(c.axis.z.abs() > 1.0 - 1e-9, "{}", c.axis);
+        assert!((c.radius - 0.8).abs() < 1e-9);
         // Two rings far apart (tall: the axis is the direction of most spread, A₁).
         let mut tube = ring(12, 0.5, -2.0, axis);
         tube.extend(ring(12, 0.5, 2.0, axis));

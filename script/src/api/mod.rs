@@ -8,6 +8,7 @@ pub mod lsystem;
 pub mod mesh;
 pub mod polar;
 pub mod runtime;
+pub mod solve;
 pub mod subdiv;
 pub mod values;
 pub mod voxel;
@@ -27,6 +28,7 @@ pub fn register_all(engine: &mut Engine) {
     polar::register(engine);
     lsystem::register(engine);
     anim::register(engine);
+    solve::register(engine);
     blocks::register(engine);
     engine.register_global_module(exported_module!(runtime::runtime_api).into());
 }

@@ -1,0 +1,199 @@
+//! `Solver`: Shape-Up constraints on a mesh's vertices (Tsoi & Hui §4, after Bouaziz et al.;
+//! kernel `solve`), and `fit_cylinder` (§5).
+
+use std::rc::Rc;
+
+use blocksmith_kernel::solve::{fit_cylinder as kernel_fit_cylinder, RadiusRule, ShapeUp};
+use blocksmith_kernel::Vec3;
+use rhai::plugin::*;
+use rhai::{exported_module, Array, Engine, Map, INT};
+
+use super::mesh::SharedMesh;
+use crate::convert::{fail, ids, kernel, number, vec3, Options, ScriptResult};
+
+/// A constraint system (script type `Solver`) on the vertices of the mesh it was made from, and
+/// the energies of its last solve.
+#[derive(Clone)]
+pub struct Solver {
+    mesh: Rc<blocksmith_kernel::Mesh>,
+    system: ShapeUp,
+    energies: Vec<f64>,
+}
+
+/// Registers `Solver`, `shape_up` and `fit_cylinder` on `engine`.
+pub fn register(engine: &mut Engine) {
+    engine.register_type_with_name::<Solver>("Solver");
+    engine.register_global_module(exported_module!(solve_api).into());
+}
+
+#[export_module]
+pub mod solve_api {
+    use super::*;
+
+    /// A Shape-Up constraint system on `mesh`'s vertices, starting from its positions. Add
+    /// constraints and energies, then `solve(iterations)`.
+    ///
+    /// ```rhai
+    /// let m = icosphere(1, 1);
+    /// let s = shape_up(m);
+    /// let all = [];
+    /// for v in 0..m.vertex_count { all.push(v); }
+    /// s.anchor([0], [[0, 0, 2]], 100);
+    /// s.rigid(all, 10);
+    /// let moved = s.solve(500);
+    /// assert_near(moved.volume(), m.volume(), 1e-3);   // rigid: it only moved
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn shape_up(mesh: SharedMesh) -> ScriptResult<Solver> {
+        let system = kernel("shape_up", ShapeUp::new(&mesh.0))?;
+        Ok(Solver { mesh: mesh.0.clone(), system, energies: Vec::new() })
+    }
+
+    /// Keeps `verts` in their current shape up to a rotation and translation (SVD fit, never a
+    /// reflection; Eqs. 5–9), with weight `w`.
+    #[rhai_fn(return_raw)]
+    pub fn rigid(s: &mut Solver, verts: Array, w: Dynamic) -> ScriptResult<()> {
+        let v = ids("rigid", "verts", &verts)?;
+        let w = number("rigid", "w", &w)?;
+        kernel("rigid", s.system.rigid(&v, None, w))
+    }
+
+    /// Keeps `verts` on a circle (any centre, radius and plane), with weight `w`.
+    ///
+    /// ```rhai
+    /// let m = uv_sphere(1, 16, 8).scale([1, 0.6, 1]);
+    /// let s = shape_up(m);
+    /// let ring = [];
+    /// for v in 49..65 { ring.push(v); }
+    /// s.circle(ring, 50);
+    /// s.closeness(0.01);
+    /// let round = s.solve(100);
+    /// let c = fit_cylinder(round, ring);
+    /// assert(c.radius > 0.5);
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn circle(s: &mut Solver, verts: Array, w: Dynamic) -> ScriptResult<()> {
+        let v = ids("circle", "verts", &verts)?;
+        let w = number("circle", "w", &w)?;
+        kernel("circle", s.system.circle(&v, w))
+    }
+
+    /// Keeps `verts` on a plane, with weight `w`.
+    #[rhai_fn(return_raw)]
+    pub fn plane(s: &mut Solver, verts: Array, w: Dynamic) -> ScriptResult<()> {
+        let v = ids("plane", "verts", &verts)?;
+        let w = number("plane", "w", &w)?;
+        kernel("plane", s.system.plane(&v, w))
+    }
+
+    /// Pins `verts` to `positions` (one each), with weight `w`.
+    #[rhai_fn(return_raw)]
+    pub fn anchor(s: &mut Solver, verts: Array, positions: Array, w: Dynamic) -> ScriptResult<()> {
+        let v = ids("anchor", "verts", &verts)?;
+        let p: Vec<Vec3> = positions
+            .iter()
+            .enumerate()
+            .map(|(i, x)| vec3("anchor", &format!("positions[{i}]"), x))
+            .collect::<ScriptResult<_>>()?;
+        let w = number("anchor", "w", &w)?;
+        kernel("anchor", s.system.anchor(&v, &p, w))
+    }
+
+    /// Weights the closeness of every vertex to the starting surface (Eq. 10); 0 turns it off.
+    #[rhai_fn(return_raw)]
+    pub fn closeness(s: &mut Solver, w: Dynamic) -> ScriptResult<()> {
+        let w = number("closeness", "w", &w)?;
+        kernel("closeness", s.system.closeness(w))
+    }
+
+    /// Weights the cotangent Laplacian of the displacement (Eq. 11); 0 turns it off.
+    #[rhai_fn(return_raw)]
+    pub fn laplacian(s: &mut Solver, w: Dynamic) -> ScriptResult<()> {
+        let w = number("laplacian", "w", &w)?;
+        kernel("laplacian", s.system.laplacian(w))
+    }
+
+    /// Runs `iterations` local/global steps (the normal matrix factored once) and returns the
+    /// mesh with the solved positions (vertex ids kept). A system with no anchor and no
+    /// closeness is refused: its solution would not be unique.
+    ///
+    /// ```rhai
+    /// let s = shape_up(cube(2));
+    /// s.plane([0, 1, 2, 3], 1);
+    /// let e = "";
+    /// try { s.solve(10); } catch (err) { e = `${err}`; }
+    /// assert(e.contains("no anchoring term"), e);
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn solve(s: &mut Solver, iterations: INT) -> ScriptResult<SharedMesh> {
+        if !(0..=100_000).contains(&iterations) {
+            return fail("solve", format!("argument `iterations` must be between 0 and 100000, got {iterations}"));
+        }
+        let factored = kernel("solve", s.system.factor())?;
+        let solution = kernel("solve", factored.solve(s.mesh.positions(), iterations as usize))?;
+        let mut m = (*s.mesh).clone();
+        kernel("solve", m.set_positions(solution.positions))?;
+        s.energies = solution.energies;
+        Ok(SharedMesh::new(m))
+    }
+
+    /// The energy before the first iteration and after each iteration of the last `solve`.
+    ///
+    /// ```rhai
+    /// let m = icosphere(1, 1);
+    /// let s = shape_up(m);
+    /// s.anchor([0], [[0, 0, 1.5]], 10);
+    /// s.laplacian(1);
+    /// s.closeness(1);
+    /// s.solve(5);
+    /// let e = s.energies();
+    /// assert_eq(e.len(), 6);
+    /// assert(e[5] <= e[0]);
+    /// ```
+    #[rhai_fn(pure)]
+    pub fn energies(s: &mut Solver) -> Array {
+        s.energies.iter().map(|&e| Dynamic::from(e)).collect()
+    }
+
+    /// Fits the cylinder of a circular feature (§5, Eqs. 13–14): the axis by PCA of `verts`
+    /// (at least 3), the radius their minimum distance to it. Returns `#{center, axis, radius}`.
+    ///
+    /// ```rhai
+    /// let bottom = [];
+    /// for v in 0..24 { bottom.push(v); }
+    /// let c = fit_cylinder(cylinder(0.5, 2, 24), bottom);
+    /// assert_near(c.radius, 0.5, 1e-9);
+    /// assert_near(c.axis.z.abs(), 1.0, 1e-9);
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn fit_cylinder(mesh: SharedMesh, verts: Array) -> ScriptResult<Map> {
+        fit_cylinder_with(mesh, verts, Map::new())
+    }
+    /// `fit_cylinder` with option `radius`: `"min"` (default, Eq. 14) or `"mean"`.
+    #[rhai_fn(name = "fit_cylinder", return_raw)]
+    pub fn fit_cylinder_with(mesh: SharedMesh, verts: Array, options: Map) -> ScriptResult<Map> {
+        let opts = Options::new("fit_cylinder", options, &["radius"])?;
+        let rule = match opts.choice("radius", "min", &["min", "mean"])?.as_str() {
+            "mean" => RadiusRule::Mean,
+            _ => RadiusRule::Minimum,
+        };
+        let v = ids("fit_cylinder", "verts", &verts)?;
+        let n = mesh.0.vertex_count();
+        if let Some(&bad) = v.iter().find(|&&x| x as usize >= n) {
+            return fail("fit_cylinder", format!("argument `verts`: vertex {bad} does not exist (the mesh has {n})"));
+        }
+        let points: Vec<Vec3> = v.iter().map(|&i| mesh.0.position(i)).collect();
+        let c = kernel("fit_cylinder", kernel_fit_cylinder(&points, rule))?;
+        let mut m = Map::new();
+        m.insert("center".into(), Dynamic::from(c.center));
+        m.insert("axis".into(), Dynamic::from(c.axis));
+        m.insert("radius".into(), Dynamic::from(c.radius));
+        Ok(m)
+    }
+
+    /// A one-line summary.
+    #[rhai_fn(name = "to_string", name = "to_debug", pure)]
+    pub fn to_string(s: &mut Solver) -> String {
+        format!("Solver({} vertices)", s.system.vertex_count())
+    }
+}
