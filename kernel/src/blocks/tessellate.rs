@@ -1,0 +1,624 @@
+//! Meshing a block model (seed 000 §2.4.1, §2.4.3): every quad of the control mesh is a patch of
+//! the Catmull–Clark limit surface ([`LimitEvaluator`]), cut adaptively and anisotropically into
+//! sub-patches by a kd-tree, optionally displaced, and triangulated without cracks.
+//!
+//! # Sub-patches (Fig. 10)
+//! A sub-patch is sampled on a 5 × 5 grid of "texels" (displaced surface points). It is split in
+//! u when, in some row, a texel lies farther than the tolerance from the segment joining the
+//! row's first and last texels; in v likewise by columns; in both when both ask; always at its
+//! middle. (The distance is measured along the surface normal, so that flat patches with curved
+//! iso-lines are not split; see `flatness`.) Each direction stops at `max_depth` splits. Parameters are integers on a
+//! 2^max_depth grid per patch, so every corner of every sub-patch is exact.
+//!
+//! # No cracks (§2.4.3)
+//! A patch edge is sampled at the union of the sub-patch corners both patches sharing it put
+//! there (the finer of the two sides wherever they differ), and every vertex is computed once,
+//! from the first patch that needs it, and shared: patches never disagree about a point. A
+//! sub-patch whose sides carry such extra points (T-vertices, from a finer neighbour inside or
+//! outside the patch) is triangulated as a fan about its centre; one without is two triangles
+//! across its shorter diagonal. The result is a closed, manifold triangle mesh.
+//!
+//! # Displacement
+//! A closure `d(p, n, u, v)` moves each point `p` of the limit surface along its unit normal `n`
+//! by `d`, where `(u, v)` is the block-face parameter (see [`super::block`]) the point inherits
+//! from its sub-face (seed 000 §2.4.1: the parameterisation inherited from the block faces).
+//! Across block edges the parameters of the two faces differ; each vertex takes the one of the
+//! patch that computed it, so the mesh stays closed whatever the closure does.
+
+use std::collections::HashMap;
+
+use crate::math::Vec3;
+use crate::mesh::Mesh;
+use crate::subdiv::LimitEvaluator;
+
+use super::{BlockError, BlockModel, ControlMesh};
+
+/// A displacement function: `(position, unit normal, u, v) -> offset along the normal`. An
+/// `Err` aborts the meshing with its message.
+pub type Displacement<'a> = &'a dyn Fn(Vec3, Vec3, f64, f64) -> Result<f64, String>;
+
+/// The deepest kd-tree the options accept (per direction).
+pub const MAX_DEPTH: u32 = 14;
+
+/// Texels per row and column of the flatness test.
+const TEXELS: usize = 5;
+
+/// Options of [`BlockModel::tessellate`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct MeshOptions {
+    /// The largest distance allowed between a texel and the chord of its row or column.
+    ///
+    /// Default value: `None`, meaning 0.001 × the diagonal of the control mesh's bounds.
+    pub tolerance: Option<f64>,
+    /// The most times a patch is halved in each of u and v.
+    ///
+    /// Default value: 8.
+    pub max_depth: u32,
+}
+
+impl MeshOptions {
+    /// The default options.
+    pub const DEFAULT: MeshOptions = MeshOptions { tolerance: None, max_depth: 8 };
+
+    /// These options with the tolerance set.
+    #[must_use]
+    pub fn with_tolerance(mut self, tolerance: f64) -> MeshOptions {
+        self.tolerance = Some(tolerance);
+        self
+    }
+
+    /// These options with the depth limit set.
+    #[must_use]
+    pub fn with_max_depth(mut self, max_depth: u32) -> MeshOptions {
+        self.max_depth = max_depth;
+        self
+    }
+
+    fn check(&self) -> Result<(), BlockError> {
+        if let Some(t) = self.tolerance {
+            if !(t.is_finite() && t > 0.0) {
+                return Err(BlockError::BadOption { name: "tolerance", value: t, reason: "must be a positive number" });
+            }
+        }
+        if self.max_depth > MAX_DEPTH {
+            return Err(BlockError::BadOption {
+                name: "max_depth",
+                value: f64::from(self.max_depth),
+                reason: "must be between 0 and 14",
+            });
+        }
+        Ok(())
+    }
+}
+
+impl Default for MeshOptions {
+    fn default() -> MeshOptions {
+        MeshOptions::DEFAULT
+    }
+}
+
+/// Counts of one meshing, as the paper reports them (Figs. 15, 18–20).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BlockStats {
+    /// Blocks in the model.
+    pub blocks: usize,
+    /// Patches: quads of the control mesh.
+    pub patches: usize,
+    /// Leaves of the patches' kd-trees.
+    pub sub_patches: usize,
+    /// Triangles of the final mesh.
+    pub triangles: usize,
+}
+
+/// A meshed model: the closed triangle mesh and its counts.
+#[derive(Clone, Debug)]
+pub struct Tessellation {
+    /// The closed, manifold triangle mesh.
+    pub mesh: Mesh,
+    /// Its counts.
+    pub stats: BlockStats,
+}
+
+impl BlockModel {
+    /// The model's surface as a closed, manifold triangle mesh: the control mesh
+    /// ([`BlockModel::control_mesh`]) tessellated by [`tessellate_control`].
+    ///
+    /// # Errors
+    /// Those of [`BlockModel::control_mesh`] and [`tessellate_control`].
+    pub fn tessellate(
+        &self,
+        options: &MeshOptions,
+        displacement: Option<Displacement<'_>>,
+    ) -> Result<Tessellation, BlockError> {
+        options.check()?;
+        let cm = self.control_mesh()?;
+        let (mesh, sub_patches) = tessellate_control(&cm, options, displacement)?;
+        let stats = BlockStats {
+            blocks: self.blocks().len(),
+            patches: cm.mesh.face_count(),
+            sub_patches,
+            triangles: mesh.face_count(),
+        };
+        Ok(Tessellation { mesh, stats })
+    }
+}
+
+/// The limit surface of a control mesh, displaced.
+struct Surface<'a> {
+    ev: LimitEvaluator,
+    /// The limit position of every control-mesh vertex.
+    limits: Vec<Vec3>,
+    cm: &'a ControlMesh,
+    displacement: Option<Displacement<'a>>,
+}
+
+impl Surface<'_> {
+    /// The limit point and unit normal at (u, v) of patch `f`. At a true corner of the surface
+    /// (a vertex with three or more creases) the normal is undefined: there the position is the
+    /// vertex's exact limit position and the normal the patch's own one a hair inside.
+    fn sample(&self, f: u32, u: f64, v: f64) -> Result<(Vec3, Vec3), BlockError> {
+        let e = match self.ev.eval(f, u, v) {
+            Ok(s) => return Ok((s.position, s.normal)),
+            Err(e) => e,
+        };
+        let degenerate = || BlockError::Degenerate { reason: e.to_string() };
+        let corners = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)];
+        let k = corners.iter().position(|&(a, b)| a == u && b == v).ok_or_else(degenerate)?;
+        let q = self.cm.mesh.face_vertices(f).nth(k).ok_or_else(degenerate)?;
+        const INSIDE: f64 = 1e-7;
+        let (ui, vi) = ((u - INSIDE).abs().min(u + INSIDE), (v - INSIDE).abs().min(v + INSIDE));
+        let s = self.ev.eval(f, ui, vi).map_err(|_| degenerate())?;
+        Ok((self.limits[q as usize], s.normal))
+    }
+
+    /// The displaced point at (u, v) of patch `f`.
+    fn point(&self, f: u32, u: f64, v: f64) -> Result<Vec3, BlockError> {
+        self.point_normal(f, u, v).map(|(p, _)| p)
+    }
+
+    /// The displaced point at (u, v) of patch `f` and the limit surface's normal there.
+    fn point_normal(&self, f: u32, u: f64, v: f64) -> Result<(Vec3, Vec3), BlockError> {
+        let (p, normal) = self.sample(f, u, v)?;
+        let Some(d) = self.displacement else { return Ok((p, normal)) };
+        let [a, b, c, e] = self.cm.sources[f as usize].uv;
+        let w = [(1.0 - u) * (1.0 - v), u * (1.0 - v), u * v, (1.0 - u) * v];
+        let fu = w[0] * a[0] + w[1] * b[0] + w[2] * c[0] + w[3] * e[0];
+        let fv = w[0] * a[1] + w[1] * b[1] + w[2] * c[1] + w[3] * e[1];
+        let h = d(p, normal, fu, fv).map_err(|m| BlockError::Displacement {
+            reason: format!("failed at ({}, {}, {}), (u, v) = ({fu}, {fv}): {m}", p.x, p.y, p.z),
+        })?;
+        if !h.is_finite() {
+            return Err(BlockError::Displacement {
+                reason: format!(
+                    "returned {h} at ({}, {}, {}), (u, v) = ({fu}, {fv}); it must return a finite number",
+                    p.x, p.y, p.z
+                ),
+            });
+        }
+        Ok((p + normal * h, normal))
+    }
+}
+
+/// How far `p` lies off the segment `a`–`b`, measured along the unit normal `n`.
+fn chord_deviation(p: Vec3, n: Vec3, a: Vec3, b: Vec3) -> f64 {
+    let d = b - a;
+    let dd = d.length_squared();
+    let t = if dd > 0.0 { ((p - a).dot(d) / dd).clamp(0.0, 1.0) } else { 0.0 };
+    (p - (a + d * t)).dot(n).abs()
+}
+
+/// A sub-patch `[x0, y0, x1, y1]` on the patch's integer grid.
+type Rect = [u32; 4];
+
+/// Which directions sub-patch `r` of patch `f` must be split in (Fig. 10). The distance of a
+/// texel from its row's chord is measured along the surface normal: a flat patch whose iso-lines
+/// curve within its plane (every face of a sharp block) is flat, where the plain 3D distance
+/// would split it without end.
+fn flatness(s: &Surface<'_>, f: u32, r: Rect, scale: f64, tol: f64) -> Result<(bool, bool), BlockError> {
+    let mut t = [[(Vec3::ZERO, Vec3::ZERO); TEXELS]; TEXELS];
+    let last = (TEXELS - 1) as f64;
+    for (j, row) in t.iter_mut().enumerate() {
+        let v = (f64::from(r[1]) + f64::from(r[3] - r[1]) * j as f64 / last) / scale;
+        for (i, texel) in row.iter_mut().enumerate() {
+            let u = (f64::from(r[0]) + f64::from(r[2] - r[0]) * i as f64 / last) / scale;
+            *texel = s.point_normal(f, u.min(1.0), v.min(1.0))?;
+        }
+    }
+    let n = TEXELS - 1;
+    let off = |p: (Vec3, Vec3), a: (Vec3, Vec3), b: (Vec3, Vec3)| chord_deviation(p.0, p.1, a.0, b.0) > tol;
+    let split_u = t.iter().any(|row| (1..n).any(|i| off(row[i], row[0], row[n])));
+    let split_v = (0..TEXELS).any(|i| (1..n).any(|j| off(t[j][i], t[0][i], t[n][i])));
+    Ok((split_u, split_v))
+}
+
+/// The leaves of patch `f`'s kd-tree on a grid of `r` × `r` (Fig. 10), sorted.
+fn kd_leaves(s: &Surface<'_>, f: u32, r: u32, tol: f64) -> Result<Vec<Rect>, BlockError> {
+    let scale = f64::from(r);
+    let mut out = Vec::new();
+    let mut stack = vec![[0, 0, r, r]];
+    while let Some(rect) = stack.pop() {
+        let [x0, y0, x1, y1] = rect;
+        let (can_u, can_v) = (x1 - x0 >= 2, y1 - y0 >= 2);
+        let (su, sv) = if can_u || can_v { flatness(s, f, rect, scale, tol)? } else { (false, false) };
+        let (su, sv) = (su && can_u, sv && can_v);
+        let (xm, ym) = ((x0 + x1) / 2, (y0 + y1) / 2);
+        match (su, sv) {
+            (false, false) => out.push(rect),
+            (true, false) => stack.extend([[x0, y0, xm, y1], [xm, y0, x1, y1]]),
+            (false, true) => stack.extend([[x0, y0, x1, ym], [x0, ym, x1, y1]]),
+            (true, true) => stack.extend([[x0, y0, xm, ym], [xm, y0, x1, ym], [x0, ym, xm, y1], [xm, ym, x1, y1]]),
+        }
+    }
+    out.sort_unstable();
+    Ok(out)
+}
+
+/// Where a vertex of the tessellation lies, so that patches sharing it find the same one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+enum VKey {
+    /// A vertex of the control mesh.
+    Corner(u32),
+    /// A point of a control-mesh edge (named by its lower half-edge), at a grid parameter along
+    /// that half-edge.
+    Edge(u32, u32),
+    /// A grid point inside a patch.
+    Inner(u32, u32, u32),
+    /// The centre of a sub-patch (patch, leaf) triangulated as a fan.
+    Centre(u32, u32),
+}
+
+/// Tessellates a control mesh; returns the triangle mesh and the number of sub-patches. See
+/// the [module documentation](self).
+///
+/// # Errors
+/// - [`BlockError::BadOption`] for a tolerance that is not positive or a depth above
+///   [`MAX_DEPTH`];
+/// - [`BlockError::Displacement`] when the closure fails or returns a non-finite value;
+/// - [`BlockError::Degenerate`] where the limit surface has no normal (squashed blocks).
+pub fn tessellate_control(
+    cm: &ControlMesh,
+    options: &MeshOptions,
+    displacement: Option<Displacement<'_>>,
+) -> Result<(Mesh, usize), BlockError> {
+    options.check()?;
+    let mesh = &cm.mesh;
+    let ev = LimitEvaluator::new(mesh).map_err(|e| BlockError::Internal(e.to_string()))?;
+    let tol = options.tolerance.unwrap_or_else(|| 1e-3 * mesh.bounds().size().length());
+    let limits = mesh.catmull_clark_limit().map_err(|e| BlockError::Internal(e.to_string()))?.positions().to_vec();
+    let surface = Surface { ev, limits, cm, displacement };
+    let r: u32 = 1 << options.max_depth;
+    let scale = f64::from(r);
+    let nf = mesh.face_count() as u32;
+
+    // 1. The kd-tree of every patch.
+    let leaves: Vec<Vec<Rect>> = (0..nf).map(|f| kd_leaves(&surface, f, r, tol)).collect::<Result<_, _>>()?;
+
+    // 2. The points along every control-mesh edge: the union of both sides' sub-patch corners,
+    // as parameters along its lower half-edge.
+    let hes: Vec<[u32; 4]> = (0..nf)
+        .map(|f| {
+            let mut h = [0u32; 4];
+            for (k, x) in mesh.face_halfedges(f).take(4).enumerate() {
+                h[k] = x;
+            }
+            h
+        })
+        .collect();
+    let to_key = |h: u32, t: u32| -> (u32, u32) {
+        let e = mesh.edge_key(h);
+        (e, if e == h { t } else { r - t })
+    };
+    let mut edge_pts: Vec<Vec<u32>> = vec![Vec::new(); mesh.halfedge_count()];
+    for (patch, h) in leaves.iter().zip(&hes) {
+        for rect in patch {
+            for (k, t) in side_points(*rect, r) {
+                if t > 0 && t < r {
+                    let (e, te) = to_key(h[k], t);
+                    edge_pts[e as usize].push(te);
+                }
+            }
+        }
+    }
+    for pts in &mut edge_pts {
+        pts.sort_unstable();
+        pts.dedup();
+    }
+
+    // 3. Vertices, shared through their keys, and triangles.
+    let mut ids: HashMap<VKey, u32> = HashMap::new();
+    let mut positions: Vec<Vec3> = Vec::new();
+    let mut tris: Vec<u32> = Vec::new();
+    let mut sub_patches = 0usize;
+    for f in 0..nf {
+        let h = hes[f as usize];
+        let key_of = |x: u32, y: u32| -> VKey {
+            let corner = |k: usize| VKey::Corner(mesh.origin(h[k]));
+            match (x, y) {
+                (0, 0) => corner(0),
+                (x, 0) if x == r => corner(1),
+                (x, y) if x == r && y == r => corner(2),
+                (0, y) if y == r => corner(3),
+                _ => {
+                    let side = if y == 0 {
+                        Some((0, x))
+                    } else if x == r {
+                        Some((1, y))
+                    } else if y == r {
+                        Some((2, r - x))
+                    } else if x == 0 {
+                        Some((3, r - y))
+                    } else {
+                        None
+                    };
+                    match side {
+                        Some((k, t)) => {
+                            let (e, te) = to_key(h[k], t);
+                            VKey::Edge(e, te)
+                        }
+                        None => VKey::Inner(f, x, y),
+                    }
+                }
+            }
+        };
+        // Every grid point of this patch: sub-patch corners and the points of its four edges.
+        let mut rows: HashMap<u32, Vec<u32>> = HashMap::new();
+        let mut cols: HashMap<u32, Vec<u32>> = HashMap::new();
+        let mut add = |x: u32, y: u32| {
+            rows.entry(y).or_default().push(x);
+            cols.entry(x).or_default().push(y);
+        };
+        for rect in &leaves[f as usize] {
+            let [x0, y0, x1, y1] = *rect;
+            for (x, y) in [(x0, y0), (x1, y0), (x1, y1), (x0, y1)] {
+                add(x, y);
+            }
+        }
+        for (k, &hk) in h.iter().enumerate() {
+            let e = mesh.edge_key(hk);
+            for &te in &edge_pts[e as usize] {
+                let t = if e == hk { te } else { r - te };
+                let (x, y) = match k {
+                    0 => (t, 0),
+                    1 => (r, t),
+                    2 => (r - t, r),
+                    _ => (0, r - t),
+                };
+                add(x, y);
+            }
+        }
+        for list in rows.values_mut().chain(cols.values_mut()) {
+            list.sort_unstable();
+            list.dedup();
+        }
+        let between = |list: Option<&Vec<u32>>, a: u32, b: u32| -> Vec<u32> {
+            let Some(l) = list else { return Vec::new() };
+            let (lo, hi) = (a.min(b), a.max(b));
+            let mut out: Vec<u32> = l.iter().copied().filter(|&z| z > lo && z < hi).collect();
+            if a > b {
+                out.reverse();
+            }
+            out
+        };
+        let vertex = |ids: &mut HashMap<VKey, u32>,
+                      positions: &mut Vec<Vec3>,
+                      k: VKey,
+                      u: f64,
+                      v: f64|
+         -> Result<u32, BlockError> {
+            if let Some(&id) = ids.get(&k) {
+                return Ok(id);
+            }
+            let p = surface.point(f, u, v)?;
+            positions.push(p);
+            let id = (positions.len() - 1) as u32;
+            ids.insert(k, id);
+            Ok(id)
+        };
+        for (li, rect) in leaves[f as usize].iter().enumerate() {
+            sub_patches += 1;
+            let [x0, y0, x1, y1] = *rect;
+            // The boundary in (u, v) counter-clockwise order, T-vertices included.
+            let mut ring: Vec<(u32, u32)> = vec![(x0, y0)];
+            ring.extend(between(rows.get(&y0), x0, x1).into_iter().map(|x| (x, y0)));
+            ring.push((x1, y0));
+            ring.extend(between(cols.get(&x1), y0, y1).into_iter().map(|y| (x1, y)));
+            ring.push((x1, y1));
+            ring.extend(between(rows.get(&y1), x1, x0).into_iter().map(|x| (x, y1)));
+            ring.push((x0, y1));
+            ring.extend(between(cols.get(&x0), y1, y0).into_iter().map(|y| (x0, y)));
+            let mut vid = Vec::with_capacity(ring.len());
+            for &(x, y) in &ring {
+                let id = vertex(&mut ids, &mut positions, key_of(x, y), f64::from(x) / scale, f64::from(y) / scale)?;
+                vid.push(id);
+            }
+            if vid.len() == 4 {
+                let p: Vec<Vec3> = vid.iter().map(|&i| positions[i as usize]).collect();
+                if p[0].distance(p[2]) <= p[1].distance(p[3]) {
+                    tris.extend([vid[0], vid[1], vid[2], vid[0], vid[2], vid[3]]);
+                } else {
+                    tris.extend([vid[0], vid[1], vid[3], vid[1], vid[2], vid[3]]);
+                }
+            } else {
+                let (u, v) = (f64::from(x0 + x1) * 0.5 / scale, f64::from(y0 + y1) * 0.5 / scale);
+                let c = vertex(&mut ids, &mut positions, VKey::Centre(f, li as u32), u, v)?;
+                for k in 0..vid.len() {
+                    tris.extend([c, vid[k], vid[(k + 1) % vid.len()]]);
+                }
+            }
+        }
+    }
+    let arities = vec![3u32; tris.len() / 3];
+    let out = Mesh::from_indexed(positions, &tris, &arities)
+        .map_err(|e| BlockError::Internal(format!("the tessellation is not a manifold mesh: {e}")))?;
+    Ok((out, sub_patches))
+}
+
+/// The corners of sub-patch `rect` lying on the patch's four sides: `(side, parameter along the
+/// side's half-edge)`. Side 0 runs along v = 0 (q0 → q1), 1 along u = 1, 2 along v = 1
+/// (q2 → q3), 3 along u = 0.
+fn side_points(rect: Rect, r: u32) -> Vec<(usize, u32)> {
+    let [x0, y0, x1, y1] = rect;
+    let mut out = Vec::new();
+    if y0 == 0 {
+        out.extend([(0, x0), (0, x1)]);
+    }
+    if x1 == r {
+        out.extend([(1, y0), (1, y1)]);
+    }
+    if y1 == r {
+        out.extend([(2, r - x0), (2, r - x1)]);
+    }
+    if x0 == 0 {
+        out.extend([(3, r - y0), (3, r - y1)]);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::blocks::test_models::boxed;
+    use crate::blocks::Face;
+
+    fn check_solid(m: &Mesh) {
+        assert!(m.is_triangle_mesh());
+        assert!(m.is_closed(), "not closed");
+        assert!(m.is_manifold(), "not manifold");
+        assert_eq!(m.genus(), 0);
+    }
+
+    #[test]
+    fn an_all_sharp_block_is_its_exact_box() {
+        // Creases all round make every face a plane bounded by straight creases: the limit
+        // surface is the box itself, and no sub-patch needs splitting.
+        let mut b = boxed([0.0; 3], [1.0, 2.0, 3.0]);
+        b.sharp_all();
+        b.subdivide(Face::PosZ, 3, 2).unwrap();
+        let mut m = BlockModel::new();
+        m.add(b);
+        let t = m.tessellate(&MeshOptions::DEFAULT.with_tolerance(1e-6), None).unwrap();
+        check_solid(&t.mesh);
+        assert!((t.mesh.volume() - 6.0).abs() < 1e-9, "volume {}", t.mesh.volume());
+        let bb = t.mesh.bounds();
+        assert!(bb.min.distance(Vec3::ZERO) < 1e-12 && bb.max.distance(Vec3::new(1.0, 2.0, 3.0)) < 1e-12);
+        assert_eq!(t.stats.sub_patches, t.stats.patches);
+    }
+
+    #[test]
+    fn a_smooth_block_is_rounded_closed_and_finer_with_a_smaller_tolerance() {
+        let mut m = BlockModel::new();
+        m.add(boxed([-1.0; 3], [1.0; 3]));
+        let coarse = m.tessellate(&MeshOptions::DEFAULT.with_tolerance(0.02), None).unwrap();
+        let fine = m.tessellate(&MeshOptions::DEFAULT.with_tolerance(0.002), None).unwrap();
+        for t in [&coarse, &fine] {
+            check_solid(&t.mesh);
+            assert_eq!(t.stats.patches, 24);
+            assert_eq!(t.stats.blocks, 1);
+            // The limit surface of the cube lies inside it and outside the octahedron.
+            let v = t.mesh.volume();
+            assert!(v < 8.0 && v > 4.0 / 3.0, "volume {v}");
+        }
+        assert!(fine.stats.triangles > coarse.stats.triangles);
+        // The face centre of the ±1 cube's limit surface is at 68/81 (see subdiv::limit).
+        let top = fine.mesh.positions().iter().map(|p| p.z).fold(f64::MIN, f64::max);
+        assert!((top - 68.0 / 81.0).abs() < 1e-3, "top {top}");
+    }
+
+    #[test]
+    fn sub_patches_split_anisotropically() {
+        // A long smooth bar: its long faces curve across the bar much more than along it, so
+        // some sub-patches are split in one direction only (Fig. 11).
+        let mut m = BlockModel::new();
+        m.add(boxed([0.0; 3], [8.0, 1.0, 1.0]));
+        let cm = m.control_mesh().unwrap();
+        let limits = cm.mesh.catmull_clark_limit().unwrap().positions().to_vec();
+        let s = Surface { ev: LimitEvaluator::new(&cm.mesh).unwrap(), limits, cm: &cm, displacement: None };
+        let r = 1 << 6;
+        let mut oblong = 0;
+        let mut total = 0;
+        for f in 0..cm.mesh.face_count() as u32 {
+            let leaves = kd_leaves(&s, f, r, 1e-3).unwrap();
+            // The leaves tile the patch.
+            let area: u64 = leaves.iter().map(|l| u64::from(l[2] - l[0]) * u64::from(l[3] - l[1])).sum();
+            assert_eq!(area, u64::from(r) * u64::from(r));
+            oblong += leaves.iter().filter(|l| l[2] - l[0] != l[3] - l[1]).count();
+            total += leaves.len();
+        }
+        assert!(oblong > 0 && oblong < total, "{oblong} of {total}");
+        let t = m.tessellate(&MeshOptions::DEFAULT.with_tolerance(1e-3).with_max_depth(3), None).unwrap();
+        check_solid(&t.mesh);
+        // Depth 3 allows at most 8 × 8 sub-patches per patch.
+        assert!(t.stats.sub_patches <= t.stats.patches * 64);
+    }
+
+    #[test]
+    fn displacement_moves_points_along_the_normal_and_stays_closed() {
+        let mut m = BlockModel::new();
+        let mut b = boxed([-1.0; 3], [1.0; 3]);
+        b.sharp_all();
+        m.add(b);
+        // A bump on every face, zero at the face's border so creases stay straight.
+        let bump = |_p: Vec3, _n: Vec3, u: f64, v: f64| -> Result<f64, String> {
+            Ok(0.2 * (std::f64::consts::PI * u).sin() * (std::f64::consts::PI * v).sin())
+        };
+        let t = m.tessellate(&MeshOptions::DEFAULT.with_tolerance(0.005), Some(&bump)).unwrap();
+        check_solid(&t.mesh);
+        let v = t.mesh.volume();
+        assert!(v > 8.0 + 0.1, "volume {v}");
+        let top = t.mesh.positions().iter().map(|p| p.z).fold(f64::MIN, f64::max);
+        assert!((top - 1.2).abs() < 0.01, "top {top}");
+        assert!(t.stats.sub_patches > t.stats.patches);
+    }
+
+    #[test]
+    fn displacement_errors_and_nans_are_reported() {
+        let mut m = BlockModel::new();
+        m.add(boxed([0.0; 3], [1.0; 3]));
+        let fails = |_p: Vec3, _n: Vec3, _u: f64, _v: f64| -> Result<f64, String> { Err("boom".into()) };
+        let e = m.tessellate(&MeshOptions::DEFAULT, Some(&fails)).unwrap_err();
+        assert!(matches!(&e, BlockError::Displacement { reason } if reason.contains("boom")), "{e}");
+        let nan = |_p: Vec3, _n: Vec3, _u: f64, _v: f64| -> Result<f64, String> { Ok(f64::NAN) };
+        let e = m.tessellate(&MeshOptions::DEFAULT, Some(&nan)).unwrap_err();
+        assert!(matches!(&e, BlockError::Displacement { reason } if reason.contains("NaN")), "{e}");
+        let e = m.tessellate(&MeshOptions::DEFAULT.with_tolerance(-1.0), None).unwrap_err();
+        assert!(matches!(e, BlockError::BadOption { name: "tolerance", .. }));
+        let e = m.tessellate(&MeshOptions::DEFAULT.with_max_depth(40), None).unwrap_err();
+        assert!(matches!(e, BlockError::BadOption { name: "max_depth", .. }));
+    }
+
+    #[test]
+    fn connected_models_tessellate_watertight() {
+        // Two blocks with mismatched grids, and the hand of Fig. 5: cracks would open boundaries.
+        let mut m = BlockModel::new();
+        m.allow(0, 0);
+        let mut a = boxed([0.0; 3], [1.0; 3]);
+        a.subdivide(Face::PosY, 1, 2).unwrap();
+        a.set_sharp(crate::blocks::Edge::parse("-y-z").unwrap(), true);
+        m.add(a);
+        m.add(boxed([1.0, 0.0, 0.0], [3.0, 1.0, 1.0]));
+        let t = m.tessellate(&MeshOptions::DEFAULT.with_tolerance(0.005), None).unwrap();
+        check_solid(&t.mesh);
+        let hand = crate::blocks::test_models::hand();
+        let t = hand.tessellate(&MeshOptions::DEFAULT.with_tolerance(0.01), None).unwrap();
+        check_solid(&t.mesh);
+        assert_eq!(t.stats.blocks, 6);
+    }
+
+    #[test]
+    fn a_die_body_is_a_rounded_closed_solid() {
+        // Fig. 13: one block with every face divided 4 × 4, all edges smooth.
+        let mut b = boxed([-1.0; 3], [1.0; 3]);
+        for f in Face::ALL {
+            b.subdivide(f, 4, 4).unwrap();
+        }
+        let mut m = BlockModel::new();
+        m.add(b);
+        let t = m.tessellate(&MeshOptions::DEFAULT.with_tolerance(0.005), None).unwrap();
+        check_solid(&t.mesh);
+        // 96 sub-faces, 4 quads each.
+        assert_eq!(t.stats.patches, 384);
+        // Finer grids round less: the volume lies between the coarse limit surface and the cube.
+        assert!(t.mesh.volume() < 8.0 && t.mesh.volume() > 6.0, "{}", t.mesh.volume());
+    }
+}
