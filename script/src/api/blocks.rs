@@ -1,0 +1,557 @@
+//! `Block` and `BlockModel`: modeling with blocks (Leblanc et al., seed 000; kernel `blocks`) —
+//! blocks with sub-face grids and sharp edges, connections, the control mesh and its adaptive,
+//! watertight tessellation with optional displacement.
+
+use blocksmith_kernel::blocks::tessellate::MAX_DEPTH;
+use blocksmith_kernel::blocks::{Block, BlockModel as KernelModel, BlockStats, Connection, Edge, Face, MeshOptions};
+use blocksmith_kernel::Vec3;
+use rhai::plugin::*;
+use rhai::{exported_module, Array, Engine, Map, INT};
+
+use super::mesh::SharedMesh;
+use crate::convert::{error, fail, kernel, number, type_name, vec3, Options, ScriptResult};
+
+/// A block model as scripts hold it (script type `BlockModel`): the kernel model and the counts
+/// of its last meshing (dropped when the model changes).
+#[derive(Clone, Debug)]
+pub struct BlockModel {
+    model: KernelModel,
+    stats: Option<BlockStats>,
+}
+
+impl BlockModel {
+    fn changed(&mut self) -> &mut KernelModel {
+        self.stats = None;
+        &mut self.model
+    }
+}
+
+/// Registers the `Block` and `BlockModel` types and every block function on `engine`.
+pub fn register(engine: &mut Engine) {
+    engine.register_type_with_name::<Block>("Block");
+    engine.register_type_with_name::<BlockModel>("BlockModel");
+    engine.register_global_module(exported_module!(blocks_api).into());
+}
+
+fn face(func: &str, arg: &str, name: &str) -> ScriptResult<Face> {
+    Face::parse(name).map_err(|e| error(func, format!("argument `{arg}`: {e}")))
+}
+
+fn edges(func: &str, list: &Array) -> ScriptResult<Vec<Edge>> {
+    list.iter()
+        .enumerate()
+        .map(|(i, v)| {
+            let s = v.clone().into_string().map_err(|_| {
+                error(
+                    func,
+                    format!("argument `edges[{i}]` must be an edge name such as \"+x+y\", got {}", type_name(v)),
+                )
+            })?;
+            Edge::parse(&s).map_err(|e| error(func, format!("argument `edges[{i}]`: {e}")))
+        })
+        .collect()
+}
+
+fn int(x: u32) -> Dynamic {
+    Dynamic::from(INT::from(x))
+}
+
+fn connection_map(c: &Connection) -> Map {
+    let mut m = Map::new();
+    m.insert("a".into(), int(c.a.block));
+    m.insert("face_a".into(), Dynamic::from(c.a.face.name().to_string()));
+    m.insert("sub_a".into(), int(c.a.sub));
+    m.insert("b".into(), int(c.b.block));
+    m.insert("face_b".into(), Dynamic::from(c.b.face.name().to_string()));
+    m.insert("sub_b".into(), int(c.b.sub));
+    m.insert("distance".into(), Dynamic::from(c.distance));
+    m.insert("manual".into(), Dynamic::from(c.manual));
+    m
+}
+
+fn stats_map(s: &BlockStats) -> Map {
+    let mut m = Map::new();
+    m.insert("blocks".into(), Dynamic::from(s.blocks as INT));
+    m.insert("patches".into(), Dynamic::from(s.patches as INT));
+    m.insert("sub_patches".into(), Dynamic::from(s.sub_patches as INT));
+    m.insert("triangles".into(), Dynamic::from(s.triangles as INT));
+    m
+}
+
+/// The value a displacement closure returned, as a float.
+fn displacement_value(v: &Dynamic) -> Result<f64, String> {
+    if let Some(x) = v.clone().try_cast::<f64>() {
+        Ok(x)
+    } else if let Some(i) = v.clone().try_cast::<INT>() {
+        Ok(i as f64)
+    } else {
+        Err(format!("the closure must return a number, got {}", type_name(v)))
+    }
+}
+
+/// Meshes `m` with the options of `options` (checked key by key).
+fn mesh_model(ctx: &NativeCallContext, m: &mut BlockModel, options: Map) -> ScriptResult<SharedMesh> {
+    let opts = Options::new("mesh", options, &["tolerance", "max_depth", "displacement"])?;
+    let mut o = MeshOptions::DEFAULT;
+    if opts.has("tolerance") {
+        o = o.with_tolerance(opts.number("tolerance", 0.0)?);
+    }
+    let depth = opts.int("max_depth", INT::from(MeshOptions::DEFAULT.max_depth))?;
+    if !(0..=INT::from(MAX_DEPTH)).contains(&depth) {
+        return fail("mesh", format!("option `max_depth` must be between 0 and {MAX_DEPTH}, got {depth}"));
+    }
+    o = o.with_max_depth(depth as u32);
+    let f = opts.fn_ptr("displacement")?;
+    // The closure may read the model: mesh a copy, so nothing is borrowed while it runs.
+    let model = m.model.clone();
+    let result = match &f {
+        None => model.tessellate(&o, None),
+        Some(f) => {
+            let call = |p: Vec3, n: Vec3, u: f64, v: f64| -> Result<f64, String> {
+                let r: Dynamic = f
+                    .call_within_context(ctx, (p, n, u, v))
+                    .map_err(|e| format!("the closure `displacement` raised: {e}"))?;
+                displacement_value(&r)
+            };
+            model.tessellate(&o, Some(&call))
+        }
+    };
+    let t = kernel("mesh", result)?;
+    m.stats = Some(t.stats);
+    Ok(SharedMesh::new(t.mesh))
+}
+
+#[export_module]
+pub mod blocks_api {
+    use super::*;
+
+    // ---- Blocks -------------------------------------------------------------------------
+
+    /// An axis-aligned block from `min` to `max` (each a `Vec3` or `[x, y, z]`): every face one
+    /// sub-face, every edge smooth, group 0. Corner `k` is
+    /// `(k&1 ? max.x : min.x, k&2 ? max.y : min.y, k&4 ? max.z : min.z)`.
+    ///
+    /// ```rhai
+    /// let b = block([0, 0, 0], [1, 2, 3]);
+    /// assert_eq(b.corners()[6], vec3(0, 2, 3));
+    /// assert_near(b.volume(), 6.0, 1e-12);
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn block(min: Dynamic, max: Dynamic) -> ScriptResult<Block> {
+        let (lo, hi) = (vec3("block", "min", &min)?, vec3("block", "max", &max)?);
+        kernel("block", Block::from_bounds(lo, hi))
+    }
+
+    /// A block from 8 free corners: bit `i` of the index says whether the corner is on the high
+    /// side of axis `i`, i.e. corner `k` stands where `(k&1 ? max.x : min.x, k&2 ? max.y :
+    /// min.y, k&4 ? max.z : min.z)` would for a box. Faces are bilinear (they need not be
+    /// planar). Coincident corners, folded faces and inside-out blocks are errors.
+    ///
+    /// ```rhai
+    /// // A box whose top is skewed by 0.5 in x.
+    /// let c = [];
+    /// for k in 0..8 {
+    ///     let x = if k % 2 == 1 { 1.0 } else { 0.0 };
+    ///     let y = if (k / 2) % 2 == 1 { 1.0 } else { 0.0 };
+    ///     let z = if k >= 4 { 1.0 } else { 0.0 };
+    ///     c.push([x + 0.5 * z, y, z]);
+    /// }
+    /// let b = block(c);
+    /// assert_near(b.volume(), 1.0, 1e-12);
+    /// ```
+    #[rhai_fn(name = "block", return_raw)]
+    pub fn block_from_corners(corners: Array) -> ScriptResult<Block> {
+        if corners.len() != 8 {
+            return fail("block", format!("argument `corners` must hold 8 corners, got {}", corners.len()));
+        }
+        let mut c = [Vec3::ZERO; 8];
+        for (i, p) in corners.iter().enumerate() {
+            c[i] = vec3("block", &format!("corners[{i}]"), p)?;
+        }
+        kernel("block", Block::from_corners(c))
+    }
+
+    /// The 8 corners.
+    ///
+    /// ```rhai
+    /// assert_eq(block([0, 0, 0], [1, 1, 1]).corners()[7], vec3(1, 1, 1));
+    /// ```
+    #[rhai_fn(pure)]
+    pub fn corners(b: &mut Block) -> Array {
+        b.corners().iter().map(|p| Dynamic::from(*p)).collect()
+    }
+
+    /// The block's volume (faces split about their centres; exact for planar faces).
+    ///
+    /// ```rhai
+    /// assert_near(block([0, 0, 0], [2, 2, 2]).volume(), 8.0, 1e-12);
+    /// ```
+    #[rhai_fn(pure, name = "volume")]
+    pub fn block_volume(b: &mut Block) -> f64 {
+        b.volume()
+    }
+
+    /// Divides `face` (`"-x" "+x" "-y" "+y" "-z" "+z"`) into `nu × nv` sub-faces, numbered
+    /// `i + nu * j`. On a face of axis a, u runs along the first of the other two axes in x, y, z
+    /// order and v along the second (on `"+y"`, u along x and v along z). Changes the block and
+    /// returns it.
+    ///
+    /// ```rhai
+    /// let b = block([0, 0, 0], [1, 1, 1]);
+    /// b.subdivide("+y", 4, 1);
+    /// assert_eq(b.subface_count("+y"), 4);
+    /// assert_eq(b.divisions("+y"), [4, 1]);
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn subdivide(b: &mut Block, face_name: &str, nu: INT, nv: INT) -> ScriptResult<Block> {
+        let f = face("subdivide", "face", face_name)?;
+        kernel("subdivide", b.subdivide(f, nu, nv))?;
+        Ok(b.clone())
+    }
+
+    /// The sub-face grid of `face`: `[nu, nv]`.
+    ///
+    /// ```rhai
+    /// assert_eq(block([0, 0, 0], [1, 1, 1]).divisions("-z"), [1, 1]);
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn divisions(b: &mut Block, face_name: &str) -> ScriptResult<Array> {
+        let (nu, nv) = b.divisions(face("divisions", "face", face_name)?);
+        Ok(vec![int(nu), int(nv)])
+    }
+
+    /// Number of sub-faces of `face`.
+    ///
+    /// ```rhai
+    /// assert_eq(block([0, 0, 0], [1, 1, 1]).subdivide("+x", 2, 3).subface_count("+x"), 6);
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn subface_count(b: &mut Block, face_name: &str) -> ScriptResult<INT> {
+        Ok(INT::from(b.subface_count(face("subface_count", "face", face_name)?)))
+    }
+
+    /// Tags `edges` (an array of names of two faces, e.g. `["+x+y", "-z+x"]`; either order)
+    /// sharp: the surface keeps a crease there. All or nothing. Changes the block and returns it.
+    ///
+    /// ```rhai
+    /// let b = block([0, 0, 0], [1, 1, 1]);
+    /// b.sharp(["+x+y", "+z-x"]);
+    /// assert(b.is_sharp("+y+x"), "tagged");
+    /// assert(!b.is_sharp("-x-y"), "others stay smooth");
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn sharp(b: &mut Block, edge_names: Array) -> ScriptResult<Block> {
+        for e in edges("sharp", &edge_names)? {
+            b.set_sharp(e, true);
+        }
+        Ok(b.clone())
+    }
+
+    /// Tags `edges` smooth (the reverse of `sharp`). Changes the block and returns it.
+    ///
+    /// ```rhai
+    /// let b = block([0, 0, 0], [1, 1, 1]).sharp_all();
+    /// b.smooth(["+x+y"]);
+    /// assert(!b.is_sharp("+x+y") && b.is_sharp("-x+y"), "one edge smooth");
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn smooth(b: &mut Block, edge_names: Array) -> ScriptResult<Block> {
+        for e in edges("smooth", &edge_names)? {
+            b.set_sharp(e, false);
+        }
+        Ok(b.clone())
+    }
+
+    /// Whether `edge` is sharp.
+    ///
+    /// ```rhai
+    /// assert(!block([0, 0, 0], [1, 1, 1]).is_sharp("+x+z"), "smooth by default");
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn is_sharp(b: &mut Block, edge: &str) -> ScriptResult<bool> {
+        let e = Edge::parse(edge).map_err(|e| error("is_sharp", format!("argument `edge`: {e}")))?;
+        Ok(b.is_sharp(e))
+    }
+
+    /// Tags all 12 edges sharp (Fig. 2, red edges). Changes the block and returns it.
+    ///
+    /// ```rhai
+    /// assert(block([0, 0, 0], [1, 1, 1]).sharp_all().is_sharp("-y-z"), "sharp");
+    /// ```
+    pub fn sharp_all(b: &mut Block) -> Block {
+        b.sharp_all();
+        b.clone()
+    }
+
+    /// Tags all 12 edges smooth (the default). Changes the block and returns it.
+    ///
+    /// ```rhai
+    /// assert(!block([0, 0, 0], [1, 1, 1]).sharp_all().smooth_all().is_sharp("-y-z"), "smooth");
+    /// ```
+    pub fn smooth_all(b: &mut Block) -> Block {
+        b.smooth_all();
+        b.clone()
+    }
+
+    /// The group id (0 by default); blocks connect only across allowed group pairs.
+    ///
+    /// ```rhai
+    /// let b = block([0, 0, 0], [1, 1, 1]);
+    /// b.group = 3;
+    /// assert_eq(b.group, 3);
+    /// ```
+    #[rhai_fn(get = "group", pure)]
+    pub fn get_group(b: &mut Block) -> INT {
+        b.group()
+    }
+
+    /// Sets the group id.
+    #[rhai_fn(set = "group")]
+    pub fn set_group(b: &mut Block, g: INT) {
+        b.set_group(g);
+    }
+
+    /// Moves the block by `v`. Changes the block and returns it.
+    ///
+    /// ```rhai
+    /// let b = block([0, 0, 0], [1, 1, 1]);
+    /// b.translate([2, 0, 0]);
+    /// assert_eq(b.corners()[0], vec3(2, 0, 0));
+    /// ```
+    #[rhai_fn(name = "translate", return_raw)]
+    pub fn block_translate(b: &mut Block, v: Dynamic) -> ScriptResult<Block> {
+        let v = vec3("translate", "v", &v)?;
+        kernel("translate", b.translate(v))?;
+        Ok(b.clone())
+    }
+
+    /// Turns the block by `deg` degrees about `axis` through the origin (right-handed). Changes
+    /// the block and returns it.
+    ///
+    /// ```rhai
+    /// let b = block([0, 0, 0], [1, 1, 1]).rotate([0, 0, 1], 90);
+    /// assert_near(b.corners()[1], [0, 1, 0], 1e-12);
+    /// ```
+    #[rhai_fn(name = "rotate", return_raw)]
+    pub fn block_rotate(b: &mut Block, axis: Dynamic, deg: Dynamic) -> ScriptResult<Block> {
+        let (a, d) = (vec3("rotate", "axis", &axis)?, number("rotate", "deg", &deg)?);
+        kernel("rotate", b.rotate(a, d))?;
+        Ok(b.clone())
+    }
+
+    // ---- Models -------------------------------------------------------------------------
+
+    /// An empty block model (threshold 0.05, no allowed group pair: nothing connects until
+    /// `allow` is called, as in Fig. 5a).
+    ///
+    /// ```rhai
+    /// let m = blocks();
+    /// assert_eq(m.block_count, 0);
+    /// assert_near(m.threshold, 0.05, 0.0);
+    /// ```
+    pub fn blocks() -> BlockModel {
+        BlockModel { model: KernelModel::new(), stats: None }
+    }
+
+    /// Adds a copy of block `b`; returns its id (0, 1, …).
+    ///
+    /// ```rhai
+    /// let m = blocks();
+    /// assert_eq(m.add(block([0, 0, 0], [1, 1, 1])), 0);
+    /// assert_eq(m.add(block([1, 0, 0], [2, 1, 1])), 1);
+    /// ```
+    pub fn add(m: &mut BlockModel, b: Block) -> INT {
+        INT::from(m.changed().add(b))
+    }
+
+    /// Number of blocks.
+    #[rhai_fn(get = "block_count", pure)]
+    pub fn block_count(m: &mut BlockModel) -> INT {
+        m.model.blocks().len() as INT
+    }
+
+    /// A copy of block `id`.
+    ///
+    /// ```rhai
+    /// let m = blocks();
+    /// m.add(block([0, 0, 0], [1, 1, 1]));
+    /// assert_eq(m.block(0).corners()[7], vec3(1, 1, 1));
+    /// ```
+    #[rhai_fn(name = "block", pure, return_raw)]
+    pub fn model_block(m: &mut BlockModel, id: INT) -> ScriptResult<Block> {
+        kernel("block", m.model.block(id)).cloned()
+    }
+
+    /// Lets blocks of groups `g1` and `g2` connect (either order; `allow(g, g)` within a group).
+    ///
+    /// ```rhai
+    /// let m = blocks();
+    /// m.add(block([0, 0, 0], [1, 1, 1]));
+    /// m.add(block([1, 0, 0], [2, 1, 1]));
+    /// assert_eq(m.connections().len(), 0);
+    /// m.allow(0, 0);
+    /// assert_eq(m.connections().len(), 1);
+    /// ```
+    pub fn allow(m: &mut BlockModel, g1: INT, g2: INT) {
+        m.changed().allow(g1, g2);
+    }
+
+    /// The connection threshold: sub-faces A and B connect only when their distance is below
+    /// `threshold × (perimeter(A) + perimeter(B))` (scale invariant).
+    ///
+    /// ```rhai
+    /// let m = blocks();
+    /// m.allow(0, 0);
+    /// m.add(block([0, 0, 0], [1, 1, 1]));
+    /// m.add(block([1.5, 0, 0], [2.5, 1, 1]));
+    /// assert_eq(m.connections().len(), 0);
+    /// m.threshold = 0.1;
+    /// assert_near(m.connections()[0].distance, 0.5, 1e-12);
+    /// ```
+    #[rhai_fn(get = "threshold", pure)]
+    pub fn get_threshold(m: &mut BlockModel) -> f64 {
+        m.model.threshold()
+    }
+
+    /// Sets the connection threshold (a number ≥ 0).
+    #[rhai_fn(set = "threshold", return_raw)]
+    pub fn set_threshold(m: &mut BlockModel, t: Dynamic) -> ScriptResult<()> {
+        let t = number("threshold", "threshold", &t)?;
+        kernel("threshold", m.model.set_threshold(t))?;
+        m.stats = None;
+        Ok(())
+    }
+
+    /// A manual connection: sub-face `sub_a` of face `face_a` of block `a` joins sub-face `sub_b`
+    /// of `face_b` of block `b`, whatever their distance and groups. Neither sub-face nor the
+    /// block pair gets another connection.
+    ///
+    /// ```rhai
+    /// let m = blocks();
+    /// m.add(block([0, 0, 0], [1, 1, 1]));
+    /// m.add(block([3, 0, 0], [4, 1, 1]));
+    /// m.connect(0, "+x", 0, 1, "-x", 0);
+    /// let c = m.connections();
+    /// assert_eq(c.len(), 1);
+    /// assert(c[0].manual, "manual");
+    /// assert_eq(m.control_mesh().face_count, 40);
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn connect(
+        m: &mut BlockModel,
+        a: INT,
+        face_a: &str,
+        sub_a: INT,
+        b: INT,
+        face_b: &str,
+        sub_b: INT,
+    ) -> ScriptResult<()> {
+        let fa = face("connect", "face_a", face_a)?;
+        let fb = face("connect", "face_b", face_b)?;
+        kernel("connect", m.model.connect(a, fa, sub_a, b, fb, sub_b))?;
+        m.stats = None;
+        Ok(())
+    }
+
+    /// Every connection: `#{a, face_a, sub_a, b, face_b, sub_b, distance, manual}`. Found ones
+    /// come from a ray cast from each sub-face centre along its normal: different blocks, allowed
+    /// groups, within the threshold, mutual nearest, one (the shortest) per block pair.
+    ///
+    /// ```rhai
+    /// let m = blocks();
+    /// m.allow(0, 0);
+    /// m.add(block([0, 0, 0], [1, 1, 1]));
+    /// m.add(block([0, 0, 1], [1, 1, 2]));
+    /// let c = m.connections()[0];
+    /// assert_eq([c.a, c.face_a, c.b, c.face_b], [0, "+z", 1, "-z"]);
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn connections(m: &mut BlockModel) -> ScriptResult<Array> {
+        let c = kernel("connections", m.model.connections())?;
+        Ok(c.iter().map(|c| Dynamic::from_map(connection_map(c))).collect())
+    }
+
+    /// The control mesh: exterior sub-faces joined watertight (T-vertices make n-gons), creases
+    /// where block edges are sharp, after one Catmull–Clark step: quads only.
+    ///
+    /// ```rhai
+    /// let m = blocks();
+    /// m.add(block([0, 0, 0], [1, 1, 1]).sharp_all());
+    /// let c = m.control_mesh();
+    /// assert_eq(c.face_count, 24);
+    /// assert_eq(c.crease_count(), 24);
+    /// assert(c.is_closed(), "closed");
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn control_mesh(m: &mut BlockModel) -> ScriptResult<SharedMesh> {
+        kernel("control_mesh", m.model.control_mesh()).map(|c| SharedMesh::new(c.mesh))
+    }
+
+    /// The model's surface as a closed, manifold triangle mesh, with default options.
+    ///
+    /// ```rhai
+    /// let m = blocks();
+    /// m.add(block([0, 0, 0], [1, 1, 1]).sharp_all());
+    /// assert_near(m.mesh().volume(), 1.0, 1e-9);
+    /// ```
+    #[rhai_fn(name = "mesh", return_raw)]
+    pub fn model_mesh(ctx: NativeCallContext, m: &mut BlockModel) -> ScriptResult<SharedMesh> {
+        mesh_model(&ctx, m, Map::new())
+    }
+
+    /// The model's surface as a closed, manifold triangle mesh: each control-mesh quad is a patch
+    /// of the limit surface, split adaptively in u, v or both until every row and column of
+    /// samples is within `tolerance` of its chord (default 0.001 × the model's diagonal), at most
+    /// `max_depth` times per direction (default 8, at most 14); neighbouring patches share their
+    /// edge points, so there are no cracks. `displacement` is a closure `|p, n, u, v|` returning
+    /// the offset along the unit normal `n` at `p`, where `(u, v)` is the block-face parameter.
+    ///
+    /// ```rhai
+    /// let m = blocks();
+    /// m.add(block([-1, -1, -1], [1, 1, 1]).sharp_all());
+    /// let bumpy = m.mesh(#{ tolerance: 0.01, displacement: |p, n, u, v| 0.1 * sin(PI() * u) * sin(PI() * v) });
+    /// assert(bumpy.is_closed() && bumpy.is_manifold(), "watertight");
+    /// assert(bumpy.volume() > 8.0, "bumps outward");
+    /// assert(m.stats().sub_patches > m.stats().patches, "adaptive");
+    /// ```
+    #[rhai_fn(name = "mesh", return_raw)]
+    pub fn model_mesh_with(ctx: NativeCallContext, m: &mut BlockModel, options: Map) -> ScriptResult<SharedMesh> {
+        mesh_model(&ctx, m, options)
+    }
+
+    /// Counts of the last `mesh` (meshing with default options first if the model changed since):
+    /// `#{blocks, patches, sub_patches, triangles}`.
+    ///
+    /// ```rhai
+    /// let m = blocks();
+    /// m.add(block([0, 0, 0], [1, 1, 1]));
+    /// let s = m.stats();
+    /// assert_eq([s.blocks, s.patches], [1, 24]);
+    /// assert(s.triangles >= 2 * s.sub_patches, "two or more triangles per sub-patch");
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn stats(ctx: NativeCallContext, m: &mut BlockModel) -> ScriptResult<Map> {
+        if m.stats.is_none() {
+            mesh_model(&ctx, m, Map::new())?;
+        }
+        let s = m.stats.ok_or_else(|| error("stats", "no counts after meshing (please file an issue)"))?;
+        Ok(stats_map(&s))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use blocksmith_kernel::blocks::MAX_SUBDIVISIONS;
+
+    #[test]
+    fn subdivision_limits_are_reported() {
+        let mut b = Block::from_bounds(Vec3::ZERO, Vec3::ONE).unwrap();
+        let e = blocks_api::subdivide(&mut b, "+q", 1, 1).unwrap_err().to_string();
+        assert!(e.contains("subdivide: argument `face`: unknown face \"+q\""), "{e}");
+        let e = blocks_api::subdivide(&mut b, "+x", 0, 1).unwrap_err().to_string();
+        assert!(e.contains("at least one division"), "{e}");
+        let n = INT::from(MAX_SUBDIVISIONS) + 1;
+        assert!(blocks_api::subdivide(&mut b, "+x", n, 1).is_err());
+    }
+}
