@@ -25,6 +25,10 @@ pub fn svd3(m: Mat3) -> (Mat3, Vec3, Mat3) {
 /// The rotation R minimising Σ‖R·aᵢ − bᵢ‖² for centred point sets (Kabsch/Umeyama, seed 002
 /// Eqs. 5–8): from the covariance C = Σ aᵢ bᵢᵀ = U D Vᵀ, R = V S Uᵀ with S = diag(1, 1, ±1)
 /// choosing det R = +1 — never a reflection.
+///
+/// Speed: when det C > 0 the answer is the orthogonal polar factor of Cᵀ, found by Newton's
+/// iteration X ← (X + X⁻ᵀ)/2 (Higham), a few 3×3 inverses instead of an SVD; a covariance with
+/// det C ≤ 0 (a reflection to fix, or a degenerate point set) takes the SVD.
 #[must_use]
 pub fn best_rotation(a: &[Vec3], b: &[Vec3]) -> Mat3 {
     let mut c = Mat3::ZERO;
@@ -32,6 +36,33 @@ pub fn best_rotation(a: &[Vec3], b: &[Vec3]) -> Mat3 {
         // Σ p qᵀ: column j is p · q_j.
         c += Mat3::from_cols(*p * q.x, *p * q.y, *p * q.z);
     }
+    polar_rotation(c.transpose()).unwrap_or_else(|| rotation_by_svd(c))
+}
+
+/// The orthogonal polar factor of `m` when it is a rotation reached by Newton's iteration, or
+/// `None` (det ≤ 0, ill-conditioned, or no convergence in 30 steps).
+fn polar_rotation(m: Mat3) -> Option<Mat3> {
+    let scale = m.to_cols_array().iter().map(|x| x.abs()).fold(0.0, f64::max);
+    if scale.is_nan() || scale <= 0.0 || !scale.is_finite() {
+        return None;
+    }
+    let mut x = m * (1.0 / scale);
+    if x.determinant() <= 1e-9 {
+        return None;
+    }
+    for _ in 0..30 {
+        let next = (x + x.inverse().transpose()) * 0.5;
+        let change = (next - x).to_cols_array().iter().map(|d| d.abs()).fold(0.0, f64::max);
+        x = next;
+        if change < 1e-14 {
+            return Some(x);
+        }
+    }
+    None
+}
+
+/// [`best_rotation`] by the SVD of the covariance `c`, fixing a reflection (Eq. 8).
+fn rotation_by_svd(c: Mat3) -> Mat3 {
     let (u, _, v) = svd3(c);
     let d = (v * u.transpose()).determinant();
     let s = Mat3::from_diagonal(Vec3::new(1.0, 1.0, if d < 0.0 { -1.0 } else { 1.0 }));
@@ -50,6 +81,35 @@ mod tests {
         let back = u * Mat3::from_diagonal(s) * v.transpose();
         assert!((back - m).to_cols_array().iter().all(|x| x.abs() < 1e-12), "{back} vs {m}");
         assert!(s.x >= s.y && s.y >= s.z && s.z >= 0.0);
+    }
+
+    #[test]
+    fn newton_polar_and_svd_agree() {
+        // Pseudo-random covariances with det > 0: both paths give the same rotation.
+        let mut seed = 0x2545_F491_4F6C_DD1Du64;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let mut checked = 0;
+        for _ in 0..500 {
+            let c = Mat3::from_cols(
+                Vec3::new(next(), next(), next()),
+                Vec3::new(next(), next(), next()),
+                Vec3::new(next(), next(), next()),
+            );
+            if c.determinant() < 1e-3 {
+                continue;
+            }
+            let fast = polar_rotation(c.transpose()).expect("converges");
+            let slow = rotation_by_svd(c);
+            assert!((fast - slow).to_cols_array().iter().all(|x| x.abs() < 1e-9), "{fast} vs {slow}");
+            assert!((fast.determinant() - 1.0).abs() < 1e-12);
+            checked += 1;
+        }
+        assert!(checked > 100);
     }
 
     #[test]
