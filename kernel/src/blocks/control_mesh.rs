@@ -20,7 +20,7 @@
 use std::collections::{HashMap, HashSet};
 
 use crate::math::Vec3;
-use crate::mesh::{Mesh, NONE};
+use crate::mesh::{Mesh, MeshError, NONE};
 
 use super::connect::pairing;
 use super::{Block, BlockError, BlockModel, Connection, Edge, Face, SubFaceRef};
@@ -297,6 +297,11 @@ fn group_chains(
     Ok(groups)
 }
 
+/// A sub-face, for messages.
+fn describe(r: SubFaceRef) -> String {
+    format!("sub-face {} of face {} of block {}", r.sub, r.face.name(), r.block)
+}
+
 /// Steps 2–5 on the polygons of every block.
 fn assemble(model: &BlockModel, connections: &[Connection]) -> Result<ControlMesh, BlockError> {
     if model.blocks().is_empty() {
@@ -440,6 +445,19 @@ fn assemble(model: &BlockModel, connections: &[Connection]) -> Result<ControlMes
                 }
             }
         }
+        if let Some(i) = (1..cls.len()).find(|&i| cls[..i].contains(&cls[i])) {
+            let p = pos[cls[i] as usize];
+            return Err(BlockError::Topology {
+                reason: format!(
+                    "the connections join two corners of {} to one point ({}, {}, {}): connected sub-faces do \
+                     not line up with their neighbours (check the sub-face grids and groups)",
+                    describe(poly.src),
+                    p.x,
+                    p.y,
+                    p.z
+                ),
+            });
+        }
         for &c in &cls {
             if final_id[c as usize] == NONE {
                 final_id[c as usize] = out_pos.len() as u32;
@@ -451,8 +469,25 @@ fn assemble(model: &BlockModel, connections: &[Connection]) -> Result<ControlMes
         uvs.push(puv);
         polygon_sources.push(poly.src);
     }
-    let mut polygons =
-        Mesh::from_indexed(out_pos, &indices, &arities).map_err(|e| BlockError::Topology { reason: e.to_string() })?;
+    let out_pos_copy = out_pos.clone();
+    let mut polygons = Mesh::from_indexed(out_pos, &indices, &arities).map_err(|e| {
+        let reason = match e {
+            MeshError::NonManifoldEdge { first, second, .. } => format!(
+                "{} and {} share an edge in the same direction (more than two sub-faces meet at an edge)",
+                describe(polygon_sources[first]),
+                describe(polygon_sources[second])
+            ),
+            MeshError::NonManifoldVertex { vertex, fans } => {
+                let p = out_pos_copy[vertex as usize];
+                format!(
+                    "the sub-faces around ({}, {}, {}) form {fans} separate fans (blocks touching at a point)",
+                    p.x, p.y, p.z
+                )
+            }
+            other => other.to_string(),
+        };
+        BlockError::Topology { reason }
+    })?;
     if !polygons.is_closed() {
         let open = (0..polygons.halfedge_count() as u32).filter(|&h| polygons.is_boundary_halfedge(h)).count();
         return Err(BlockError::Topology {

@@ -21,6 +21,8 @@ pub mod model;
 pub mod tessellate;
 #[cfg(test)]
 mod test_models;
+#[cfg(test)]
+mod tests_random;
 
 pub use block::{Block, Edge, Face, MAX_SUBDIVISIONS};
 pub use control_mesh::{ControlMesh, PatchSource};
