@@ -7,14 +7,17 @@
 //!   times (libigl's `_precompute` / `_solve` split);
 //! - `projections`: the local step of each constraint (Eqs. 5–9 and Shape-Up's circle and plane);
 //! - `svd3`: the 3×3 singular value decomposition the projections use;
-//! - [`fit_cylinder`]: Eqs. 13–14.
+//! - [`fit_cylinder`]: Eqs. 13–14;
+//! - [`retain_circular_features`]: the whole pipeline of Fig. 1.
 
 mod error;
 mod fit_cylinder;
 mod projections;
+mod retain;
 mod shape_up;
 mod svd3;
 
 pub use error::SolveError;
 pub use fit_cylinder::{fit_cylinder, Cylinder, RadiusRule};
+pub use retain::{retain_circular_features, FeatureReport, RetainOptions};
 pub use shape_up::{Factored, ShapeUp, Solution};

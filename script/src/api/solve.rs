@@ -3,7 +3,9 @@
 
 use std::rc::Rc;
 
-use blocksmith_kernel::solve::{fit_cylinder as kernel_fit_cylinder, RadiusRule, ShapeUp};
+use blocksmith_kernel::solve::{
+    fit_cylinder as kernel_fit_cylinder, retain_circular_features as kernel_retain, RadiusRule, RetainOptions, ShapeUp,
+};
 use blocksmith_kernel::Vec3;
 use rhai::plugin::*;
 use rhai::{exported_module, Array, Engine, Map, INT};
@@ -189,6 +191,77 @@ pub mod solve_api {
         m.insert("axis".into(), Dynamic::from(c.axis));
         m.insert("radius".into(), Dynamic::from(c.radius));
         Ok(m)
+    }
+
+    /// Retains circular features on a deformed Loop surface (Tsoi & Hui, Fig. 1): `features` is
+    /// an array of vertex-id arrays (one per circular feature of `original`); the result is the
+    /// adjusted control mesh (the ids of `deformed`) whose Loop limit surface keeps each
+    /// feature's radius. Options: `weights` (`[10, 5, 1]`: shape, closeness, smoothness of the
+    /// retention), `size_weights` (`[2, 1]`: size, boundary of the adjustment), `iterations`
+    /// (200 per solve), `passes` (20 compensation passes at most; the paper stops at one),
+    /// `tolerance` (1e-5, relative radius error).
+    ///
+    /// ```rhai
+    /// let t = torus(2, 0.5, 24, 12).triangulate();
+    /// let ring = [];
+    /// for j in 0..12 { ring.push(j); }
+    /// let adjusted = retain_circular_features(t, t, [ring]);
+    /// let r = fit_cylinder(adjusted.loop_limit(), ring).radius;
+    /// assert(abs(r - 0.5) < 0.5 * 5e-4, `limit radius ${r}`);
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn retain_circular_features(
+        original: SharedMesh,
+        deformed: SharedMesh,
+        features: Array,
+    ) -> ScriptResult<SharedMesh> {
+        retain_circular_features_with(original, deformed, features, Map::new())
+    }
+    /// `retain_circular_features` with options.
+    #[rhai_fn(name = "retain_circular_features", return_raw)]
+    pub fn retain_circular_features_with(
+        original: SharedMesh,
+        deformed: SharedMesh,
+        features: Array,
+        options: Map,
+    ) -> ScriptResult<SharedMesh> {
+        const FUNC: &str = "retain_circular_features";
+        let opts = Options::new(FUNC, options, &["weights", "size_weights", "iterations", "passes", "tolerance"])?;
+        let d = RetainOptions::default();
+        let list = |key: &str, default: &[f64]| -> ScriptResult<Vec<f64>> {
+            match opts.raw(key) {
+                None => Ok(default.to_vec()),
+                Some(v) => match v.clone().try_cast::<Array>() {
+                    Some(a) if a.len() == default.len() => {
+                        a.iter().enumerate().map(|(i, x)| number(FUNC, &format!("option `{key}`[{i}]"), x)).collect()
+                    }
+                    _ => fail(FUNC, format!("option `{key}` must be an array of {} numbers", default.len())),
+                },
+            }
+        };
+        let w = list("weights", &d.weights)?;
+        let sw = list("size_weights", &d.size_weights)?;
+        let iterations = opts.int("iterations", d.iterations as INT)?;
+        let passes = opts.int("passes", d.passes as INT)?;
+        if !(1..=100_000).contains(&iterations) || !(0..=1000).contains(&passes) {
+            return fail(FUNC, "options `iterations` (1 to 100000) and `passes` (0 to 1000) are out of range");
+        }
+        let o = RetainOptions {
+            weights: [w[0], w[1], w[2]],
+            size_weights: [sw[0], sw[1]],
+            iterations: iterations as usize,
+            passes: passes as usize,
+            tolerance: opts.number("tolerance", d.tolerance)?,
+        };
+        let mut feats = Vec::with_capacity(features.len());
+        for (i, f) in features.iter().enumerate() {
+            match f.clone().try_cast::<Array>() {
+                Some(a) => feats.push(ids(FUNC, &format!("features[{i}]"), &a)?),
+                None => return fail(FUNC, format!("argument `features[{i}]` must be an array of vertex ids")),
+            }
+        }
+        let (mesh, _) = kernel(FUNC, kernel_retain(&original.0, &deformed.0, &feats, &o))?;
+        Ok(SharedMesh::new(mesh))
     }
 
     /// A one-line summary.
