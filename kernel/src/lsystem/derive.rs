@@ -9,7 +9,7 @@
 
 use std::fmt::Display;
 
-use super::grammar::{Lsystem, Module, Probability, Rule};
+use super::grammar::{Lsystem, Module, Prob, Rule};
 use super::rng::SplitMix64;
 use super::LsystemError;
 
@@ -27,7 +27,7 @@ impl Lsystem {
     }
 
     /// The string after `steps` derivation steps. `probability(id, step, params)` evaluates a
-    /// [`Probability::Callback`] choice with that id for derivation step `step` (0 for the first
+    /// [`Probability::Callback`](super::Probability::Callback) choice with that id for derivation step `step` (0 for the first
     /// rewriting) and the predecessor's parameters. Deterministic rules draw no random number,
     /// each stochastic rewriting draws one, in string order, from SplitMix64 seeded with the
     /// L-system's seed: the same seed gives the same string.
@@ -46,6 +46,7 @@ impl Lsystem {
         let mut rng = SplitMix64::new(self.seed);
         let mut cur = self.axiom.clone();
         let mut probs: Vec<f64> = Vec::new();
+        let mut vars: Vec<f64> = Vec::new();
         for step in 0..steps {
             let (open_of, close_of) = brackets(&cur);
             let mut next = Vec::with_capacity(cur.len() * 2);
@@ -60,11 +61,17 @@ impl Lsystem {
                     let place = || format!("rules[\"{}\"] at step {step} for `{m}`", rule.key);
                     probs.clear();
                     for (c, (_, p)) in rule.choices.iter().enumerate() {
-                        let p = match *p {
-                            Probability::Fixed(p) => p,
-                            Probability::Callback(id) => probability(id, step, &m.params).map_err(|e| {
+                        let p = match p {
+                            Prob::Fixed(p) => *p,
+                            Prob::Callback(id) => probability(*id, step, &m.params).map_err(|e| {
                                 LsystemError::Callback { place: place(), choice: c, message: e.to_string() }
                             })?,
+                            Prob::Expr(e) => {
+                                vars.clear();
+                                vars.extend_from_slice(&m.params);
+                                vars.push(f64::from(step));
+                                e.eval(&vars)
+                            }
                         };
                         if !(0.0..=1.0).contains(&p) {
                             return Err(LsystemError::BadProbability { place: place(), choice: c, p });
@@ -199,7 +206,7 @@ fn brackets(s: &[Module]) -> (Vec<usize>, Vec<usize>) {
 
 #[cfg(test)]
 mod tests {
-    use super::super::grammar::{modules_to_string, ChoiceSpec, RuleSpec};
+    use super::super::grammar::{modules_to_string, ChoiceSpec, Probability, RuleSpec};
     use super::*;
 
     fn derive(axiom: &str, rules: &[(&str, &str)], steps: u32) -> String {
@@ -280,6 +287,30 @@ mod tests {
         );
         let e = ls.derive(1).unwrap_err();
         assert!(matches!(e, LsystemError::Callback { .. }), "{e}");
+    }
+
+    #[test]
+    fn expression_probabilities_see_parameters_and_the_step() {
+        // pr = 1 for s < 2 (then 0) written as an expression: A(0) → A(1) → A(2) → B.
+        let rule = RuleSpec {
+            key: "A(s)".into(),
+            choices: vec![
+                ChoiceSpec { to: "A(s+1)".into(), p: Probability::Expression("max(0, min(1, 2 - s))".into()) },
+                ChoiceSpec { to: "B".into(), p: Probability::Expression("1 - max(0, min(1, 2 - s))".into()) },
+            ],
+        };
+        let ls = Lsystem::new("A(0)", &[rule], 3).unwrap();
+        assert_eq!(modules_to_string(&ls.derive(4).unwrap()), "B");
+        // `step` is the derivation step: 0.5 + 0.5·step sums to 1 with its complement only.
+        let rule = RuleSpec {
+            key: "A".into(),
+            choices: vec![
+                ChoiceSpec { to: "A".into(), p: Probability::Expression("step".into()) },
+                ChoiceSpec { to: "B".into(), p: Probability::Expression("0.5".into()) },
+            ],
+        };
+        let e = Lsystem::new("A", &[rule], 0).unwrap().derive(1).unwrap_err();
+        assert!(e.to_string().contains("at step 0 for `A`: the choices' probabilities sum to 0.5"), "{e}");
     }
 
     #[test]

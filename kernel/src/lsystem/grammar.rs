@@ -100,6 +100,32 @@ pub(crate) enum Expr {
     Var(usize),
     Neg(Box<Expr>),
     Bin(Op, Box<Expr>, Box<Expr>),
+    Call(Func, Vec<Expr>),
+}
+
+/// A function of parameter expressions.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Func {
+    Exp,
+    Ln,
+    Sqrt,
+    Abs,
+    Min,
+    Max,
+}
+
+impl Func {
+    fn named(name: &str) -> Option<(Func, usize)> {
+        Some(match name {
+            "exp" => (Func::Exp, 1),
+            "ln" => (Func::Ln, 1),
+            "sqrt" => (Func::Sqrt, 1),
+            "abs" => (Func::Abs, 1),
+            "min" => (Func::Min, 2),
+            "max" => (Func::Max, 2),
+            _ => return None,
+        })
+    }
 }
 
 impl Expr {
@@ -118,6 +144,18 @@ impl Expr {
                     Op::Pow => a.powf(b),
                 }
             }
+            Expr::Call(f, args) => {
+                let a = args.first().map_or(f64::NAN, |e| e.eval(vars));
+                let b = args.get(1).map_or(f64::NAN, |e| e.eval(vars));
+                match f {
+                    Func::Exp => a.exp(),
+                    Func::Ln => a.ln(),
+                    Func::Sqrt => a.sqrt(),
+                    Func::Abs => a.abs(),
+                    Func::Min => a.min(b),
+                    Func::Max => a.max(b),
+                }
+            }
         }
     }
 }
@@ -130,13 +168,24 @@ pub(crate) struct Template {
 }
 
 /// How likely a choice is.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum Probability {
     /// A fixed probability in [0, 1].
     Fixed(f64),
     /// Computed at each use by the derivation's callback with this id, from the step and the
     /// predecessor's parameters (as `pr(step)` in Eq. 11.1).
     Callback(u32),
+    /// An expression of the rule's formal parameters and `step` (the derivation step), e.g.
+    /// `"1 - 1/(1 + exp(5.2 - s))"`, with `+ - * / ^`, `exp ln sqrt abs min max`.
+    Expression(String),
+}
+
+/// A parsed probability.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum Prob {
+    Fixed(f64),
+    Callback(u32),
+    Expr(Expr),
 }
 
 /// One choice of a rule as given: a successor string and its probability.
@@ -174,7 +223,7 @@ pub(crate) struct Rule {
     pub symbol: String,
     pub formals: Option<Vec<String>>,
     pub right: Vec<String>,
-    pub choices: Vec<(Vec<Template>, Probability)>,
+    pub choices: Vec<(Vec<Template>, Prob)>,
 }
 
 /// An L-system ⟨V, w, P⟩ (§10.1): an axiom, rules, a seed for every random choice, the symbols
@@ -354,16 +403,28 @@ fn parse_rule(spec: &RuleSpec) -> Result<Rule, LsystemError> {
         let cplace = if spec.choices.len() == 1 { place.clone() } else { format!("{place}[{i}].to") };
         let ts = lex(&cplace, &c.to, Some(&names))?;
         check_balance(&cplace, ts.iter().map(|t| t.symbol.as_str()))?;
-        match c.p {
+        let p = match &c.p {
             Probability::Fixed(p) => {
-                if !(0.0..=1.0).contains(&p) {
-                    return Err(LsystemError::BadProbability { place: place.clone(), choice: i, p });
+                if !(0.0..=1.0).contains(p) {
+                    return Err(LsystemError::BadProbability { place: place.clone(), choice: i, p: *p });
                 }
                 sum += p;
+                Prob::Fixed(*p)
             }
-            Probability::Callback(_) => all_fixed = false,
-        }
-        choices.push((ts, c.p));
+            Probability::Callback(id) => {
+                all_fixed = false;
+                Prob::Callback(*id)
+            }
+            Probability::Expression(text) => {
+                all_fixed = false;
+                let pplace = format!("{place}[{i}].p");
+                let chars: Vec<char> = text.chars().collect();
+                let mut vars = names.clone();
+                vars.push("step".into());
+                Prob::Expr(ExprParser { place: &pplace, chars: &chars, pos: 0, names: &vars }.parse()?)
+            }
+        };
+        choices.push((ts, p));
     }
     if all_fixed && (sum - 1.0).abs() > 1e-9 {
         return Err(LsystemError::ProbabilitySum { place, sum });
@@ -613,6 +674,33 @@ impl ExprParser<'_> {
                     self.pos += 1;
                 }
                 let name: String = self.chars[start..self.pos].iter().collect();
+                if self.peek() == Some('(') {
+                    let Some((f, arity)) = Func::named(&name) else {
+                        return Err(LsystemError::Syntax {
+                            place: self.place.into(),
+                            reason: format!("unknown function `{name}` (functions: exp, ln, sqrt, abs, min, max)"),
+                            at: start + 1,
+                        });
+                    };
+                    self.pos += 1;
+                    let mut args = vec![self.sum()?];
+                    while self.peek() == Some(',') {
+                        self.pos += 1;
+                        args.push(self.sum()?);
+                    }
+                    if self.peek() != Some(')') {
+                        return Err(self.err("`)` expected"));
+                    }
+                    self.pos += 1;
+                    if args.len() != arity {
+                        return Err(LsystemError::Syntax {
+                            place: self.place.into(),
+                            reason: format!("`{name}` takes {arity} argument(s), got {}", args.len()),
+                            at: start + 1,
+                        });
+                    }
+                    return Ok(Expr::Call(f, args));
+                }
                 match self.names.iter().position(|n| *n == name) {
                     Some(k) => Ok(Expr::Var(k)),
                     None => Err(LsystemError::UnknownParameter {
@@ -661,6 +749,11 @@ mod tests {
         let vals: Vec<f64> = ts[0].params.iter().map(|e| e.eval(&[3.0, 4.0])).collect();
         // 3 + 8; −(2²); 2^(3^2)/64 = 512/64; 0.1.
         assert_eq!(vals, [11.0, -4.0, 8.0, 0.1]);
+        let r =
+            parse_rule(&RuleSpec::deterministic("A(x)", "B(max(x, 5) + exp(0) + sqrt(abs(-16)) + ln(1) + min(x, 1))"))
+                .unwrap();
+        assert_eq!(r.choices[0].0[0].params[0].eval(&[3.0]), 5.0 + 1.0 + 4.0 + 0.0 + 1.0);
+        assert!(matches!(parse_rule(&RuleSpec::deterministic("A(x)", "B(cos(x))")), Err(LsystemError::Syntax { .. })));
         let e = parse_rule(&RuleSpec::deterministic("A(x)", "B(z)")).unwrap_err();
         assert!(matches!(e, LsystemError::UnknownParameter { ref name, .. } if name == "z"), "{e}");
     }

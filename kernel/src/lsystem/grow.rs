@@ -193,6 +193,9 @@ struct Ring {
     axis: Vec3,
     radius: f64,
     length: f64,
+    /// A circle after a circle (not a branch's first loop, which copies its gap's shape, nor
+    /// the loop after it): its vertices may slide round it.
+    round: bool,
 }
 
 #[derive(Clone, Debug)]
@@ -448,11 +451,11 @@ impl Grower {
                 // plus its own away from the parent's axis.
                 let host = &self.rings[st.host.unwrap_or(0)];
                 let len = len.max(host.radius + r);
-                return self.segment(i, m, st, b, len, r, pole);
+                return self.segment(i, m, st, b, len, r, pole, true);
             }
         };
         self.segments += 1;
-        self.segment(i, m, st, b, len, r, pole)
+        self.segment(i, m, st, b, len, r, pole, false)
     }
 
     /// The trunk's first segment: a bicone (two poles around one loop of `valence` vertices)
@@ -485,6 +488,7 @@ impl Grower {
             axis: t.heading,
             radius: r,
             length: len,
+            round: true,
         });
         self.branches.push(Branch { tip: north, ring: Some(self.rings.len() - 1), ended: pole.then_some(i) });
         st.branch = Some(self.branches.len() - 1);
@@ -559,19 +563,67 @@ impl Grower {
             return Err(LsystemError::NoRoomForBranch { module: i, symbol: m.to_string(), valence: n });
         };
         let run: Vec<u32> = (0..w).map(|j| ring.verts[(s + j) % n]).collect();
-        let (axis, g) = (ring.axis, 0.25 * ring.length);
+        // A gap over half a loop wraps round to the parent's sides, where the surface faces
+        // along the branch and the branch's first quads fold: on a loop without branches yet,
+        // slide the loop's vertices round it (low-level moves, §2.4) so that the run spans at
+        // most 130° about its centre and the others share the rest evenly.
+        if ring.round && !ring.used.iter().any(|&u| u) {
+            let natural = (w - 1) as f64 * std::f64::consts::TAU / n as f64;
+            let span = natural.min(130f64.to_radians());
+            if span < natural {
+                let (c, axis) = (ring.center, ring.axis);
+                let b1 = across(pos[0] - c, axis).unwrap_or_else(|| axis.any_orthonormal_vector());
+                let b2 = axis.cross(b1);
+                let angle = |p: Vec3| (p - c).dot(b2).atan2((p - c).dot(b1));
+                let step = (angle(pos[1]) - angle(pos[0]) + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+                    - std::f64::consts::PI;
+                let sgn = if step < 0.0 { -1.0 } else { 1.0 };
+                let mid = angle(pos[s]) + sgn * natural / 2.0;
+                let rest = (std::f64::consts::TAU - span) / (n - w + 1) as f64;
+                let pm = self.mesh.as_mut().ok_or_else(|| LsystemError::Internal("nesting before the trunk".into()))?;
+                for t in 0..n {
+                    let j = (s + t) % n;
+                    let th = if t < w {
+                        mid + sgn * span * (t as f64 / (w - 1) as f64 - 0.5)
+                    } else {
+                        mid + sgn * (span / 2.0 + (t - w + 1) as f64 * rest)
+                    };
+                    let rad = (pos[j] - c).length();
+                    let p = c + (b1 * th.cos() + b2 * th.sin()) * rad;
+                    Self::polar(i, pm.set_position(self.rings[host].verts[j], p))?;
+                }
+            }
+        }
+        let ring = &self.rings[host];
+        let (axis, g) = (ring.axis, 0.3 * ring.radius.min(ring.length));
         let pm = self.mesh.as_mut().ok_or_else(|| LsystemError::Internal("nesting before the trunk".into()))?;
         let pole = Self::polar(i, pm.add_feature(&run))?;
-        // The gap's far side: each new vertex a quarter segment ahead of its run vertex.
+        // The gap's far side. Around the new pole the gap reads v0, v1, …, vk, n(k−1), …, n1
+        // (§4.3.2): n_i faces v_i across the gap. Each n_i goes a quarter segment ahead of v_i.
         let far: Vec<(u32, u32)> = {
             let mm = pm.mesh();
-            mm.vertex_neighbors(pole)
-                .filter(|v| !run.contains(v))
-                .filter_map(|v| mm.vertex_neighbors(v).find(|u| run.contains(u)).map(|u| (v, u)))
+            let gap: Vec<u32> = mm.outgoing(pole).map(|h| mm.target(h)).collect();
+            let m2 = gap.len();
+            let i0 = gap.iter().position(|&v| v == run[0]);
+            let Some(i0) = i0.filter(|_| m2 == 2 * (w - 1)) else {
+                return Err(LsystemError::Internal(format!(
+                    "the gap of the branch at module {i} is not a fan of {} vertices",
+                    2 * (w - 1)
+                )));
+            };
+            let fwd = gap[(i0 + 1) % m2] == run[1];
+            (1..w - 1)
+                .map(|j| {
+                    let at = if fwd { (i0 + m2 - j) % m2 } else { (i0 + j) % m2 };
+                    (gap[at], run[j])
+                })
                 .collect()
         };
-        for (v, u) in far {
-            let p = pm.position(u) + axis * g;
+        let kk = (w - 1) as f64;
+        for (j, (v, u)) in far.into_iter().enumerate() {
+            // An arch: highest mid-gap, low near the gap's ends, so the gap has no spikes.
+            let lift = (std::f64::consts::PI * (j + 1) as f64 / kk).sin();
+            let p = pm.position(u) + axis * (g * lift);
             Self::polar(i, pm.set_position(v, p))?;
         }
         for j in 0..w {
@@ -595,10 +647,12 @@ impl Grower {
         len: f64,
         r: f64,
         pole: bool,
+        from_gap: bool,
     ) -> Result<(), LsystemError> {
         if let Some(e) = self.branches[b].ended {
             return Err(LsystemError::DrawAfterPole { module: i, symbol: m.to_string(), ended: e });
         }
+        let round_after = !from_gap && self.branches[b].ring.is_some_and(|k| self.rings[k].round);
         let h = st.turtle.heading;
         let end = st.turtle.position + h * len;
         st.turtle.position = end;
@@ -613,36 +667,95 @@ impl Grower {
         let prev_center = spokes.iter().map(|&x| pm.position(pm.mesh().target(x))).sum::<Vec3>() / spokes.len() as f64;
         let refined = Self::polar(i, pm.add_refinement(i64::from(spokes[0])))?;
         let verts = refined.vertices;
-        // Each new vertex's direction from the axis, taken from the far end of its spoke.
-        let dirs: Vec<Vec3> = {
+        // The far end of each new vertex's spoke (its neighbour on the previous loop or gap),
+        // in ring order. The new circle starts at the first one's direction and turns the way
+        // they do around the heading (the sign of their polygon's Newell normal along it), so
+        // no quad between the two loops folds.
+        let ends: Vec<Vec3> = {
             let mm = pm.mesh();
             verts
                 .iter()
                 .map(|&v| {
-                    let w = mm
-                        .outgoing(v)
-                        .filter(|&x| !pm.is_loop(x))
-                        .map(|x| mm.target(x))
-                        .find(|&u| u != tip)
-                        .unwrap_or(tip);
-                    across(pm.position(w) - prev_center, h).unwrap_or(Vec3::ZERO)
+                    let w = mm.outgoing(v).filter(|&x| !pm.is_loop(x)).map(|x| mm.target(x)).find(|&u| u != tip);
+                    pm.position(w.unwrap_or(tip))
                 })
                 .collect()
         };
-        let e1 = dirs.iter().copied().find(|d| *d != Vec3::ZERO).unwrap_or_else(|| h.any_orthonormal_vector());
-        let e1 = across(e1, h).unwrap_or_else(|| h.any_orthonormal_vector());
-        let e2 = h.cross(e1);
-        let turn: f64 = (0..dirs.len()).map(|j| dirs[j].cross(dirs[(j + 1) % dirs.len()]).dot(h)).sum();
-        let sign = if turn < 0.0 { -1.0 } else { 1.0 };
-        let n = verts.len();
+        // The new circle follows the previous cycle (a loop or a branch's gap): the cycle is
+        // turned so that its Newell normal lies along the heading (a small rotation: a gap on
+        // a parent's side is seen face on, not as a sliver), and each new vertex takes the angle
+        // of its arc-length fraction along the cycle, from the first end's direction, turning
+        // the way the cycle turns, so no quad between the two folds.
+        let nn = ends.len();
+        let mut newell = Vec3::ZERO;
+        for j in 0..nn {
+            newell += (ends[j] - prev_center).cross(ends[(j + 1) % nn] - prev_center);
+        }
+        // The cycle turns about the heading one way or the other (ring order is topology's);
+        // the circle turns the same way, at the phase that best matches every end's direction.
+        let sign = if newell.dot(h) < 0.0 { -1.0 } else { 1.0 };
+        let turn = crate::math::Quat::from_rotation_arc((newell * sign).try_normalize().unwrap_or(h), h);
+        let mut arc = Vec::with_capacity(nn + 1);
+        arc.push(0.0);
+        for j in 0..nn {
+            arc.push(arc[j] + ends[j].distance(ends[(j + 1) % nn]));
+        }
+        let total = arc[nn];
+        let frac = |j: usize| if total > 0.0 { arc[j] / total } else { j as f64 / nn as f64 };
+        // The phase that best matches every end's own direction (a circular mean).
+        let b1 = h.any_orthonormal_vector();
+        let b2 = h.cross(b1);
+        let (mut sx, mut sy) = (0.0, 0.0);
+        for (j, e) in ends.iter().enumerate() {
+            let q = turn * (*e - prev_center);
+            let alpha = q.dot(b2).atan2(q.dot(b1));
+            let d = alpha - sign * std::f64::consts::TAU * frac(j);
+            sx += d.cos();
+            sy += d.sin();
+        }
+        let phase = sy.atan2(sx);
+        // Each new vertex keeps the direction of its end in the turned previous cycle (where
+        // that cycle is star-shaped about its centre, else the arc-length rule at the best
+        // phase) at a distance that halves the previous cycle's deviation from a circle; a
+        // branch's first loop copies its gap's shape whole (a circle there would twist the quads
+        // at the gap's narrow ends). So a branch rounds off over a few loops and no quad folds.
+        let qs: Vec<Vec3> = ends
+            .iter()
+            .map(|e| {
+                let q = turn * (*e - prev_center);
+                q - h * q.dot(h)
+            })
+            .collect();
+        let mean = qs.iter().map(|q| q.length()).sum::<f64>() / nn as f64;
+        let mut angles: Vec<f64> = Vec::with_capacity(nn);
+        let mut sweep: f64 = 0.0;
+        for (j, q) in qs.iter().enumerate() {
+            let alpha = sign * q.dot(b2).atan2(q.dot(b1));
+            if j > 0 {
+                sweep += (alpha - angles[j - 1]).rem_euclid(std::f64::consts::TAU);
+            }
+            angles.push(alpha);
+        }
+        let closing = (angles[0] - angles[nn - 1]).rem_euclid(std::f64::consts::TAU);
+        let star = (sweep + closing - std::f64::consts::TAU).abs() < 1e-6;
         for (j, &v) in verts.iter().enumerate() {
-            let a = std::f64::consts::TAU * j as f64 / n as f64;
-            let p = end + (e1 * a.cos() + e2 * (sign * a.sin())) * r;
+            let a = if star { sign * angles[j] } else { phase + sign * std::f64::consts::TAU * frac(j) };
+            let shape = if mean > 0.0 { qs[j].length() / mean } else { 1.0 };
+            let w = if from_gap { 1.0 } else { 0.5 };
+            let p = end + (b1 * a.cos() + b2 * a.sin()) * (r * (w * shape + (1.0 - w)));
             Self::polar(i, pm.set_position(v, p))?;
         }
         Self::polar(i, pm.set_position(tip, end + h * cap(r, len)))?;
         let verts = Self::forward_order(pm, verts, tip);
-        self.rings.push(Ring { used: vec![false; n], verts, center: end, axis: h, radius: r, length: len });
+        self.rings.push(Ring {
+            used: vec![false; nn],
+            verts,
+            center: end,
+            axis: h,
+            radius: r,
+            length: len,
+            round: round_after,
+        });
         self.branches[b].ring = Some(self.rings.len() - 1);
         self.check_caps(i, m)
     }

@@ -144,3 +144,19 @@ fn three_d_turtle_symbols_grow_a_valid_plant() {
     valences.dedup();
     assert_eq!(valences, [6, 14, 24]);
 }
+
+/// Branches off the trunk, one level deep, have no folded quad: every face triangulates in its
+/// own plane, as a glTF export needs. (Known limitation: branches nested on a branch's first
+/// loops can still get twisted quads at their base; see the module notes.)
+#[test]
+fn one_level_of_branches_has_no_folded_faces() {
+    for s in ["F[+F]F", "F[+F][-F]F", "L(0)[L(0)L(1)L(1)P(1)][R(0)L(1)P(1)]P(0)", "F[&F]/[&F]/F"] {
+        for valence in [8, 10, 12, 16] {
+            let g = grow(&modules(s), &GrowOptions::DEFAULT.with_valence(valence)).unwrap();
+            assert_plant(&g);
+            if let Err(e) = g.mesh.mesh().triangulate() {
+                panic!("{s}, valence {valence}: {e}");
+            }
+        }
+    }
+}
