@@ -506,6 +506,22 @@ mod tests {
     }
 
     #[test]
+    fn sharp_blocks_with_t_vertices_on_any_face_are_exact_boxes() {
+        // A T-vertex on a crease is a corner of a quad whose two edges there are collinear: its
+        // normal is undefined at that corner, and meshing must still go through.
+        for f in Face::ALL {
+            let mut b = boxed([0.0; 3], [1.0, 2.0, 3.0]);
+            b.sharp_all();
+            b.subdivide(f, 2, 3).unwrap();
+            let mut m = BlockModel::new();
+            m.add(b);
+            let t = m.tessellate(&MeshOptions::DEFAULT, None).unwrap_or_else(|e| panic!("face {}: {e}", f.name()));
+            check_solid(&t.mesh);
+            assert!((t.mesh.volume() - 6.0).abs() < 1e-9, "face {}: volume {}", f.name(), t.mesh.volume());
+        }
+    }
+
+    #[test]
     fn a_smooth_block_is_rounded_closed_and_finer_with_a_smaller_tolerance() {
         let mut m = BlockModel::new();
         m.add(boxed([-1.0; 3], [1.0; 3]));
