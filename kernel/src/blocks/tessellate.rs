@@ -166,10 +166,18 @@ impl Surface<'_> {
         let corners = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)];
         let k = corners.iter().position(|&(a, b)| a == u && b == v).ok_or_else(degenerate)?;
         let q = self.cm.mesh.face_vertices(f).nth(k).ok_or_else(degenerate)?;
-        const INSIDE: f64 = 1e-7;
-        let (ui, vi) = ((u - INSIDE).abs().min(u + INSIDE), (v - INSIDE).abs().min(v + INSIDE));
-        let s = self.ev.eval(f, ui, vi).map_err(|_| degenerate())?;
-        Ok((self.limits[q as usize], s.normal))
+        // A hair inside, a little more, then the control quad's own normal.
+        for inside in [1e-7, 1e-5, 1e-3] {
+            let (ui, vi) = ((u - inside).abs().min(u + inside), (v - inside).abs().min(v + inside));
+            if let Ok(s) = self.ev.eval(f, ui, vi) {
+                return Ok((self.limits[q as usize], s.normal));
+            }
+        }
+        let n = self.cm.mesh.face_normal(f);
+        if n == Vec3::ZERO {
+            return Err(degenerate());
+        }
+        Ok((self.limits[q as usize], n))
     }
 
     /// The displaced point at (u, v) of patch `f`.
