@@ -1,0 +1,49 @@
+//! L-system growth as polar operations (seed 004, §11.1) on the thesis's Fig. 12.2 case: "11
+//! steps, 400K vertices", the grammar with the stochastic branching removed so that every bud
+//! nests two features per step, `L0(s) → [L L0(s+1) L(s+1) P(s+1)][R L0(s+1) L(s+1) P(s+1)]`,
+//! axiom `L(0) L0(0) P(0)`. With loops of 32 vertices, 11 steps give 4,094 nested branches and
+//! about 390k vertices. The thesis reports "several seconds"; the target here is under 0.5 s.
+//!
+//! Also: how time grows with the steps (the number of branches doubles per step, Eq. 12.1: the
+//! time per vertex must stay flat), and the derivation alone.
+//! Run: `cargo bench -p blocksmith-kernel --bench lsystem`.
+
+use std::hint::black_box;
+
+use blocksmith_kernel::lsystem::{grow, GrowOptions, Lsystem, Module, RuleSpec};
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+
+fn fig_12_2() -> Lsystem {
+    let rule = RuleSpec::deterministic("L0(s)", "[L(s) L0(s+1) L(s+1) P(s+1)][R(s) L0(s+1) L(s+1) P(s+1)]");
+    Lsystem::new("L(0) L0(0) P(0)", &[rule], 0).expect("the Fig. 12.2 grammar is valid")
+}
+
+fn options() -> GrowOptions {
+    GrowOptions::DEFAULT.with_valence(32)
+}
+
+fn bench(c: &mut Criterion) {
+    let ls = fig_12_2();
+    let s11: Vec<Module> = ls.derive(11).expect("derives");
+    let g = grow(&s11, &options()).expect("grows");
+    eprintln!(
+        "Fig. 12.2 case: {} modules, {} vertices, {} faces, {} nested branches",
+        s11.len(),
+        g.mesh.vertex_count(),
+        g.mesh.face_count(),
+        g.features
+    );
+    c.bench_function("lsystem/fig12_2_grow_11_steps", |b| b.iter(|| grow(black_box(&s11), &options()).expect("grows")));
+    c.bench_function("lsystem/fig12_2_derive_11_steps", |b| b.iter(|| ls.derive(black_box(11)).expect("derives")));
+    let mut group = c.benchmark_group("lsystem/grow_by_steps");
+    for steps in [5u32, 7, 9, 11] {
+        let s = ls.derive(steps).expect("derives");
+        group.bench_with_input(BenchmarkId::from_parameter(steps), &s, |b, s| {
+            b.iter(|| grow(s, &options()).expect("grows"))
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
