@@ -89,6 +89,50 @@ fn displacement_value(v: &Dynamic) -> Result<f64, String> {
     }
 }
 
+/// The error for a `displacement` option that is neither a closure nor a height map.
+fn not_displacement(opts: &Options) -> Box<EvalAltResult> {
+    let got = opts.raw("displacement").map_or_else(|| "nothing".to_string(), type_name);
+    error(
+        "mesh",
+        format!("option `displacement` must be a closure |p, n, u, v| or a height map (an array of rows of numbers), got {got}"),
+    )
+}
+
+/// A height map: rows (v from 0 to 1) of equally many numbers (u from 0 to 1), at least 2 × 2.
+fn height_map(v: &Dynamic) -> ScriptResult<Vec<Vec<f64>>> {
+    let bad = |why: String| error("mesh", format!("option `displacement`: a height map {why}"));
+    let rows = v.clone().into_array().map_err(|_| bad("must be an array of rows".into()))?;
+    let mut grid = Vec::with_capacity(rows.len());
+    for (j, row) in rows.iter().enumerate() {
+        let r = row.clone().into_array().map_err(|_| bad(format!("row {j} is {}, not an array", type_name(row))))?;
+        let r = r
+            .iter()
+            .enumerate()
+            .map(|(i, x)| number("mesh", &format!("displacement[{j}][{i}]"), x))
+            .collect::<ScriptResult<Vec<f64>>>()?;
+        grid.push(r);
+    }
+    let width = grid.first().map_or(0, Vec::len);
+    if grid.len() < 2 || width < 2 || grid.iter().any(|r| r.len() != width) {
+        return Err(bad(format!(
+            "needs at least 2 rows of at least 2 numbers, all rows of one length; got {} rows of lengths {:?}",
+            grid.len(),
+            grid.iter().map(Vec::len).collect::<Vec<_>>()
+        )));
+    }
+    Ok(grid)
+}
+
+/// The height map at (u, v) ∈ [0, 1]², bilinear between its samples (row `j` at v = j / (rows - 1)).
+fn bilinear(grid: &[Vec<f64>], u: f64, v: f64) -> f64 {
+    let (w, h) = (grid[0].len() - 1, grid.len() - 1);
+    let (x, y) = (u.clamp(0.0, 1.0) * w as f64, v.clamp(0.0, 1.0) * h as f64);
+    let (i, j) = ((x.floor() as usize).min(w - 1), (y.floor() as usize).min(h - 1));
+    let (fx, fy) = (x - i as f64, y - j as f64);
+    let row = |j: usize| grid[j][i] * (1.0 - fx) + grid[j][i + 1] * fx;
+    row(j) * (1.0 - fy) + row(j + 1) * fy
+}
+
 /// Meshes `m` with the options of `options` (checked key by key).
 fn mesh_model(ctx: &NativeCallContext, m: &mut BlockModel, options: Map) -> ScriptResult<SharedMesh> {
     let opts = Options::new("mesh", options, &["tolerance", "max_depth", "displacement"])?;
@@ -101,10 +145,19 @@ fn mesh_model(ctx: &NativeCallContext, m: &mut BlockModel, options: Map) -> Scri
         return fail("mesh", format!("option `max_depth` must be between 0 and {MAX_DEPTH}, got {depth}"));
     }
     o = o.with_max_depth(depth as u32);
-    let f = opts.fn_ptr("displacement")?;
+    let map = match opts.raw("displacement") {
+        Some(v) if v.is_array() => Some(height_map(v)?),
+        _ => None,
+    };
+    let f = if map.is_some() { None } else { opts.fn_ptr("displacement").map_err(|_| not_displacement(&opts))? };
     // The closure may read the model: mesh a copy, so nothing is borrowed while it runs.
     let model = m.model.clone();
     let result = match &f {
+        None if map.is_some() => {
+            let grid = map.unwrap_or_default();
+            let sample = |_p: Vec3, _n: Vec3, u: f64, v: f64| -> Result<f64, String> { Ok(bilinear(&grid, u, v)) };
+            model.tessellate(&o, Some(&sample))
+        }
         None => model.tessellate(&o, None),
         Some(f) => {
             let call = |p: Vec3, n: Vec3, u: f64, v: f64| -> Result<f64, String> {
@@ -504,7 +557,9 @@ pub mod blocks_api {
     /// samples is within `tolerance` of its chord (default 0.001 × the model's diagonal), at most
     /// `max_depth` times per direction (default 8, at most 14); neighbouring patches share their
     /// edge points, so there are no cracks. `displacement` is a closure `|p, n, u, v|` returning
-    /// the offset along the unit normal `n` at `p`, where `(u, v)` is the block-face parameter.
+    /// the offset along the unit normal `n` at `p`, where `(u, v)` is the block-face parameter,
+    /// or a height map: an array of rows (v from 0 to 1) of offsets (u from 0 to 1), sampled
+    /// bilinearly on every face.
     ///
     /// ```rhai
     /// let m = blocks();
@@ -513,6 +568,9 @@ pub mod blocks_api {
     /// assert(bumpy.is_closed() && bumpy.is_manifold(), "watertight");
     /// assert(bumpy.volume() > 8.0, "bumps outward");
     /// assert(m.stats().sub_patches > m.stats().patches, "adaptive");
+    /// // A 3 × 3 height map raising the middle of every face.
+    /// let raised = m.mesh(#{ displacement: [[0, 0, 0], [0, 0.2, 0], [0, 0, 0]] });
+    /// assert_near(raised.bounds().max.z, 1.2, 1e-9);
     /// ```
     #[rhai_fn(name = "mesh", return_raw)]
     pub fn model_mesh_with(ctx: NativeCallContext, m: &mut BlockModel, options: Map) -> ScriptResult<SharedMesh> {
