@@ -349,6 +349,10 @@ pub mod lsystem_api {
     }
 
     /// The seed.
+    ///
+    /// ```rhai
+    /// assert_eq(lsystem(#{ axiom: "F", seed: 9 }).seed, 9);
+    /// ```
     #[rhai_fn(get = "seed", pure)]
     pub fn seed(ls: &mut LSystem) -> INT {
         ls.0.grammar.seed() as INT
@@ -380,6 +384,10 @@ pub mod lsystem_api {
     }
 
     /// `lsystem_sigmoid` for an integer step.
+    ///
+    /// ```rhai
+    /// assert(lsystem_sigmoid(0) > lsystem_sigmoid(5), "the sigmoid falls with the step");
+    /// ```
     #[rhai_fn(name = "lsystem_sigmoid")]
     pub fn lsystem_sigmoid_int(step: INT) -> f64 {
         blocksmith_kernel::lsystem::sigmoid(step as f64)
@@ -416,6 +424,10 @@ pub mod lsystem_api {
     }
 
     /// A one-line summary.
+    ///
+    /// ```rhai
+    /// assert_eq(`${lsystem(#{ axiom: "F", rules: #{ F: "FF" } })}`, "LSystem(axiom \"F\", 1 rules, seed 0)");
+    /// ```
     #[rhai_fn(name = "to_string", name = "to_debug", pure)]
     pub fn to_string(ls: &mut LSystem) -> String {
         format!(
