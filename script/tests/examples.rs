@@ -10,6 +10,16 @@ fn workspace() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_path_buf()
 }
 
+/// Runs `examples/{recipe}.rhai` with `--set` values `sets`, writing its value to `out`.
+fn run_recipe(recipe: &str, sets: &[&str], out: &std::path::Path) -> std::process::Output {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_blocksmith"));
+    cmd.arg("run").arg(workspace().join("examples").join(format!("{recipe}.rhai")));
+    for set in sets {
+        cmd.args(["--set", set]);
+    }
+    cmd.arg("-o").arg(out).output().unwrap()
+}
+
 #[test]
 fn every_example_recipe_runs_and_writes_a_glb() {
     let examples = workspace().join("examples");
@@ -55,23 +65,10 @@ fn recipe_parameters_come_from_the_command_line() {
     for (recipe, set, file) in [("gear", "teeth=16", "gear_16_teeth.glb"), ("ladder", "rungs=8", "ladder_8_rungs.glb")]
     {
         let out = out_dir.join(file);
-        let o = Command::new(env!("CARGO_BIN_EXE_blocksmith"))
-            .arg("run")
-            .arg(workspace().join("examples").join(format!("{recipe}.rhai")))
-            .args(["--set", set, "-o"])
-            .arg(&out)
-            .output()
-            .unwrap();
+        let o = run_recipe(recipe, &[set], &out);
         assert!(o.status.success(), "{recipe} --set {set}:\n{}", String::from_utf8_lossy(&o.stderr));
         let default = out_dir.join(format!("{recipe}_default.glb"));
-        let o = Command::new(env!("CARGO_BIN_EXE_blocksmith"))
-            .arg("run")
-            .arg(workspace().join("examples").join(format!("{recipe}.rhai")))
-            .arg("-o")
-            .arg(&default)
-            .output()
-            .unwrap();
-        assert!(o.status.success());
+        assert!(run_recipe(recipe, &[], &default).status.success());
         let (big, small) = (std::fs::metadata(&out).unwrap().len(), std::fs::metadata(&default).unwrap().len());
         assert!(big > small, "{recipe} --set {set} wrote {big} bytes, the default {small}");
     }
@@ -88,13 +85,7 @@ fn animation_recipe_variants_run() {
         ("plant_gravity", "grow=true", "plant_grow_and_fall.glb"),
     ] {
         let out = out_dir.join(file);
-        let o = Command::new(env!("CARGO_BIN_EXE_blocksmith"))
-            .arg("run")
-            .arg(workspace().join("examples").join(format!("{recipe}.rhai")))
-            .args(["--set", set, "-o"])
-            .arg(&out)
-            .output()
-            .unwrap();
+        let o = run_recipe(recipe, &[set], &out);
         assert!(o.status.success(), "{recipe} --set {set}:\n{}", String::from_utf8_lossy(&o.stderr));
         assert_eq!(&std::fs::read(&out).unwrap()[..4], b"glTF");
     }

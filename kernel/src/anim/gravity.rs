@@ -118,15 +118,7 @@ impl Gravity {
             prev[n] = current[n];
         }
         for _ in 0..self.iterations.max(1) {
-            for &n in &tree.order {
-                let n = n as usize;
-                let Some(p) = tree.parent[n] else { continue };
-                let p = p as usize;
-                let rest = (nominal[n] - nominal[p]).length();
-                let d = pos[n] - pos[p];
-                let len = d.length();
-                pos[n] = if len > 0.0 { pos[p] + d * (rest / len) } else { pos[p] + (nominal[n] - nominal[p]) };
-            }
+            project_tree(tree, nominal, pos);
             for &[a, b] in &tree.cycle_pairs {
                 let (a, b) = (a as usize, b as usize);
                 let rest = (nominal[b] - nominal[a]).length();
@@ -145,17 +137,21 @@ impl Gravity {
         }
         // Segments closing cycles were settled above; a last tree sweep keeps every tree
         // segment at its length exactly.
-        for &n in &tree.order {
-            let n = n as usize;
-            let Some(p) = tree.parent[n] else { continue };
-            let p = p as usize;
-            let rest = (nominal[n] - nominal[p]).length();
-            let d = pos[n] - pos[p];
-            let len = d.length();
-            if len > 0.0 {
-                pos[n] = pos[p] + d * (rest / len);
-            }
-        }
+        project_tree(tree, nominal, pos);
+    }
+}
+
+/// One relaxation sweep over the tree segments, parents first: each child end moved onto its
+/// segment's nominal length from the (already placed) parent end.
+fn project_tree(tree: &Tree, nominal: &[Vec3], pos: &mut [Vec3]) {
+    for &n in &tree.order {
+        let n = n as usize;
+        let Some(p) = tree.parent[n] else { continue };
+        let p = p as usize;
+        let rest = (nominal[n] - nominal[p]).length();
+        let d = pos[n] - pos[p];
+        let len = d.length();
+        pos[n] = if len > 0.0 { pos[p] + d * (rest / len) } else { pos[p] + (nominal[n] - nominal[p]) };
     }
 }
 

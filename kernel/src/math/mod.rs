@@ -1,8 +1,10 @@
 //! Vectors and bounds: glam's f64 types and an axis-aligned box.
 
 mod aabb;
+mod closest_point;
 
 pub use aabb::Aabb;
+pub use closest_point::closest_on_triangle;
 
 /// A point or direction in 3D, in double precision.
 pub type Vec3 = glam::DVec3;
