@@ -34,6 +34,10 @@ pub struct RetainOptions {
     pub passes: usize,
     /// Relative radius error at which the compensation stops. Default 1e-5.
     pub tolerance: f64,
+    /// Where D* is measured: 0 (default) on the Loop limit surface (limit masks); L > 0 on the
+    /// feature's own vertices after L Loop levels (they keep their ids), for a model shown at
+    /// that level rather than at the limit.
+    pub levels: u32,
 }
 
 impl Default for RetainOptions {
@@ -44,6 +48,7 @@ impl Default for RetainOptions {
             iterations: 200,
             passes: 20,
             tolerance: 1e-5,
+            levels: 0,
         }
     }
 }
@@ -69,11 +74,14 @@ fn gather(positions: &[Vec3], verts: &[u32]) -> Vec<Vec3> {
     verts.iter().map(|&v| positions[v as usize]).collect()
 }
 
-fn limit_positions(mesh: &Mesh, positions: &[Vec3]) -> Result<Vec<Vec3>, SolveError> {
+/// The positions the radius is measured on: the Loop limit (`levels` 0) or level `levels`, for
+/// the first #V vertex ids (the refined mesh keeps the coarse vertices' ids).
+fn limit_positions(mesh: &Mesh, positions: &[Vec3], levels: u32) -> Result<Vec<Vec3>, SolveError> {
     let mut m = mesh.clone();
     m.set_positions(positions.to_vec()).map_err(|_| SolveError::NonFinite { what: "the adjusted mesh" })?;
-    let limit = m.loop_limit().map_err(|e| SolveError::Singular(format!("Loop limit: {e}")))?;
-    Ok(limit.positions().to_vec())
+    let refined = if levels == 0 { m.loop_limit() } else { m.loop_subdivide(levels) };
+    let refined = refined.map_err(|e| SolveError::Singular(format!("Loop subdivision: {e}")))?;
+    Ok(refined.positions()[..positions.len()].to_vec())
 }
 
 /// The adjusted control mesh (vertex ids of `deformed`) whose Loop limit surface keeps every
@@ -140,7 +148,7 @@ pub fn retain_circular_features(
     let mut current = retained.clone();
     let [wf, wb] = options.size_weights;
     for _ in 0..options.passes {
-        let limit = limit_positions(deformed, &current)?;
+        let limit = limit_positions(deformed, &current, options.levels)?;
         let measured: Vec<f64> = features.iter().map(|f| radius(&gather(&limit, f))).collect::<Result<_, _>>()?;
         let worst = measured.iter().zip(&targets).map(|(d, t)| (d - t).abs() / t).fold(0.0, f64::max);
         if worst <= options.tolerance {
@@ -168,7 +176,7 @@ pub fn retain_circular_features(
         current = adjust.factor()?.solve(&current, options.iterations)?.positions;
     }
 
-    let limit = limit_positions(deformed, &current)?;
+    let limit = limit_positions(deformed, &current, options.levels)?;
     let reports = features
         .iter()
         .zip(&targets)
@@ -245,5 +253,17 @@ mod tests {
         ));
         let other = Mesh::icosphere(1.0, 1);
         assert!(retain_circular_features(&t, &other, &[tube_ring(0)], &o).is_err());
+    }
+
+    #[test]
+    fn a_level_can_be_the_target_instead_of_the_limit() {
+        // Measured at level 2, the ring matches there (and so is slightly off at the limit).
+        let t = torus();
+        let o = RetainOptions { levels: 2, ..RetainOptions::default() };
+        let (adjusted, reports) = retain_circular_features(&t, &t, &[tube_ring(0)], &o).unwrap();
+        assert!(reports[0].error < 5e-4, "{reports:?}");
+        let level2 = adjusted.loop_subdivide(2).unwrap();
+        let r = radius(&gather(&level2.positions()[..t.vertex_count()], &tube_ring(0))).unwrap();
+        assert!((r - 0.5).abs() < 0.5 * 5e-4, "{r}");
     }
 }

@@ -199,7 +199,8 @@ pub mod solve_api {
     /// feature's radius. Options: `weights` (`[10, 5, 1]`: shape, closeness, smoothness of the
     /// retention), `size_weights` (`[2, 1]`: size, boundary of the adjustment), `iterations`
     /// (200 per solve), `passes` (20 compensation passes at most; the paper stops at one),
-    /// `tolerance` (1e-5, relative radius error).
+    /// `tolerance` (1e-5, relative radius error), `levels` (0: match the radii on the Loop limit
+    /// surface; L > 0: on the feature vertices after L Loop levels).
     ///
     /// ```rhai
     /// let t = torus(2, 0.5, 24, 12).triangulate();
@@ -226,7 +227,8 @@ pub mod solve_api {
         options: Map,
     ) -> ScriptResult<SharedMesh> {
         const FUNC: &str = "retain_circular_features";
-        let opts = Options::new(FUNC, options, &["weights", "size_weights", "iterations", "passes", "tolerance"])?;
+        let opts =
+            Options::new(FUNC, options, &["weights", "size_weights", "iterations", "passes", "tolerance", "levels"])?;
         let d = RetainOptions::default();
         let list = |key: &str, default: &[f64]| -> ScriptResult<Vec<f64>> {
             match opts.raw(key) {
@@ -252,6 +254,10 @@ pub mod solve_api {
             iterations: iterations as usize,
             passes: passes as usize,
             tolerance: opts.number("tolerance", d.tolerance)?,
+            levels: u32::try_from(opts.int("levels", 0)?)
+                .ok()
+                .filter(|&l| l <= 6)
+                .ok_or_else(|| crate::convert::error(FUNC, "option `levels` must be between 0 and 6"))?,
         };
         let mut feats = Vec::with_capacity(features.len());
         for (i, f) in features.iter().enumerate() {
