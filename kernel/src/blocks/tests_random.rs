@@ -5,43 +5,33 @@
 
 use super::test_models::boxed;
 use super::{BlockError, BlockModel, Edge, Face, MeshOptions};
+use crate::lsystem::SplitMix64;
 
-/// A small deterministic generator (xorshift64*), so failures replay.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-
-    fn below(&mut self, n: u64) -> u64 {
-        self.next() % n
-    }
+/// Seeded (the kernel's SplitMix64), so failures replay.
+fn below(rng: &mut SplitMix64, n: u64) -> u64 {
+    rng.next_u64() % n
 }
 
 /// Unit cubes on random cells of a 3 × 3 × 2 lattice with random sharp edges and, when `grids`,
 /// some random sub-face grids; every group allowed.
-fn random_model(rng: &mut Rng, grids: bool) -> BlockModel {
+fn random_model(rng: &mut SplitMix64, grids: bool) -> BlockModel {
     let mut m = BlockModel::new();
     m.allow(0, 0);
     for i in 0..3 {
         for j in 0..3 {
             for k in 0..2 {
-                if rng.below(2) == 0 {
+                if below(rng, 2) == 0 {
                     continue;
                 }
                 let (x, y, z) = (f64::from(i), f64::from(j), f64::from(k));
                 let mut b = boxed([x, y, z], [x + 1.0, y + 1.0, z + 1.0]);
                 for f in Face::ALL {
-                    if grids && rng.below(4) == 0 {
-                        b.subdivide(f, 1 + rng.below(3) as i64, 1 + rng.below(3) as i64).unwrap();
+                    if grids && below(rng, 4) == 0 {
+                        b.subdivide(f, 1 + below(rng, 3) as i64, 1 + below(rng, 3) as i64).unwrap();
                     }
                 }
                 for e in Edge::all() {
-                    b.set_sharp(e, rng.below(3) == 0);
+                    b.set_sharp(e, below(rng, 3) == 0);
                 }
                 m.add(b);
             }
@@ -52,7 +42,7 @@ fn random_model(rng: &mut Rng, grids: bool) -> BlockModel {
 
 /// Builds `cases` random models; returns how many built and how many were refused.
 fn run(seed: u64, cases: usize, grids: bool) -> (usize, usize) {
-    let mut rng = Rng(seed);
+    let mut rng = SplitMix64::new(seed);
     let (mut built, mut refused) = (0, 0);
     for case in 0..cases {
         let m = random_model(&mut rng, grids);
