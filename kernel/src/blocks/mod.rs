@@ -28,4 +28,4 @@ pub use block::{Block, Edge, Face, MAX_SUBDIVISIONS};
 pub use control_mesh::{ControlMesh, PatchSource};
 pub use error::BlockError;
 pub use model::{BlockModel, Connection, SubFaceRef, DEFAULT_THRESHOLD};
-pub use tessellate::{tessellate_control, BlockStats, Displacement, MeshOptions, Tessellation};
+pub use tessellate::{tessellate_control, BlockStats, ControlTessellation, Displacement, MeshOptions, Tessellation};

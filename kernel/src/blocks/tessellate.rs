@@ -31,7 +31,7 @@ use crate::math::Vec3;
 use crate::mesh::Mesh;
 use crate::subdiv::LimitEvaluator;
 
-use super::{BlockError, BlockModel, ControlMesh};
+use super::{BlockError, BlockModel, ControlMesh, SubFaceRef};
 
 /// A displacement function: `(position, unit normal, u, v) -> offset along the normal`. An
 /// `Err` aborts the meshing with its message.
@@ -111,13 +111,27 @@ pub struct BlockStats {
     pub triangles: usize,
 }
 
-/// A meshed model: the closed triangle mesh and its counts.
+/// A meshed model: the closed triangle mesh, its counts and where each triangle comes from.
 #[derive(Clone, Debug)]
 pub struct Tessellation {
     /// The closed, manifold triangle mesh.
     pub mesh: Mesh,
     /// Its counts.
     pub stats: BlockStats,
+    /// For every triangle of `mesh`, in face order, the block sub-face it lies on: the
+    /// [`PatchSource::subface`](super::PatchSource) of the patch that emitted it.
+    pub triangle_sources: Vec<SubFaceRef>,
+}
+
+/// A tessellated control mesh ([`tessellate_control`]).
+#[derive(Clone, Debug)]
+pub struct ControlTessellation {
+    /// The closed, manifold triangle mesh.
+    pub mesh: Mesh,
+    /// Leaves of all the patches' kd-trees.
+    pub sub_patches: usize,
+    /// For every triangle of `mesh`, in face order, the sub-face of the patch that emitted it.
+    pub triangle_sources: Vec<SubFaceRef>,
 }
 
 impl BlockModel {
@@ -133,14 +147,15 @@ impl BlockModel {
     ) -> Result<Tessellation, BlockError> {
         options.check()?;
         let cm = self.control_mesh()?;
-        let (mesh, sub_patches) = tessellate_control(&cm, options, displacement)?;
+        let ControlTessellation { mesh, sub_patches, triangle_sources } =
+            tessellate_control(&cm, options, displacement)?;
         let stats = BlockStats {
             blocks: self.blocks().len(),
             patches: cm.mesh.face_count(),
             sub_patches,
             triangles: mesh.face_count(),
         };
-        Ok(Tessellation { mesh, stats })
+        Ok(Tessellation { mesh, stats, triangle_sources })
     }
 }
 
@@ -276,8 +291,8 @@ enum VKey {
     Centre(u32, u32),
 }
 
-/// Tessellates a control mesh; returns the triangle mesh and the number of sub-patches. See
-/// the [module documentation](self).
+/// Tessellates a control mesh into a triangle mesh, counting sub-patches and recording each
+/// triangle's sub-face. See the [module documentation](self).
 ///
 /// # Errors
 /// - [`BlockError::BadOption`] for a tolerance that is not positive or a depth above
@@ -288,7 +303,7 @@ pub fn tessellate_control(
     cm: &ControlMesh,
     options: &MeshOptions,
     displacement: Option<Displacement<'_>>,
-) -> Result<(Mesh, usize), BlockError> {
+) -> Result<ControlTessellation, BlockError> {
     options.check()?;
     let mesh = &cm.mesh;
     let ev = LimitEvaluator::new(mesh).map_err(|e| BlockError::Internal(e.to_string()))?;
@@ -337,6 +352,7 @@ pub fn tessellate_control(
     let mut ids: HashMap<VKey, u32> = HashMap::new();
     let mut positions: Vec<Vec3> = Vec::new();
     let mut tris: Vec<u32> = Vec::new();
+    let mut triangle_sources: Vec<SubFaceRef> = Vec::new();
     let mut sub_patches = 0usize;
     for f in 0..nf {
         let h = hes[f as usize];
@@ -454,12 +470,20 @@ pub fn tessellate_control(
                     tris.extend([c, vid[k], vid[(k + 1) % vid.len()]]);
                 }
             }
+            triangle_sources.resize(tris.len() / 3, cm.sources[f as usize].subface);
         }
     }
     let arities = vec![3u32; tris.len() / 3];
     let out = Mesh::from_indexed(positions, &tris, &arities)
         .map_err(|e| BlockError::Internal(format!("the tessellation is not a manifold mesh: {e}")))?;
-    Ok((out, sub_patches))
+    if out.face_count() != triangle_sources.len() {
+        return Err(BlockError::Internal(format!(
+            "{} triangle sources for {} triangles",
+            triangle_sources.len(),
+            out.face_count()
+        )));
+    }
+    Ok(ControlTessellation { mesh: out, sub_patches, triangle_sources })
 }
 
 /// The corners of sub-patch `rect` lying on the patch's four sides: `(side, parameter along the
@@ -511,6 +535,56 @@ mod tests {
         let bb = t.mesh.bounds();
         assert!(bb.min.distance(Vec3::ZERO) < 1e-12 && bb.max.distance(Vec3::new(1.0, 2.0, 3.0)) < 1e-12);
         assert_eq!(t.stats.sub_patches, t.stats.patches);
+    }
+
+    #[test]
+    fn every_triangle_knows_its_sub_face() {
+        // An all-sharp box is never split: each sub-face of nu × nv polygons is 4 Catmull–Clark
+        // quads (one per polygon corner), each two triangles, lying in the plane of its face.
+        let mut b = boxed([0.0; 3], [1.0, 2.0, 3.0]);
+        b.sharp_all();
+        b.subdivide(Face::PosZ, 3, 2).unwrap();
+        b.subdivide(Face::NegX, 2, 1).unwrap();
+        let mut m = BlockModel::new();
+        m.add(b);
+        let t = m.tessellate(&MeshOptions::DEFAULT, None).unwrap();
+        assert_eq!(t.triangle_sources.len(), t.mesh.face_count());
+        let cm = m.control_mesh().unwrap();
+        let mut per: HashMap<SubFaceRef, usize> = HashMap::new();
+        for s in &t.triangle_sources {
+            *per.entry(*s).or_default() += 1;
+        }
+        // 4 sub-faces on each of 4 faces, 6 on +z, 2 on -x; each polygon has 4 corners (the
+        // T-vertices lie on the crease of the neighbouring face, so only its quads gain corners).
+        assert_eq!(per.len(), 6 + 2 + 4);
+        for (k, &src) in cm.polygon_sources.iter().enumerate() {
+            let arity = cm.polygons.face_vertices(k as u32).count();
+            assert_eq!(per[&src], 2 * arity, "{src:?}");
+        }
+        let bb = [Vec3::ZERO, Vec3::new(1.0, 2.0, 3.0)];
+        for (f, src) in t.triangle_sources.iter().enumerate() {
+            assert_eq!(src.block, 0);
+            let c = t.mesh.face_vertices(f as u32).map(|v| t.mesh.positions()[v as usize]).sum::<Vec3>() / 3.0;
+            let a = src.face.axis();
+            let plane = bb[usize::from(src.face.is_high())].to_array()[a];
+            assert!((c.to_array()[a] - plane).abs() < 1e-12, "triangle {f} of {src:?} at {c:?}");
+            let (nu, nv) = m.blocks()[0].divisions(src.face);
+            let (au, av) = src.face.uv_axes();
+            let (i, j) = (src.sub % nu, src.sub / nu);
+            let size = bb[1] - bb[0];
+            let (u, v) = (c.to_array()[au] / size.to_array()[au], c.to_array()[av] / size.to_array()[av]);
+            assert!(u >= f64::from(i) / f64::from(nu) && u <= f64::from(i + 1) / f64::from(nu), "{src:?} u {u}");
+            assert!(v >= f64::from(j) / f64::from(nv) && v <= f64::from(j + 1) / f64::from(nv), "{src:?} v {v}");
+        }
+        // Connected, smooth and split models: still one source per triangle, each from a patch.
+        let hand = crate::blocks::test_models::hand();
+        let t = hand.tessellate(&MeshOptions::DEFAULT.with_tolerance(0.02), None).unwrap();
+        assert_eq!(t.triangle_sources.len(), t.stats.triangles);
+        let cm = hand.control_mesh().unwrap();
+        let patch_sources: std::collections::HashSet<SubFaceRef> = cm.sources.iter().map(|s| s.subface).collect();
+        let tri_sources: std::collections::HashSet<SubFaceRef> = t.triangle_sources.iter().copied().collect();
+        assert_eq!(patch_sources, tri_sources);
+        assert!((0..6).all(|b| tri_sources.iter().any(|s| s.block == b)));
     }
 
     #[test]
