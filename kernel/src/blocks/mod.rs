@@ -13,6 +13,7 @@
 //! CSG between groups of blocks (§2.4.2) is not here.
 
 pub mod block;
+pub mod building;
 mod bvh;
 mod connect;
 pub mod control_mesh;
