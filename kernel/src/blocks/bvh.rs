@@ -3,8 +3,11 @@
 //! about O(N log N) instead of O(N²).
 //!
 //! Built by median splits along the longest axis of the quads' centres; a leaf holds at most
-//! [`LEAF_SIZE`] quads. A quad (possibly non-planar) is tested as the two triangles (q0, q1, q2)
-//! and (q0, q2, q3).
+//! [`LEAF_SIZE`] quads. A quad (possibly non-planar) is tested as the four triangles fanned
+//! about its centroid, which is the centre of its bilinear patch: two sub-faces with the same
+//! corners, listed in any order, are then the same surface through the same centre, so the ray
+//! from one centre meets the other at t = 0 however twisted the quad (a split along one diagonal
+//! would depend on the corner order and miss a twisted twin by its warp).
 
 use crate::math::Vec3;
 
@@ -161,15 +164,11 @@ fn slab(lo: Vec3, hi: Vec3, origin: Vec3, dir: Vec3) -> Option<(f64, f64)> {
     Some((t0, t1))
 }
 
-/// The line parameter where `origin + t·dir` crosses the quad (either side), the one of smaller
-/// |t| if it crosses both triangles.
+/// The line parameter where `origin + t·dir` crosses the quad (either side) as four triangles
+/// about its centroid, the one of smallest |t| if it crosses several.
 fn ray_quad(q: &[Vec3; 4], origin: Vec3, dir: Vec3) -> Option<f64> {
-    let a = ray_triangle(q[0], q[1], q[2], origin, dir);
-    let b = ray_triangle(q[0], q[2], q[3], origin, dir);
-    match (a, b) {
-        (Some(x), Some(y)) => Some(if x.abs() <= y.abs() { x } else { y }),
-        (x, y) => x.or(y),
-    }
+    let c = (q[0] + q[1] + q[2] + q[3]) * 0.25;
+    (0..4).filter_map(|k| ray_triangle(q[k], q[(k + 1) % 4], c, origin, dir)).min_by(|x, y| x.abs().total_cmp(&y.abs()))
 }
 
 /// Möller–Trumbore, two-sided, with a small tolerance so that hits on shared edges count.

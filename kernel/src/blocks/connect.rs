@@ -230,30 +230,29 @@ mod tests {
         }
     }
 
-    /// Timing of the search for growing lattices (run with `--ignored --nocapture`): the time per
-    /// block should stay about flat (O(N log N) overall).
     #[test]
-    #[ignore = "timing, not a check"]
-    fn connection_search_timing() {
-        for n in [10, 20, 40] {
+    fn blocks_sharing_a_twisted_face_connect() {
+        // A's +x face is warped (corner 7 pushed out, so it is no plane) and B's -x face is the
+        // same four points: a split of the quad along one diagonal would put the two surfaces
+        // apart by the warp at the centre and the rays would miss each other (the Fig. 15 tree's
+        // side branch on its twisting trunk).
+        for warp in [0.02, 0.1, 0.3] {
+            let mut a = *cube_at(0.0, 0.0, 0.0).corners();
+            a[7].x += warp;
+            let mut b = [Vec3::ZERO; 8];
+            for k in 0..8 {
+                b[k] = if k % 2 == 0 { a[k + 1] } else { a[k] + Vec3::new(1.0, 0.0, 0.0) };
+            }
             let mut m = BlockModel::new();
             m.allow(0, 0);
-            for i in 0..n {
-                for j in 0..n {
-                    for k in 0..4 {
-                        m.add(cube_at(f64::from(i), f64::from(j), f64::from(k)));
-                    }
-                }
-            }
-            let t = std::time::Instant::now();
+            m.add(Block::from_corners(a).unwrap());
+            m.add(Block::from_corners(b).unwrap());
             let c = m.connections().unwrap();
-            let dt = t.elapsed().as_secs_f64();
-            let blocks = m.blocks().len();
-            println!(
-                "{blocks} blocks: {} connections in {dt:.3} s ({:.2} us per block)",
-                c.len(),
-                dt * 1e6 / blocks as f64
-            );
+            assert_eq!(c.len(), 1, "warp {warp}");
+            assert_eq!((c[0].a.face, c[0].b.face), (Face::PosX, Face::NegX));
+            assert!(c[0].distance.abs() < 1e-12, "warp {warp}: {}", c[0].distance);
+            let t = m.tessellate(&crate::blocks::MeshOptions::DEFAULT.with_tolerance(0.01), None).unwrap();
+            assert!(t.mesh.is_closed() && t.mesh.is_manifold() && t.mesh.genus() == 0);
         }
     }
 
