@@ -10,6 +10,8 @@
 //!   gravity, script modifiers, rigged glTF export.
 //! - [`blocks`]: modeling with blocks (Leblanc et al.) — blocks with sub-face grids and sharp
 //!   edges, connections, the control mesh, and its adaptive crack-free tessellation.
+//! - [`csg`]: union, difference and intersection of block models and meshes (Leblanc et al.
+//!   §2.4.2), with the source of every output face.
 //! - [`lsystem`]: L-systems (Brazzolotto part III) — grammars, seeded derivation, and growth
 //!   carried out directly as polar-mesh operations.
 //!
@@ -21,6 +23,7 @@
 
 pub mod anim;
 pub mod blocks;
+pub mod csg;
 pub mod io;
 pub mod lsystem;
 pub mod math;

@@ -1,6 +1,51 @@
-//! Per-element attributes: crease tags on edges, corner marks and colours on vertices.
+//! Per-element attributes: crease tags on edges, corner marks and colours on vertices, sources
+//! (provenance) on faces.
 
 use super::{Mesh, MeshError};
+use crate::blocks::SubFaceRef;
+
+/// Where a face of a boolean result came from (seed 000 §2.4.2: the surviving patches keep
+/// their tags). `leaf` numbers the inputs of the CSG tree, left to right.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum FaceSource {
+    /// A triangle of a tessellated block model: the block sub-face it lies on.
+    Block {
+        /// The input (leaf) of the CSG tree.
+        leaf: u32,
+        /// The block, face and sub-face.
+        sub_face: SubFaceRef,
+    },
+    /// A face of an input mesh.
+    Mesh {
+        /// The input (leaf) of the CSG tree.
+        leaf: u32,
+        /// The face id in that input mesh.
+        face: u32,
+    },
+    /// A face whose source is not known (a part without sources in [`Mesh::combine`]).
+    Unknown,
+}
+
+impl FaceSource {
+    /// The leaf (input) this face came from; `None` for [`FaceSource::Unknown`].
+    #[must_use]
+    pub fn leaf(&self) -> Option<u32> {
+        match self {
+            FaceSource::Block { leaf, .. } | FaceSource::Mesh { leaf, .. } => Some(*leaf),
+            FaceSource::Unknown => None,
+        }
+    }
+
+    /// The same source with its leaf id moved up by `offset`.
+    #[must_use]
+    pub fn shifted(self, offset: u32) -> FaceSource {
+        match self {
+            FaceSource::Block { leaf, sub_face } => FaceSource::Block { leaf: leaf + offset, sub_face },
+            FaceSource::Mesh { leaf, face } => FaceSource::Mesh { leaf: leaf + offset, face },
+            FaceSource::Unknown => FaceSource::Unknown,
+        }
+    }
+}
 
 impl Mesh {
     /// Whether the edge of half-edge `h` is tagged as an infinitely sharp crease.
@@ -85,6 +130,31 @@ impl Mesh {
             }
         }
         self.vertex_colors = colors;
+        Ok(())
+    }
+
+    /// The source of every face, when the mesh has them (a boolean result does).
+    #[must_use]
+    pub fn face_sources(&self) -> Option<&[FaceSource]> {
+        self.face_sources.as_deref()
+    }
+
+    /// Sets one source per face, or removes them with `None`. Moving vertices keeps them;
+    /// topological edits drop them; triangulation, combining and reversing carry them.
+    ///
+    /// # Errors
+    /// [`MeshError::NoSuchElement`] when the count differs from the face count.
+    pub fn set_face_sources(&mut self, sources: Option<Vec<FaceSource>>) -> Result<(), MeshError> {
+        if let Some(s) = &sources {
+            if s.len() != self.face_count() {
+                return Err(MeshError::NoSuchElement {
+                    what: "face source",
+                    id: s.len() as u64,
+                    count: self.face_count(),
+                });
+            }
+        }
+        self.face_sources = sources;
         Ok(())
     }
 }

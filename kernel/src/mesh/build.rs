@@ -205,6 +205,7 @@ impl Mesh {
             he_crease: vec![false; nh],
             vertex_corner: vec![false; nv],
             vertex_colors: None,
+            face_sources: None,
         })
     }
 }

@@ -1,11 +1,12 @@
 //! Disjoint union: several meshes gathered into one without joining them.
 
-use super::{Mesh, MeshError};
+use super::{FaceSource, Mesh, MeshError};
 
 impl Mesh {
     /// One mesh holding every mesh of `parts` side by side: vertex and face ids of part k are
-    /// offset by the counts of the parts before it; crease tags, corners and colours are kept
-    /// (parts without colours get white where another part has colours).
+    /// offset by the counts of the parts before it; crease tags, corners, colours and face sources are
+    /// kept (parts without colours get white where another part has colours, parts without sources
+    /// [`FaceSource::Unknown`]).
     ///
     /// No intersection is resolved: overlapping parts stay overlapping (see the CSG module for
     /// booleans).
@@ -20,7 +21,15 @@ impl Mesh {
         let mut corners = Vec::new();
         let any_colors = parts.iter().any(|m| m.vertex_colors.is_some());
         let mut colors = Vec::new();
+        let any_sources = parts.iter().any(|m| m.face_sources.is_some());
+        let mut sources = Vec::new();
         for m in parts {
+            if any_sources {
+                match &m.face_sources {
+                    Some(s) => sources.extend_from_slice(s),
+                    None => sources.extend(std::iter::repeat_n(FaceSource::Unknown, m.face_count())),
+                }
+            }
             let offset = u32::try_from(positions.len())
                 .map_err(|_| MeshError::TooLarge { what: "combined vertex count".into() })?;
             let (idx, ar) = m.to_indexed();
@@ -41,6 +50,9 @@ impl Mesh {
         out.vertex_corner = corners;
         if any_colors {
             out.vertex_colors = Some(colors);
+        }
+        if any_sources {
+            out.face_sources = Some(sources);
         }
         Ok(out)
     }

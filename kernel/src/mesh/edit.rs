@@ -510,6 +510,8 @@ impl Mesh {
         }
 
         // ---- Everything is valid: mutate. ----
+        // A topological edit does not know where its new faces came from.
+        self.face_sources = None;
         let mut log = EditLog { removed_vertices: dead_v.clone(), ..EditLog::default() };
 
         // 5. Slots: new elements take the slots of deleted ones first.

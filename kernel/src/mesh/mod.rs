@@ -19,6 +19,7 @@ mod primitives;
 mod transform;
 mod triangulate;
 
+pub use attributes::FaceSource;
 pub use error::MeshError;
 pub use measure::Measures;
 
@@ -48,6 +49,8 @@ pub struct Mesh {
     vertex_corner: Vec<bool>,
     /// Optional RGBA colour per vertex, components in 0..=1.
     vertex_colors: Option<Vec<[f32; 4]>>,
+    /// Optional provenance per face: the input each face of a boolean result came from.
+    face_sources: Option<Vec<FaceSource>>,
 }
 
 impl Mesh {

@@ -61,7 +61,7 @@ impl Mesh {
     }
 
     /// Copies crease tags (by vertex pair), corner marks and colours from `other`, a mesh with
-    /// the same vertices.
+    /// the same vertices, and its face sources when it has as many faces (face ids kept).
     pub(crate) fn copy_attributes_from(&mut self, other: &Mesh) {
         for [a, b] in other.crease_pairs() {
             if let Some(h) = self.find_halfedge(a, b) {
@@ -70,6 +70,9 @@ impl Mesh {
         }
         self.vertex_corner.clone_from(&other.vertex_corner);
         self.vertex_colors.clone_from(&other.vertex_colors);
+        if other.face_count() == self.face_count() {
+            self.face_sources.clone_from(&other.face_sources);
+        }
     }
 }
 

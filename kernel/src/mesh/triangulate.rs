@@ -106,7 +106,7 @@ impl Mesh {
     }
 
     /// A triangle mesh of the same surface: same vertices (ids kept), each face split into
-    /// triangles (see [`Mesh::triangulate_face`]); crease tags, corners and colours kept.
+    /// triangles (see [`Mesh::triangulate_face`]); crease tags, corners, colours and face sources kept.
     /// Returns also, for each triangle, the face it came from.
     ///
     /// # Errors
@@ -123,6 +123,9 @@ impl Mesh {
         let flat: Vec<u32> = tris.iter().flatten().copied().collect();
         let mut m = Mesh::from_indexed(self.positions.clone(), &flat, &vec![3; tris.len()])?;
         m.copy_attributes_from(self);
+        if let Some(fs) = &self.face_sources {
+            m.face_sources = Some(sources.iter().map(|&f| fs[f as usize]).collect());
+        }
         Ok((m, sources))
     }
 

@@ -1,0 +1,200 @@
+//! Tests of CSG evaluation: exact volumes on boxes, genus, provenance, creases, bad input.
+
+use super::{Csg, CsgError, Side};
+use crate::blocks::{Block, BlockModel, Face, MeshOptions, SubFaceRef};
+use crate::mesh::{FaceSource, Mesh};
+use crate::Vec3;
+
+fn cuboid(a: [f64; 3], b: [f64; 3]) -> Csg {
+    Csg::mesh(Mesh::cuboid(Vec3::from(a), Vec3::from(b)))
+}
+
+fn unit() -> Csg {
+    cuboid([0.0; 3], [1.0; 3])
+}
+
+/// Evaluates and checks what every result must be: closed, manifold, a triangle mesh with a
+/// known source on every face.
+fn eval(c: &Csg) -> Mesh {
+    let m = c.evaluate().unwrap();
+    assert!(m.is_closed() && m.is_manifold() && m.is_triangle_mesh());
+    let s = m.face_sources().unwrap();
+    assert_eq!(s.len(), m.face_count());
+    assert!(s.iter().all(|s| s.leaf().is_some()), "every face knows its input");
+    m
+}
+
+#[test]
+fn exact_volumes_on_boxes() {
+    let cases = [
+        (unit().union(cuboid([0.5; 3], [1.5; 3])), 2.0 - 0.125, 0),
+        (unit().difference(cuboid([0.5; 3], [1.5; 3])), 1.0 - 0.125, 0),
+        (unit().intersection(cuboid([0.5; 3], [1.5; 3])), 0.125, 0),
+        // Touching faces: a union through a shared face is one box, an intersection empty.
+        (unit().union(cuboid([1.0, 0.0, 0.0], [2.0, 1.0, 1.0])), 2.0, 0),
+        (unit().difference(cuboid([1.0, 0.0, 0.0], [2.0, 1.0, 1.0])), 1.0, 0),
+        // Identical operands.
+        (unit().union(unit()), 1.0, 0),
+        (unit().intersection(unit()), 1.0, 0),
+        // A flush pocket (coplanar top faces).
+        (unit().difference(cuboid([0.25, 0.25, 0.5], [0.75, 0.75, 1.0])), 0.875, 0),
+    ];
+    for (i, (c, volume, genus)) in cases.into_iter().enumerate() {
+        let m = eval(&c);
+        assert!((m.volume() - volume).abs() < 1e-12, "case {i}: {} != {volume}", m.volume());
+        assert_eq!(m.genus(), genus, "case {i}");
+        assert_eq!(m.component_count(), 1, "case {i}");
+    }
+}
+
+#[test]
+fn empty_results_are_meshes_without_faces() {
+    for c in [unit().difference(unit()), unit().intersection(cuboid([1.0, 0.0, 0.0], [2.0, 1.0, 1.0]))] {
+        let m = c.evaluate().unwrap();
+        assert_eq!((m.face_count(), m.volume()), (0, 0.0));
+    }
+}
+
+#[test]
+fn through_hole_has_genus_one() {
+    let m = eval(&unit().difference(cuboid([0.25, 0.25, -1.0], [0.75, 0.75, 2.0])));
+    assert_eq!(m.genus(), 1);
+    assert!((m.volume() - 0.75).abs() < 1e-12);
+}
+
+#[test]
+fn provenance_names_the_input_and_its_face() {
+    let a = Mesh::cuboid(Vec3::ZERO, Vec3::ONE);
+    let b = Mesh::cuboid(Vec3::splat(0.5), Vec3::splat(1.5));
+    let m = eval(&Csg::mesh(a.clone()).difference(Csg::mesh(b.clone())));
+    for (f, s) in m.face_sources().unwrap().iter().enumerate() {
+        let FaceSource::Mesh { leaf, face } = *s else { panic!("{s:?}") };
+        let src = if leaf == 0 { &a } else { &b };
+        // The output triangle lies in the plane of the input face it names.
+        let (n, p) = (src.face_normal(face), src.position(src.face_vertices(face).next().unwrap()));
+        for v in m.face_vertices(f as u32) {
+            assert!((m.position(v) - p).dot(n).abs() < 1e-12);
+        }
+        // The cutter's faces face inward in a difference.
+        assert_eq!(m.face_normal(f as u32).dot(n) < 0.0, leaf == 1);
+    }
+    // Three faces of the box and three of the cutter show.
+    let leaves: std::collections::BTreeSet<_> = m.face_sources().unwrap().iter().copied().collect();
+    assert_eq!(leaves.len(), 9);
+}
+
+#[test]
+fn earlier_results_keep_their_sources_and_leaves_are_renumbered() {
+    let first = eval(&unit().difference(cuboid([0.8; 3], [2.0; 3])));
+    let m = eval(&cuboid([-1.0, 0.2, 0.2], [0.5, 0.8, 0.8]).union(Csg::mesh(first)));
+    let leaves: std::collections::BTreeSet<u32> =
+        m.face_sources().unwrap().iter().filter_map(FaceSource::leaf).collect();
+    assert_eq!(leaves.into_iter().collect::<Vec<_>>(), vec![0, 1, 2]);
+}
+
+fn block_model(min: [f64; 3], max: [f64; 3], smooth: bool) -> BlockModel {
+    let mut b = Block::from_bounds(Vec3::from(min), Vec3::from(max)).unwrap();
+    for f in Face::ALL {
+        b.subdivide(f, 2, 2).unwrap();
+    }
+    if smooth {
+        b.smooth_all();
+    } else {
+        b.sharp_all();
+    }
+    let mut m = BlockModel::new();
+    m.add(b);
+    m
+}
+
+#[test]
+fn block_leaves_keep_their_sub_faces() {
+    let sharp = block_model([0.0; 3], [2.0; 3], false);
+    let c = Csg::blocks(sharp, MeshOptions::DEFAULT).difference(cuboid([1.5, 1.5, 1.5], [3.0; 3]));
+    let m = eval(&c);
+    assert!((m.volume() - (8.0 - 0.125)).abs() < 1e-9, "{}", m.volume());
+    let subs: std::collections::BTreeSet<SubFaceRef> = m
+        .face_sources()
+        .unwrap()
+        .iter()
+        .filter_map(|s| match s {
+            FaceSource::Block { sub_face, .. } => Some(*sub_face),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(subs.len(), 24, "every sub-face of the 2×2 grids shows");
+}
+
+#[test]
+fn crease_tags_come_through_on_the_edges_they_lie_on() {
+    let mut body = Mesh::cuboid(Vec3::ZERO, Vec3::splat(2.0));
+    body.crease_all();
+    let m = eval(&Csg::mesh(body).difference(cuboid([1.5; 3], [3.0; 3])));
+    // The nine edges of the box that stay whole, and pieces of the three the notch cuts.
+    assert!(m.crease_count() >= 12, "{}", m.crease_count());
+    let on_box_edge =
+        |x: Vec3| [x.x, x.y, x.z].iter().filter(|c| c.abs() < 1e-12 || (*c - 2.0).abs() < 1e-12).count() >= 2;
+    for h in m.edges().filter(|&h| m.is_crease(h)) {
+        let (p, q) = (m.position(m.origin(h)), m.position(m.target(h)));
+        assert!(on_box_edge(p) && on_box_edge(q), "crease {p} {q} off the box's edges");
+    }
+    // Every remaining piece of a box edge is tagged: total creased length 12·2 − 3·0.5.
+    let len: f64 = m
+        .edges()
+        .filter(|&h| m.is_crease(h))
+        .map(|h| (m.position(m.origin(h)) - m.position(m.target(h))).length())
+        .sum();
+    assert!((len - 22.5).abs() < 1e-12, "{len}");
+}
+
+#[test]
+fn smooth_blocks_are_tessellated_first_with_their_options() {
+    let opts = MeshOptions::DEFAULT.with_tolerance(1e-3);
+    let t = block_model([-1.0; 3], [1.0; 3], true).tessellate(&opts, None).unwrap();
+    // A lone leaf is its tessellation.
+    let alone = eval(&Csg::blocks(block_model([-1.0; 3], [1.0; 3], true), opts));
+    assert_eq!(alone.face_count(), t.mesh.face_count());
+    assert!((alone.volume() - t.mesh.volume()).abs() < 1e-12);
+    // Cut in half by a box: the result is closed (no cracks at the seam) and has half the volume.
+    let half = eval(
+        &Csg::blocks(block_model([-1.0; 3], [1.0; 3], true), opts).intersection(cuboid([0.0, -2.0, -2.0], [2.0; 3])),
+    );
+    assert!(
+        (half.volume() - t.mesh.volume() / 2.0).abs() < 1e-3 * t.mesh.volume(),
+        "{} vs {}",
+        half.volume(),
+        t.mesh.volume()
+    );
+}
+
+#[test]
+fn bad_input_names_the_side() {
+    let mut open = Mesh::cuboid(Vec3::ZERO, Vec3::ONE).to_polygons();
+    open.pop();
+    let open = Mesh::from_polygons(Mesh::cuboid(Vec3::ZERO, Vec3::ONE).positions().to_vec(), &open).unwrap();
+    let e = unit().union(Csg::mesh(open.clone())).evaluate().unwrap_err();
+    assert_eq!(e, CsgError::OpenMesh { side: Side::Right, leaf: 1, boundary_edges: 4 });
+    assert!(e.to_string().contains("right operand"), "{e}");
+    let e = Csg::mesh(open).difference(unit()).evaluate().unwrap_err();
+    assert!(matches!(e, CsgError::OpenMesh { side: Side::Left, leaf: 0, .. }), "{e}");
+
+    let e = unit().difference(Csg::mesh(Mesh::default())).evaluate().unwrap_err();
+    assert_eq!(e, CsgError::EmptyOperand { side: Side::Right, leaf: 1 });
+    let e = Csg::blocks(BlockModel::new(), MeshOptions::DEFAULT).union(unit()).evaluate().unwrap_err();
+    assert_eq!(e, CsgError::EmptyOperand { side: Side::Left, leaf: 0 });
+
+    // Two boxes meeting along an edge, as one mesh: geometrically non-manifold there.
+    let two = Mesh::combine(&[
+        &Mesh::cuboid(Vec3::ZERO, Vec3::ONE),
+        &Mesh::cuboid(Vec3::new(1.0, 1.0, 0.0), Vec3::new(2.0, 2.0, 1.0)),
+    ])
+    .unwrap();
+    let e = unit().intersection(Csg::mesh(two)).evaluate().unwrap_err();
+    assert!(matches!(&e, CsgError::NonManifold { side: Side::Right, leaf: 1, .. }), "{e}");
+    assert!(e.to_string().contains("touches itself"), "{e}");
+
+    let nan =
+        Mesh::cuboid(Vec3::ZERO, Vec3::ONE).map_positions(|p| if p == Vec3::ONE { Vec3::splat(f64::NAN) } else { p });
+    let e = Csg::mesh(nan).union(unit()).evaluate().unwrap_err();
+    assert!(matches!(e, CsgError::NonFinite { side: Side::Left, leaf: 0, .. }), "{e}");
+}
