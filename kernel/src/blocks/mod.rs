@@ -23,6 +23,8 @@ pub mod tessellate;
 #[cfg(test)]
 mod test_models;
 #[cfg(test)]
+mod tests_fuzz;
+#[cfg(test)]
 mod tests_random;
 
 pub use block::{Block, Edge, Face, MAX_SUBDIVISIONS};
