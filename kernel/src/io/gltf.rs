@@ -4,7 +4,8 @@
 //! one triangle primitive. Vertex `i` of the file is vertex `i` of the mesh. Attributes:
 //! `POSITION` (f32, with the min/max the specification requires), `NORMAL` (unit f32,
 //! area-weighted vertex normals; +Z for a vertex no face uses), `COLOR_0` (RGBA f32) when the
-//! mesh has vertex colours, and `u32` indices. Each polygon's triangles are written one after
+//! mesh has vertex colours — or, for a mesh with face sources (a boolean result), a colour per source
+//! with vertices split where sources meet (see `source_colors`) — and `u32` indices. Each polygon's triangles are written one after
 //! another, the first holding the polygon's first edge (see [`super::face_triangles`]).
 //!
 //! What glTF cannot say goes in the mesh's `extras` under the key `"blocksmith"`:
@@ -225,7 +226,8 @@ fn vertex_normals_f32(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> Vec<[f32; 3
 
 /// The blocksmith `extras` of `mesh` (arity runs, creases, corners), `None` when there is
 /// nothing glTF does not already say.
-fn extras_json(mesh: &Mesh, arities: &[u32]) -> Option<String> {
+/// `vertex_extras` false leaves out creases and corners (the file's vertices are not the mesh's).
+fn extras_json(mesh: &Mesh, arities: &[u32], vertex_extras: bool) -> Option<String> {
     let mut runs: Vec<[u32; 2]> = Vec::new();
     for &a in arities {
         match runs.last_mut() {
@@ -233,8 +235,8 @@ fn extras_json(mesh: &Mesh, arities: &[u32]) -> Option<String> {
             _ => runs.push([a, 1]),
         }
     }
-    let creases = mesh.crease_pairs();
-    let corners: Vec<u32> = (0..mesh.vertex_count() as u32).filter(|&v| mesh.is_corner(v)).collect();
+    let creases = if vertex_extras { mesh.crease_pairs() } else { Vec::new() };
+    let corners: Vec<u32> = (0..mesh.vertex_count() as u32).filter(|&v| vertex_extras && mesh.is_corner(v)).collect();
     let mut fields = serde_json::Map::new();
     if runs.iter().any(|&[a, _]| a != 3) {
         fields.insert("face_arity_runs".into(), serde_json::json!(runs));
@@ -270,11 +272,19 @@ pub(crate) fn document(
         return Ok((root, None));
     }
     let (tris, arities) = super::face_triangles(mesh).map_err(|e| IoError::from_mesh(path, e))?;
-    let n = mesh.vertex_count();
+    // A boolean result is coloured by source: its vertices split where sources meet.
+    let split = super::source_colors::split_by_source(mesh, &tris, &arities);
+    let n = split.as_ref().map_or(mesh.vertex_count(), |s| s.from.len());
     let mut bin = Vec::with_capacity(n * 24 + tris.len() * 4 + mesh.vertex_colors().map_or(0, |_| n * 16));
 
     // Positions, rounded to f32 first so that min/max are those of the stored values.
-    let pos32: Vec<f32> = mesh.positions().iter().flat_map(|p| [p.x as f32, p.y as f32, p.z as f32]).collect();
+    let file_vertex = |i: usize| split.as_ref().map_or(i, |s| s.from[i] as usize);
+    let pos32: Vec<f32> = (0..n)
+        .flat_map(|i| {
+            let p = mesh.positions()[file_vertex(i)];
+            [p.x as f32, p.y as f32, p.z as f32]
+        })
+        .collect();
     let mut lo = [f32::INFINITY; 3];
     let mut hi = [f32::NEG_INFINITY; 3];
     for p in pos32.chunks_exact(3) {
@@ -288,7 +298,11 @@ pub(crate) fn document(
     let positions =
         root.push(accessor(view, n, json::accessor::ComponentType::F32, json::accessor::Type::Vec3, Some((lo, hi))));
 
-    let normals = vertex_normals_f32(mesh, &tris, &arities);
+    let mesh_normals = vertex_normals_f32(mesh, &tris, &arities);
+    let normals: Vec<[f32; 3]> = match &split {
+        Some(s) => s.from.iter().map(|&v| mesh_normals[v as usize]).collect(),
+        None => mesh_normals,
+    };
     let view = push_view(&mut root, &mut bin, Some(json::buffer::Target::ArrayBuffer), |b| {
         push_f32s(b, normals.as_flattened())
     });
@@ -298,20 +312,45 @@ pub(crate) fn document(
     let mut attributes = std::collections::BTreeMap::new();
     attributes.insert(Valid(json::mesh::Semantic::Positions), positions);
     attributes.insert(Valid(json::mesh::Semantic::Normals), normals);
-    if let Some(colors) = mesh.vertex_colors() {
+    if let Some(colors) = split.as_ref().map(|s| s.colors.as_slice()).or(mesh.vertex_colors()) {
         let clamped: Vec<f32> = colors.as_flattened().iter().map(|c| c.clamp(0.0, 1.0)).collect();
         let view = push_view(&mut root, &mut bin, Some(json::buffer::Target::ArrayBuffer), |b| push_f32s(b, &clamped));
         let colors = root.push(accessor(view, n, json::accessor::ComponentType::F32, json::accessor::Type::Vec4, None));
         attributes.insert(Valid(json::mesh::Semantic::Colors(0)), colors);
     }
+    // Crease and corner extras name mesh vertex ids: they do not apply to split vertices.
+    let tris = match split {
+        Some(s) => {
+            let extras = extras_json(mesh, &arities, false);
+            return finish(root, bin, uri, attributes, &s.tris, extras, path);
+        }
+        None => tris,
+    };
+    let extras = extras_json(mesh, &arities, true);
+    finish(root, bin, uri, attributes, &tris, extras, path)
+}
 
-    let view = push_view(&mut root, &mut bin, Some(json::buffer::Target::ElementArrayBuffer), |b| push_u32s(b, &tris));
+/// Writes the indices, buffer, mesh, node and scene of a document whose vertex attributes are
+/// in place.
+fn finish(
+    mut root: json::Root,
+    mut bin: Vec<u8>,
+    uri: Option<String>,
+    attributes: std::collections::BTreeMap<
+        json::validation::Checked<json::mesh::Semantic>,
+        json::Index<json::Accessor>,
+    >,
+    tris: &[u32],
+    extras: Option<String>,
+    path: &Path,
+) -> Result<(json::Root, Option<Vec<u8>>), IoError> {
+    let view = push_view(&mut root, &mut bin, Some(json::buffer::Target::ElementArrayBuffer), |b| push_u32s(b, tris));
     let indices =
         root.push(accessor(view, tris.len(), json::accessor::ComponentType::U32, json::accessor::Type::Scalar, None));
     bin.resize(bin.len().next_multiple_of(4), 0);
     root.push(json::Buffer { byte_length: USize64::from(bin.len()), name: None, uri, extensions: None, extras: None });
 
-    let extras = match extras_json(mesh, &arities) {
+    let extras = match extras {
         Some(s) => Some(json::extras::RawValue::from_string(s).map_err(|e| internal(path, &e.to_string()))?),
         None => None,
     };

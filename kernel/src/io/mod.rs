@@ -20,6 +20,7 @@
 mod error;
 pub mod gltf;
 pub mod obj;
+mod source_colors;
 pub mod stl;
 
 use std::fs::File;
@@ -27,6 +28,7 @@ use std::io::{BufWriter, Write};
 use std::path::Path;
 
 pub use error::{IoError, KNOWN_EXTENSIONS};
+pub use source_colors::source_color;
 
 use crate::mesh::{Mesh, MeshError};
 

@@ -1,0 +1,110 @@
+//! Colours by source for glTF: a mesh whose faces carry [`FaceSource`]s (a boolean result) is
+//! written with one colour per source — per input, and per block for block inputs — as
+//! per-vertex `COLOR_0`, its vertices split where faces of different sources meet (glTF has no
+//! per-face colours). The split only touches the file: positions and normals are those of the
+//! mesh's vertices, so the surface stays closed when welded by position.
+
+use std::collections::HashMap;
+
+use crate::mesh::{FaceSource, Mesh};
+
+/// The file's vertices after splitting: for each, the mesh vertex it copies and its colour; and
+/// the triangles re-indexed to them.
+pub(crate) struct SourceSplit {
+    pub from: Vec<u32>,
+    pub colors: Vec<[f32; 4]>,
+    pub tris: Vec<u32>,
+}
+
+/// The colour of a source: a hue per (input, block) stepped by the golden ratio, so neighbours
+/// in numbering differ clearly; unknown sources are grey.
+#[must_use]
+pub fn source_color(source: &FaceSource) -> [f32; 4] {
+    let key = match *source {
+        FaceSource::Block { leaf, sub_face } => u64::from(leaf) * 1_000_003 + u64::from(sub_face.block) + 1,
+        FaceSource::Mesh { leaf, .. } => u64::from(leaf) * 1_000_003,
+        FaceSource::Unknown => return [0.6, 0.6, 0.6, 1.0],
+    };
+    let h = (key as f64 * 0.618_033_988_749_895).fract() * 6.0;
+    let (s, v) = (0.55, 0.92);
+    let c = v * s;
+    let x = c * (1.0 - ((h % 2.0) - 1.0).abs());
+    let (r, g, b) = match h as u32 {
+        0 => (c, x, 0.0),
+        1 => (x, c, 0.0),
+        2 => (0.0, c, x),
+        3 => (0.0, x, c),
+        4 => (x, 0.0, c),
+        _ => (c, 0.0, x),
+    };
+    let m = v - c;
+    [(r + m) as f32, (g + m) as f32, (b + m) as f32, 1.0]
+}
+
+/// The split for `mesh` whose polygons triangulate to `tris` (with `arities`, as
+/// [`super::face_triangles`] gives them); `None` when the mesh has no face sources or has its
+/// own vertex colours (those win).
+pub(crate) fn split_by_source(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> Option<SourceSplit> {
+    let sources = mesh.face_sources()?;
+    if mesh.vertex_colors().is_some() {
+        return None;
+    }
+    let mut palette: HashMap<[u32; 4], u32> = HashMap::new();
+    let mut index: HashMap<(u32, u32), u32> = HashMap::with_capacity(mesh.vertex_count() * 5 / 4);
+    let mut out = SourceSplit { from: Vec::new(), colors: Vec::new(), tris: Vec::with_capacity(tris.len()) };
+    let mut start = 0;
+    for (f, &a) in arities.iter().enumerate() {
+        let color = source_color(&sources[f]);
+        let n = palette.len() as u32;
+        let c = *palette.entry(color.map(f32::to_bits)).or_insert(n);
+        let t = &tris[start..start + 3 * (a as usize - 2)];
+        start += t.len();
+        for &v in t {
+            let id = *index.entry((v, c)).or_insert_with(|| {
+                out.from.push(v);
+                out.colors.push(color);
+                (out.from.len() - 1) as u32
+            });
+            out.tris.push(id);
+        }
+    }
+    Some(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use crate::csg::Csg;
+    use crate::io::gltf::{read_gltf, write_glb};
+    use crate::mesh::Mesh;
+    use crate::Vec3;
+
+    #[test]
+    fn a_boolean_result_is_written_with_a_colour_per_source() {
+        let m = Csg::mesh(Mesh::cuboid(Vec3::ZERO, Vec3::ONE))
+            .difference(Csg::mesh(Mesh::cuboid(Vec3::splat(0.5), Vec3::splat(1.5))))
+            .evaluate()
+            .unwrap();
+        let mut bytes = Vec::new();
+        write_glb(&m, &mut bytes, Path::new("t.glb")).unwrap();
+        let back = read_gltf(&bytes, None, Path::new("t.glb")).unwrap();
+        assert_eq!(back.face_count(), m.face_count());
+        // Each vertex is written once per source among its faces (doubled on the seams).
+        let expected: usize = (0..m.vertex_count() as u32)
+            .map(|v| {
+                let mut leaves: Vec<u32> =
+                    m.vertex_faces(v).map(|f| m.face_sources().unwrap()[f as usize].leaf().unwrap()).collect();
+                leaves.sort_unstable();
+                leaves.dedup();
+                leaves.len()
+            })
+            .sum();
+        assert_eq!(back.vertex_count(), expected);
+        let colors = back.vertex_colors().unwrap();
+        let mut distinct: Vec<[u32; 4]> = colors.iter().map(|c| c.map(f32::to_bits)).collect();
+        distinct.sort_unstable();
+        distinct.dedup();
+        assert_eq!(distinct.len(), 2, "one colour per input");
+    }
+}
