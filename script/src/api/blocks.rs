@@ -20,6 +20,11 @@ pub struct BlockModel {
 }
 
 impl BlockModel {
+    /// The kernel model (for CSG operands).
+    pub(crate) fn kernel_model(&self) -> &KernelModel {
+        &self.model
+    }
+
     fn changed(&mut self) -> &mut KernelModel {
         self.stats = None;
         &mut self.model

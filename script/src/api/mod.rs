@@ -3,6 +3,7 @@
 
 pub mod anim;
 pub mod blocks;
+pub mod csg;
 pub mod files;
 pub mod lsystem;
 pub mod mesh;
@@ -30,5 +31,6 @@ pub fn register_all(engine: &mut Engine) {
     anim::register(engine);
     solve::register(engine);
     blocks::register(engine);
+    csg::register(engine);
     engine.register_global_module(exported_module!(runtime::runtime_api).into());
 }
