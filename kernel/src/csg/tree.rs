@@ -127,12 +127,23 @@ impl Csg {
             .zip(leaves.par_iter())
             .zip(offsets.par_iter())
             .map(|((p, (_, side)), &off)| {
-                let tags: Vec<u32> = (0..p.triangles.len() as u32).map(|i| off + i).collect();
-                Solid::new(&p.positions, &p.triangles, &tags).map_err(|reason| CsgError::NonManifold {
+                let refused = |reason: String| CsgError::NonManifold {
                     side: *side,
                     leaf: p.first_leaf_hint,
                     reason: format!("the boolean engine refuses it ({reason})"),
-                })
+                };
+                // A block model's separate solids (blocks side by side that the connection
+                // search did not join) are unioned: the model is the union of its blocks.
+                let parts: Vec<Solid> = p
+                    .components
+                    .par_iter()
+                    .map(|tris| {
+                        let (positions, triangles) = compact(&p.positions, tris.iter().map(|&t| p.triangles[t as usize]));
+                        let tags: Vec<u32> = tris.iter().map(|&t| off + t).collect();
+                        Solid::new(&positions, &triangles, &tags).map_err(refused)
+                    })
+                    .collect::<Result<_, _>>()?;
+                union_balanced(parts).map_err(|reason| CsgError::Engine { reason })
             })
             .collect::<Result<_, _>>()?;
         drop(prepared);
@@ -203,6 +214,63 @@ fn eval(node: &Csg, solids: &[Solid], next: &mut usize) -> Result<Solid, CsgErro
     }
 }
 
+/// The union of `parts` as a balanced tree, halves in parallel.
+fn union_balanced(mut parts: Vec<Solid>) -> Result<Solid, String> {
+    if parts.len() <= 1 {
+        return parts.pop().ok_or_else(|| "no solid to union".to_string());
+    }
+    let right = parts.split_off(parts.len() / 2);
+    let (a, b) = rayon::join(|| union_balanced(parts), || union_balanced(right));
+    a?.boolean(&b?, CsgOp::Union)
+}
+
+/// The vertices `triangles` use, renumbered from 0 in order of first use.
+fn compact(positions: &[Vec3], triangles: impl Iterator<Item = [u32; 3]>) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+    let mut map: HashMap<u32, u32> = HashMap::new();
+    let mut out = Vec::new();
+    let tris = triangles
+        .map(|t| {
+            t.map(|v| {
+                *map.entry(v).or_insert_with(|| {
+                    out.push(positions[v as usize]);
+                    (out.len() - 1) as u32
+                })
+            })
+        })
+        .collect();
+    (out, tris)
+}
+
+/// The triangles of each connected component (sharing vertices), in order of first triangle.
+fn components(vertex_count: usize, triangles: &[[u32; 3]]) -> Vec<Vec<u32>> {
+    let mut parent: Vec<u32> = (0..vertex_count as u32).collect();
+    fn find(parent: &mut [u32], mut v: u32) -> u32 {
+        while parent[v as usize] != v {
+            parent[v as usize] = parent[parent[v as usize] as usize];
+            v = parent[v as usize];
+        }
+        v
+    }
+    for t in triangles {
+        let r = find(&mut parent, t[0]);
+        for &v in &t[1..] {
+            let q = find(&mut parent, v);
+            parent[q as usize] = r;
+        }
+    }
+    let mut index: HashMap<u32, usize> = HashMap::new();
+    let mut out: Vec<Vec<u32>> = Vec::new();
+    for (i, t) in triangles.iter().enumerate() {
+        let r = find(&mut parent, t[0]);
+        let k = *index.entry(r).or_insert_with(|| {
+            out.push(Vec::new());
+            out.len() - 1
+        });
+        out[k].push(i as u32);
+    }
+    out
+}
+
 fn count_leaves(node: &Csg) -> usize {
     match node {
         Csg::Op(_, a, b) => count_leaves(a) + count_leaves(b),
@@ -221,11 +289,14 @@ struct Prepared {
     leaf_span: u32,
     /// The leaf number used in errors raised after preparation.
     first_leaf_hint: u32,
+    /// The triangles of each solid to union (one for a mesh; one per connected component for
+    /// a block model).
+    components: Vec<Vec<u32>>,
 }
 
 /// `leaf_no` is the input's position among the tree's inputs, left to right (named in errors).
 fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
-    let (mesh, sources): (Mesh, Vec<FaceSource>) = match leaf {
+    let (mesh, sources, union_parts): (Mesh, Vec<FaceSource>, bool) = match leaf {
         Csg::Blocks(model, options) => {
             if model.blocks().is_empty() {
                 return Err(CsgError::EmptyOperand { side, leaf: leaf_no });
@@ -233,7 +304,7 @@ fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
             let t =
                 model.tessellate(options, None).map_err(|source| CsgError::Blocks { side, leaf: leaf_no, source })?;
             let sources = t.triangle_sources.iter().map(|&sub_face| FaceSource::Block { leaf: 0, sub_face }).collect();
-            (t.mesh, sources)
+            (t.mesh, sources, true)
         }
         Csg::Mesh(m) => {
             if m.face_count() == 0 {
@@ -252,11 +323,10 @@ fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
                 Some(fs) => fs.to_vec(),
                 None => from.iter().map(|&face| FaceSource::Mesh { leaf: 0, face }).collect(),
             };
-            (tri, sources)
+            (tri, sources, false)
         }
         Csg::Op(..) => unreachable!("collect_leaves yields leaves only"),
     };
-    check_solid(&mesh, side, leaf_no)?;
     let leaf_span = sources.iter().filter_map(FaceSource::leaf).max().map_or(1, |m| m + 1);
     let triangles: Vec<[u32; 3]> = (0..mesh.face_count() as u32)
         .map(|f| {
@@ -264,6 +334,9 @@ fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
             [it.next().unwrap_or(0), it.next().unwrap_or(0), it.next().unwrap_or(0)]
         })
         .collect();
+    let components =
+        if union_parts { components(mesh.vertex_count(), &triangles) } else { vec![(0..triangles.len() as u32).collect()] };
+    check_solid(&mesh, &triangles, &components, side, leaf_no)?;
     Ok(Prepared {
         positions: mesh.positions().to_vec(),
         triangles,
@@ -271,12 +344,20 @@ fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
         creases: mesh.crease_pairs(),
         leaf_span,
         first_leaf_hint: leaf_no,
+        components,
     })
 }
 
 /// Refuses an input that bounds no solid: open, with a non-finite coordinate, or touching
-/// itself (two vertices at one point — the engine would see two surfaces there).
-fn check_solid(mesh: &Mesh, side: Side, leaf: u32) -> Result<(), CsgError> {
+/// itself (two vertices of one of its `components` at one point — the engine would see two
+/// surfaces there).
+fn check_solid(
+    mesh: &Mesh,
+    triangles: &[[u32; 3]],
+    components: &[Vec<u32>],
+    side: Side,
+    leaf: u32,
+) -> Result<(), CsgError> {
     if !mesh.is_closed() {
         let boundary_edges = mesh.boundary_loops().iter().map(Vec::len).sum();
         return Err(CsgError::OpenMesh { side, leaf, boundary_edges });
@@ -284,14 +365,16 @@ fn check_solid(mesh: &Mesh, side: Side, leaf: u32) -> Result<(), CsgError> {
     if let Some(vertex) = mesh.positions().iter().position(|p| !p.is_finite()) {
         return Err(CsgError::NonFinite { side, leaf, vertex });
     }
-    let mut order: Vec<u32> = (0..mesh.vertex_count() as u32).collect();
     let key = |v: u32| {
         let p = mesh.position(v);
         [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]
     };
-    order.sort_unstable_by_key(|&v| key(v));
-    for w in order.windows(2) {
-        if key(w[0]) == key(w[1]) && mesh.vertex_halfedge(w[0]) != crate::mesh::NONE {
+    for tris in components {
+        let mut order: Vec<u32> = tris.iter().flat_map(|&t| triangles[t as usize]).collect();
+        order.sort_unstable();
+        order.dedup();
+        order.sort_unstable_by_key(|&v| key(v));
+        if let Some(w) = order.windows(2).find(|w| key(w[0]) == key(w[1])) {
             let p = mesh.position(w[0]);
             return Err(CsgError::NonManifold {
                 side,
