@@ -31,4 +31,7 @@ pub use block::{Block, Edge, Face, MAX_SUBDIVISIONS};
 pub use control_mesh::{ControlMesh, PatchSource};
 pub use error::BlockError;
 pub use model::{BlockModel, Connection, SubFaceRef, DEFAULT_THRESHOLD};
-pub use tessellate::{tessellate_control, BlockStats, ControlTessellation, Displacement, MeshOptions, Tessellation};
+pub use tessellate::{
+    tessellate_control, tessellate_control_with_progress, BlockStats, ControlTessellation, Displacement, MeshOptions,
+    Progress, Tessellation,
+};
