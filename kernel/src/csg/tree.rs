@@ -336,7 +336,10 @@ fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
         .collect();
     let components =
         if union_parts { components(mesh.vertex_count(), &triangles) } else { vec![(0..triangles.len() as u32).collect()] };
-    check_solid(&mesh, &triangles, &components, side, leaf_no)?;
+    // An earlier boolean result is the engine's own valid output: where two solids met along
+    // an edge it keeps two vertices at one point, which is no self-touching for it.
+    let earlier_result = matches!(leaf, Csg::Mesh(m) if m.face_sources().is_some());
+    check_solid(&mesh, &triangles, &components, !earlier_result, side, leaf_no)?;
     Ok(Prepared {
         positions: mesh.positions().to_vec(),
         triangles,
@@ -350,11 +353,12 @@ fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
 
 /// Refuses an input that bounds no solid: open, with a non-finite coordinate, or touching
 /// itself (two vertices of one of its `components` at one point — the engine would see two
-/// surfaces there).
+/// surfaces there; checked when `check_touching`).
 fn check_solid(
     mesh: &Mesh,
     triangles: &[[u32; 3]],
     components: &[Vec<u32>],
+    check_touching: bool,
     side: Side,
     leaf: u32,
 ) -> Result<(), CsgError> {
@@ -369,7 +373,7 @@ fn check_solid(
         let p = mesh.position(v);
         [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]
     };
-    for tris in components {
+    for tris in components.iter().filter(|_| check_touching) {
         let mut order: Vec<u32> = tris.iter().flat_map(|&t| triangles[t as usize]).collect();
         order.sort_unstable();
         order.dedup();
