@@ -364,6 +364,30 @@ fn across(v: Vec3, axis: Vec3) -> Option<Vec3> {
     (v - axis * v.dot(axis)).try_normalize().filter(|d| d.is_finite())
 }
 
+/// The largest weight `w ≤ w_max` of `circle` against `shape` (offsets of a new loop's vertices,
+/// in ring order) that keeps every edge of the new loop, `(1 − w)·shape + w·circle`, turning
+/// at most 60° from the previous loop's edge between `prev` (same order): each quad between the
+/// loops then stays a convex-ish trapezoid instead of folding. Linear in the loop size.
+fn rounding(prev: &[Vec3], shape: &[Vec3], circle: &[Vec3], w_max: f64) -> f64 {
+    let n = prev.len();
+    let mut w = w_max;
+    for j in 0..n {
+        let k = (j + 1) % n;
+        let d = prev[k] - prev[j];
+        let (a, c) = (shape[k] - shape[j], circle[k] - circle[j]);
+        // The edge at weight t is a + t (c − a); its cosine with d is kept ≥ 1/2 where the shape's
+        // own edge has it: (a + t (c − a))·d ≥ ½ |a + t (c − a)| |d|, tested at the bound of the
+        // linear part, (a·d)(1 − t) + (c·d) t ≥ ½ max(|a|, |c|) |d|.
+        let (ad, cd) = (a.dot(d), c.dot(d));
+        let need = 0.5 * a.length().max(c.length()) * d.length();
+        if ad < need || cd >= need {
+            continue;
+        }
+        w = w.min((ad - need) / (ad - cd));
+    }
+    w.max(0.0)
+}
+
 impl Grower {
     fn child_of(&self, st: &State) -> State {
         let host = match st.branch {
@@ -448,9 +472,18 @@ impl Grower {
                 };
                 st.branch = Some(b);
                 // The first segment leaves the parent's surface: at least the parent's radius
-                // plus its own away from the parent's axis.
+                // plus its own away from the parent's axis, and its loop lies at least its
+                // radius beyond every vertex of the gap along the heading (a gap on a stretched
+                // loop can reach far ahead; a loop behind part of its gap folds the quads).
                 let host = &self.rings[st.host.unwrap_or(0)];
-                let len = len.max(host.radius + r);
+                let (o, h) = (st.turtle.position, st.turtle.heading);
+                let pm = self.mesh.as_ref().ok_or_else(|| LsystemError::Internal("nesting before the trunk".into()))?;
+                let mm = pm.mesh();
+                let ahead = mm
+                    .outgoing(self.branches[b].tip)
+                    .map(|x| (pm.position(mm.target(x)) - o).dot(h))
+                    .fold(0.0, f64::max);
+                let len = len.max(host.radius + r).max(ahead + r);
                 return self.segment(i, m, st, b, len, r, pole, true);
             }
         };
@@ -621,10 +654,15 @@ impl Grower {
         };
         let kk = (w - 1) as f64;
         for (j, (v, u)) in far.into_iter().enumerate() {
-            // An arch: highest mid-gap, low near the gap's ends, so the gap has no spikes.
-            let lift = (std::f64::consts::PI * (j + 1) as f64 / kk).sin();
-            let p = pm.position(u) + axis * (g * lift);
-            Self::polar(i, pm.set_position(v, p))?;
+            // An arch: highest mid-gap, low near the gap's ends, so the gap has no spikes; and
+            // never above half the shorter run edge at u, so that no gap edge runs along the
+            // axis (where the branch's heading would see it end on and its first loop would
+            // get a sliver quad).
+            let (a, b) = (pm.position(run[j]), pm.position(run[j + 2]));
+            let here = pm.position(u);
+            let room = 0.5 * here.distance(a).min(here.distance(b));
+            let lift = (g * (std::f64::consts::PI * (j + 1) as f64 / kk).sin()).min(room);
+            Self::polar(i, pm.set_position(v, here + axis * lift))?;
         }
         for j in 0..w {
             self.rings[host].used[(s + j) % n] = true;
@@ -681,11 +719,15 @@ impl Grower {
                 })
                 .collect()
         };
-        // The new circle follows the previous cycle (a loop or a branch's gap): the cycle is
-        // turned so that its Newell normal lies along the heading (a small rotation: a gap on
-        // a parent's side is seen face on, not as a sliver), and each new vertex takes the angle
-        // of its arc-length fraction along the cycle, from the first end's direction, turning
-        // the way the cycle turns, so no quad between the two folds.
+        // The new circle follows the previous cycle (a loop or a branch's gap), seen along the
+        // heading: each end is projected on the plane across the heading, then stretched along
+        // the direction in which the cycle is foreshortened (the Newell normal's part across the
+        // heading) by 1 / cos of the angle between the normal and the heading (at most 4), so a
+        // gap on a parent's side is seen face on, not as a sliver. A projection followed by a
+        // symmetric positive stretch keeps every edge's direction within 90° of the original
+        // edge (e · S P e = |√S P e|² ≥ 0), so the quads between the two cycles never fold —
+        // a rotation of the normal onto the heading does not (it reverses edges near the
+        // normal at a gap's narrow ends).
         let nn = ends.len();
         let mut newell = Vec3::ZERO;
         for j in 0..nn {
@@ -694,7 +736,15 @@ impl Grower {
         // The cycle turns about the heading one way or the other (ring order is topology's);
         // the circle turns the same way, at the phase that best matches every end's direction.
         let sign = if newell.dot(h) < 0.0 { -1.0 } else { 1.0 };
-        let turn = crate::math::Quat::from_rotation_arc((newell * sign).try_normalize().unwrap_or(h), h);
+        let (squash, stretch) = match (newell * sign).try_normalize() {
+            Some(nrm) => (across(nrm, h).unwrap_or(Vec3::ZERO), 1.0 / nrm.dot(h).max(0.25)),
+            None => (Vec3::ZERO, 1.0),
+        };
+        let view = |e: Vec3| {
+            let q = e - prev_center;
+            let q = q - h * q.dot(h);
+            q + squash * (q.dot(squash) * (stretch - 1.0))
+        };
         let mut arc = Vec::with_capacity(nn + 1);
         arc.push(0.0);
         for j in 0..nn {
@@ -707,25 +757,21 @@ impl Grower {
         let b2 = h.cross(b1);
         let (mut sx, mut sy) = (0.0, 0.0);
         for (j, e) in ends.iter().enumerate() {
-            let q = turn * (*e - prev_center);
+            let q = view(*e);
             let alpha = q.dot(b2).atan2(q.dot(b1));
             let d = alpha - sign * std::f64::consts::TAU * frac(j);
             sx += d.cos();
             sy += d.sin();
         }
         let phase = sy.atan2(sx);
-        // Each new vertex keeps the direction of its end in the turned previous cycle (where
-        // that cycle is star-shaped about its centre, else the arc-length rule at the best
-        // phase) at a distance that halves the previous cycle's deviation from a circle; a
-        // branch's first loop copies its gap's shape whole (a circle there would twist the quads
-        // at the gap's narrow ends). So a branch rounds off over a few loops and no quad folds.
-        let qs: Vec<Vec3> = ends
-            .iter()
-            .map(|e| {
-                let q = turn * (*e - prev_center);
-                q - h * q.dot(h)
-            })
-            .collect();
+        // The new loop blends two placements: the previous cycle seen along the heading and scaled to radius `r` (its "shape": every edge parallel to the previous
+        // cycle's edge seen along the heading, so no quad between the two twists, whatever the
+        // cycle's shape), and a circle of radius `r` (each vertex at its end's own direction where
+        // the turned cycle is star-shaped about its centre, else at its arc-length fraction from
+        // the best phase). A branch's first loop is the shape alone (a copy of its gap); later
+        // loops take half the circle, or less where a quad would fold ([`rounding`]). So a
+        // branch rounds off over a few loops and no quad folds.
+        let qs: Vec<Vec3> = ends.iter().map(|&e| view(e)).collect();
         let mean = qs.iter().map(|q| q.length()).sum::<f64>() / nn as f64;
         let mut angles: Vec<f64> = Vec::with_capacity(nn);
         let mut sweep: f64 = 0.0;
@@ -738,12 +784,16 @@ impl Grower {
         }
         let closing = (angles[0] - angles[nn - 1]).rem_euclid(std::f64::consts::TAU);
         let star = (sweep + closing - std::f64::consts::TAU).abs() < 1e-6;
+        let circle: Vec<Vec3> = (0..nn)
+            .map(|j| {
+                let a = if star { sign * angles[j] } else { phase + sign * std::f64::consts::TAU * frac(j) };
+                (b1 * a.cos() + b2 * a.sin()) * r
+            })
+            .collect();
+        let shape: Vec<Vec3> = if mean > 0.0 { qs.iter().map(|q| *q * (r / mean)).collect() } else { circle.clone() };
+        let w = if from_gap { 0.0 } else { rounding(&ends, &shape, &circle, 0.5) };
         for (j, &v) in verts.iter().enumerate() {
-            let a = if star { sign * angles[j] } else { phase + sign * std::f64::consts::TAU * frac(j) };
-            let shape = if mean > 0.0 { qs[j].length() / mean } else { 1.0 };
-            let w = if from_gap { 1.0 } else { 0.5 };
-            let p = end + (b1 * a.cos() + b2 * a.sin()) * (r * (w * shape + (1.0 - w)));
-            Self::polar(i, pm.set_position(v, p))?;
+            Self::polar(i, pm.set_position(v, end + shape[j] * (1.0 - w) + circle[j] * w))?;
         }
         Self::polar(i, pm.set_position(tip, end + h * cap(r, len)))?;
         let verts = Self::forward_order(pm, verts, tip);

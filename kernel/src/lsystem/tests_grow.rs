@@ -145,18 +145,129 @@ fn three_d_turtle_symbols_grow_a_valid_plant() {
     assert_eq!(valences, [6, 14, 24]);
 }
 
-/// Branches off the trunk, one level deep, have no folded quad: every face triangulates in its
-/// own plane, as a glTF export needs. (Known limitation: branches nested on a branch's first
-/// loops can still get twisted quads at their base; see the module notes.)
+/// Faces that fold: any face that does not triangulate in its own plane (a self-crossing
+/// polygon, as the glTF writer refuses), any quad whose two triangulations disagree on its normal
+/// (a quad folded along a diagonal) or whose corners stand off its best-fit plane by more than a
+/// quarter of its longer diagonal (a twisted quad). Returns (face, why) for the first few.
+fn folded_faces(m: &crate::mesh::Mesh) -> Vec<(u32, String)> {
+    let mut bad = Vec::new();
+    for f in 0..m.face_count() as u32 {
+        if let Err(e) = m.triangulate_face(f) {
+            bad.push((f, e.to_string()));
+            continue;
+        }
+        let p: Vec<Vec3> = m.face_vertices(f).map(|v| m.position(v)).collect();
+        if p.len() != 4 {
+            continue;
+        }
+        let tri = |a: usize, b: usize, c: usize| (p[b] - p[a]).cross(p[c] - p[a]).normalize_or_zero();
+        let agree = tri(0, 1, 2).dot(tri(0, 2, 3)).min(tri(1, 2, 3).dot(tri(1, 3, 0)));
+        if agree <= 0.0 {
+            bad.push((f, format!("folded along a diagonal (triangle normals at cosine {agree:.3})")));
+        }
+        let n = m.face_vector_area(f).normalize_or_zero();
+        let c = (p[0] + p[1] + p[2] + p[3]) / 4.0;
+        let diag = p[0].distance(p[2]).max(p[1].distance(p[3]));
+        let off = p.iter().map(|q| (*q - c).dot(n).abs()).fold(0.0, f64::max);
+        if off > 0.25 * diag {
+            bad.push((f, format!("twisted: a corner {off:.3e} off its plane, diagonal {diag:.3e}")));
+        }
+    }
+    bad
+}
+
+fn assert_unfolded(what: &str, m: &crate::mesh::Mesh) {
+    let bad = folded_faces(m);
+    assert!(
+        bad.is_empty(),
+        "{what}: {} folded faces of {}, first {:?}",
+        bad.len(),
+        m.face_count(),
+        &bad[..bad.len().min(3)]
+    );
+}
+
+/// The thesis's stochastic grammar of §11 (as stdlib/plants.rhai writes it).
+fn thesis_plant(seed: u64) -> Lsystem {
+    let pr = "(1 - 1/(1 + exp(5.2 - s)))";
+    let (left, right) = ("[L(s) L0(s+1) L(s+1) P(s+1)]", "[R(s) L0(s+1) L(s+1) P(s+1)]");
+    let c = |to: String, p: String| ChoiceSpec { to, p: Probability::Expression(p) };
+    let choices = vec![
+        c(left.into(), format!("{pr} - {pr}^2")),
+        c(right.into(), format!("{pr} - {pr}^2")),
+        c(format!("{left}{right}"), format!("{pr}^2")),
+        c("L(s)".into(), format!("1 - 2*{pr} + {pr}^2")),
+    ];
+    Lsystem::new("L(0) L0(0) P(0)", &[RuleSpec { key: "L0(s)".into(), choices }], seed).unwrap()
+}
+
+/// A tree whose apex grows on after it branches (examples/lsystem_tree.rhai).
+fn growing_tree(seed: u64) -> Lsystem {
+    let pr = "(1 - 1/(1 + exp(4.5 - s)))";
+    let c = |to: &str, p: String| ChoiceSpec { to: to.into(), p: Probability::Expression(p) };
+    let choices = vec![c("L(s) [L(s) A(s+1)] [R(s) A(s+1)] A(s+1)", pr.into()), c("L(s) P(s)", format!("1 - {pr}"))];
+    Lsystem::new("A(0)", &[RuleSpec { key: "A(s)".into(), choices }], seed).unwrap()
+}
+
+/// Branches nested on branches, many levels deep, over many seeds: every face triangulates in
+/// its own plane, no quad folds or twists, and every plant is a valid polar mesh with its
+/// skeleton counts (the recipes' grammars with the recipes' options).
 #[test]
-fn one_level_of_branches_has_no_folded_faces() {
-    for s in ["F[+F]F", "F[+F][-F]F", "L(0)[L(0)L(1)L(1)P(1)][R(0)L(1)P(1)]P(0)", "F[&F]/[&F]/F"] {
+fn nested_branches_have_no_folded_faces_across_seeds() {
+    for seed in 0..16 {
+        let g = grow(
+            &thesis_plant(seed).derive(10).unwrap(),
+            &GrowOptions::DEFAULT.with_valence(8).with_angle(40.0).with_radius(0.2),
+        )
+        .unwrap();
+        assert_plant(&g);
+        assert_unfolded(&format!("thesis plant, seed {seed}"), g.mesh.mesh());
+        let g = grow(&growing_tree(seed).derive(7).unwrap(), &GrowOptions::DEFAULT.with_valence(10).with_angle(35.0))
+            .unwrap();
+        assert_plant(&g);
+        assert_unfolded(&format!("growing tree, seed {seed}"), g.mesh.mesh());
+    }
+    let ls =
+        Lsystem::new("X", &[RuleSpec::deterministic("X", "F[&+X]/[&-X]///FX"), RuleSpec::deterministic("F", "FF")], 0)
+            .unwrap();
+    for (steps, valence) in [(4, 12), (5, 16), (4, 20)] {
+        let opts = GrowOptions::DEFAULT.with_valence(valence).with_angle(25.7).with_radius(0.2).with_length(0.6);
+        let g = grow(&ls.derive(steps).unwrap(), &opts).unwrap();
+        assert_plant(&g);
+        assert_unfolded(&format!("turtle plant, {steps} steps, valence {valence}"), g.mesh.mesh());
+    }
+    for s in ["F[+F]F", "F[+F][-F]F", "L(0)[L(0)L(1)L(1)P(1)][R(0)L(1)P(1)]P(0)", "F[&F]/[&F]/F", "F[&+F/[&-F]]"] {
         for valence in [8, 10, 12, 16] {
             let g = grow(&modules(s), &GrowOptions::DEFAULT.with_valence(valence)).unwrap();
             assert_plant(&g);
-            if let Err(e) = g.mesh.mesh().triangulate() {
-                panic!("{s}, valence {valence}: {e}");
-            }
+            assert_unfolded(&format!("{s}, valence {valence}"), g.mesh.mesh());
+        }
+    }
+}
+
+/// The check can fail: a quad twisted by swapping two corners' positions is caught.
+#[test]
+fn the_fold_check_catches_a_twisted_quad() {
+    let mut g = grow(&modules("F F"), &GrowOptions::DEFAULT).unwrap();
+    assert!(folded_faces(g.mesh.mesh()).is_empty());
+    let m = g.mesh.mesh();
+    let f = (0..m.face_count() as u32).find(|&f| m.face_arity(f) == 4).unwrap();
+    let vs: Vec<u32> = m.face_vertices(f).collect();
+    let (a, b) = (g.mesh.position(vs[2]), g.mesh.position(vs[3]));
+    g.mesh.set_position(vs[2], b).unwrap();
+    g.mesh.set_position(vs[3], a).unwrap();
+    assert!(folded_faces(g.mesh.mesh()).iter().any(|&(x, _)| x == f));
+}
+
+/// The same seed grows the same plant; different seeds grow different plants.
+#[test]
+fn seeds_choose_the_plant() {
+    let grow_seed = |seed| grow(&thesis_plant(seed).derive(9).unwrap(), &GrowOptions::DEFAULT).unwrap();
+    let plants: Vec<Grown> = (0..8).map(grow_seed).collect();
+    for (seed, p) in plants.iter().enumerate() {
+        assert_eq!(*p, grow_seed(seed as u64), "seed {seed} grew two different plants");
+        for q in &plants[..seed] {
+            assert_ne!(p.mesh, q.mesh, "seed {seed} grew the same plant as an earlier seed");
         }
     }
 }
