@@ -18,6 +18,10 @@ use crate::math::{is_finite, Quat, Vec3};
 
 use super::BlockError;
 
+/// The largest coordinate magnitude a corner may have: distances, areas and volumes of larger
+/// blocks overflow.
+pub const MAX_COORDINATE: f64 = 1e100;
+
 /// The most sub-faces along one direction of a face.
 pub const MAX_SUBDIVISIONS: u32 = 256;
 
@@ -232,6 +236,7 @@ impl Block {
     ///
     /// # Errors
     /// - [`BlockError::NonFinite`] for a NaN or infinite coordinate;
+    /// - [`BlockError::TooFar`] for a coordinate beyond ±[`MAX_COORDINATE`];
     /// - [`BlockError::CoincidentCorners`] for two corners closer than 1e-12 of the block's size;
     /// - [`BlockError::FoldedFace`] when a face's corners cross;
     /// - [`BlockError::Inverted`] when the corner frame (the three edges leaving a corner toward
@@ -313,7 +318,8 @@ impl Block {
     /// Moves the block by `offset`.
     ///
     /// # Errors
-    /// [`BlockError::NonFinite`] when the offset makes a coordinate infinite; the block is unchanged.
+    /// [`BlockError::NonFinite`] or [`BlockError::TooFar`] when the offset takes a coordinate out
+    /// of range; the block is unchanged.
     pub fn translate(&mut self, offset: Vec3) -> Result<(), BlockError> {
         let mut c = self.corners;
         c.iter_mut().for_each(|p| *p += offset);
@@ -415,6 +421,9 @@ impl Block {
 fn validate(c: &[Vec3; 8]) -> Result<(), BlockError> {
     if let Some(k) = c.iter().position(|p| !is_finite(*p)) {
         return Err(BlockError::NonFinite { corner: k, x: c[k].x, y: c[k].y, z: c[k].z });
+    }
+    if let Some(k) = c.iter().position(|p| p.abs().max_element() > MAX_COORDINATE) {
+        return Err(BlockError::TooFar { corner: k, value: c[k].abs().max_element() });
     }
     let (lo, hi) = c.iter().fold((c[0], c[0]), |(lo, hi), p| (lo.min(*p), hi.max(*p)));
     let size = (hi - lo).length();
@@ -530,6 +539,10 @@ mod tests {
         // A mirrored block is inside out.
         let m = unit().corners().map(|p| Vec3::new(-p.x, p.y, p.z));
         assert!(matches!(Block::from_corners(m), Err(BlockError::Inverted { .. })));
+        // Huge coordinates would overflow distances (1e300² = inf) and be called coincident.
+        let far = Block::from_bounds(Vec3::ZERO, Vec3::splat(1e300));
+        assert!(matches!(far, Err(BlockError::TooFar { corner: 1, .. })), "{far:?}");
+        assert!(Block::from_bounds(Vec3::ZERO, Vec3::splat(1e99)).is_ok());
     }
 
     #[test]
@@ -539,6 +552,8 @@ mod tests {
         assert!(matches!(b.subdivide(Face::PosX, 0, 2), Err(BlockError::ZeroSubdivisions { .. })));
         assert!(matches!(b.subdivide(Face::PosX, 2, 100_000), Err(BlockError::TooManySubdivisions { .. })));
         assert!(b.translate(Vec3::new(f64::INFINITY, 0.0, 0.0)).is_err());
+        assert!(matches!(b.translate(Vec3::new(0.0, 2e100, 0.0)), Err(BlockError::TooFar { .. })));
+        assert!(b.rotate(Vec3::Z, f64::NAN).is_err());
         assert_eq!(b, before);
         assert!(matches!(b.check_subface(Face::PosX, 1), Err(BlockError::SubFaceOutOfRange { count: 1, .. })));
     }

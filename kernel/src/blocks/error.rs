@@ -12,6 +12,12 @@ pub enum BlockError {
     /// A corner with a NaN or infinite coordinate.
     #[error("corner {corner} has a non-finite coordinate ({x}, {y}, {z})")]
     NonFinite { corner: usize, x: f64, y: f64, z: f64 },
+    /// A corner farther from the origin than [`MAX_COORDINATE`](super::block::MAX_COORDINATE) on
+    /// some axis: products of such coordinates overflow.
+    #[error(
+        "corner {corner} has a coordinate of magnitude {value:e}, beyond the limit 1e100 (its products would overflow)"
+    )]
+    TooFar { corner: usize, value: f64 },
     /// Two corners at the same place (the block would be degenerate).
     #[error("corners {a} and {b} coincide")]
     CoincidentCorners { a: usize, b: usize },

@@ -1,6 +1,22 @@
 //! `Block` and `BlockModel`: modeling with blocks (Leblanc et al., seed 000; kernel `blocks`) —
 //! blocks with sub-face grids and sharp edges, connections, the control mesh and its adaptive,
 //! watertight tessellation with optional displacement.
+//!
+//! # Blocks are edited in place
+//! A block is a description being set up, not a result: `subdivide`, `sharp`, `smooth`,
+//! `sharp_all`, `smooth_all`, `b.group = g`, `translate` and `rotate` all change the block they
+//! are called on (API.md lists them as statements, `b.translate(v)` beside `b.group = g`), where a
+//! `Mesh`'s transforms return a new mesh. Each also returns a copy of the changed block, so that
+//! a fresh block is set up in one expression: `let b = block(lo, hi).subdivide("+y", 4, 1);`.
+//! Rhai calls the next method of a chain on that copy, so on a variable write one statement per
+//! change (`b.subdivide("+z", 2, 1); b.sharp_all();`): in `b.subdivide(..).sharp_all()` only the
+//! subdivision reaches `b`. A failed change leaves the block as it was. `m.add(b)` adds a copy:
+//! later changes to `b` do not reach the model.
+//!
+//! # Nothing connects until `allow`
+//! A new model allows no group pair (seed 000 Fig. 5a: blocks that touch stay separate
+//! surfaces); `m.allow(g, g)` lets the blocks of group `g` connect with each other, `m.allow(g1,
+//! g2)` across two groups. Manual `connect`ions ignore groups.
 
 use blocksmith_kernel::blocks::tessellate::MAX_DEPTH;
 use blocksmith_kernel::blocks::{Block, BlockModel as KernelModel, BlockStats, Connection, Edge, Face, MeshOptions};
@@ -138,6 +154,46 @@ fn bilinear(grid: &[Vec<f64>], u: f64, v: f64) -> f64 {
     row(j) * (1.0 - fy) + row(j + 1) * fy
 }
 
+/// Work units (two per patch) from which a meshing shows a progress bar.
+const PROGRESS_FROM: usize = 20_000;
+
+/// A progress bar on stderr for long meshings (see [`PROGRESS_FROM`]), drawn only when stderr is
+/// a terminal: scripts run in tests, pipes and CI print nothing extra.
+#[derive(Default)]
+struct ProgressLine {
+    bar: Option<indicatif::ProgressBar>,
+    checked: bool,
+}
+
+impl ProgressLine {
+    fn update(&mut self, done: usize, total: usize) {
+        if !self.checked {
+            self.checked = true;
+            if total >= PROGRESS_FROM && std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+                let bar = indicatif::ProgressBar::with_draw_target(
+                    Some(total as u64),
+                    indicatif::ProgressDrawTarget::stderr(),
+                );
+                if let Ok(style) =
+                    indicatif::ProgressStyle::with_template("mesh: {bar:40} {percent:>3}% patches ({elapsed} / ~{eta})")
+                {
+                    bar.set_style(style);
+                }
+                self.bar = Some(bar);
+            }
+        }
+        if let Some(bar) = &self.bar {
+            bar.set_position(done as u64);
+        }
+    }
+
+    fn finish(&self) {
+        if let Some(bar) = &self.bar {
+            bar.finish_and_clear();
+        }
+    }
+}
+
 /// Meshes `m` with the options of `options` (checked key by key).
 fn mesh_model(ctx: &NativeCallContext, m: &mut BlockModel, options: Map) -> ScriptResult<SharedMesh> {
     let opts = Options::new("mesh", options, &["tolerance", "max_depth", "displacement"])?;
@@ -157,13 +213,15 @@ fn mesh_model(ctx: &NativeCallContext, m: &mut BlockModel, options: Map) -> Scri
     let f = if map.is_some() { None } else { opts.fn_ptr("displacement").map_err(|_| not_displacement(&opts))? };
     // The closure may read the model: mesh a copy, so nothing is borrowed while it runs.
     let model = m.model.clone();
+    let mut bar = ProgressLine::default();
+    let mut progress = |done: usize, total: usize| bar.update(done, total);
     let result = match &f {
         None if map.is_some() => {
             let grid = map.unwrap_or_default();
             let sample = |_p: Vec3, _n: Vec3, u: f64, v: f64| -> Result<f64, String> { Ok(bilinear(&grid, u, v)) };
-            model.tessellate(&o, Some(&sample))
+            model.tessellate_with_progress(&o, Some(&sample), &mut progress)
         }
-        None => model.tessellate(&o, None),
+        None => model.tessellate_with_progress(&o, None, &mut progress),
         Some(f) => {
             let call = |p: Vec3, n: Vec3, u: f64, v: f64| -> Result<f64, String> {
                 let r: Dynamic = f
@@ -171,9 +229,11 @@ fn mesh_model(ctx: &NativeCallContext, m: &mut BlockModel, options: Map) -> Scri
                     .map_err(|e| format!("the closure `displacement` raised: {e}"))?;
                 displacement_value(&r)
             };
-            model.tessellate(&o, Some(&call))
+            model.tessellate_with_progress(&o, Some(&call), &mut progress)
         }
     };
+    drop(progress);
+    bar.finish();
     let t = kernel("mesh", result)?;
     m.stats = Some(t.stats);
     Ok(SharedMesh::new(t.mesh))
@@ -251,8 +311,8 @@ pub mod blocks_api {
 
     /// Divides `face` (`"-x" "+x" "-y" "+y" "-z" "+z"`) into `nu × nv` sub-faces, numbered
     /// `i + nu * j`. On a face of axis a, u runs along the first of the other two axes in x, y, z
-    /// order and v along the second (on `"+y"`, u along x and v along z). Changes the block and
-    /// returns it.
+    /// order and v along the second (on `"+y"`, u along x and v along z). Changes the block in
+    /// place and returns a copy (on a variable, one change per statement: see the module notes).
     ///
     /// ```rhai
     /// let b = block([0, 0, 0], [1, 1, 1]);
@@ -289,7 +349,8 @@ pub mod blocks_api {
     }
 
     /// Tags `edges` (an array of names of two faces, e.g. `["+x+y", "-z+x"]`; either order)
-    /// sharp: the surface keeps a crease there. All or nothing. Changes the block and returns it.
+    /// sharp: the surface keeps a crease there. All or nothing. Changes the block in place and
+    /// returns a copy (on a variable, one change per statement: see the module notes).
     ///
     /// ```rhai
     /// let b = block([0, 0, 0], [1, 1, 1]);
@@ -305,7 +366,8 @@ pub mod blocks_api {
         Ok(b.clone())
     }
 
-    /// Tags `edges` smooth (the reverse of `sharp`). Changes the block and returns it.
+    /// Tags `edges` smooth (the reverse of `sharp`). Changes the block in place and returns a
+    /// copy (on a variable, one change per statement: see the module notes).
     ///
     /// ```rhai
     /// let b = block([0, 0, 0], [1, 1, 1]).sharp_all();
@@ -331,7 +393,8 @@ pub mod blocks_api {
         Ok(b.is_sharp(e))
     }
 
-    /// Tags all 12 edges sharp (Fig. 2, red edges). Changes the block and returns it.
+    /// Tags all 12 edges sharp (Fig. 2, red edges). Changes the block in place and returns a
+    /// copy (on a variable, one change per statement: see the module notes).
     ///
     /// ```rhai
     /// assert(block([0, 0, 0], [1, 1, 1]).sharp_all().is_sharp("-y-z"), "sharp");
@@ -341,7 +404,8 @@ pub mod blocks_api {
         b.clone()
     }
 
-    /// Tags all 12 edges smooth (the default). Changes the block and returns it.
+    /// Tags all 12 edges smooth (the default). Changes the block in place and returns a copy (on
+    /// a variable, one change per statement: see the module notes).
     ///
     /// ```rhai
     /// assert(!block([0, 0, 0], [1, 1, 1]).sharp_all().smooth_all().is_sharp("-y-z"), "smooth");
@@ -369,7 +433,9 @@ pub mod blocks_api {
         b.set_group(g);
     }
 
-    /// Moves the block by `v`. Changes the block and returns it.
+    /// Moves the block by `v`, in place (see the module notes: blocks are edited, meshes are
+    /// transformed into new ones), and returns a copy of the moved block. An offset that takes a
+    /// coordinate to NaN, infinity or beyond ±1e100 is an error and the block stays where it was.
     ///
     /// ```rhai
     /// let b = block([0, 0, 0], [1, 1, 1]);
@@ -383,8 +449,9 @@ pub mod blocks_api {
         Ok(b.clone())
     }
 
-    /// Turns the block by `deg` degrees about `axis` through the origin (right-handed). Changes
-    /// the block and returns it.
+    /// Turns the block by `deg` degrees about `axis` through the origin (right-handed), in place,
+    /// and returns a copy of the turned block; a zero axis leaves it as it is (as `Mesh.rotate`
+    /// does). A non-finite angle is an error and the block stays as it was.
     ///
     /// ```rhai
     /// let b = block([0, 0, 0], [1, 1, 1]).rotate([0, 0, 1], 90);
