@@ -105,7 +105,8 @@ fn layout(rng: &mut SplitMix64) -> BlockModel {
     // The whole layout turned at random half of the time.
     if below(rng, 2) == 0 {
         let axis = Vec3::new(uniform(rng, -1.0, 1.0), uniform(rng, -1.0, 1.0), uniform(rng, -1.0, 1.0));
-        let q = Quat::from_axis_angle(axis.try_normalize().unwrap_or(Vec3::Z), uniform(rng, 0.0, 6.28));
+        let q =
+            Quat::from_axis_angle(axis.try_normalize().unwrap_or(Vec3::Z), uniform(rng, 0.0, std::f64::consts::TAU));
         let mut turned = BlockModel::new();
         for g in 0..groups {
             for h in g..groups {

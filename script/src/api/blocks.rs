@@ -214,25 +214,26 @@ fn mesh_model(ctx: &NativeCallContext, m: &mut BlockModel, options: Map) -> Scri
     // The closure may read the model: mesh a copy, so nothing is borrowed while it runs.
     let model = m.model.clone();
     let mut bar = ProgressLine::default();
-    let mut progress = |done: usize, total: usize| bar.update(done, total);
-    let result = match &f {
-        None if map.is_some() => {
-            let grid = map.unwrap_or_default();
-            let sample = |_p: Vec3, _n: Vec3, u: f64, v: f64| -> Result<f64, String> { Ok(bilinear(&grid, u, v)) };
-            model.tessellate_with_progress(&o, Some(&sample), &mut progress)
-        }
-        None => model.tessellate_with_progress(&o, None, &mut progress),
-        Some(f) => {
-            let call = |p: Vec3, n: Vec3, u: f64, v: f64| -> Result<f64, String> {
-                let r: Dynamic = f
-                    .call_within_context(ctx, (p, n, u, v))
-                    .map_err(|e| format!("the closure `displacement` raised: {e}"))?;
-                displacement_value(&r)
-            };
-            model.tessellate_with_progress(&o, Some(&call), &mut progress)
+    let result = {
+        let mut progress = |done: usize, total: usize| bar.update(done, total);
+        match &f {
+            None if map.is_some() => {
+                let grid = map.unwrap_or_default();
+                let sample = |_p: Vec3, _n: Vec3, u: f64, v: f64| -> Result<f64, String> { Ok(bilinear(&grid, u, v)) };
+                model.tessellate_with_progress(&o, Some(&sample), &mut progress)
+            }
+            None => model.tessellate_with_progress(&o, None, &mut progress),
+            Some(f) => {
+                let call = |p: Vec3, n: Vec3, u: f64, v: f64| -> Result<f64, String> {
+                    let r: Dynamic = f
+                        .call_within_context(ctx, (p, n, u, v))
+                        .map_err(|e| format!("the closure `displacement` raised: {e}"))?;
+                    displacement_value(&r)
+                };
+                model.tessellate_with_progress(&o, Some(&call), &mut progress)
+            }
         }
     };
-    drop(progress);
     bar.finish();
     let t = kernel("mesh", result)?;
     m.stats = Some(t.stats);
