@@ -31,6 +31,8 @@
 
 use std::collections::HashMap;
 
+use rayon::prelude::*;
+
 use crate::math::Vec3;
 use crate::mesh::Mesh;
 use crate::subdiv::LimitEvaluator;
@@ -41,9 +43,9 @@ use super::{BlockError, BlockModel, ControlMesh, SubFaceRef};
 /// `Err` aborts the meshing with its message.
 pub type Displacement<'a> = &'a dyn Fn(Vec3, Vec3, f64, f64) -> Result<f64, String>;
 
-/// A progress report of a long meshing: called with `(done, total)` work units as they finish
-/// (each patch counts twice: once for its kd-tree, once for its triangles), in order, ending with
-/// `done == total`. The kernel draws nothing; a front end may show a bar.
+/// A progress report of a long meshing: called now and then with `(done, total)` work units
+/// (each patch counts twice: once for its kd-tree, once for its triangles), `done` increasing and
+/// ending at `total`. The kernel draws nothing; a front end may show a bar.
 pub type Progress<'a> = &'a mut dyn FnMut(usize, usize);
 
 /// The deepest kd-tree the options accept (per direction).
@@ -51,6 +53,9 @@ pub const MAX_DEPTH: u32 = 14;
 
 /// Texels per row and column of the flatness test.
 const TEXELS: usize = 5;
+
+/// Patches whose kd-trees are built between two progress reports.
+const PATCH_CHUNK: usize = 512;
 
 /// Options of [`BlockModel::tessellate`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -183,12 +188,18 @@ impl BlockModel {
     }
 }
 
-/// The limit surface of a control mesh, displaced.
-struct Surface<'a> {
+/// The limit surface of a control mesh: shared (it is `Sync`) by the threads that build the
+/// kd-trees of a model without displacement.
+struct Limit<'a> {
     ev: LimitEvaluator,
     /// The limit position of every control-mesh vertex.
     limits: Vec<Vec3>,
     cm: &'a ControlMesh,
+}
+
+/// The limit surface of a control mesh, displaced.
+struct Surface<'a> {
+    limit: &'a Limit<'a>,
     displacement: Option<Displacement<'a>>,
 }
 
@@ -197,26 +208,27 @@ impl Surface<'_> {
     /// (a vertex with three or more creases) the normal is undefined: there the position is the
     /// vertex's exact limit position and the normal the patch's own one a hair inside.
     fn sample(&self, f: u32, u: f64, v: f64) -> Result<(Vec3, Vec3), BlockError> {
-        let e = match self.ev.eval(f, u, v) {
+        let Limit { ev, limits, cm } = self.limit;
+        let e = match ev.eval(f, u, v) {
             Ok(s) => return Ok((s.position, s.normal)),
             Err(e) => e,
         };
         let degenerate = || BlockError::Degenerate { reason: e.to_string() };
         let corners = [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)];
         let k = corners.iter().position(|&(a, b)| a == u && b == v).ok_or_else(degenerate)?;
-        let q = self.cm.mesh.face_vertices(f).nth(k).ok_or_else(degenerate)?;
+        let q = cm.mesh.face_vertices(f).nth(k).ok_or_else(degenerate)?;
         // A hair inside, a little more, then the control quad's own normal.
         for inside in [1e-7, 1e-5, 1e-3] {
             let (ui, vi) = ((u - inside).abs().min(u + inside), (v - inside).abs().min(v + inside));
-            if let Ok(s) = self.ev.eval(f, ui, vi) {
-                return Ok((self.limits[q as usize], s.normal));
+            if let Ok(s) = ev.eval(f, ui, vi) {
+                return Ok((limits[q as usize], s.normal));
             }
         }
-        let n = self.cm.mesh.face_normal(f);
+        let n = cm.mesh.face_normal(f);
         if n == Vec3::ZERO {
             return Err(degenerate());
         }
-        Ok((self.limits[q as usize], n))
+        Ok((limits[q as usize], n))
     }
 
     /// The displaced point at (u, v) of patch `f`.
@@ -228,7 +240,7 @@ impl Surface<'_> {
     fn point_normal(&self, f: u32, u: f64, v: f64) -> Result<(Vec3, Vec3), BlockError> {
         let (p, normal) = self.sample(f, u, v)?;
         let Some(d) = self.displacement else { return Ok((p, normal)) };
-        let [a, b, c, e] = self.cm.sources[f as usize].uv;
+        let [a, b, c, e] = self.limit.cm.sources[f as usize].uv;
         let w = [(1.0 - u) * (1.0 - v), u * (1.0 - v), u * v, (1.0 - u) * v];
         let fu = w[0] * a[0] + w[1] * b[0] + w[2] * c[0] + w[3] * e[0];
         let fv = w[0] * a[1] + w[1] * b[1] + w[2] * c[1] + w[3] * e[1];
@@ -370,20 +382,31 @@ pub fn tessellate_control_with_progress(
     let ev = LimitEvaluator::new(mesh).map_err(|e| BlockError::Internal(e.to_string()))?;
     let tol = options.tolerance.unwrap_or_else(|| 1e-3 * mesh.bounds().size().length());
     let limits = mesh.catmull_clark_limit().map_err(|e| BlockError::Internal(e.to_string()))?.positions().to_vec();
-    let surface = Surface { ev, limits, cm, displacement };
+    let limit = Limit { ev, limits, cm };
+    let surface = Surface { limit: &limit, displacement };
     let r: u32 = 1 << options.max_depth;
     let scale = f64::from(r);
     let nf = mesh.face_count() as u32;
 
-    // 1. The kd-tree of every patch.
+    // 1. The kd-tree of every patch: in parallel, chunk by chunk, when no script closure is
+    // involved (a closure runs on the caller's thread); the same trees either way.
     let total = 2 * nf as usize;
-    let leaves: Vec<Vec<Rect>> = (0..nf)
-        .map(|f| {
-            let l = kd_leaves(&surface, f, r, tol);
-            progress(f as usize + 1, total);
-            l
-        })
-        .collect::<Result<_, _>>()?;
+    let mut leaves: Vec<Vec<Rect>> = Vec::with_capacity(nf as usize);
+    for start in (0..nf).step_by(PATCH_CHUNK) {
+        let end = (start + PATCH_CHUNK as u32).min(nf);
+        let chunk: Vec<Result<Vec<Rect>, BlockError>> = if displacement.is_none() {
+            (start..end)
+                .into_par_iter()
+                .map(|f| kd_leaves(&Surface { limit: &limit, displacement: None }, f, r, tol))
+                .collect()
+        } else {
+            (start..end).map(|f| kd_leaves(&surface, f, r, tol)).collect()
+        };
+        for l in chunk {
+            leaves.push(l?);
+        }
+        progress(end as usize, total);
+    }
 
     // 2. The points along every control-mesh edge: the union of both sides' sub-patch corners,
     // as parameters along its lower half-edge.
@@ -775,8 +798,31 @@ mod tests {
         m.add(boxed([0.0; 3], [1.0; 3]));
         let mut seen = Vec::new();
         let t = m.tessellate_with_progress(&MeshOptions::DEFAULT, None, &mut |d, n| seen.push((d, n))).unwrap();
-        assert_eq!(seen.len(), 2 * t.stats.patches);
-        assert!(seen.iter().enumerate().all(|(i, &(d, n))| d == i + 1 && n == 2 * t.stats.patches));
+        // One report per chunk of kd-trees (24 patches: one chunk), then one per patch.
+        let n = 2 * t.stats.patches;
+        assert_eq!(seen.len(), 1 + t.stats.patches);
+        assert_eq!(seen[0], (t.stats.patches, n));
+        assert!(seen.windows(2).all(|w| w[0].0 < w[1].0) && seen.iter().all(|&(_, m)| m == n));
+        assert_eq!(seen.last(), Some(&(n, n)));
+    }
+
+    #[test]
+    fn parallel_kd_trees_give_the_serial_mesh() {
+        // Without displacement the kd-trees are built on rayon's pool; a closure returning 0
+        // forces the serial path and moves nothing: the meshes must be the same, bit for bit.
+        let mut m = crate::blocks::building::building(&crate::blocks::building::BuildingPlan {
+            storeys: 1,
+            rooms_x: 3,
+            rooms_y: 2,
+        });
+        m.add(boxed([-3.0; 3], [-1.0; 3]));
+        let zero = |_p: Vec3, _n: Vec3, _u: f64, _v: f64| -> Result<f64, String> { Ok(0.0) };
+        let o = MeshOptions::DEFAULT.with_tolerance(0.01);
+        let (a, b) = (m.tessellate(&o, None).unwrap(), m.tessellate(&o, Some(&zero)).unwrap());
+        assert!(a.stats.patches > PATCH_CHUNK, "{} patches: more than one chunk", a.stats.patches);
+        assert_eq!(a.mesh.positions(), b.mesh.positions());
+        assert_eq!(a.stats, b.stats);
+        assert!((0..a.mesh.face_count() as u32).all(|f| a.mesh.face_vertices(f).eq(b.mesh.face_vertices(f))));
     }
 
     fn single(b: crate::blocks::Block) -> BlockModel {
@@ -793,7 +839,8 @@ mod tests {
         m.add(boxed([0.0; 3], [8.0, 1.0, 1.0]));
         let cm = m.control_mesh().unwrap();
         let limits = cm.mesh.catmull_clark_limit().unwrap().positions().to_vec();
-        let s = Surface { ev: LimitEvaluator::new(&cm.mesh).unwrap(), limits, cm: &cm, displacement: None };
+        let limit = Limit { ev: LimitEvaluator::new(&cm.mesh).unwrap(), limits, cm: &cm };
+        let s = Surface { limit: &limit, displacement: None };
         let r = 1 << 6;
         let mut oblong = 0;
         let mut total = 0;
