@@ -26,6 +26,21 @@
 //! on the same loop need room (c branches get runs of at most valence/c vertices), else the
 //! largest run left; runs on one loop never overlap (§4.3.4 d).
 //!
+//! Growth and steps (§11.1, §12, decided here): the string of step n is derived first
+//! ([`Lsystem::derive`](super::Lsystem::derive), every module rewritten at once as §10.1 requires)
+//! and then carried out in one depth-first pass, each module one polar operation in string order.
+//! Growing "after it branches" (§12's shrub limitation) is then the grammar's choice and needs
+//! nothing special of the mesh: when the apex survives its branches (`A → L [L A] [R A] A`), the
+//! parent's later modules are operations at its own tip pole, drawn after its branches were
+//! nested, so the parent's axis grows on, step after step, and so does every branch (tested: the
+//! trunk's tip rises by the new segments' lengths every step, while in the thesis's grammar it
+//! stays where it branched). A step is not re-applied in place to the previous step's mesh:
+//! `F → FF` would insert loops in the middle of grown branches and carry whole sub-trees along,
+//! which the polar operations do (add_refinement across a ring, skeleton-based moves) but which
+//! costs more than growing the new string afresh, in time linear in the result; so
+//! `grow(steps)` grows step `steps` from the axiom's turtle, and the same seed always gives the
+//! same string, hence the same mesh.
+//!
 //! Skeleton (§7.1): the trunk's base pole is the root; every drawn module adds one node (its loop,
 //! or for `P` its pole; a nesting loop and the gaps on it are one node); every branch not ended by
 //! `P` adds its tip pole. Every branch end is a leaf.

@@ -271,3 +271,50 @@ fn seeds_choose_the_plant() {
         }
     }
 }
+
+/// The height of the trunk's tip: the pole on the trunk's axis (the turtle's +z; rolls and the
+/// branches' turns leave it) furthest from the root.
+fn trunk_height(g: &Grown) -> f64 {
+    g.mesh
+        .poles()
+        .iter()
+        .map(|&p| g.mesh.position(p))
+        .filter(|p| p.x.hypot(p.y) < 1e-9)
+        .map(|p| p.z)
+        .fold(f64::MIN, f64::max)
+}
+
+/// §12's shrub limitation lifted: with an apex that survives its branches, the trunk (and every
+/// branch) keeps growing in later steps — the trunk's tip rises every step, and a branch's own
+/// segments after its side branches are drawn at its tip — whereas in the thesis's grammar the
+/// parent stops where it branches and the trunk's height is that of step 1 forever.
+#[test]
+fn an_apex_that_survives_its_branches_keeps_growing() {
+    let tree =
+        Lsystem::new("A(0)", &[RuleSpec::deterministic("A(s)", "L(s) [L(s) A(s+1)] [R(s) A(s+1)] A(s+1)")], 0).unwrap();
+    let shrub = Lsystem::new("L(0) L0(0) P(0)", &[RuleSpec::deterministic("L0(s)", "[L(s) L0(s+1) L(s+1) P(s+1)]")], 0)
+        .unwrap();
+    let (mut tree_h, mut shrub_h) = (Vec::new(), Vec::new());
+    for steps in 1..6 {
+        let g = grow(&tree.derive(steps).unwrap(), &GrowOptions::DEFAULT).unwrap();
+        assert_plant(&g);
+        // The branches opened before the last step draw (the last step's apexes draw nothing
+        // yet): 1 + Σ_{j<n} 2·3^(j−1) = 3^(n−1) open ends, the trunk's among them.
+        assert_eq!(g.open_ends, 3usize.pow(steps - 1), "steps {steps}");
+        assert_eq!(g.branches, g.open_ends);
+        tree_h.push(trunk_height(&g));
+        let g = grow(&shrub.derive(steps).unwrap(), &GrowOptions::DEFAULT).unwrap();
+        assert_plant(&g);
+        shrub_h.push(trunk_height(&g));
+    }
+    for (k, h) in tree_h.iter().enumerate() {
+        // After n steps the trunk has drawn L(s), [L(s), [R(s) for s < n, each S(s) long
+        // (Eq. 11.2), and its tip pole stands half the last length beyond: it rose every step.
+        let n = k + 1;
+        let want = 3.0 * (0..n).map(|s| sigmoid(s as f64)).sum::<f64>() + 0.5 * sigmoid((n - 1) as f64);
+        assert!((h - want).abs() < 1e-9, "steps {n}: trunk tip at {h}, want {want} (heights {tree_h:?})");
+    }
+    for k in 1..shrub_h.len() {
+        assert!((shrub_h[k] - shrub_h[0]).abs() < 1e-12, "the shrub's trunk moved: heights {shrub_h:?}");
+    }
+}
