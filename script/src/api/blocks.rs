@@ -250,6 +250,13 @@ pub mod blocks_api {
     /// sub-face, every edge smooth, group 0. Corner `k` is
     /// `(k&1 ? max.x : min.x, k&2 ? max.y : min.y, k&4 ? max.z : min.z)`.
     ///
+    /// Blocks are edited in place: `subdivide`, `sharp`, `smooth`, `sharp_all`, `smooth_all`,
+    /// `b.group = g`, `translate` and `rotate` change the block (a `Mesh`'s transforms return a
+    /// new mesh instead). Each also returns a copy of the changed block, so a fresh block is set
+    /// up in one chain, `let b = block(lo, hi).subdivide("+y", 4, 1).sharp_all();`; on a variable
+    /// write one change per statement, since in `b.subdivide(..).sharp_all()` the second call
+    /// changes the copy. `m.add(b)` adds a copy. Nothing connects until `m.allow(g1, g2)`.
+    ///
     /// ```rhai
     /// let b = block([0, 0, 0], [1, 2, 3]);
     /// assert_eq(b.corners()[6], vec3(0, 2, 3));
@@ -313,7 +320,7 @@ pub mod blocks_api {
     /// Divides `face` (`"-x" "+x" "-y" "+y" "-z" "+z"`) into `nu × nv` sub-faces, numbered
     /// `i + nu * j`. On a face of axis a, u runs along the first of the other two axes in x, y, z
     /// order and v along the second (on `"+y"`, u along x and v along z). Changes the block in
-    /// place and returns a copy (on a variable, one change per statement: see the module notes).
+    /// place and returns a copy (on a variable, one change per statement: see `blocksmith doc block`).
     ///
     /// ```rhai
     /// let b = block([0, 0, 0], [1, 1, 1]);
@@ -351,7 +358,7 @@ pub mod blocks_api {
 
     /// Tags `edges` (an array of names of two faces, e.g. `["+x+y", "-z+x"]`; either order)
     /// sharp: the surface keeps a crease there. All or nothing. Changes the block in place and
-    /// returns a copy (on a variable, one change per statement: see the module notes).
+    /// returns a copy (on a variable, one change per statement: see `blocksmith doc block`).
     ///
     /// ```rhai
     /// let b = block([0, 0, 0], [1, 1, 1]);
@@ -368,7 +375,7 @@ pub mod blocks_api {
     }
 
     /// Tags `edges` smooth (the reverse of `sharp`). Changes the block in place and returns a
-    /// copy (on a variable, one change per statement: see the module notes).
+    /// copy (on a variable, one change per statement: see `blocksmith doc block`).
     ///
     /// ```rhai
     /// let b = block([0, 0, 0], [1, 1, 1]).sharp_all();
@@ -395,7 +402,7 @@ pub mod blocks_api {
     }
 
     /// Tags all 12 edges sharp (Fig. 2, red edges). Changes the block in place and returns a
-    /// copy (on a variable, one change per statement: see the module notes).
+    /// copy (on a variable, one change per statement: see `blocksmith doc block`).
     ///
     /// ```rhai
     /// assert(block([0, 0, 0], [1, 1, 1]).sharp_all().is_sharp("-y-z"), "sharp");
@@ -406,7 +413,7 @@ pub mod blocks_api {
     }
 
     /// Tags all 12 edges smooth (the default). Changes the block in place and returns a copy (on
-    /// a variable, one change per statement: see the module notes).
+    /// a variable, one change per statement: see `blocksmith doc block`).
     ///
     /// ```rhai
     /// assert(!block([0, 0, 0], [1, 1, 1]).sharp_all().smooth_all().is_sharp("-y-z"), "smooth");
@@ -434,7 +441,7 @@ pub mod blocks_api {
         b.set_group(g);
     }
 
-    /// Moves the block by `v`, in place (see the module notes: blocks are edited, meshes are
+    /// Moves the block by `v`, in place (see `blocksmith doc block`: blocks are edited, meshes are
     /// transformed into new ones), and returns a copy of the moved block. An offset that takes a
     /// coordinate to NaN, infinity or beyond ±1e100 is an error and the block stays where it was.
     ///
