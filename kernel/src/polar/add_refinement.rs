@@ -1,7 +1,7 @@
 //! Add refinement (§4.1): a new loop across a ring of backbones, or a new backbone across a ring
 //! of loop edges.
 
-use super::{PolarError, PolarMesh, Poly};
+use super::{PolarError, PolarMesh, PolyList};
 use crate::math::Vec3;
 use crate::mesh::edit::IdMap;
 
@@ -13,17 +13,6 @@ pub struct Refinement {
     pub halfedges: Vec<u32>,
     /// The new vertices, one per split edge, in ring order.
     pub vertices: Vec<u32>,
-}
-
-/// Splits polygon `p` along the chord between corners `i < j`; the chord gets flag `chord`.
-fn split_poly(p: &Poly, i: usize, j: usize, chord: bool) -> [Poly; 2] {
-    let mut a = Poly { corners: p.corners[i..=j].to_vec(), loops: p.loops[i..j].to_vec() };
-    a.loops.push(chord);
-    let mut b = Poly { corners: p.corners[j..].to_vec(), loops: p.loops[j..].to_vec() };
-    b.corners.extend_from_slice(&p.corners[..=i]);
-    b.loops.extend_from_slice(&p.loops[..i]);
-    b.loops.push(chord);
-    [a, b]
 }
 
 impl PolarMesh {
@@ -64,29 +53,34 @@ impl PolarMesh {
             positions.push(m.position(m.origin(d)).lerp(m.position(m.target(d)), t));
         }
         let chord = !self.is_loop(h);
-        let mut polys = Vec::with_capacity(2 * ring.faces.len());
+        // Each ring face, with the new vertices on its enter and leave edges, is split along
+        // the chord between them: two polygons straight into one list (no allocation per face).
+        let mut polys = PolyList::with_capacity(2 * ring.faces.len(), 6 * ring.faces.len() + 4);
         let mut remove = Vec::with_capacity(ring.faces.len());
+        let (mut corners, mut loops): (Vec<u32>, Vec<bool>) = (Vec::with_capacity(8), Vec::with_capacity(8));
         for rf in &ring.faces {
             remove.push(rf.face);
-            let mut p = Poly::default();
+            corners.clear();
+            loops.clear();
             let mut leave_at = None;
             for x in m.loop_halfedges(rf.enter) {
-                p.corners.push(m.origin(x));
-                p.loops.push(self.is_loop(x));
+                corners.push(m.origin(x));
+                loops.push(self.is_loop(x));
                 if x == rf.enter || Some(x) == rf.leave {
                     if Some(x) == rf.leave {
-                        leave_at = Some(p.corners.len());
+                        leave_at = Some(corners.len());
                     }
-                    p.corners.push(index[&m.edge_key(x)]);
-                    p.loops.push(self.is_loop(x));
+                    corners.push(index[&m.edge_key(x)]);
+                    loops.push(self.is_loop(x));
                 }
             }
             // Without a leave edge the face is a pole triangle [a, m, b, pole]: the chord runs
             // from the new vertex to the pole.
             let j = leave_at.unwrap_or(3);
-            polys.extend(split_poly(&p, 1, j, chord));
+            polys.push_split_side(&corners, &loops, 1, j, chord);
+            polys.push_split_rest(&corners, &loops, 1, j, chord);
         }
-        let log = self.rebuild(&remove, &polys, &positions, &[])?;
+        let log = self.rebuild_list(&remove, &polys, &positions, &[])?;
         let vertices = log.new_vertices().to_vec();
         let m = &self.mesh;
         let first = m.outgoing(vertices[0]).find(|&x| self.is_loop(x) == chord);

@@ -116,6 +116,72 @@ impl Poly {
     }
 }
 
+/// Polygons an operation will create, back to back: polygon `i` has the corners
+/// `corners[ends[i − 1]..ends[i]]` and, for each, the loop marker of the edge to the next corner.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct PolyList {
+    corners: Vec<u32>,
+    loops: Vec<bool>,
+    ends: Vec<usize>,
+}
+
+impl PolyList {
+    /// An empty list with room for `polys` polygons of `corners` corners in all.
+    pub fn with_capacity(polys: usize, corners: usize) -> PolyList {
+        PolyList {
+            corners: Vec::with_capacity(corners),
+            loops: Vec::with_capacity(corners),
+            ends: Vec::with_capacity(polys),
+        }
+    }
+
+    /// Appends a polygon (`corners` and `loops` of the same length).
+    pub fn push(&mut self, corners: &[u32], loops: &[bool]) {
+        debug_assert_eq!(corners.len(), loops.len());
+        self.corners.extend_from_slice(corners);
+        self.loops.extend_from_slice(loops);
+        self.ends.push(self.corners.len());
+    }
+
+    /// Appends the polygon `corners[from..=to]` of a scratch polygon, closed by an edge marked
+    /// `chord` (one side of a split along the chord between corners `from < to`).
+    pub fn push_split_side(&mut self, corners: &[u32], loops: &[bool], from: usize, to: usize, chord: bool) {
+        self.corners.extend_from_slice(&corners[from..=to]);
+        self.loops.extend_from_slice(&loops[from..to]);
+        self.loops.push(chord);
+        self.ends.push(self.corners.len());
+    }
+
+    /// Appends the other side: `corners[to..]` then `corners[..=from]`, closed by `chord`.
+    pub fn push_split_rest(&mut self, corners: &[u32], loops: &[bool], from: usize, to: usize, chord: bool) {
+        self.corners.extend_from_slice(&corners[to..]);
+        self.corners.extend_from_slice(&corners[..=from]);
+        self.loops.extend_from_slice(&loops[to..]);
+        self.loops.extend_from_slice(&loops[..from]);
+        self.loops.push(chord);
+        self.ends.push(self.corners.len());
+    }
+
+    /// Number of polygons.
+    pub fn len(&self) -> usize {
+        self.ends.len()
+    }
+
+    fn range(&self, i: usize) -> std::ops::Range<usize> {
+        (if i == 0 { 0 } else { self.ends[i - 1] })..self.ends[i]
+    }
+
+    /// Polygon `i`'s corners.
+    pub fn corners(&self, i: usize) -> &[u32] {
+        &self.corners[self.range(i)]
+    }
+
+    /// Polygon `i`'s edge markers.
+    pub fn loops(&self, i: usize) -> &[bool] {
+        &self.loops[self.range(i)]
+    }
+}
+
 impl PolarMesh {
     /// The underlying half-edge mesh.
     #[must_use]
@@ -270,7 +336,23 @@ impl PolarMesh {
         new_positions: &[Vec3],
         new_poles: &[bool],
     ) -> Result<EditLog, PolarError> {
-        let corners: Vec<&[u32]> = polys.iter().map(|p| p.corners.as_slice()).collect();
+        let mut flat = PolyList::with_capacity(polys.len(), polys.iter().map(|p| p.corners.len()).sum());
+        for p in polys {
+            flat.push(&p.corners, &p.loops);
+        }
+        self.rebuild_list(remove, &flat, new_positions, new_poles)
+    }
+
+    /// [`PolarMesh::rebuild`] with the polygons back to back in one list (no allocation per
+    /// polygon: the operations that rebuild whole rings use it).
+    pub(crate) fn rebuild_list(
+        &mut self,
+        remove: &[u32],
+        polys: &PolyList,
+        new_positions: &[Vec3],
+        new_poles: &[bool],
+    ) -> Result<EditLog, PolarError> {
+        let corners: Vec<&[u32]> = (0..polys.len()).map(|i| polys.corners(i)).collect();
         let log = self.mesh.replace_faces(remove, &corners, new_positions).map_err(PolarError::WouldBreakManifold)?;
         log.apply_vertex_moves(&mut self.pole, false);
         for (i, &v) in log.new_vertices().iter().enumerate() {
@@ -279,10 +361,10 @@ impl PolarMesh {
         log.apply_halfedge_moves(&mut self.is_loop, false);
         for (i, &f) in log.new_faces().iter().enumerate() {
             let h0 = self.mesh.face_halfedge(f);
+            let flags = polys.loops(i);
             for (k, h) in self.mesh.loop_halfedges(h0).enumerate() {
-                let flag = polys[i].loops[k];
-                self.is_loop[h as usize] = flag;
-                self.is_loop[self.mesh.twin(h) as usize] = flag;
+                self.is_loop[h as usize] = flags[k];
+                self.is_loop[self.mesh.twin(h) as usize] = flags[k];
             }
         }
         Ok(log)
