@@ -46,3 +46,26 @@ fn the_staircase_takes_its_steps_from_the_command_line() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("steps must be a whole number of at least 1, got 0"));
 }
+
+/// The same recipe gives the same bytes: the tree (kd-trees built in parallel) and the terrain
+/// (a displacement closure, built serially), each run twice.
+#[test]
+fn block_recipes_are_reproducible() {
+    let out_dir = workspace().join("target/test-output/repeat");
+    std::fs::create_dir_all(&out_dir).unwrap();
+    for recipe in ["blocks_fig15_tree", "blocks_fig14_terrain"] {
+        let run = |k: usize| {
+            let out = out_dir.join(format!("{recipe}_{k}.glb"));
+            let o = Command::new(env!("CARGO_BIN_EXE_blocksmith"))
+                .arg("run")
+                .arg(workspace().join("examples").join(format!("{recipe}.rhai")))
+                .arg("-o")
+                .arg(&out)
+                .output()
+                .unwrap();
+            assert!(o.status.success(), "{recipe}:\n{}", String::from_utf8_lossy(&o.stderr));
+            std::fs::read(&out).unwrap()
+        };
+        assert!(run(0) == run(1), "{recipe}: two runs wrote different bytes");
+    }
+}
