@@ -773,51 +773,53 @@ impl Grower {
             let q = q - h * q.dot(h);
             q + squash * (q.dot(squash) * (stretch - 1.0))
         };
-        let mut arc = Vec::with_capacity(nn + 1);
-        arc.push(0.0);
-        for j in 0..nn {
-            arc.push(arc[j] + ends[j].distance(ends[(j + 1) % nn]));
-        }
-        let total = arc[nn];
-        let frac = |j: usize| if total > 0.0 { arc[j] / total } else { j as f64 / nn as f64 };
-        // The phase that best matches every end's own direction (a circular mean).
-        let b1 = h.any_orthonormal_vector();
-        let b2 = h.cross(b1);
-        let (mut sx, mut sy) = (0.0, 0.0);
-        for (j, e) in ends.iter().enumerate() {
-            let q = view(*e);
-            let alpha = q.dot(b2).atan2(q.dot(b1));
-            let d = alpha - sign * std::f64::consts::TAU * frac(j);
-            sx += d.cos();
-            sy += d.sin();
-        }
-        let phase = sy.atan2(sx);
-        // The new loop blends two placements: the previous cycle seen along the heading and scaled to radius `r` (its "shape": every edge parallel to the previous
-        // cycle's edge seen along the heading, so no quad between the two twists, whatever the
-        // cycle's shape), and a circle of radius `r` (each vertex at its end's own direction where
-        // the turned cycle is star-shaped about its centre, else at its arc-length fraction from
-        // the best phase). A branch's first loop is the shape alone (a copy of its gap); later
-        // loops take half the circle, or less where a quad would fold ([`rounding`]). So a
-        // branch rounds off over a few loops and no quad folds.
+        // The new loop blends two placements: the previous cycle seen along the heading and
+        // scaled to radius `r` (its "shape": every edge parallel to the previous cycle's edge
+        // seen along the heading, so no quad between the two twists, whatever the cycle's
+        // shape), and a circle of radius `r` (each vertex at its end's own direction where the
+        // seen cycle is star-shaped about its centre, else at its arc-length fraction from the
+        // best phase). A branch's first loop is the shape alone (a copy of its gap); later loops
+        // take half the circle, or less where a quad would fold ([`rounding`]). So a branch
+        // rounds off over a few loops and no quad folds.
         let qs: Vec<Vec3> = ends.iter().map(|&e| view(e)).collect();
         let mean = qs.iter().map(|q| q.length()).sum::<f64>() / nn as f64;
-        let mut angles: Vec<f64> = Vec::with_capacity(nn);
-        let mut sweep: f64 = 0.0;
-        for (j, q) in qs.iter().enumerate() {
-            let alpha = sign * q.dot(b2).atan2(q.dot(b1));
-            if j > 0 {
-                sweep += (alpha - angles[j - 1]).rem_euclid(std::f64::consts::TAU);
-            }
-            angles.push(alpha);
-        }
-        let closing = (angles[0] - angles[nn - 1]).rem_euclid(std::f64::consts::TAU);
-        let star = (sweep + closing - std::f64::consts::TAU).abs() < 1e-6;
-        let circle: Vec<Vec3> = (0..nn)
-            .map(|j| {
-                let a = if star { sign * angles[j] } else { phase + sign * std::f64::consts::TAU * frac(j) };
-                (b1 * a.cos() + b2 * a.sin()) * r
+        let b1 = h.any_orthonormal_vector();
+        let b2 = h.cross(b1);
+        // Star-shaped about the centre, turning the cycle's way: every step turns forwards (by
+        // less than half a turn) and the cycle winds once, crossing the ray along b1 once —
+        // without an angle (no trigonometry on the common path).
+        let turns_on = (0..nn).all(|j| sign * qs[j].cross(qs[(j + 1) % nn]).dot(h) > 0.0);
+        let crossings = (0..nn)
+            .filter(|&j| {
+                let (y0, y1) = (sign * qs[j].dot(b2), sign * qs[(j + 1) % nn].dot(b2));
+                y0 < 0.0 && y1 >= 0.0
             })
-            .collect();
+            .count();
+        let circle: Vec<Vec3> = if turns_on && crossings == 1 {
+            qs.iter().map(|q| q.normalize() * r).collect()
+        } else {
+            let mut arc = Vec::with_capacity(nn + 1);
+            arc.push(0.0);
+            for j in 0..nn {
+                arc.push(arc[j] + ends[j].distance(ends[(j + 1) % nn]));
+            }
+            let total = arc[nn];
+            let frac = |j: usize| if total > 0.0 { arc[j] / total } else { j as f64 / nn as f64 };
+            // The phase that best matches every end's own direction (a circular mean).
+            let (mut sx, mut sy) = (0.0, 0.0);
+            for (j, q) in qs.iter().enumerate() {
+                let d = q.dot(b2).atan2(q.dot(b1)) - sign * std::f64::consts::TAU * frac(j);
+                sx += d.cos();
+                sy += d.sin();
+            }
+            let phase = sy.atan2(sx);
+            (0..nn)
+                .map(|j| {
+                    let a = phase + sign * std::f64::consts::TAU * frac(j);
+                    (b1 * a.cos() + b2 * a.sin()) * r
+                })
+                .collect()
+        };
         let shape: Vec<Vec3> = if mean > 0.0 { qs.iter().map(|q| *q * (r / mean)).collect() } else { circle.clone() };
         let w = if from_gap { 0.0 } else { rounding(&ends, &shape, &circle, 0.5) };
         for (j, &v) in verts.iter().enumerate() {

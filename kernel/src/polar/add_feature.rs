@@ -1,6 +1,6 @@
 //! Add feature (§4.3): open a gap on a loop and nest a new polar region (a branch) in it.
 
-use super::{PolarError, PolarMesh, Poly};
+use super::{PolarError, PolarMesh, Poly, PolyList};
 use crate::math::Vec3;
 
 /// Where [`PolarMesh::add_feature_with`] puts the new vertices.
@@ -124,12 +124,13 @@ impl PolarMesh {
         let pole = nv + k as u32 - 1;
         let mut positions: Vec<Vec3> =
             (1..k).map(|i| m.position(verts[i]).lerp(m.position(t[i]), opts.depth)).collect();
-        let mut polys = Vec::with_capacity(3 * k);
+        let mut polys = PolyList::with_capacity(3 * k, 10 * k);
         for i in 0..k {
             let a = if i == 0 { verts[0] } else { n(i) };
             let b = if i == k - 1 { verts[k] } else { n(i + 1) };
             let far = self.edge_is_loop(t[i + 1], t[i]).unwrap_or(true);
-            polys.push(Poly { corners: vec![a, b, t[i + 1], t[i]], loops: vec![true, false, far, false] }.dedup());
+            let p = Poly { corners: vec![a, b, t[i + 1], t[i]], loops: vec![true, false, far, false] }.dedup();
+            polys.push(&p.corners, &p.loops);
         }
         let mut gap: Vec<u32> = verts.to_vec();
         gap.extend((1..k).rev().map(n));
@@ -146,12 +147,12 @@ impl PolarMesh {
         let normal = normal.normalize_or_zero();
         positions.push(centre + normal * (opts.height * perimeter / pts.len() as f64));
         for j in 0..gap.len() {
-            polys.push(Poly { corners: vec![gap[j], gap[(j + 1) % gap.len()], pole], loops: vec![true, false, false] });
+            polys.push(&[gap[j], gap[(j + 1) % gap.len()], pole], &[true, false, false]);
         }
         let remove: Vec<u32> = hs.iter().map(|&h| m.face(h)).collect();
         let mut poles = vec![false; k];
         poles[k - 1] = true;
-        let log = self.rebuild(&remove, &polys, &positions, &poles)?;
+        let log = self.rebuild_list(&remove, &polys, &positions, &poles)?;
         Ok(log.new_vertices()[k - 1])
     }
 }
