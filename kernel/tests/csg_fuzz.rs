@@ -42,7 +42,7 @@ fn leaf(rng: &mut SplitMix64) -> Csg {
             for _ in 0..1 + rng.next_u64() % 2 {
                 let (lo, hi) = corner_pair(rng);
                 let mut b = Block::from_bounds(lo, hi).unwrap();
-                if rng.next_u64() % 2 == 0 {
+                if rng.next_u64().is_multiple_of(2) {
                     b.sharp_all();
                 } else {
                     b.smooth_all();
@@ -55,12 +55,12 @@ fn leaf(rng: &mut SplitMix64) -> Csg {
 }
 
 fn tree(rng: &mut SplitMix64, depth: u32) -> Csg {
-    if depth == 0 || rng.next_u64() % 3 == 0 {
+    if depth == 0 || rng.next_u64().is_multiple_of(3) {
         return leaf(rng);
     }
     let a = tree(rng, depth - 1);
     // Identical operands now and then.
-    let b = if rng.next_u64() % 8 == 0 { a.clone() } else { tree(rng, depth - 1) };
+    let b = if rng.next_u64().is_multiple_of(8) { a.clone() } else { tree(rng, depth - 1) };
     match rng.next_u64() % 3 {
         0 => a.union(b),
         1 => a.difference(b),

@@ -57,6 +57,16 @@ impl Solid {
     /// The engine's reason when its result is not a valid manifold (it reports, never panics on
     /// manifold input).
     pub fn boolean(&self, other: &Solid, op: CsgOp) -> Result<Solid, String> {
+        // Operands whose bounds are apart (not even touching) do not interact: the union is the
+        // two side by side, the difference the left one, the intersection empty — as Manifold's
+        // own batch union does, without running the intersection pipeline.
+        if !self.is_empty() && !other.is_empty() && apart(&self.inner.bounding_box(), &other.inner.bounding_box()) {
+            return Ok(match op {
+                CsgOp::Union => Solid { inner: Manifold::compose(&[self.inner.clone(), other.inner.clone()]) },
+                CsgOp::Difference => self.clone(),
+                CsgOp::Intersection => Solid { inner: Manifold::empty() },
+            });
+        }
         let op = match op {
             CsgOp::Union => OpType::Add,
             CsgOp::Difference => OpType::Subtract,
@@ -67,6 +77,51 @@ impl Solid {
             EngineStatus::NoError => Ok(Solid { inner }),
             e => Err(e.to_str().to_string()),
         }
+    }
+
+    /// The solid's bounding box (min, max).
+    #[must_use]
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        let b = self.inner.bounding_box();
+        (Vec3::new(b.min.x, b.min.y, b.min.z), Vec3::new(b.max.x, b.max.y, b.max.z))
+    }
+
+    /// Manifold's own sphere (`Manifold::sphere`: a subdivided octahedron, `segments` around),
+    /// the very input manifold3d uses — for comparing with it on identical meshes.
+    #[must_use]
+    pub fn manifold_sphere(radius: f64, segments: i32) -> Solid {
+        Solid { inner: Manifold::sphere(radius, segments) }
+    }
+
+    /// The union of many solids, as Manifold's batch union does it: the solids are dealt into
+    /// groups whose bounds are pairwise apart, each group is put side by side (no boolean
+    /// needed), and the groups are unioned pairwise, halves in parallel.
+    ///
+    /// # Errors
+    /// As [`Solid::boolean`].
+    pub fn union_all(parts: Vec<Solid>) -> Result<Solid, String> {
+        let mut groups: Vec<(Vec<Manifold>, Vec<manifold_rust::types::Box>)> = Vec::new();
+        for p in parts.into_iter().filter(|p| !p.is_empty()) {
+            let b = p.inner.bounding_box();
+            match groups.iter_mut().find(|(_, boxes)| boxes.iter().all(|q| apart(&b, q))) {
+                Some((members, boxes)) => {
+                    members.push(p.inner);
+                    boxes.push(b);
+                }
+                None => groups.push((vec![p.inner], vec![b])),
+            }
+        }
+        let composed: Vec<Solid> = groups
+            .into_iter()
+            .map(|(members, _)| Solid {
+                inner: if members.len() == 1 {
+                    members.into_iter().next().unwrap_or_default()
+                } else {
+                    Manifold::compose(&members)
+                },
+            })
+            .collect();
+        union_pairwise(composed)
     }
 
     /// Whether the solid has no triangles.
@@ -115,4 +170,23 @@ impl Solid {
         let tags = if m.face_id.len() == triangles.len() { m.face_id } else { vec![u32::MAX; triangles.len()] };
         Triangles { positions, triangles, tags }
     }
+}
+
+/// Whether two boxes are strictly apart along some axis (a gap, not a shared face).
+fn apart(a: &manifold_rust::types::Box, b: &manifold_rust::types::Box) -> bool {
+    a.max.x < b.min.x
+        || b.max.x < a.min.x
+        || a.max.y < b.min.y
+        || b.max.y < a.min.y
+        || a.max.z < b.min.z
+        || b.max.z < a.min.z
+}
+
+fn union_pairwise(mut parts: Vec<Solid>) -> Result<Solid, String> {
+    if parts.len() <= 1 {
+        return Ok(parts.pop().unwrap_or(Solid { inner: Manifold::empty() }));
+    }
+    let right = parts.split_off(parts.len() / 2);
+    let (a, b) = rayon::join(|| union_pairwise(parts), || union_pairwise(right));
+    a?.boolean(&b?, CsgOp::Union)
 }

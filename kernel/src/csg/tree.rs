@@ -7,6 +7,7 @@
 //! coincident-vertex check sorts); each boolean is Manifold's, O((n + k) log n) for k
 //! intersecting triangle pairs; provenance and crease tags cost O(1) per output triangle.
 
+use std::borrow::Cow;
 use std::collections::HashMap;
 use std::sync::Arc;
 
@@ -138,12 +139,13 @@ impl Csg {
                     .components
                     .par_iter()
                     .map(|tris| {
-                        let (positions, triangles) = compact(&p.positions, tris.iter().map(|&t| p.triangles[t as usize]));
+                        let (positions, triangles) =
+                            compact(&p.positions, tris.iter().map(|&t| p.triangles[t as usize]));
                         let tags: Vec<u32> = tris.iter().map(|&t| off + t).collect();
                         Solid::new(&positions, &triangles, &tags).map_err(refused)
                     })
                     .collect::<Result<_, _>>()?;
-                union_balanced(parts).map_err(|reason| CsgError::Engine { reason })
+                Solid::union_all(parts).map_err(|reason| CsgError::Engine { reason })
             })
             .collect::<Result<_, _>>()?;
         drop(prepared);
@@ -195,10 +197,26 @@ fn collect_leaves<'a>(node: &'a Csg, side: Side, out: &mut Vec<(&'a Csg, Side)>)
     }
 }
 
-/// Evaluates `node` from the imported leaves (`next` counts leaves left to right), the two
-/// halves of every boolean in parallel.
+/// Evaluates `node` from the imported leaves (`next` counts leaves left to right): the operands
+/// of a chain of unions all at once (Manifold's batch union), the two sides of any other
+/// boolean in parallel.
 fn eval(node: &Csg, solids: &[Solid], next: &mut usize) -> Result<Solid, CsgError> {
     match node {
+        Csg::Op(CsgOp::Union, ..) => {
+            let mut operands = Vec::new();
+            union_operands(node, &mut operands);
+            let mut starts = Vec::with_capacity(operands.len());
+            for o in &operands {
+                starts.push(*next);
+                *next += count_leaves(o);
+            }
+            let parts: Vec<Solid> = operands
+                .par_iter()
+                .zip(starts.par_iter())
+                .map(|(o, &start)| eval(o, solids, &mut { start }))
+                .collect::<Result<_, _>>()?;
+            Solid::union_all(parts).map_err(|reason| CsgError::Engine { reason })
+        }
         Csg::Op(op, a, b) => {
             let leaves_a = count_leaves(a);
             let (start_a, start_b) = (*next, *next + leaves_a);
@@ -214,14 +232,15 @@ fn eval(node: &Csg, solids: &[Solid], next: &mut usize) -> Result<Solid, CsgErro
     }
 }
 
-/// The union of `parts` as a balanced tree, halves in parallel.
-fn union_balanced(mut parts: Vec<Solid>) -> Result<Solid, String> {
-    if parts.len() <= 1 {
-        return parts.pop().ok_or_else(|| "no solid to union".to_string());
+/// The operands of the chain of unions at `node`, left to right.
+fn union_operands<'a>(node: &'a Csg, out: &mut Vec<&'a Csg>) {
+    match node {
+        Csg::Op(CsgOp::Union, a, b) => {
+            union_operands(a, out);
+            union_operands(b, out);
+        }
+        other => out.push(other),
     }
-    let right = parts.split_off(parts.len() / 2);
-    let (a, b) = rayon::join(|| union_balanced(parts), || union_balanced(right));
-    a?.boolean(&b?, CsgOp::Union)
 }
 
 /// The vertices `triangles` use, renumbered from 0 in order of first use.
@@ -296,7 +315,7 @@ struct Prepared {
 
 /// `leaf_no` is the input's position among the tree's inputs, left to right (named in errors).
 fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
-    let (mesh, sources, union_parts): (Mesh, Vec<FaceSource>, bool) = match leaf {
+    let (mesh, sources, union_parts): (Cow<'_, Mesh>, Vec<FaceSource>, bool) = match leaf {
         Csg::Blocks(model, options) => {
             if model.blocks().is_empty() {
                 return Err(CsgError::EmptyOperand { side, leaf: leaf_no });
@@ -304,7 +323,7 @@ fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
             let t =
                 model.tessellate(options, None).map_err(|source| CsgError::Blocks { side, leaf: leaf_no, source })?;
             let sources = t.triangle_sources.iter().map(|&sub_face| FaceSource::Block { leaf: 0, sub_face }).collect();
-            (t.mesh, sources, true)
+            (Cow::Owned(t.mesh), sources, true)
         }
         Csg::Mesh(m) => {
             if m.face_count() == 0 {
@@ -313,15 +332,22 @@ fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
             if let Some(vertex) = m.positions().iter().position(|p| !p.is_finite()) {
                 return Err(CsgError::NonFinite { side, leaf: leaf_no, vertex });
             }
-            let (tri, from) = m.triangulate_with_sources().map_err(|source| CsgError::Triangulation {
-                side,
-                leaf: leaf_no,
-                source,
-            })?;
-            // Triangulation carries the sources of an earlier boolean result.
-            let sources = match tri.face_sources() {
-                Some(fs) => fs.to_vec(),
-                None => from.iter().map(|&face| FaceSource::Mesh { leaf: 0, face }).collect(),
+            // A triangle mesh is used as it is; triangulation carries the sources of an earlier
+            // boolean result.
+            let (tri, from) = if m.is_triangle_mesh() {
+                (Cow::Borrowed(m.as_ref()), None)
+            } else {
+                let (t, from) = m.triangulate_with_sources().map_err(|source| CsgError::Triangulation {
+                    side,
+                    leaf: leaf_no,
+                    source,
+                })?;
+                (Cow::Owned(t), Some(from))
+            };
+            let sources = match (tri.face_sources(), from) {
+                (Some(fs), _) => fs.to_vec(),
+                (None, Some(from)) => from.iter().map(|&face| FaceSource::Mesh { leaf: 0, face }).collect(),
+                (None, None) => (0..tri.face_count() as u32).map(|face| FaceSource::Mesh { leaf: 0, face }).collect(),
             };
             (tri, sources, false)
         }
@@ -334,8 +360,11 @@ fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
             [it.next().unwrap_or(0), it.next().unwrap_or(0), it.next().unwrap_or(0)]
         })
         .collect();
-    let components =
-        if union_parts { components(mesh.vertex_count(), &triangles) } else { vec![(0..triangles.len() as u32).collect()] };
+    let components = if union_parts {
+        components(mesh.vertex_count(), &triangles)
+    } else {
+        vec![(0..triangles.len() as u32).collect()]
+    };
     // An earlier boolean result is the engine's own valid output: where two solids met along
     // an edge it keeps two vertices at one point, which is no self-touching for it.
     let earlier_result = matches!(leaf, Csg::Mesh(m) if m.face_sources().is_some());

@@ -1,0 +1,97 @@
+//! CSG beside manifold3d (../shared/peers/die_manifold.py) on the same inputs: the die (a cube
+//! of side 2 minus 21 spheres of radius 0.15 sunk 0.05, Manifold's 32-segment sphere) and the
+//! stress case (a 10³ lattice of unit cubes at spacing 0.9, unioned, minus 1,000 spheres of
+//! radius 0.55 with 56 segments at the same centres; ~1M output triangles). Our times include
+//! building the result `Mesh` with a source per face; manifold3d's stop at its lazy result's
+//! `num_tri()`.
+//!
+//! Run: `cargo bench -p blocksmith-kernel --bench csg` (the die); the stress case runs once,
+//! timed, with `CSG_STRESS=1 cargo bench -p blocksmith-kernel --bench csg`; its peak memory with
+//! `/usr/bin/time -v target/release/deps/csg-* --bench` under `CSG_STRESS=1`.
+//! Peer: `PEERS_OUT=target/peers ~/.cache/blocksmith-peers/venv/bin/python
+//! ../shared/peers/die_manifold.py die|stress`.
+
+use std::hint::black_box;
+use std::time::Instant;
+
+use blocksmith_kernel::csg::engine::Solid;
+use blocksmith_kernel::csg::Csg;
+use blocksmith_kernel::{Mesh, Vec3};
+use criterion::{criterion_group, Criterion};
+
+fn sphere(radius: f64, segments: i32) -> Mesh {
+    let t = Solid::manifold_sphere(radius, segments).triangles();
+    Mesh::from_indexed(t.positions, t.triangles.as_flattened(), &vec![3; t.triangles.len()]).unwrap()
+}
+
+/// The die's pip centres: 1 on +z, 6 on −z, 2 on +x, 5 on −x, 3 on +y, 4 on −y.
+fn pips() -> Vec<Vec3> {
+    let d = 0.5;
+    let layouts: [&[(f64, f64)]; 6] = [
+        &[(0.0, 0.0)],
+        &[(-d, -d), (d, d)],
+        &[(-d, -d), (0.0, 0.0), (d, d)],
+        &[(-d, -d), (-d, d), (d, -d), (d, d)],
+        &[(-d, -d), (-d, d), (0.0, 0.0), (d, -d), (d, d)],
+        &[(-d, -d), (-d, 0.0), (-d, d), (d, -d), (d, 0.0), (d, d)],
+    ];
+    let faces = [(1, 2, 1.0), (6, 2, -1.0), (2, 0, 1.0), (5, 0, -1.0), (3, 1, 1.0), (4, 1, -1.0)];
+    let mut out = Vec::new();
+    for (val, axis, sign) in faces {
+        let others: Vec<usize> = (0..3).filter(|&a| a != axis).collect();
+        for &(u, v) in layouts[val - 1] {
+            let mut p = [0.0; 3];
+            p[axis] = sign * 0.95;
+            p[others[0]] = u;
+            p[others[1]] = v;
+            out.push(Vec3::from(p));
+        }
+    }
+    out
+}
+
+fn die() -> Csg {
+    let s = sphere(0.15, 32);
+    let cube = Csg::mesh(Mesh::cuboid(Vec3::splat(-1.0), Vec3::splat(1.0)));
+    cube.difference(Csg::union_all(pips().into_iter().map(|c| Csg::mesh(s.translate(c))).collect()).unwrap())
+}
+
+fn stress() -> Csg {
+    let centres: Vec<Vec3> =
+        (0..1000).map(|i| Vec3::new((i / 100) as f64, (i / 10 % 10) as f64, (i % 10) as f64) * 0.9).collect();
+    let s = sphere(0.55, 56);
+    let cubes = centres.iter().map(|&c| Csg::mesh(Mesh::cuboid(c - 0.5, c + 0.5))).collect();
+    let spheres = centres.iter().map(|&c| Csg::mesh(s.translate(c))).collect();
+    Csg::union_all(cubes).unwrap().difference(Csg::union_all(spheres).unwrap())
+}
+
+fn bench(c: &mut Criterion) {
+    let tree = die();
+    let m = tree.evaluate().unwrap();
+    println!("die: {} triangles, volume {:.9}, genus {}", m.face_count(), m.volume(), m.genus());
+    let mut g = c.benchmark_group("csg");
+    g.sample_size(30);
+    g.bench_function("die", |b| b.iter(|| black_box(tree.evaluate().unwrap())));
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+
+fn main() {
+    if std::env::var_os("CSG_STRESS").is_some() {
+        let tree = stress();
+        let t0 = Instant::now();
+        let m = tree.evaluate().unwrap();
+        let dt = t0.elapsed().as_secs_f64();
+        println!(
+            "CSG_STRESS tris={} volume={:.6} genus={} closed={} total_s={dt:.3}",
+            m.face_count(),
+            m.volume(),
+            m.genus(),
+            m.is_closed() && m.is_manifold()
+        );
+        return;
+    }
+    benches();
+    Criterion::default().configure_from_args().final_summary();
+}
