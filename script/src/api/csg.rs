@@ -7,6 +7,8 @@
 //! operand that is itself a boolean result keeps its sources; its inputs are renumbered after
 //! those to its left.
 
+use std::io::IsTerminal;
+
 use blocksmith_kernel::blocks::MeshOptions;
 use blocksmith_kernel::csg::Csg;
 use blocksmith_kernel::mesh::FaceSource;
@@ -60,7 +62,18 @@ fn boolean(func: &'static str, a: Dynamic, b: Dynamic, options: Map) -> ScriptRe
         "subtract" | "-" => a.difference(b),
         _ => a.intersection(b),
     };
-    kernel(func, tree.evaluate()).map(SharedMesh::new)
+    // A long boolean shows a spinner on a terminal (nothing when stderr is piped).
+    let spinner = std::io::stderr().is_terminal().then(|| {
+        let p = indicatif::ProgressBar::new_spinner();
+        p.set_message(format!("{func}: evaluating the boolean"));
+        p.enable_steady_tick(std::time::Duration::from_millis(120));
+        p
+    });
+    let result = tree.evaluate();
+    if let Some(p) = spinner {
+        p.finish_and_clear();
+    }
+    kernel(func, result).map(SharedMesh::new)
 }
 
 fn source_map(s: &FaceSource) -> Map {
