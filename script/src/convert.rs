@@ -51,15 +51,20 @@ pub fn type_name(v: &Dynamic) -> String {
 
 /// A number from an integer or a float, finite.
 pub fn number(func: &str, arg: &str, v: &Dynamic) -> ScriptResult<f64> {
+    number_named(func, "argument", arg, v)
+}
+
+/// A finite number given as the `kind` (`"argument"` or `"option"`) called `name`.
+fn number_named(func: &str, kind: &str, name: &str, v: &Dynamic) -> ScriptResult<f64> {
     let x = if let Some(f) = v.clone().try_cast::<f64>() {
         f
     } else if let Some(i) = v.clone().try_cast::<INT>() {
         i as f64
     } else {
-        return fail(func, format!("argument `{arg}` must be a number, got {}", type_name(v)));
+        return fail(func, format!("{kind} `{name}` must be a number, got {}", type_name(v)));
     };
     if !x.is_finite() {
-        return fail(func, format!("argument `{arg}` must be a finite number, got {x}"));
+        return fail(func, format!("{kind} `{name}` must be a finite number, got {x}"));
     }
     Ok(x)
 }
@@ -74,6 +79,11 @@ pub fn count(func: &str, arg: &str, v: INT, max: INT) -> ScriptResult<u32> {
 
 /// A `Vec3` from a `Vec3` or an array of three numbers, finite.
 pub fn vec3(func: &str, arg: &str, v: &Dynamic) -> ScriptResult<Vec3> {
+    vec3_named(func, "argument", arg, v)
+}
+
+/// A finite vector given as the `kind` (`"argument"` or `"option"`) called `name`.
+fn vec3_named(func: &str, kind: &str, name: &str, v: &Dynamic) -> ScriptResult<Vec3> {
     let p = if let Some(p) = v.clone().try_cast::<Vec3>() {
         p
     } else if v.is_array() {
@@ -81,19 +91,19 @@ pub fn vec3(func: &str, arg: &str, v: &Dynamic) -> ScriptResult<Vec3> {
         if a.len() != 3 {
             return fail(
                 func,
-                format!("argument `{arg}` must be a Vec3 or an array of 3 numbers, got an array of {}", a.len()),
+                format!("{kind} `{name}` must be a Vec3 or an array of 3 numbers, got an array of {}", a.len()),
             );
         }
         let mut c = [0.0; 3];
         for (i, x) in a.iter().enumerate() {
-            c[i] = number(func, &format!("{arg}[{i}]"), x)?;
+            c[i] = number_named(func, kind, &format!("{name}[{i}]"), x)?;
         }
         Vec3::from_array(c)
     } else {
-        return fail(func, format!("argument `{arg}` must be a Vec3 or an array of 3 numbers, got {}", type_name(v)));
+        return fail(func, format!("{kind} `{name}` must be a Vec3 or an array of 3 numbers, got {}", type_name(v)));
     };
     if !(p.x.is_finite() && p.y.is_finite() && p.z.is_finite()) {
-        return fail(func, format!("argument `{arg}` must have finite coordinates, got ({}, {}, {})", p.x, p.y, p.z));
+        return fail(func, format!("{kind} `{name}` must have finite coordinates, got ({}, {}, {})", p.x, p.y, p.z));
     }
     Ok(p)
 }
@@ -177,7 +187,7 @@ impl Options {
 
     /// A number, or `default`.
     pub fn number(&self, key: &str, default: f64) -> ScriptResult<f64> {
-        self.map.get(key).map_or(Ok(default), |v| number(self.func, &format!("option `{key}`"), v))
+        self.map.get(key).map_or(Ok(default), |v| number_named(self.func, "option", key, v))
     }
 
     /// An integer, or `default`.
@@ -223,7 +233,7 @@ impl Options {
 
     /// A vector, or `default`.
     pub fn vec3(&self, key: &str, default: Vec3) -> ScriptResult<Vec3> {
-        self.map.get(key).map_or(Ok(default), |v| vec3(self.func, &format!("option `{key}`"), v))
+        self.map.get(key).map_or(Ok(default), |v| vec3_named(self.func, "option", key, v))
     }
 
     /// A closure, if given.
@@ -271,5 +281,17 @@ mod tests {
         assert!(e.contains("f: argument `p` must be a Vec3 or an array of 3 numbers, got an array of 1"), "{e}");
         let e = number("f", "x", &Dynamic::from(f64::NAN)).unwrap_err().to_string();
         assert!(e.contains("finite"), "{e}");
+    }
+
+    #[test]
+    fn bad_option_values_name_the_option_once() {
+        let mut m = Map::new();
+        m.insert("tolerance".into(), Dynamic::from("fine"));
+        m.insert("at".into(), Dynamic::from(vec![Dynamic::from(1_i64), Dynamic::from(f64::NAN), Dynamic::from(0_i64)]));
+        let o = Options::new("mesh", m, &["tolerance", "at"]).unwrap();
+        let e = o.number("tolerance", 0.1).unwrap_err().to_string();
+        assert!(e.contains("mesh: option `tolerance` must be a number, got a string"), "{e}");
+        let e = o.vec3("at", Vec3::ZERO).unwrap_err().to_string();
+        assert!(e.contains("mesh: option `at[1]` must be a finite number"), "{e}");
     }
 }
