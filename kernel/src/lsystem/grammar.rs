@@ -51,6 +51,9 @@ impl fmt::Display for Module {
                 }
                 if p.fract() == 0.0 && p.abs() < 1e15 {
                     write!(f, "{}", *p as i64)?;
+                } else if p.abs() >= 1e15 {
+                    // Huge values in exponent form (`F(1e200)`, not 201 digits); it parses back.
+                    write!(f, "{p:e}")?;
                 } else {
                     write!(f, "{p}")?;
                 }

@@ -69,6 +69,10 @@ pub fn sigmoid(step: f64) -> f64 {
     1.0 - 1.0 / (1.0 + (2.0 - step).exp())
 }
 
+/// The largest segment length or radius: squared distances of positions this far apart stay
+/// finite.
+pub const MAX_SIZE: f64 = 1e100;
+
 /// Options of [`grow`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
@@ -159,11 +163,11 @@ impl GrowOptions {
 
     fn validate(&self) -> Result<(), LsystemError> {
         let bad = |s: String| Err(LsystemError::InvalidOption(s));
-        if !(self.radius.is_finite() && self.radius > 0.0) {
-            return bad(format!("radius must be a positive number, got {}", self.radius));
+        if !(self.radius.is_finite() && self.radius > 0.0 && self.radius <= MAX_SIZE) {
+            return bad(format!("radius must be a positive number up to {MAX_SIZE:e}, got {}", self.radius));
         }
-        if !(self.length.is_finite() && self.length > 0.0) {
-            return bad(format!("length must be a positive number, got {}", self.length));
+        if !(self.length.is_finite() && self.length > 0.0 && self.length <= MAX_SIZE) {
+            return bad(format!("length must be a positive number up to {MAX_SIZE:e}, got {}", self.length));
         }
         if !(6..=100_000).contains(&self.valence) {
             return bad(format!("valence must lie between 6 and 100000, got {}", self.valence));
@@ -486,6 +490,11 @@ impl Grower {
         };
         if !(len.is_finite() && len >= 0.0 && r.is_finite() && r > 0.0) {
             return Err(LsystemError::InvalidOption(format!("`{m}`: length {len} and radius {r} must be positive")));
+        }
+        if len > MAX_SIZE || r > MAX_SIZE {
+            return Err(LsystemError::InvalidOption(format!(
+                "`{m}`: length {len:e} and radius {r:e} must be at most {MAX_SIZE:e} (positions would overflow)"
+            )));
         }
         Ok((len, r))
     }

@@ -25,6 +25,6 @@ pub use error::LsystemError;
 pub use grammar::{
     modules_to_string, parse_modules, ChoiceSpec, Lsystem, Module, Probability, RuleSpec, DEFAULT_MAX_MODULES,
 };
-pub use grow::{grow, grow_with, sigmoid, GrowOptions, Grown, Size};
+pub use grow::{grow, grow_with, sigmoid, GrowOptions, Grown, Size, MAX_SIZE};
 pub use rng::SplitMix64;
 pub use turtle::Turtle;

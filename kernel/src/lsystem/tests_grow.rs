@@ -128,6 +128,18 @@ fn bad_strings_are_refused() {
     assert!(matches!(e, LsystemError::NoRoomForBranch { valence: 8, .. }), "{e}");
     let e = grow(&modules("F"), &GrowOptions::DEFAULT.with_valence(4)).unwrap_err();
     assert!(matches!(e, LsystemError::InvalidOption(_)), "{e}");
+    // NaN and huge sizes are refused with what was wrong, never grown into non-finite positions.
+    for (opts, want) in [
+        (GrowOptions::DEFAULT.with_radius(f64::NAN), "radius must be a positive number up to 1e100, got NaN"),
+        (GrowOptions::DEFAULT.with_length(1e200), "length must be a positive number up to 1e100, got 1000"),
+        (GrowOptions::DEFAULT.with_angle(f64::INFINITY), "angle and divergence must be finite"),
+    ] {
+        let e = grow(&modules("F[+F]F"), &opts).unwrap_err();
+        assert!(e.to_string().contains(want), "{e}");
+    }
+    let e = grow(&modules("F F(1e200)"), &GrowOptions::DEFAULT).unwrap_err();
+    assert!(e.to_string().contains("`F(1e200)`: length 1e200 and radius"), "{e}");
+    assert!(e.to_string().contains("must be at most 1e100 (positions would overflow)"), "{e}");
 }
 
 #[test]
