@@ -239,6 +239,12 @@ fn nested_branches_have_no_folded_faces_across_seeds() {
         assert_plant(&g);
         assert_unfolded(&format!("growing tree, seed {seed}"), g.mesh.mesh());
     }
+    // The benchmark's Fig. 12.2 case (two nested features per bud and step), 7 steps.
+    let rule = RuleSpec::deterministic("L0(s)", "[L(s) L0(s+1) L(s+1) P(s+1)][R(s) L0(s+1) L(s+1) P(s+1)]");
+    let fig = Lsystem::new("L(0) L0(0) P(0)", &[rule], 0).unwrap();
+    let g = grow(&fig.derive(7).unwrap(), &GrowOptions::DEFAULT.with_valence(32)).unwrap();
+    assert_plant(&g);
+    assert_unfolded("Fig. 12.2 grammar, 7 steps, valence 32", g.mesh.mesh());
     let ls =
         Lsystem::new("X", &[RuleSpec::deterministic("X", "F[&+X]/[&-X]///FX"), RuleSpec::deterministic("F", "FF")], 0)
             .unwrap();
