@@ -19,41 +19,22 @@ use blocksmith_kernel::csg::Csg;
 use blocksmith_kernel::{Mesh, Vec3};
 use criterion::{criterion_group, Criterion};
 
+#[path = "../tests/csg_support/die.rs"]
+mod die;
+
+use die::die_pips;
+
 fn sphere(radius: f64, segments: i32) -> Mesh {
     let t = Solid::manifold_sphere(radius, segments).triangles();
     Mesh::from_indexed(t.positions, t.triangles.as_flattened(), &vec![3; t.triangles.len()]).unwrap()
 }
 
-/// The die's pip centres: 1 on +z, 6 on −z, 2 on +x, 5 on −x, 3 on +y, 4 on −y.
-fn pips() -> Vec<Vec3> {
-    let d = 0.5;
-    let layouts: [&[(f64, f64)]; 6] = [
-        &[(0.0, 0.0)],
-        &[(-d, -d), (d, d)],
-        &[(-d, -d), (0.0, 0.0), (d, d)],
-        &[(-d, -d), (-d, d), (d, -d), (d, d)],
-        &[(-d, -d), (-d, d), (0.0, 0.0), (d, -d), (d, d)],
-        &[(-d, -d), (-d, 0.0), (-d, d), (d, -d), (d, 0.0), (d, d)],
-    ];
-    let faces = [(1, 2, 1.0), (6, 2, -1.0), (2, 0, 1.0), (5, 0, -1.0), (3, 1, 1.0), (4, 1, -1.0)];
-    let mut out = Vec::new();
-    for (val, axis, sign) in faces {
-        let others: Vec<usize> = (0..3).filter(|&a| a != axis).collect();
-        for &(u, v) in layouts[val - 1] {
-            let mut p = [0.0; 3];
-            p[axis] = sign * 0.95;
-            p[others[0]] = u;
-            p[others[1]] = v;
-            out.push(Vec3::from(p));
-        }
-    }
-    out
-}
-
 fn die() -> Csg {
     let s = sphere(0.15, 32);
     let cube = Csg::mesh(Mesh::cuboid(Vec3::splat(-1.0), Vec3::splat(1.0)));
-    cube.difference(Csg::union_all(pips().into_iter().map(|c| Csg::mesh(s.translate(c))).collect()).unwrap())
+    cube.difference(
+        Csg::union_all(die_pips().into_iter().map(|c| Csg::mesh(s.translate(Vec3::from(c)))).collect()).unwrap(),
+    )
 }
 
 fn stress() -> Csg {

@@ -12,6 +12,11 @@ use blocksmith_kernel::csg::engine::Solid;
 use blocksmith_kernel::csg::CsgOp;
 use blocksmith_kernel::{Mesh, Vec3};
 
+#[path = "csg_support/die.rs"]
+mod die;
+
+use die::die_pips;
+
 type Tris = (Vec<Vec3>, Vec<[u32; 3]>);
 
 fn tris(m: &Mesh) -> Tris {
@@ -87,31 +92,6 @@ fn sphere(r: f64, c: [f64; 3]) -> Tris {
 /// The volume of the polyhedral sphere (what an exact boolean must give), not the round one.
 fn sphere_volume(r: f64) -> f64 {
     Mesh::uv_sphere(r, 32, 16).triangulate().unwrap().volume()
-}
-
-fn die_pips() -> Vec<[f64; 3]> {
-    let d = 0.5;
-    let layouts: [&[(f64, f64)]; 6] = [
-        &[(0.0, 0.0)],
-        &[(-d, -d), (d, d)],
-        &[(-d, -d), (0.0, 0.0), (d, d)],
-        &[(-d, -d), (-d, d), (d, -d), (d, d)],
-        &[(-d, -d), (-d, d), (0.0, 0.0), (d, -d), (d, d)],
-        &[(-d, -d), (-d, 0.0), (-d, d), (d, -d), (d, 0.0), (d, d)],
-    ];
-    let faces = [(1, 2, 1.0), (6, 2, -1.0), (2, 0, 1.0), (5, 0, -1.0), (3, 1, 1.0), (4, 1, -1.0)];
-    let mut out = Vec::new();
-    for (val, axis, sign) in faces {
-        let others: Vec<usize> = (0..3).filter(|&a| a != axis).collect();
-        for &(u, v) in layouts[val - 1] {
-            let mut p = [0.0; 3];
-            p[axis] = sign * 0.95;
-            p[others[0]] = u;
-            p[others[1]] = v;
-            out.push(p);
-        }
-    }
-    out
 }
 
 fn cases() -> Vec<Case> {
