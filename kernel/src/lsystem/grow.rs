@@ -69,6 +69,11 @@ pub fn sigmoid(step: f64) -> f64 {
     1.0 - 1.0 / (1.0 + (2.0 - step).exp())
 }
 
+/// How far a branch's first loop rounds its gap's shape off towards a circle, at most.
+const ROUND_FIRST: f64 = 0.35;
+/// How far every later loop rounds the previous loop's shape off, at most.
+const ROUND: f64 = 0.5;
+
 /// The largest segment length or radius: squared distances of positions this far apart stay
 /// finite.
 pub const MAX_SIZE: f64 = 1e100;
@@ -383,28 +388,57 @@ fn across(v: Vec3, axis: Vec3) -> Option<Vec3> {
     (v - axis * v.dot(axis)).try_normalize().filter(|d| d.is_finite())
 }
 
-/// The largest weight `w ≤ w_max` of `circle` against `shape` (offsets of a new loop's vertices,
-/// in ring order) that keeps every edge of the new loop, `(1 − w)·shape + w·circle`, turning
-/// at most 60° from the previous loop's edge between `prev` (same order): each quad between the
-/// loops then stays a convex-ish trapezoid instead of folding. Linear in the loop size.
-fn rounding(prev: &[Vec3], shape: &[Vec3], circle: &[Vec3], w_max: f64) -> f64 {
+/// Per-vertex weights `w[j] ≤ w_max` of `circle` against `shape` (offsets of a new loop's
+/// vertices, in ring order): vertex j goes to `(1 − w[j])·shape[j] + w[j]·circle[j]`. Every
+/// edge of the new loop then turns at most 60° from the previous loop's edge between `prev`
+/// (same order), or no more than the shape's own edge does, so each quad between the loops
+/// stays a trapezoid instead of folding; the weights start at `w_max` and are halved at both
+/// ends of an edge that turns too far, and zeroed if halving does not settle it. Each vertex
+/// rounds off as far as its own edges allow, so a loop's sharp corners (a gap's narrow ends)
+/// do not hold back the rest of the loop. Near-linear in the loop size.
+fn rounding(prev: &[Vec3], shape: &[Vec3], circle: &[Vec3], w_max: f64) -> Vec<f64> {
     let n = prev.len();
-    let mut w = w_max;
-    for j in 0..n {
+    let mut w = vec![w_max; n];
+    let at = |w: &[f64], j: usize| shape[j] * (1.0 - w[j]) + circle[j] * w[j];
+    let cosine = |a: Vec3, b: Vec3| {
+        let l = a.length() * b.length();
+        if l > 0.0 {
+            a.dot(b) / l
+        } else {
+            1.0
+        }
+    };
+    let turns_too_far = |w: &[f64], j: usize| {
         let k = (j + 1) % n;
         let d = prev[k] - prev[j];
-        let (a, c) = (shape[k] - shape[j], circle[k] - circle[j]);
-        // The edge at weight t is a + t (c − a); its cosine with d is kept ≥ 1/2 where the shape's
-        // own edge has it: (a + t (c − a))·d ≥ ½ |a + t (c − a)| |d|, tested at the bound of the
-        // linear part, (a·d)(1 − t) + (c·d) t ≥ ½ max(|a|, |c|) |d|.
-        let (ad, cd) = (a.dot(d), c.dot(d));
-        let need = 0.5 * a.length().max(c.length()) * d.length();
-        if ad < need || cd >= need {
-            continue;
+        let floor = cosine(shape[k] - shape[j], d).min(0.5);
+        cosine(at(w, k) - at(w, j), d) < floor - 1e-12
+    };
+    for pass in 0..=12 {
+        let mut settled = true;
+        for j in 0..n {
+            if turns_too_far(&w, j) {
+                settled = false;
+                let k = (j + 1) % n;
+                let f = if pass < 12 { 0.5 } else { 0.0 };
+                w[j] *= f;
+                w[k] *= f;
+            }
         }
-        w = w.min((ad - need) / (ad - cd));
+        if settled {
+            return w;
+        }
     }
-    w.max(0.0)
+    // Zeroing settles: an edge between two zero weights is the shape's own.
+    while (0..n).any(|j| turns_too_far(&w, j)) {
+        for j in 0..n {
+            if turns_too_far(&w, j) {
+                w[j] = 0.0;
+                w[(j + 1) % n] = 0.0;
+            }
+        }
+    }
+    w
 }
 
 /// The run of consecutive free vertices of a cyclic loop (`pos`, `used`) where a branch opens
@@ -787,9 +821,9 @@ impl Grower {
         // seen along the heading, so no quad between the two twists, whatever the cycle's
         // shape), and a circle of radius `r` (each vertex at its end's own direction where the
         // seen cycle is star-shaped about its centre, else at its arc-length fraction from the
-        // best phase). A branch's first loop is the shape alone (a copy of its gap); later loops
-        // take half the circle, or less where a quad would fold ([`rounding`]). So a branch
-        // rounds off over a few loops and no quad folds.
+        // best phase). A branch's first loop takes at most ROUND_FIRST of the circle (it starts
+        // from its gap's shape), later loops at most ROUND, each vertex less where a quad would
+        // fold ([`rounding`]). So a branch rounds off over a few loops and no quad folds.
         let qs: Vec<Vec3> = ends.iter().map(|&e| view(e)).collect();
         let mean = qs.iter().map(|q| q.length()).sum::<f64>() / nn as f64;
         let b1 = h.any_orthonormal_vector();
@@ -830,9 +864,9 @@ impl Grower {
                 .collect()
         };
         let shape: Vec<Vec3> = if mean > 0.0 { qs.iter().map(|q| *q * (r / mean)).collect() } else { circle.clone() };
-        let w = if from_gap { 0.0 } else { rounding(&ends, &shape, &circle, 0.5) };
+        let w = rounding(&ends, &shape, &circle, if from_gap { ROUND_FIRST } else { ROUND });
         for (j, &v) in verts.iter().enumerate() {
-            Self::polar(i, pm.set_position(v, end + shape[j] * (1.0 - w) + circle[j] * w))?;
+            Self::polar(i, pm.set_position(v, end + shape[j] * (1.0 - w[j]) + circle[j] * w[j]))?;
         }
         Self::polar(i, pm.set_position(tip, end + h * cap(r, len)))?;
         let verts = Self::forward_order(pm, verts, tip);
