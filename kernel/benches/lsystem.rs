@@ -6,11 +6,12 @@
 //!
 //! Also: how time grows with the steps (the number of branches doubles per step, Eq. 12.1: the
 //! time per vertex must stay flat), and the derivation alone.
-//! Measured (release, 2 shared cores at load 3-4): 11 steps in 0.41-0.58 s; by steps 5 / 7 /
-//! 9 / 11: 8 / 25 / 98 / 413 ms, about ×4 per two steps as the vertex count (393k at 11 steps,
-//! a quarter of that at 9): about 1 µs per vertex at 9 and at 11 steps. Eq. 12.1's O(2^steps)
-//! is the size of the result; the time per vertex stays flat. The hot path is the mesh's
-//! `replace_faces` (about 65 % of the time) under polar's add_refinement.
+//! Measured (release, 2 cores shared with other builds, load 3-4): 11 steps in 0.41-0.58 s over
+//! five runs (last: 0.46 s); by steps 5 / 7 / 9 / 11: 7 / 24 / 134 / 527 ms in the same run,
+//! about ×4 per two steps as the vertex count (393k at 11 steps, a quarter of that at 9): about
+//! 1-1.4 µs per vertex at every size. Eq. 12.1's O(2^steps) is the size of the result; the time
+//! per vertex stays about flat. The hot path is the mesh's `replace_faces` (about 65 % of the
+//! time) under polar's add_refinement.
 //! Run: `cargo bench -p blocksmith-kernel --bench lsystem -- --warm-up-time 1 --measurement-time 3
 //! --sample-size 10`.
 

@@ -41,6 +41,11 @@
 //! `grow(steps)` grows step `steps` from the axiom's turtle, and the same seed always gives the
 //! same string, hence the same mesh.
 //!
+//! Known limit: a gap's two ends are sharp (the far side meets the loop at the split vertices,
+//! §4.3.2), and a branch's first loops keep those corners as creases until they round off; on
+//! branches of two or three loops (the thesis's `L0 L P`) the branch stays somewhat flat. No
+//! face folds or self-crosses (tests_grow checks that over many seeds).
+//!
 //! Skeleton (§7.1): the trunk's base pole is the root; every drawn module adds one node (its loop,
 //! or for `P` its pole; a nesting loop and the gaps on it are one node); every branch not ended by
 //! `P` adds its tip pole. Every branch end is a leaf.
