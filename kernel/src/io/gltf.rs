@@ -298,10 +298,9 @@ pub(crate) fn document(
     let positions =
         root.push(accessor(view, n, json::accessor::ComponentType::F32, json::accessor::Type::Vec3, Some((lo, hi))));
 
-    let mesh_normals = vertex_normals_f32(mesh, &tris, &arities);
     let normals: Vec<[f32; 3]> = match &split {
-        Some(s) => s.from.iter().map(|&v| mesh_normals[v as usize]).collect(),
-        None => mesh_normals,
+        Some(s) => s.normals.clone(),
+        None => vertex_normals_f32(mesh, &tris, &arities),
     };
     let view = push_view(&mut root, &mut bin, Some(json::buffer::Target::ArrayBuffer), |b| {
         push_f32s(b, normals.as_flattened())

@@ -14,6 +14,9 @@ pub(crate) struct SourceSplit {
     pub from: Vec<u32>,
     pub colors: Vec<[f32; 4]>,
     pub tris: Vec<u32>,
+    /// Area-weighted normals of each file vertex over its own source's triangles only, so a
+    /// seam between sources shades as the crease it is.
+    pub normals: Vec<[f32; 3]>,
 }
 
 /// The colour of a source: a hue per (input, block) stepped by the golden ratio, so neighbours
@@ -51,7 +54,10 @@ pub(crate) fn split_by_source(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> Opt
     }
     let mut palette: HashMap<[u32; 4], u32> = HashMap::new();
     let mut index: HashMap<(u32, u32), u32> = HashMap::with_capacity(mesh.vertex_count() * 5 / 4);
-    let mut out = SourceSplit { from: Vec::new(), colors: Vec::new(), tris: Vec::with_capacity(tris.len()) };
+    let mut out =
+        SourceSplit { from: Vec::new(), colors: Vec::new(), tris: Vec::with_capacity(tris.len()), normals: Vec::new() };
+    let mut sums: Vec<crate::Vec3> = Vec::new();
+    let p = mesh.positions();
     let mut start = 0;
     for (f, &a) in arities.iter().enumerate() {
         let color = source_color(&sources[f]);
@@ -59,15 +65,32 @@ pub(crate) fn split_by_source(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> Opt
         let c = *palette.entry(color.map(f32::to_bits)).or_insert(n);
         let t = &tris[start..start + 3 * (a as usize - 2)];
         start += t.len();
-        for &v in t {
-            let id = *index.entry((v, c)).or_insert_with(|| {
-                out.from.push(v);
-                out.colors.push(color);
-                (out.from.len() - 1) as u32
-            });
-            out.tris.push(id);
+        for tri in t.chunks_exact(3) {
+            let (a, b, d) = (p[tri[0] as usize], p[tri[1] as usize], p[tri[2] as usize]);
+            let n = (b - a).cross(d - a);
+            for &v in tri {
+                let id = *index.entry((v, c)).or_insert_with(|| {
+                    out.from.push(v);
+                    out.colors.push(color);
+                    sums.push(crate::Vec3::ZERO);
+                    (out.from.len() - 1) as u32
+                });
+                sums[id as usize] += n;
+                out.tris.push(id);
+            }
         }
     }
+    out.normals = sums
+        .iter()
+        .map(|s| {
+            let n = s.normalize_or_zero();
+            if n == crate::Vec3::ZERO {
+                [0.0, 0.0, 1.0]
+            } else {
+                [n.x as f32, n.y as f32, n.z as f32]
+            }
+        })
+        .collect();
     Some(out)
 }
 
