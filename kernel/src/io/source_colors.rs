@@ -45,7 +45,7 @@ pub fn source_color(source: &FaceSource) -> [f32; 4] {
 }
 
 /// The split for `mesh` whose polygons triangulate to `tris` (with `arities`, as
-/// [`super::face_triangles`] gives them); `None` when the mesh has no face sources or has its
+/// `face_triangles` gives them); `None` when the mesh has no face sources or has its
 /// own vertex colours (those win).
 pub(crate) fn split_by_source(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> Option<SourceSplit> {
     let sources = mesh.face_sources()?;
