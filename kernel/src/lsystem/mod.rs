@@ -18,6 +18,8 @@ mod grow;
 mod rng;
 #[cfg(test)]
 mod tests_grow;
+#[cfg(test)]
+mod tests_selfint;
 mod turtle;
 
 pub use derive::ProbabilityFn;

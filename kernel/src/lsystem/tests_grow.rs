@@ -336,3 +336,42 @@ fn an_apex_that_survives_its_branches_keeps_growing() {
         assert!((shrub_h[k] - shrub_h[0]).abs() < 1e-12, "the shrub's trunk moved: heights {shrub_h:?}");
     }
 }
+
+/// Small nested strings whose meshes must not cross themselves where branches are nested (the
+/// branch bases, §4.3): two branches on one loop, a branch on a branch, pitched pairs, nested
+/// twice, at several valences. Crossings counted by Möller's triangle–triangle test.
+const NESTED: [&str; 8] = [
+    "F F F F",
+    "F F [+F F F] F F",
+    "F F [+F F F] [-F F F] F F",
+    "F F [+F [+F F] F F] F F",
+    "F [+F] [-F] F",
+    "F [&F] [^F] F",
+    "F F [+F [-F [+F F] F] F] F",
+    "F F [&F F] /(90) [&F F] F",
+];
+
+fn nested_crossings() -> Vec<(String, u32, usize, usize)> {
+    let mut out = Vec::new();
+    for s in NESTED {
+        for valence in [8, 12, 16] {
+            let opts = GrowOptions::DEFAULT.with_valence(valence).with_radius(0.2).with_length(1.0);
+            let g = grow(&modules(s), &opts).unwrap();
+            assert_plant(&g);
+            let m = g.mesh.mesh();
+            out.push((s.to_string(), valence, super::tests_selfint::self_intersecting_faces(m), m.face_count()));
+        }
+    }
+    out
+}
+
+/// Ignored until the branch bases stop crossing: at the time of writing 15 of the 24 cases
+/// cross (2–21 faces each; `F F [+F F F] [-F F F] F F` at valence 12: 2 of 140 faces, which
+/// pymeshlab counts as 4 of 236 triangles).
+#[test]
+#[ignore = "branch bases still cross: see the doc comment for the counts"]
+fn nested_branches_do_not_cross_themselves() {
+    let counts = nested_crossings();
+    let bad: Vec<_> = counts.iter().filter(|c| c.2 > 0).collect();
+    assert!(bad.is_empty(), "self-intersecting faces (string, valence, faces, of): {bad:?}");
+}
