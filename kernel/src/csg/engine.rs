@@ -36,12 +36,29 @@ impl Solid {
     /// # Errors
     /// The engine's reason (e.g. `"Not Manifold"`) when it refuses the triangles.
     pub fn new(positions: &[Vec3], triangles: &[[u32; 3]], tags: &[u32]) -> Result<Solid, String> {
+        Solid::with_id(positions, triangles, tags, Manifold::reserve_ids(1))
+    }
+
+    /// Reserves `n` consecutive engine mesh ids and returns the first. The engine orders its
+    /// output by mesh id: importing in parallel with ids reserved beforehand, in a fixed order,
+    /// keeps results the same from run to run.
+    #[must_use]
+    pub fn reserve_ids(n: u32) -> u32 {
+        Manifold::reserve_ids(n)
+    }
+
+    /// [`Solid::new`] with the engine mesh id `id` (from [`Solid::reserve_ids`]).
+    ///
+    /// # Errors
+    /// As [`Solid::new`].
+    pub fn with_id(positions: &[Vec3], triangles: &[[u32; 3]], tags: &[u32], id: u32) -> Result<Solid, String> {
         debug_assert_eq!(triangles.len(), tags.len());
         let mesh = MeshGLP::<f64, u32> {
             num_prop: 3,
             vert_properties: positions.iter().flat_map(|p| [p.x, p.y, p.z]).collect(),
             tri_verts: triangles.as_flattened().to_vec(),
             face_id: tags.to_vec(),
+            run_original_id: vec![id],
             ..Default::default()
         };
         let inner = Manifold::from_mesh_glp(&mesh);

@@ -198,3 +198,22 @@ fn bad_input_names_the_side() {
     let e = Csg::mesh(nan).union(unit()).evaluate().unwrap_err();
     assert!(matches!(e, CsgError::NonFinite { side: Side::Left, leaf: 0, .. }), "{e}");
 }
+
+#[test]
+fn the_same_tree_gives_the_same_mesh() {
+    // Many leaves and block components, imported in parallel: the result must not depend on
+    // which thread came first.
+    let mut model = BlockModel::new();
+    for i in 0..6 {
+        let x = f64::from(i) * 1.5;
+        model.add(Block::from_bounds(Vec3::new(x, 0.0, 0.0), Vec3::new(x + 1.0, 1.0, 1.0)).unwrap());
+    }
+    let spheres: Vec<Csg> =
+        (0..8).map(|i| Csg::mesh(Mesh::icosphere(0.4, 2).translate(Vec3::new(f64::from(i) * 1.1, 0.5, 1.0)))).collect();
+    let tree =
+        Csg::blocks(model, MeshOptions::DEFAULT.with_tolerance(0.01)).difference(Csg::union_all(spheres).unwrap());
+    let first = eval(&tree);
+    for _ in 0..4 {
+        assert_eq!(eval(&tree), first);
+    }
+}

@@ -123,11 +123,16 @@ impl Csg {
             }
             vb += p.positions.len() as u32;
         }
+        // Engine ids in leaf and component order, reserved before the parallel import.
+        let mut first_ids = Vec::with_capacity(prepared.len());
+        for p in &prepared {
+            first_ids.push(Solid::reserve_ids(p.components.len() as u32));
+        }
         let solids: Vec<Solid> = prepared
             .par_iter()
             .zip(leaves.par_iter())
-            .zip(offsets.par_iter())
-            .map(|((p, (_, side)), &off)| {
+            .zip(offsets.par_iter().zip(first_ids.par_iter()))
+            .map(|((p, (_, side)), (&off, &first_id))| {
                 let refused = |reason: String| CsgError::NonManifold {
                     side: *side,
                     leaf: p.first_leaf_hint,
@@ -138,11 +143,12 @@ impl Csg {
                 let parts: Vec<Solid> = p
                     .components
                     .par_iter()
-                    .map(|tris| {
+                    .enumerate()
+                    .map(|(k, tris)| {
                         let (positions, triangles) =
                             compact(&p.positions, tris.iter().map(|&t| p.triangles[t as usize]));
                         let tags: Vec<u32> = tris.iter().map(|&t| off + t).collect();
-                        Solid::new(&positions, &triangles, &tags).map_err(refused)
+                        Solid::with_id(&positions, &triangles, &tags, first_id + k as u32).map_err(refused)
                     })
                     .collect::<Result<_, _>>()?;
                 Solid::union_all(parts).map_err(|reason| CsgError::Engine { reason })
