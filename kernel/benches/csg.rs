@@ -5,17 +5,22 @@
 //! building the result `Mesh` with a source per face; manifold3d's stop at its lazy result's
 //! `num_tri()`.
 //!
-//! Run: `cargo bench -p blocksmith-kernel --bench csg` (the die); the stress case runs once,
+//! The building (Figs. 18–20, 10 storeys, 1,091 blocks) is timed on the inputs its recipe saves
+//! (tests/data/csg_building/building_peer.py says how, and times manifold3d on them).
+//!
+//! Run: `cargo bench -p blocksmith-kernel --bench csg` (the die, the building); the stress case runs once,
 //! timed, with `CSG_STRESS=1 cargo bench -p blocksmith-kernel --bench csg`; its peak memory with
 //! `/usr/bin/time -v target/release/deps/csg-* --bench` under `CSG_STRESS=1`.
 //! Peer: `PEERS_OUT=target/peers ~/.cache/blocksmith-peers/venv/bin/python
 //! ../shared/peers/die_manifold.py die|stress`.
 
 use std::hint::black_box;
+use std::path::PathBuf;
 use std::time::Instant;
 
 use blocksmith_kernel::csg::engine::Solid;
 use blocksmith_kernel::csg::Csg;
+use blocksmith_kernel::io::load;
 use blocksmith_kernel::{Mesh, Vec3};
 use criterion::{criterion_group, Criterion};
 
@@ -46,6 +51,23 @@ fn stress() -> Csg {
     Csg::union_all(cubes).unwrap().difference(Csg::union_all(spheres).unwrap())
 }
 
+/// The building of examples/csg_fig18_building.rhai from the inputs it saves with
+/// `--set inputs=DIR` (see tests/data/csg_building/building_peer.py): per storey
+/// (slab ∪ walls) − openings, then the union of the storeys and the roof. `None` when the inputs
+/// were not written.
+fn building() -> Option<Csg> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/peers/csg_building");
+    let obj = |name: &str| load(dir.join(format!("{name}.obj"))).ok().map(Csg::mesh);
+    let mut storeys = Vec::new();
+    for k in 0.. {
+        let Some(slab) = obj(&format!("slab_{k}")) else { break };
+        let walls = obj(&format!("walls_{k}"))?;
+        storeys.push(slab.union(walls).difference(obj(&format!("openings_{k}"))?));
+    }
+    storeys.push(obj("roof")?);
+    Csg::union_all(storeys)
+}
+
 fn bench(c: &mut Criterion) {
     let tree = die();
     let m = tree.evaluate().unwrap();
@@ -53,6 +75,15 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("csg");
     g.sample_size(30);
     g.bench_function("die", |b| b.iter(|| black_box(tree.evaluate().unwrap())));
+    match building() {
+        Some(tree) => {
+            let m = tree.evaluate().unwrap();
+            println!("building: {} triangles, volume {:.9}, genus {}", m.face_count(), m.volume(), m.genus());
+            g.sample_size(10);
+            g.bench_function("building", |b| b.iter(|| black_box(tree.evaluate().unwrap())));
+        }
+        None => println!("building: no inputs in target/peers/csg_building (see building_peer.py)"),
+    }
     g.finish();
 }
 
