@@ -665,8 +665,15 @@ impl Grower {
             .or_else(|| across(st.turtle.up, ring.axis))
             .unwrap_or_else(|| ring.axis.any_orthonormal_vector());
         let pos: Vec<Vec3> = ring.verts.iter().map(|&v| pm.position(v)).collect();
-        // Keep the valence (a run of n/2 + 1) unless the siblings on this loop need room.
-        let wmax = (n / 2 + 1).min(n / st.siblings.max(1)).clamp(3, n - 1);
+        // Keep the valence (a run of n/2 + 1) unless the siblings on this loop need room. A run
+        // over 135° of its loop wraps round to the parent's sides, where the surface faces
+        // along the branch, and the branch's first quads at the gap's ends cross the parent's
+        // faces beyond them: a lone branch on a round loop without branches gets its run slid
+        // to 130° below; every other run (siblings, whose slides would widen each other's, or a
+        // loop that cannot slide) spans at most 3n/8 edges.
+        let slides = ring.round && st.siblings <= 1 && !ring.used.iter().any(|&u| u);
+        let wmax = (n / 2 + 1).min(n / st.siblings.max(1));
+        let wmax = if slides { wmax } else { wmax.min(3 * n / 8 + 1) }.clamp(3, n - 1);
         let best = facing_run(&pos, &ring.used, ring.center, dir, wmax);
         let Some((s, w)) = best else {
             return Err(LsystemError::NoRoomForBranch { module: i, symbol: m.to_string(), valence: n });
