@@ -339,21 +339,25 @@ fn an_apex_that_survives_its_branches_keeps_growing() {
 
 /// Small nested strings whose meshes must not cross themselves where branches are nested (the
 /// branch bases, §4.3): two branches on one loop, a branch on a branch, pitched pairs, nested
-/// twice, at several valences. Crossings counted by Möller's triangle–triangle test.
-const NESTED: [&str; 8] = [
+/// twice, at valences 8, 12 and 16. Crossings counted by Möller's triangle–triangle test
+/// (tests_selfint); on the strings pymeshlab measured it agrees (`F F [+F F F] [-F F F] F F` at
+/// valence 12: 2 quads here, 4 triangles there).
+const NESTED: [&str; 9] = [
     "F F F F",
     "F F [+F F F] F F",
     "F F [+F F F] [-F F F] F F",
-    "F F [+F [+F F] F F] F F",
     "F [+F] [-F] F",
     "F [&F] [^F] F",
+    "F F [&F F] /(180) [&F F] F",
     "F F [+F [-F [+F F] F] F] F",
+    "F F [+F [+F F] F F] F F",
     "F F [&F F] /(90) [&F F] F",
 ];
 
-fn nested_crossings() -> Vec<(String, u32, usize, usize)> {
+/// (string, valence, self-intersecting faces, faces) for each of `strings` at valences 8, 12, 16.
+fn nested_crossings(strings: &[&str]) -> Vec<(String, u32, usize, usize)> {
     let mut out = Vec::new();
-    for s in NESTED {
+    for s in strings {
         for valence in [8, 12, 16] {
             let opts = GrowOptions::DEFAULT.with_valence(valence).with_radius(0.2).with_length(1.0);
             let g = grow(&modules(s), &opts).unwrap();
@@ -365,13 +369,25 @@ fn nested_crossings() -> Vec<(String, u32, usize, usize)> {
     out
 }
 
-/// Ignored until the branch bases stop crossing: at the time of writing 15 of the 24 cases
-/// cross (2–21 faces each; `F F [+F F F] [-F F F] F F` at valence 12: 2 of 140 faces, which
-/// pymeshlab counts as 4 of 236 triangles).
+/// The nested strings that no longer cross themselves (before gaps were held to 135°, the pairs
+/// on one loop crossed at valences 12 and 16 and the twice-nested string at every valence: 9
+/// cases, e.g. `F [+F] [-F] F` at valence 16 in 4 of 104 faces).
 #[test]
-#[ignore = "branch bases still cross: see the doc comment for the counts"]
 fn nested_branches_do_not_cross_themselves() {
-    let counts = nested_crossings();
+    let counts = nested_crossings(&NESTED[..7]);
+    let bad: Vec<_> = counts.iter().filter(|c| c.2 > 0).collect();
+    assert!(bad.is_empty(), "self-intersecting faces (string, valence, faces, of): {bad:?}");
+}
+
+/// Every nested string, the last two included. Ignored until they pass: a branch nested on a
+/// branch's first loop, `F F [+F [+F F] F F] F F`, crosses in 3 of 90 faces at valence 8 (its
+/// first quad at the inner gap's far end runs inside the outer branch's next quad); two pitched
+/// branches a quarter turn apart, `F F [&F F] /(90) [&F F] F`, in 9 of 68, 8 of 96 and 12 of 136
+/// faces at valences 8, 12, 16 (their tubes leave the trunk overlapping).
+#[test]
+#[ignore = "two nested strings still cross: see the doc comment for the counts"]
+fn every_nested_string_is_free_of_crossings() {
+    let counts = nested_crossings(&NESTED);
     let bad: Vec<_> = counts.iter().filter(|c| c.2 > 0).collect();
     assert!(bad.is_empty(), "self-intersecting faces (string, valence, faces, of): {bad:?}");
 }
