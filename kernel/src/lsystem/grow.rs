@@ -24,7 +24,11 @@
 //! size. A branch keeps its parent's valence when the run fits (a run of valence/2 + 1 vertices,
 //! since the pole of a run of |VV| vertices has valence 2(|VV| − 1), §4.3.1) unless its siblings
 //! on the same loop need room (c branches get runs of at most valence/c vertices), else the
-//! largest run left; runs on one loop never overlap (§4.3.4 d).
+//! largest run left; runs on one loop never overlap (§4.3.4 d). A run over 135° of its loop
+//! reaches round to the parent's sides, and the branch's first quads at its ends cross the
+//! parent's faces beyond them: only a lone branch on a round loop keeps a run of valence/2 + 1
+//! (its run is slid to 130°); siblings and branches on a branch's first loops get at most
+//! 3·valence/8 + 1 vertices, so their valence falls by a quarter.
 //!
 //! Growth and steps (§11.1, §12, decided here): the string of step n is derived first
 //! ([`Lsystem::derive`](super::Lsystem::derive), every module rewritten at once as §10.1 requires)
@@ -44,7 +48,10 @@
 //! Known limit: a gap's two ends are sharp (the far side meets the loop at the split vertices,
 //! §4.3.2), and a branch's first loops keep those corners as creases until they round off; on
 //! branches of two or three loops (the thesis's `L0 L P`) the branch stays somewhat flat. No
-//! face folds or self-crosses (tests_grow checks that over many seeds).
+//! face folds (tests_grow checks that over many seeds). Faces still cross where a branch nests on
+//! a branch's first loop at low valence (its first quad at the gap's far end runs inside the
+//! parent's next quad) and where sibling branches' tubes overlap as they leave the parent
+//! (tests_grow's ignored strict crossing test has the counts).
 //!
 //! Skeleton (§7.1): the trunk's base pole is the root; every drawn module adds one node (its loop,
 //! or for `P` its pole; a nesting loop and the gaps on it are one node); every branch not ended by
