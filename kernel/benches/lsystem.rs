@@ -1,17 +1,18 @@
 //! L-system growth as polar operations (seed 004, §11.1) on the thesis's Fig. 12.2 case: "11
 //! steps, 400K vertices", the grammar with the stochastic branching removed so that every bud
 //! nests two features per step, `L0(s) → [L L0(s+1) L(s+1) P(s+1)][R L0(s+1) L(s+1) P(s+1)]`,
-//! axiom `L(0) L0(0) P(0)`. With loops of 32 vertices, 11 steps give 4,094 nested branches and
-//! about 390k vertices. The thesis reports "several seconds"; the target here is under 0.5 s.
+//! axiom `L(0) L0(0) P(0)`. With loops of 32 vertices, 11 steps give 4,094 nested branches. The
+//! thesis reports "several seconds" for its 400k vertices; the target here is under 0.5 s.
 //!
 //! Also: how time grows with the steps (the number of branches doubles per step, Eq. 12.1: the
 //! time per vertex must stay flat), and the derivation alone.
-//! Measured (release, 2 cores shared with other builds, load 3-4): 11 steps in 0.41-0.58 s over
-//! five runs (last: 0.46 s); by steps 5 / 7 / 9 / 11: 7 / 24 / 134 / 527 ms in the same run,
-//! about ×4 per two steps as the vertex count (393k at 11 steps, a quarter of that at 9): about
-//! 1-1.4 µs per vertex at every size. Eq. 12.1's O(2^steps) is the size of the result; the time
-//! per vertex stays about flat. The hot path is the mesh's `replace_faces` (about 65 % of the
-//! time) under polar's add_refinement.
+//! Measured (release, idle 2-core machine, 2026-12-01): 11 steps in 72 ms — but for 51,434
+//! vertices, not the thesis's 400k: since branch gaps are capped at 135° of their loop (so that
+//! branch bases do not cross the parent, grow.rs), a nested branch gets 3/4 of its parent's
+//! valence, compounding with depth. Before that cap the same grammar gave 393k vertices in
+//! 0.41-0.58 s (load 3-4). By steps 5 / 7 / 9 / 11: 2.7 / 7.1 / 18.7 / 71 ms; about 1.4 µs per
+//! vertex at every size, so a thesis-sized mesh would take roughly 0.5 s (extrapolated). The hot path is the
+//! mesh's `replace_faces` (about 65 % of the time) under polar's add_refinement.
 //! Run: `cargo bench -p blocksmith-kernel --bench lsystem -- --warm-up-time 1 --measurement-time 3
 //! --sample-size 10`.
 
