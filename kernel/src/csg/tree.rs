@@ -8,7 +8,7 @@
 //! intersecting triangle pairs; provenance and crease tags cost O(1) per output triangle.
 
 use std::borrow::Cow;
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::sync::Arc;
 
 use rayon::prelude::*;
@@ -115,11 +115,11 @@ impl Csg {
             tag += p.triangles.len() as u32;
             first_leaf += p.leaf_span;
         }
-        let mut creases: HashMap<[u32; 2], ()> = HashMap::new();
+        let mut creases: HashSet<[u32; 2]> = HashSet::new();
         let mut vb = 0u32;
         for p in &prepared {
             for &[a, b] in &p.creases {
-                creases.insert(edge_key(a + vb, b + vb), ());
+                creases.insert(edge_key(a + vb, b + vb));
             }
             vb += p.positions.len() as u32;
         }
@@ -175,7 +175,7 @@ impl Csg {
                 }
                 let (a, b) = (corner_ids[tf], corner_ids[tg]);
                 let shared: Vec<u32> = a.iter().copied().filter(|v| b.contains(v)).collect();
-                if shared.len() == 2 && creases.contains_key(&edge_key(shared[0], shared[1])) {
+                if shared.len() == 2 && creases.contains(&edge_key(shared[0], shared[1])) {
                     tagged.push(h);
                 }
             }
@@ -266,36 +266,6 @@ fn compact(positions: &[Vec3], triangles: impl Iterator<Item = [u32; 3]>) -> (Ve
     (out, tris)
 }
 
-/// The triangles of each connected component (sharing vertices), in order of first triangle.
-fn components(vertex_count: usize, triangles: &[[u32; 3]]) -> Vec<Vec<u32>> {
-    let mut parent: Vec<u32> = (0..vertex_count as u32).collect();
-    fn find(parent: &mut [u32], mut v: u32) -> u32 {
-        while parent[v as usize] != v {
-            parent[v as usize] = parent[parent[v as usize] as usize];
-            v = parent[v as usize];
-        }
-        v
-    }
-    for t in triangles {
-        let r = find(&mut parent, t[0]);
-        for &v in &t[1..] {
-            let q = find(&mut parent, v);
-            parent[q as usize] = r;
-        }
-    }
-    let mut index: HashMap<u32, usize> = HashMap::new();
-    let mut out: Vec<Vec<u32>> = Vec::new();
-    for (i, t) in triangles.iter().enumerate() {
-        let r = find(&mut parent, t[0]);
-        let k = *index.entry(r).or_insert_with(|| {
-            out.push(Vec::new());
-            out.len() - 1
-        });
-        out[k].push(i as u32);
-    }
-    out
-}
-
 fn count_leaves(node: &Csg) -> usize {
     match node {
         Csg::Op(_, a, b) => count_leaves(a) + count_leaves(b),
@@ -366,11 +336,7 @@ fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
             [it.next().unwrap_or(0), it.next().unwrap_or(0), it.next().unwrap_or(0)]
         })
         .collect();
-    let components = if union_parts {
-        components(mesh.vertex_count(), &triangles)
-    } else {
-        vec![(0..triangles.len() as u32).collect()]
-    };
+    let components = if union_parts { mesh.face_components() } else { vec![(0..triangles.len() as u32).collect()] };
     // An earlier boolean result is the engine's own valid output: where two solids met along
     // an edge it keeps two vertices at one point, which is no self-touching for it.
     let earlier_result = matches!(leaf, Csg::Mesh(m) if m.face_sources().is_some());
@@ -386,9 +352,9 @@ fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
     })
 }
 
-/// Refuses an input that bounds no solid: open, with a non-finite coordinate, or touching
-/// itself (two vertices of one of its `components` at one point — the engine would see two
-/// surfaces there; checked when `check_touching`).
+/// Refuses an input that bounds no solid: open, or touching itself (two vertices of one of its
+/// `components` at one point — the engine would see two surfaces there; checked when
+/// `check_touching`). Non-finite coordinates are refused earlier, in [`prepare`].
 fn check_solid(
     mesh: &Mesh,
     triangles: &[[u32; 3]],
@@ -400,9 +366,6 @@ fn check_solid(
     if !mesh.is_closed() {
         let boundary_edges = mesh.boundary_loops().iter().map(Vec::len).sum();
         return Err(CsgError::OpenMesh { side, leaf, boundary_edges });
-    }
-    if let Some(vertex) = mesh.positions().iter().position(|p| !p.is_finite()) {
-        return Err(CsgError::NonFinite { side, leaf, vertex });
     }
     let key = |v: u32| {
         let p = mesh.position(v);

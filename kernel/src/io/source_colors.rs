@@ -6,6 +6,7 @@
 
 use std::collections::HashMap;
 
+use crate::math::hsv_rgba;
 use crate::mesh::{FaceSource, Mesh};
 
 /// The file's vertices after splitting: for each, the mesh vertex it copies and its colour; and
@@ -28,20 +29,7 @@ pub fn source_color(source: &FaceSource) -> [f32; 4] {
         FaceSource::Mesh { leaf, .. } => u64::from(leaf) * 1_000_003,
         FaceSource::Unknown => return [0.6, 0.6, 0.6, 1.0],
     };
-    let h = (key as f64 * 0.618_033_988_749_895).fract() * 6.0;
-    let (s, v) = (0.55, 0.92);
-    let c = v * s;
-    let x = c * (1.0 - ((h % 2.0) - 1.0).abs());
-    let (r, g, b) = match h as u32 {
-        0 => (c, x, 0.0),
-        1 => (x, c, 0.0),
-        2 => (0.0, c, x),
-        3 => (0.0, x, c),
-        4 => (x, 0.0, c),
-        _ => (c, 0.0, x),
-    };
-    let m = v - c;
-    [(r + m) as f32, (g + m) as f32, (b + m) as f32, 1.0]
+    hsv_rgba(key as f64 * 0.618_033_988_749_895, 0.55, 0.92)
 }
 
 /// The split for `mesh` whose polygons triangulate to `tris` (with `arities`, as

@@ -1,10 +1,12 @@
-//! Vectors and bounds: glam's f64 types and an axis-aligned box.
+//! Vectors and bounds: glam's f64 types and an axis-aligned box; display colours.
 
 mod aabb;
 mod closest_point;
+mod color;
 
 pub use aabb::Aabb;
 pub use closest_point::closest_on_triangle;
+pub use color::hsv_rgba;
 
 /// A point or direction in 3D, in double precision.
 pub type Vec3 = glam::DVec3;

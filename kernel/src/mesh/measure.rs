@@ -70,17 +70,25 @@ impl Mesh {
     /// Number of connected components (of faces).
     #[must_use]
     pub fn component_count(&self) -> usize {
+        self.face_components().len()
+    }
+
+    /// The faces of each connected component (faces joined across edges): each list in
+    /// ascending order, the components in order of their first face.
+    #[must_use]
+    pub fn face_components(&self) -> Vec<Vec<u32>> {
         let mut seen = vec![false; self.face_count()];
         let mut stack = Vec::new();
-        let mut count = 0;
+        let mut components = Vec::new();
         for f0 in 0..self.face_count() {
             if seen[f0] {
                 continue;
             }
-            count += 1;
+            let mut faces = Vec::new();
             seen[f0] = true;
             stack.push(f0 as u32);
             while let Some(f) = stack.pop() {
+                faces.push(f);
                 for h in self.face_halfedges(f) {
                     let g = self.face(self.twin(h));
                     if g != NONE && !seen[g as usize] {
@@ -89,8 +97,10 @@ impl Mesh {
                     }
                 }
             }
+            faces.sort_unstable();
+            components.push(faces);
         }
-        count
+        components
     }
 
     /// The genus: the number of handles, summed over components, from
@@ -218,6 +228,16 @@ mod tests {
         assert_eq!(m.genus(), 0);
         assert_rel(m.volume(), 8.0, 1e-15);
         assert_rel(m.area(), 24.0, 1e-15);
+    }
+
+    #[test]
+    fn face_components_list_each_piece_in_order() {
+        let a = Mesh::cube(1.0);
+        let b = Mesh::cube(1.0).translate(Vec3::new(3.0, 0.0, 0.0));
+        let both = Mesh::combine(&[&a, &b]).unwrap();
+        let parts = both.face_components();
+        assert_eq!(parts, vec![(0..6).collect::<Vec<u32>>(), (6..12).collect()]);
+        assert_eq!(both.component_count(), 2);
     }
 
     #[test]

@@ -3,27 +3,15 @@
 //! glTF viewer shows the structure.
 
 use super::PolarMesh;
+use crate::math::hsv_rgba;
 use crate::mesh::Mesh;
 
 /// The fewest hues used: few enough to tell apart, enough that neighbours rarely need more.
 const MIN_HUES: usize = 6;
 
-/// RGB of hue `h` in [0, 1) at saturation 0.65 and value 0.95.
+/// The colour of hue `h` (turns) at saturation 0.65 and value 0.95.
 fn hue_rgb(h: f64) -> [f32; 4] {
-    let (s, v) = (0.65, 0.95);
-    let h6 = (h.rem_euclid(1.0)) * 6.0;
-    let i = h6.floor() as u32 % 6;
-    let f = h6 - h6.floor();
-    let (p, q, t) = (v * (1.0 - s), v * (1.0 - s * f), v * (1.0 - s * (1.0 - f)));
-    let (r, g, b) = match i {
-        0 => (v, t, p),
-        1 => (q, v, p),
-        2 => (p, v, t),
-        3 => (p, q, v),
-        4 => (t, p, v),
-        _ => (v, p, q),
-    };
-    [r as f32, g as f32, b as f32, 1.0]
+    hsv_rgba(h, 0.65, 0.95)
 }
 
 impl PolarMesh {
