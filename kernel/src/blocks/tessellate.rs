@@ -144,9 +144,8 @@ pub struct ControlTessellation {
     pub mesh: Mesh,
     /// Leaves of all the patches' kd-trees.
     pub sub_patches: usize,
-    /// For every triangle of `mesh`, in face order, the sub-face of the patch that emitted it.
-    pub triangle_sources: Vec<SubFaceRef>,
-    /// For every triangle of `mesh`, in face order, the patch (control-mesh face) it lies on.
+    /// For every triangle of `mesh`, in face order, the patch (control-mesh face) it lies on;
+    /// its sub-face is that patch's [`PatchSource::subface`](super::PatchSource).
     pub triangle_patches: Vec<u32>,
 }
 
@@ -176,8 +175,9 @@ impl BlockModel {
     ) -> Result<Tessellation, BlockError> {
         options.check()?;
         let cm = self.control_mesh()?;
-        let ControlTessellation { mesh, sub_patches, triangle_sources, .. } =
+        let ControlTessellation { mesh, sub_patches, triangle_patches } =
             tessellate_control_with_progress(&cm, options, displacement, progress)?;
+        let triangle_sources = triangle_patches.iter().map(|&f| cm.sources[f as usize].subface).collect();
         let stats = BlockStats {
             blocks: self.blocks().len(),
             patches: cm.mesh.face_count(),
@@ -443,7 +443,6 @@ pub fn tessellate_control_with_progress(
     let mut ids: HashMap<VKey, u32> = HashMap::new();
     let mut positions: Vec<Vec3> = Vec::new();
     let mut tris: Vec<u32> = Vec::new();
-    let mut triangle_sources: Vec<SubFaceRef> = Vec::new();
     let mut triangle_patches: Vec<u32> = Vec::new();
     let mut sub_patches = 0usize;
     for f in 0..nf {
@@ -562,7 +561,6 @@ pub fn tessellate_control_with_progress(
                     tris.extend([c, vid[k], vid[(k + 1) % vid.len()]]);
                 }
             }
-            triangle_sources.resize(tris.len() / 3, cm.sources[f as usize].subface);
             triangle_patches.resize(tris.len() / 3, f);
         }
         progress(nf as usize + f as usize + 1, total);
@@ -570,14 +568,14 @@ pub fn tessellate_control_with_progress(
     let arities = vec![3u32; tris.len() / 3];
     let out = Mesh::from_indexed(positions, &tris, &arities)
         .map_err(|e| BlockError::Internal(format!("the tessellation is not a manifold mesh: {e}")))?;
-    if out.face_count() != triangle_sources.len() {
+    if out.face_count() != triangle_patches.len() {
         return Err(BlockError::Internal(format!(
             "{} triangle sources for {} triangles",
-            triangle_sources.len(),
+            triangle_patches.len(),
             out.face_count()
         )));
     }
-    Ok(ControlTessellation { mesh: out, sub_patches, triangle_sources, triangle_patches })
+    Ok(ControlTessellation { mesh: out, sub_patches, triangle_patches })
 }
 
 /// The corners of sub-patch `rect` lying on the patch's four sides: `(side, parameter along the
