@@ -14,7 +14,7 @@
 //! - **Edges** ([`Edge`]): the 12 block edges, named by their two faces, lower axis first
 //!   (`"+x+y"`, `"-x-z"`, `"+y-z"`); either order is accepted when parsing.
 
-use crate::math::{is_finite, Quat, Vec3};
+use crate::math::{is_finite, lerp, Quat, Vec3};
 
 use super::BlockError;
 
@@ -353,9 +353,9 @@ impl Block {
     #[must_use]
     pub fn face_point(&self, face: Face, u: f64, v: f64) -> Vec3 {
         let c = |s, t| self.corners[face.corner(s, t)];
-        let bottom = c(0, 0).lerp(c(1, 0), u);
-        let top = c(0, 1).lerp(c(1, 1), u);
-        bottom.lerp(top, v)
+        let bottom = lerp(c(0, 0), c(1, 0), u);
+        let top = lerp(c(0, 1), c(1, 1), u);
+        lerp(bottom, top, v)
     }
 
     /// Checks that `sub` names a sub-face of `face`.

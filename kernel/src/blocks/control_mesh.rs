@@ -19,7 +19,7 @@
 
 use std::collections::{HashMap, HashSet};
 
-use crate::math::Vec3;
+use crate::math::{lerp, Vec3};
 use crate::mesh::{Mesh, MeshError, NONE};
 
 use super::connect::pairing;
@@ -129,7 +129,7 @@ fn add_block(asm: &mut Assembly, bi: u32, block: &Block) {
         .collect();
     let edge_point = |e: Edge, t: f64| {
         let (lo, hi) = e.corners();
-        corners[lo].lerp(corners[hi], t)
+        lerp(corners[lo], corners[hi], t)
     };
     let mut ids: HashMap<Local, u32> = HashMap::new();
     let mut vertex = |positions: &mut Vec<Vec3>, k: Local, p: Vec3| -> u32 {
@@ -390,7 +390,7 @@ fn assemble(model: &BlockModel, connections: &[Connection]) -> Result<ControlMes
         // Straight rims: T-vertices on the segment between the joined ends.
         let (x, y) = *k;
         for &(t, c) in &list {
-            pos[c as usize] = pos[x as usize].lerp(pos[y as usize], t);
+            pos[c as usize] = lerp(pos[x as usize], pos[y as usize], t);
         }
         for ch in &groups[k] {
             for w in ch.windows(2) {

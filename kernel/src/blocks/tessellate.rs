@@ -630,6 +630,34 @@ mod tests {
     }
 
     #[test]
+    fn sharp_block_faces_lie_exactly_on_their_planes() {
+        // Bounds that are not binary fractions (0.3, 0.7, -0.1 …) and uneven grids: every vertex
+        // of a triangle on a face must have that face's coordinate to the last bit, or faces of
+        // two blocks meant to touch miss by an ulp (a sliver in a boolean).
+        let (lo, hi) = (Vec3::new(-0.1, 0.2, 0.3), Vec3::new(0.3, 0.7, 1.1));
+        let mut b = boxed(lo.to_array(), hi.to_array());
+        b.sharp_all();
+        b.subdivide(Face::PosX, 3, 7).unwrap();
+        b.subdivide(Face::NegY, 5, 3).unwrap();
+        b.subdivide(Face::PosZ, 6, 9).unwrap();
+        let mut m = BlockModel::new();
+        m.add(b);
+        let t = m.tessellate(&MeshOptions::DEFAULT, None).unwrap();
+        check_solid(&t.mesh);
+        let bounds = [lo, hi];
+        let mut off = 0;
+        for (f, src) in t.triangle_sources.iter().enumerate() {
+            let a = src.face.axis();
+            let plane = bounds[usize::from(src.face.is_high())].to_array()[a];
+            for v in t.mesh.face_vertices(f as u32) {
+                let x = t.mesh.positions()[v as usize].to_array()[a];
+                off += usize::from(x != plane);
+            }
+        }
+        assert_eq!(off, 0, "vertices off their face's plane");
+    }
+
+    #[test]
     fn every_triangle_knows_its_sub_face() {
         // An all-sharp box is never split: each sub-face of nu × nv polygons is 4 Catmull–Clark
         // quads (one per polygon corner), each two triangles, lying in the plane of its face.

@@ -3,10 +3,12 @@
 mod aabb;
 mod closest_point;
 mod color;
+mod lerp;
 
 pub use aabb::Aabb;
 pub use closest_point::closest_on_triangle;
 pub use color::hsv_rgba;
+pub use lerp::lerp;
 
 /// A point or direction in 3D, in double precision.
 pub type Vec3 = glam::DVec3;

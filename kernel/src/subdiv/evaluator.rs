@@ -97,14 +97,17 @@ impl Fan {
         }
     }
 
-    /// One Catmull–Clark step of the fan's points into `out` (buffers reused).
+    /// One Catmull–Clark step of the fan's points into `out` (buffers reused). The rules are
+    /// written relative to the centre, `c + Σ wᵢ (pᵢ − c)`, so that coordinates all the points
+    /// share (a flat sharp face) come out exactly, as in [`Mesh::catmull_clark`].
     fn refine_points_into(&self, out: &mut Points) {
         let n = self.n();
         let t = &self.topo;
+        let c = self.c;
         out.fp.clear();
         out.fp.extend((0..n).map(|i| {
             if t.face[i] {
-                (self.c + self.e[i] + self.f[i] + self.e[(i + 1) % n]) * 0.25
+                c + ((self.e[i] - c) + (self.f[i] - c) + (self.e[(i + 1) % n] - c)) * 0.25
             } else {
                 Vec3::ZERO
             }
@@ -112,23 +115,24 @@ impl Fan {
         out.ep.clear();
         for i in 0..n {
             let p = if t.sharp[i] {
-                (self.c + self.e[i]) * 0.5
+                c + (self.e[i] - c) * 0.5
             } else {
-                (self.c + self.e[i] + out.fp[(i + n - 1) % n] + out.fp[i]) * 0.25
+                c + ((self.e[i] - c) + (out.fp[(i + n - 1) % n] - c) + (out.fp[i] - c)) * 0.25
             };
             out.ep.push(p);
         }
         out.vp = match t.rule() {
-            Rule::Corner => self.c,
+            Rule::Corner => c,
             Rule::Crease => {
                 let mut ends = (0..n).filter(|&i| t.sharp[i]);
                 let (a, b) = (ends.next().unwrap_or(0), ends.next().unwrap_or(0));
-                (self.e[a] + self.c * 6.0 + self.e[b]) * 0.125
+                c + ((self.e[a] - c) + (self.e[b] - c)) * 0.125
             }
             Rule::Smooth => {
                 let nf = n as f64;
-                let sum: Vec3 = self.e.iter().copied().sum::<Vec3>() + out.fp.iter().copied().sum::<Vec3>();
-                (self.c * (nf - 2.0) + sum / nf) / nf
+                let sum: Vec3 =
+                    self.e.iter().map(|&e| e - c).sum::<Vec3>() + out.fp.iter().map(|&f| f - c).sum::<Vec3>();
+                c + sum / (nf * nf)
             }
         };
     }

@@ -37,20 +37,31 @@ impl Mask {
     }
 
     /// Σ weight · point. `f` may be shorter than the mask's face weights only where they are 0.
+    ///
+    /// Summed relative to the centre: a position mask's weights sum to 1 and a tangent mask's to
+    /// 0, so Σ w (p − c) + c · Σ w is the same combination, with Σ w taken as exactly 1 or 0 —
+    /// coordinates the whole ring shares (a flat sharp face) come out exactly.
     pub(crate) fn apply(&self, c: Vec3, e: &[Vec3], f: &[Vec3]) -> Vec3 {
         // Smaller weights first, as OpenSubdiv does, for precision.
         let mut s = Vec3::ZERO;
+        let mut total = self.c;
         for (i, &w) in self.f.iter().enumerate() {
             if w != 0.0 {
-                s += f[i] * w;
+                s += (f[i] - c) * w;
+                total += w;
             }
         }
         for (i, &w) in self.e.iter().enumerate() {
             if w != 0.0 {
-                s += e[i] * w;
+                s += (e[i] - c) * w;
+                total += w;
             }
         }
-        s + c * self.c
+        if total.abs() < 0.5 {
+            s
+        } else {
+            c + s
+        }
     }
 }
 

@@ -25,19 +25,23 @@ pub(crate) fn basis(t: f64) -> ([f64; 4], [f64; 4]) {
 pub(crate) fn eval(p: &[Vec3; 16], u: f64, v: f64) -> (Vec3, Vec3, Vec3) {
     let (bu, du) = basis(u);
     let (bv, dv) = basis(v);
+    // Relative to the patch's first interior point: the basis sums to 1 (its derivatives to 0),
+    // so Σ b (p − o) + o is the same point, and exact in every coordinate the 16 points share (a
+    // flat sharp face stays on its plane to the last bit).
+    let o = p[5];
     let mut pos = Vec3::ZERO;
     let mut pu = Vec3::ZERO;
     let mut pv = Vec3::ZERO;
     for j in 0..4 {
         // Collapse along u first, then weight by v.
-        let row = &p[4 * j..4 * j + 4];
+        let row = [p[4 * j] - o, p[4 * j + 1] - o, p[4 * j + 2] - o, p[4 * j + 3] - o];
         let ru = row[0] * bu[0] + row[1] * bu[1] + row[2] * bu[2] + row[3] * bu[3];
         let rd = row[0] * du[0] + row[1] * du[1] + row[2] * du[2] + row[3] * du[3];
         pos += ru * bv[j];
         pv += ru * dv[j];
         pu += rd * bv[j];
     }
-    (pos, pu, pv)
+    (o + pos, pu, pv)
 }
 
 #[cfg(test)]

@@ -230,7 +230,18 @@ impl Refiner {
     }
 }
 
+/// The crease vertex point (e_a + 6 v + e_b) / 8 of both schemes, relative to v.
+#[inline]
+fn crease_point(p: &[Vec3], v: usize, [a, b]: [u32; 2]) -> Vec3 {
+    p[v] + ((p[a as usize] - p[v]) + (p[b as usize] - p[v])) * 0.125
+}
+
 /// One Catmull–Clark step of positions: face points, then edge points, then vertex points.
+///
+/// Every point is an affine combination written relative to one of its own inputs,
+/// `base + Σ wᵢ (pᵢ − base)`: where all inputs share a coordinate (a flat sharp face, a straight
+/// crease), the output has it exactly — summing `Σ wᵢ pᵢ` would round 0.3 to 0.29999999999999993
+/// and make faces that should touch miss by that.
 fn interpolate_catmull_clark(lv: &Level, p: &[Vec3]) -> Vec<Vec3> {
     let (nv, ne, nf) = (lv.num_vertices, lv.edge_count(), lv.face_count());
     let mut out = vec![Vec3::ZERO; nv + ne + nf];
@@ -239,39 +250,39 @@ fn interpolate_catmull_clark(lv: &Level, p: &[Vec3]) -> Vec<Vec3> {
     for (f, fp) in fout.iter_mut().enumerate() {
         let r = lv.face_range(f);
         let n = r.len() as f64;
+        let base = p[lv.face_verts[r.start] as usize];
         let mut s = Vec3::ZERO;
         for &v in &lv.face_verts[r] {
-            s += p[v as usize];
+            s += p[v as usize] - base;
         }
-        *fp = s / n;
+        *fp = base + s / n;
     }
     for (e, ep) in eout.iter_mut().enumerate() {
         let [a, b] = lv.edge_verts[e];
         let [f0, f1] = lv.edge_faces[e];
+        let (pa, pb) = (p[a as usize], p[b as usize]);
         *ep = if lv.edge_crease[e] || f1 == NONE {
-            (p[a as usize] + p[b as usize]) * 0.5
+            pa + (pb - pa) * 0.5
         } else {
-            (p[a as usize] + p[b as usize] + fout[f0 as usize] + fout[f1 as usize]) * 0.25
+            pa + ((pb - pa) + (fout[f0 as usize] - pa) + (fout[f1 as usize] - pa)) * 0.25
         };
     }
     for (v, vp) in vout.iter_mut().enumerate() {
         *vp = match lv.vertex_rule[v] {
             Rule::Corner => p[v],
-            Rule::Crease => {
-                let [a, b] = lv.crease_ends[v];
-                (p[a as usize] + p[v] * 6.0 + p[b as usize]) * 0.125
-            }
+            Rule::Crease => crease_point(p, v, lv.crease_ends[v]),
             Rule::Smooth => {
+                // ((n − 2) v + (Σ e + Σ f) / n) / n, relative to v.
                 let edges = lv.vertex_edges(v);
                 let n = edges.len() as f64;
                 let mut s = Vec3::ZERO;
                 for &e in edges {
-                    s += p[lv.other_end(e as usize, v as u32) as usize];
+                    s += p[lv.other_end(e as usize, v as u32) as usize] - p[v];
                 }
                 for &f in lv.vertex_faces(v) {
-                    s += fout[f as usize];
+                    s += fout[f as usize] - p[v];
                 }
-                (p[v] * (n - 2.0) + s / n) / n
+                p[v] + s / (n * n)
             }
         };
     }
@@ -294,22 +305,20 @@ fn interpolate_loop(lv: &Level, p: &[Vec3]) -> Vec<Vec3> {
     for (e, ep) in eout.iter_mut().enumerate() {
         let [a, b] = lv.edge_verts[e];
         let [f0, f1] = lv.edge_faces[e];
+        let (pa, pb) = (p[a as usize], p[b as usize]);
         *ep = if lv.edge_crease[e] || f1 == NONE {
-            (p[a as usize] + p[b as usize]) * 0.5
+            pa + (pb - pa) * 0.5
         } else {
-            let c = opposite_in_triangle(lv, f0, e);
-            let d = opposite_in_triangle(lv, f1, e);
-            (p[a as usize] + p[b as usize]) * 0.375 + (p[c as usize] + p[d as usize]) * 0.125
+            let c = p[opposite_in_triangle(lv, f0, e) as usize];
+            let d = p[opposite_in_triangle(lv, f1, e) as usize];
+            pa + (pb - pa) * 0.375 + ((c - pa) + (d - pa)) * 0.125
         };
     }
     let mut beta_cache: Vec<f64> = Vec::new();
     for (v, vp) in vout.iter_mut().enumerate() {
         *vp = match lv.vertex_rule[v] {
             Rule::Corner => p[v],
-            Rule::Crease => {
-                let [a, b] = lv.crease_ends[v];
-                (p[a as usize] + p[v] * 6.0 + p[b as usize]) * 0.125
-            }
+            Rule::Crease => crease_point(p, v, lv.crease_ends[v]),
             Rule::Smooth => {
                 let edges = lv.vertex_edges(v);
                 let n = edges.len();
@@ -319,9 +328,10 @@ fn interpolate_loop(lv: &Level, p: &[Vec3]) -> Vec<Vec3> {
                 let beta = beta_cache[n];
                 let mut s = Vec3::ZERO;
                 for &e in edges {
-                    s += p[lv.other_end(e as usize, v as u32) as usize];
+                    s += p[lv.other_end(e as usize, v as u32) as usize] - p[v];
                 }
-                p[v] * (1.0 - n as f64 * beta) + s * beta
+                // (1 − nβ) v + β Σ e, relative to v.
+                p[v] + s * beta
             }
         };
     }

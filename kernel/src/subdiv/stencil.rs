@@ -102,7 +102,8 @@ impl StencilTable {
         (&self.indices[r.clone()], &self.weights[r])
     }
 
-    /// Applies the map: one output point per row.
+    /// Applies the map: one output point per row. Rows are taken as affine (weights summing to
+    /// 1, as every subdivision and limit stencil's do) and summed relative to their first source.
     ///
     /// # Panics
     /// When `src.len()` differs from [`StencilTable::source_count`] (a caller bug).
@@ -112,7 +113,11 @@ impl StencilTable {
         (0..self.rows())
             .map(|i| {
                 let (idx, w) = self.row(i);
-                idx.iter().zip(w).fold(Vec3::ZERO, |acc, (&j, &w)| acc + src[j as usize] * w)
+                // Relative to the row's first source (rows are affine: weights sum to 1), so
+                // coordinates all its sources share come out exactly.
+                let Some(&first) = idx.first() else { return Vec3::ZERO };
+                let o = src[first as usize];
+                o + idx.iter().zip(w).fold(Vec3::ZERO, |acc, (&j, &w)| acc + (src[j as usize] - o) * w)
             })
             .collect()
     }
