@@ -250,12 +250,14 @@ struct State {
     radius: Option<f64>,
     /// How many branches (this one included) the parent opens on the same loop.
     siblings: usize,
+    /// The loop vertices this branch may open its gap on, when it has siblings there.
+    sector: Option<Vec<bool>>,
 }
 
-/// For each `[`, how many `[` its parent opens on the same loop: those at the same depth with no
-/// drawn segment of the parent between them. Other entries are 1.
-fn sibling_counts(modules: &[Module]) -> Vec<usize> {
-    let mut count = vec![1; modules.len()];
+/// The groups of `[` that open branches on one loop of their parent: those at the same depth
+/// with no drawn segment of the parent between them (groups of one left out), each in string
+/// order.
+fn sibling_groups(modules: &[Module]) -> Vec<Vec<usize>> {
     let mut groups: Vec<Vec<usize>> = Vec::new();
     // open[d]: the `[` indices of the current group of depth-d branches.
     let mut open: Vec<Vec<usize>> = vec![Vec::new()];
@@ -287,12 +289,56 @@ fn sibling_counts(modules: &[Module]) -> Vec<usize> {
         }
     }
     groups.extend(open);
-    for g in groups {
-        for &i in &g {
-            count[i] = g.len();
+    groups.retain(|g| g.len() > 1);
+    groups
+}
+
+/// The headings sibling branches `group` (indices of their `[`, from [`sibling_groups`]) will
+/// have when they first draw, from `parent`, the parent's turtle at the first `[`: each
+/// branch's turns before its first segment, and the parent's turns between its `]` and the next
+/// `[`. `close[i]` is the `]` of the `[` at i.
+fn sibling_headings(modules: &[Module], group: &[usize], close: &[usize], parent: Turtle, angle: f64) -> Vec<Vec3> {
+    let turn = |t: &mut Turtle, m: &Module| {
+        t.apply(m.symbol.as_str(), m.params.first().copied().unwrap_or(angle));
+    };
+    let mut t = parent;
+    let mut out = Vec::with_capacity(group.len());
+    for (j, &open) in group.iter().enumerate() {
+        let mut b = t;
+        for m in &modules[open + 1..close[open]] {
+            match m.symbol.as_str() {
+                "F" | "L" | "L0" | "P" | "[" | "[L" | "[R" | "]" => break,
+                _ => turn(&mut b, m),
+            }
+        }
+        out.push(b.heading);
+        if let Some(&next) = group.get(j + 1) {
+            for m in &modules[close[open] + 1..next] {
+                turn(&mut t, m);
+            }
         }
     }
-    count
+    out
+}
+
+/// The vertices of a loop (`pos` about `center`, across unit `axis`) each sibling may open its
+/// gap on: those whose direction from the centre lies nearest its heading's (a vertex midway
+/// between two headings goes to both), so that siblings share a loop by where they point, not
+/// by who comes first. `None` when some sibling would get fewer than 3 vertices.
+fn sibling_sectors(pos: &[Vec3], center: Vec3, axis: Vec3, headings: &[Vec3]) -> Option<Vec<Vec<bool>>> {
+    let dirs: Vec<Vec3> =
+        headings.iter().map(|&h| across(h, axis).unwrap_or_else(|| axis.any_orthonormal_vector())).collect();
+    let mut sectors = vec![vec![false; pos.len()]; dirs.len()];
+    for (v, &p) in pos.iter().enumerate() {
+        let Some(d) = across(p - center, axis) else { continue };
+        let best = dirs.iter().map(|&s| s.dot(d)).fold(f64::NEG_INFINITY, f64::max);
+        for (k, &s) in dirs.iter().enumerate() {
+            if s.dot(d) >= best - 1e-9 {
+                sectors[k][v] = true;
+            }
+        }
+    }
+    sectors.iter().all(|s| s.iter().filter(|&&x| x).count() >= 3).then_some(sectors)
 }
 
 /// Grows `modules` as polar operations with lengths and radii `opts.length · S(step)` and
@@ -332,15 +378,59 @@ pub fn grow_with<E: Display>(
     super::grammar::check_balance("the string", modules.iter().map(|m| m.symbol.as_str()))?;
     let mut g =
         Grower { opts: *opts, mesh: None, root: 0, rings: Vec::new(), branches: Vec::new(), segments: 0, features: 0 };
-    let siblings = sibling_counts(modules);
+    let groups = sibling_groups(modules);
+    let mut group_of = vec![usize::MAX; modules.len()];
+    for (k, gr) in groups.iter().enumerate() {
+        for &i in gr {
+            group_of[i] = k;
+        }
+    }
+    let mut close = vec![0; modules.len()];
+    let mut opens = Vec::new();
+    for (i, m) in modules.iter().enumerate() {
+        match m.symbol.as_str() {
+            "[" | "[L" | "[R" => opens.push(i),
+            "]" => {
+                if let Some(o) = opens.pop() {
+                    close[o] = i;
+                }
+            }
+            _ => {}
+        }
+    }
+    // Sectors of the siblings of the group being opened, by their `[` index.
+    let mut sectors: Vec<(usize, Vec<bool>)> = Vec::new();
     let mut stack: Vec<State> = Vec::new();
-    let mut st = State { turtle: Turtle::default(), branch: None, host: None, depth: 0, radius: None, siblings: 1 };
+    let mut st = State {
+        turtle: Turtle::default(),
+        branch: None,
+        host: None,
+        depth: 0,
+        radius: None,
+        siblings: 1,
+        sector: None,
+    };
     for (i, m) in modules.iter().enumerate() {
         let s = m.symbol.as_str();
         match s {
             "[" => {
                 let mut child = g.child_of(&st);
-                child.siblings = siblings[i];
+                if let Some(gr) = groups.get(group_of[i]) {
+                    child.siblings = gr.len();
+                    if gr[0] == i {
+                        sectors.clear();
+                        if let Some(ring) = child.host.map(|h| &g.rings[h]) {
+                            let pm = g.mesh.as_ref();
+                            let pos: Vec<Vec3> =
+                                ring.verts.iter().map(|&v| pm.map_or(Vec3::ZERO, |pm| pm.position(v))).collect();
+                            let hs = sibling_headings(modules, gr, &close, st.turtle, opts.angle);
+                            if let Some(sec) = sibling_sectors(&pos, ring.center, ring.axis, &hs) {
+                                sectors.extend(gr.iter().copied().zip(sec));
+                            }
+                        }
+                    }
+                    child.sector = sectors.iter().position(|(o, _)| *o == i).map(|k| sectors.swap_remove(k).1);
+                }
                 stack.push(std::mem::replace(&mut st, child));
             }
             "]" => {
@@ -410,6 +500,15 @@ fn across(v: Vec3, axis: Vec3) -> Option<Vec3> {
 /// do not hold back the rest of the loop. Near-linear in the loop size.
 fn rounding(prev: &[Vec3], shape: &[Vec3], circle: &[Vec3], w_max: f64) -> Vec<f64> {
     let n = prev.len();
+    let edges: Vec<Vec3> = (0..n).map(|j| prev[(j + 1) % n] - prev[j]).collect();
+    blend_weights(&edges, shape, circle, w_max)
+}
+
+/// [`rounding`] with the previous cycle given by its edges: `prev_edges[j]` is the edge facing
+/// the new loop's edge from vertex j to j + 1 across their face (zero across a pole's
+/// triangle, which cannot fold).
+fn blend_weights(prev_edges: &[Vec3], shape: &[Vec3], circle: &[Vec3], w_max: f64) -> Vec<f64> {
+    let n = prev_edges.len();
     let mut w = vec![w_max; n];
     let at = |w: &[f64], j: usize| shape[j] * (1.0 - w[j]) + circle[j] * w[j];
     let cosine = |a: Vec3, b: Vec3| {
@@ -422,7 +521,7 @@ fn rounding(prev: &[Vec3], shape: &[Vec3], circle: &[Vec3], w_max: f64) -> Vec<f
     };
     let turns_too_far = |w: &[f64], j: usize| {
         let k = (j + 1) % n;
-        let d = prev[k] - prev[j];
+        let d = prev_edges[j];
         let floor = cosine(shape[k] - shape[j], d).min(0.5);
         cosine(at(w, k) - at(w, j), d) < floor - 1e-12
     };
@@ -451,6 +550,91 @@ fn rounding(prev: &[Vec3], shape: &[Vec3], circle: &[Vec3], w_max: f64) -> Vec<f
         }
     }
     w
+}
+
+/// The widest a branch's run may span about its loop's centre once slid ([`slide_run`]).
+const SPAN: f64 = 130.0 * std::f64::consts::PI / 180.0;
+
+/// The angles of a planar loop's vertices `pos` about `center` across unit `axis`, unwrapped
+/// from the first vertex in the loop's own turning direction: `(sign, basis, angles)` with
+/// `angles[0] = 0` and every step forwards, or `None` unless the loop is star-shaped about the
+/// centre (each step turns forwards by less than half a turn and the loop winds once).
+fn star_angles(pos: &[Vec3], center: Vec3, axis: Vec3) -> Option<(f64, [Vec3; 2], Vec<f64>)> {
+    use std::f64::consts::{PI, TAU};
+    let n = pos.len();
+    let b1 = across(pos[0] - center, axis)?;
+    let b2 = axis.cross(b1);
+    let angle = |p: Vec3| (p - center).dot(b2).atan2((p - center).dot(b1));
+    let step = |j: usize| (angle(pos[(j + 1) % n]) - angle(pos[j]) + PI).rem_euclid(TAU) - PI;
+    let sign = if step(0) < 0.0 { -1.0 } else { 1.0 };
+    let mut angles = Vec::with_capacity(n + 1);
+    angles.push(0.0);
+    for j in 0..n {
+        let d = sign * step(j);
+        if !(d > 1e-9 && d < PI) {
+            return None;
+        }
+        angles.push(angles[j] + d);
+    }
+    ((angles[n] - TAU).abs() < 1e-6).then(|| {
+        angles.pop();
+        (sign, [b1, b2], angles)
+    })
+}
+
+/// New positions for the vertices of a loop without branches (star-shaped about `center`, in
+/// the plane across `axis`) so that the run of `w` vertices from `s` spans at most `span` about
+/// the centre, centred where it was, and the others share the rest of the turn evenly: each
+/// vertex slides along the loop's own polygon (the low-level moves of §2.4), so the loop keeps
+/// its shape — a circle stays that circle. A run over half a loop wraps round to the parent's
+/// sides, where the surface faces along the branch and the branch's first quads at the run's
+/// ends would fold or cross the parent's faces beyond them; slid, it keeps the valence
+/// (|VV| = n/2 + 1, §4.3.1) on a cap of 130°. `None` when the run spans no more than `span`
+/// already or the loop is not star-shaped. Linear in the loop size.
+fn slide_run(pos: &[Vec3], center: Vec3, axis: Vec3, s: usize, w: usize, span: f64) -> Option<Vec<Vec3>> {
+    use std::f64::consts::TAU;
+    let n = pos.len();
+    let (sign, [b1, b2], raw) = star_angles(pos, center, axis)?;
+    // Angles from the run's first vertex, in [0, 2π).
+    let from = |j: usize| (raw[j] - raw[s]).rem_euclid(TAU);
+    let natural = from((s + w - 1) % n);
+    if natural <= span {
+        return None;
+    }
+    let mid = natural / 2.0;
+    let rest = (TAU - span) / (n - w + 1) as f64;
+    let target = |t: usize| {
+        if t < w {
+            mid + span * (t as f64 / (w - 1) as f64 - 0.5)
+        } else {
+            mid + span / 2.0 + (t - w + 1) as f64 * rest
+        }
+    };
+    // Walk the polygon once from the run's first vertex (angles from it rise from 0 to 2π):
+    // the edge holding each target angle, then the point where the ray at that angle meets it.
+    let local = |p: Vec3| {
+        let q = p - center;
+        (q.dot(b1), q.dot(b2))
+    };
+    let mut out = vec![Vec3::ZERO; n];
+    // Targets rise from above 0 to below 2π past the run's start: edges are walked twice round.
+    let a_end = |e: usize| from((s + e + 1) % n) + TAU * ((e + 1) / n) as f64;
+    let mut e = 0; // edge from vertex s + e to s + e + 1 (mod n)
+    for t in 0..n {
+        let phi = target(t);
+        while e + 1 < 2 * n && a_end(e) < phi {
+            e += 1;
+        }
+        let (p, q) = (pos[(s + e) % n], pos[(s + e + 1) % n]);
+        let th = raw[s] + sign * phi;
+        let (ux, uy) = (th.cos(), th.sin());
+        let ((px, py), (qx, qy)) = (local(p), local(q));
+        let cross = |x: f64, y: f64| x * uy - y * ux;
+        let den = cross(px - qx, py - qy);
+        let k = if den.abs() > 0.0 { (cross(px, py) / den).clamp(0.0, 1.0) } else { 0.0 };
+        out[(s + t) % n] = p.lerp(q, k);
+    }
+    Some(out)
 }
 
 /// The run of consecutive free vertices of a cyclic loop (`pos`, `used`) where a branch opens
@@ -498,7 +682,15 @@ impl Grower {
             Some(b) => self.branches[b].ring,
             None => st.host,
         };
-        State { turtle: st.turtle, branch: None, host, depth: st.depth + 1, radius: st.radius, siblings: 1 }
+        State {
+            turtle: st.turtle,
+            branch: None,
+            host,
+            depth: st.depth + 1,
+            radius: st.radius,
+            siblings: 1,
+            sector: None,
+        }
     }
 
     fn sizes<E: Display>(
@@ -592,7 +784,16 @@ impl Grower {
                     .outgoing(self.branches[b].tip)
                     .map(|x| (pm.position(mm.target(x)) - o).dot(h))
                     .fold(0.0, f64::max);
-                let len = len.max(host.radius + r).max(ahead + r);
+                // Clear of the parent's axis: a heading at angle α to the parent's axis moves
+                // the turtle len·sin α away from it, and the new circle (radius r, across the
+                // heading) reaches r·cos α back towards it, so len·sin α ≥ R + r·cos α keeps the
+                // whole first loop outside the parent's tube (which goes on beyond the loop, as
+                // the parent's tip or its next segments). Headings within 15° of the parent's
+                // axis are taken at 15°, keeping the first segment finite.
+                let cos_a = h.dot(host.axis).abs().min(1.0);
+                let sin_a = (1.0 - cos_a * cos_a).sqrt().max(15f64.to_radians().sin());
+                let clear = (host.radius + r * cos_a) / sin_a;
+                let len = len.max(host.radius + r).max(clear).max(ahead + r);
                 return self.segment(i, m, st, b, len, r, pole, true);
             }
         };
@@ -678,43 +879,58 @@ impl Grower {
         // faces beyond them: a lone branch on a round loop without branches gets its run slid
         // to 130° below; every other run (siblings, whose slides would widen each other's, or a
         // loop that cannot slide) spans at most 3n/8 edges.
-        let slides = ring.round && st.siblings <= 1 && !ring.used.iter().any(|&u| u);
-        let wmax = (n / 2 + 1).min(n / st.siblings.max(1));
-        let wmax = if slides { wmax } else { wmax.min(3 * n / 8 + 1) }.clamp(3, n - 1);
-        let best = facing_run(&pos, &ring.used, ring.center, dir, wmax);
-        let Some((s, w)) = best else {
-            return Err(LsystemError::NoRoomForBranch { module: i, symbol: m.to_string(), valence: n });
+        let lone = st.siblings <= 1 && !ring.used.iter().any(|&u| u);
+        let wmax = (n / 2 + 1).min(n / st.siblings.max(1)).clamp(3, n - 1);
+        let used: Vec<bool> = match &st.sector {
+            Some(sec) => ring.used.iter().zip(sec).map(|(&u, &ok)| u || !ok).collect(),
+            None => ring.used.clone(),
+        };
+        // A sector narrower than the run the loop has room for (a sibling took a vertex both
+        // could use, or the headings are close): the best-facing free run, as without sectors,
+        // so that sectors never cost valence.
+        let choose = |wmax: usize| {
+            let free = facing_run(&pos, &ring.used, ring.center, dir, wmax);
+            facing_run(&pos, &used, ring.center, dir, wmax).filter(|b| free.is_some_and(|f| f.1 == b.1)).or(free)
+        };
+        // The faces behind the loop, as the edge facing each loop edge across them.
+        let behind: Vec<Vec3> = {
+            let mm = pm.mesh();
+            (0..n)
+                .map(|j| {
+                    let (a, b) = (ring.verts[j], ring.verts[(j + 1) % n]);
+                    mm.find_halfedge(b, a)
+                        .map_or(Vec3::ZERO, |h| pm.position(mm.origin(mm.prev(h))) - pm.position(mm.target(mm.next(h))))
+                })
+                .collect()
+        };
+        // A lone branch keeps the valence when its run of n/2 + 1 can be slid to 130° with no
+        // edge of the loop turning over 60° from the edge facing it behind (as loops round off,
+        // [`blend_weights`]): a gap's sharp ends behind a branch's first loop can forbid it.
+        let slid = if lone {
+            choose(wmax).and_then(|(s, w)| match slide_run(&pos, ring.center, ring.axis, s, w, SPAN) {
+                None if star_angles(&pos, ring.center, ring.axis).is_some() => Some((s, w, None)),
+                None => None,
+                Some(moved) => {
+                    let full = blend_weights(&behind, &pos, &moved, 1.0).iter().all(|&x| x == 1.0);
+                    full.then_some((s, w, Some(moved)))
+                }
+            })
+        } else {
+            None
+        };
+        // Otherwise a run over 135° would reach round to the parent's sides: at most 3n/8 edges.
+        let (s, w, moved) = match slid {
+            Some(x) => x,
+            None => match choose(wmax.min(3 * n / 8 + 1).max(3)) {
+                Some((s, w)) => (s, w, None),
+                None => return Err(LsystemError::NoRoomForBranch { module: i, symbol: m.to_string(), valence: n }),
+            },
         };
         let run: Vec<u32> = (0..w).map(|j| ring.verts[(s + j) % n]).collect();
-        // A gap over half a loop wraps round to the parent's sides, where the surface faces
-        // along the branch and the branch's first quads fold: on a loop without branches yet,
-        // slide the loop's vertices round it (low-level moves, §2.4) so that the run spans at
-        // most 130° about its centre and the others share the rest evenly.
-        if ring.round && !ring.used.iter().any(|&u| u) {
-            let natural = (w - 1) as f64 * std::f64::consts::TAU / n as f64;
-            let span = natural.min(130f64.to_radians());
-            if span < natural {
-                let (c, axis) = (ring.center, ring.axis);
-                let b1 = across(pos[0] - c, axis).unwrap_or_else(|| axis.any_orthonormal_vector());
-                let b2 = axis.cross(b1);
-                let angle = |p: Vec3| (p - c).dot(b2).atan2((p - c).dot(b1));
-                let step = (angle(pos[1]) - angle(pos[0]) + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
-                    - std::f64::consts::PI;
-                let sgn = if step < 0.0 { -1.0 } else { 1.0 };
-                let mid = angle(pos[s]) + sgn * natural / 2.0;
-                let rest = (std::f64::consts::TAU - span) / (n - w + 1) as f64;
-                let pm = self.mesh.as_mut().ok_or_else(|| LsystemError::Internal("nesting before the trunk".into()))?;
-                for t in 0..n {
-                    let j = (s + t) % n;
-                    let th = if t < w {
-                        mid + sgn * span * (t as f64 / (w - 1) as f64 - 0.5)
-                    } else {
-                        mid + sgn * (span / 2.0 + (t - w + 1) as f64 * rest)
-                    };
-                    let rad = (pos[j] - c).length();
-                    let p = c + (b1 * th.cos() + b2 * th.sin()) * rad;
-                    Self::polar(i, pm.set_position(self.rings[host].verts[j], p))?;
-                }
+        if let Some(moved) = moved {
+            let pm = self.mesh.as_mut().ok_or_else(|| LsystemError::Internal("nesting before the trunk".into()))?;
+            for (j, p) in moved.into_iter().enumerate() {
+                Self::polar(i, pm.set_position(self.rings[host].verts[j], p))?;
             }
         }
         let ring = &self.rings[host];
