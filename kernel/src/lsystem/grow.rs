@@ -610,29 +610,25 @@ fn slide_run(pos: &[Vec3], center: Vec3, axis: Vec3, s: usize, w: usize, span: f
             mid + span / 2.0 + (t - w + 1) as f64 * rest
         }
     };
-    // Walk the polygon once from the run's first vertex (angles from it rise from 0 to 2π):
-    // the edge holding each target angle, then the point where the ray at that angle meets it.
-    let local = |p: Vec3| {
-        let q = p - center;
-        (q.dot(b1), q.dot(b2))
-    };
-    let mut out = vec![Vec3::ZERO; n];
+    // Walk the loop once from the run's first vertex (angles from it rise from 0 to 2π): the
+    // edge holding each target angle, then the point at that angle whose distance from the
+    // centre interpolates the edge's ends' by angle (so a circle stays that circle).
+    let radius = |p: Vec3| across(p - center, axis).map_or(0.0, |d| (p - center).dot(d));
     // Targets rise from above 0 to below 2π past the run's start: edges are walked twice round.
     let a_end = |e: usize| from((s + e + 1) % n) + TAU * ((e + 1) / n) as f64;
     let mut e = 0; // edge from vertex s + e to s + e + 1 (mod n)
+    let mut out = vec![Vec3::ZERO; n];
     for t in 0..n {
         let phi = target(t);
         while e + 1 < 2 * n && a_end(e) < phi {
             e += 1;
         }
         let (p, q) = (pos[(s + e) % n], pos[(s + e + 1) % n]);
+        let a0 = if e == 0 { 0.0 } else { a_end(e - 1) };
+        let k = ((phi - a0) / (a_end(e) - a0)).clamp(0.0, 1.0);
+        let rho = radius(p) + (radius(q) - radius(p)) * k;
         let th = raw[s] + sign * phi;
-        let (ux, uy) = (th.cos(), th.sin());
-        let ((px, py), (qx, qy)) = (local(p), local(q));
-        let cross = |x: f64, y: f64| x * uy - y * ux;
-        let den = cross(px - qx, py - qy);
-        let k = if den.abs() > 0.0 { (cross(px, py) / den).clamp(0.0, 1.0) } else { 0.0 };
-        out[(s + t) % n] = p.lerp(q, k);
+        out[(s + t) % n] = center + (b1 * th.cos() + b2 * th.sin()) * rho;
     }
     Some(out)
 }

@@ -391,3 +391,79 @@ fn every_nested_string_is_free_of_crossings() {
     let bad: Vec<_> = counts.iter().filter(|c| c.2 > 0).collect();
     assert!(bad.is_empty(), "self-intersecting faces (string, valence, faces, of): {bad:?}");
 }
+
+/// A branch's first loop lies outside its parent's tube, which goes on beyond the loop the
+/// branch nests on (as the parent's next segments or its tip): for a branch leaving at 15°,
+/// 20°, 30° or 45° to its parent, no first-loop vertex lies nearer the parent's axis than the
+/// parent's radius, and the branch's tube does not run through the parent's. A first segment of
+/// R + r along the heading (as before) crossed 16, 18 and 23 faces at 15° (valences 8, 12,
+/// 16). Left: at 15° and 20° the two quads at one sharp end of the gap (run edge v0 v1 and far
+/// edge n1 v0, n1 lifted straight above v1 and so seen end on along the heading) cross each
+/// other — 2 faces.
+#[test]
+fn a_branch_first_loop_lies_outside_the_parent_tube() {
+    let trunk_radius = 0.25 * sigmoid(0.0);
+    for angle in [15.0, 20.0, 30.0, 45.0] {
+        for valence in [8, 12, 16] {
+            let opts = GrowOptions::DEFAULT.with_valence(valence).with_angle(angle);
+            let g = grow(&modules("F F [+F F] F F"), &opts).unwrap();
+            assert_plant(&g);
+            let crossing = super::tests_selfint::self_intersecting_faces(g.mesh.mesh());
+            let allowed = if angle < 30.0 { 2 } else { 0 };
+            assert!(crossing <= allowed, "angle {angle}, valence {valence}: {crossing} faces cross");
+            // The branch's first loop: its node nearest the root off the trunk's axis (the loop
+            // it nests on has the gap's far side in its node, a little off the axis).
+            let sk = g.mesh.skeleton(Some(g.root)).unwrap();
+            let first = (0..sk.node_count() as u32)
+                .filter(|&n| !sk.is_pole(n) && sk.position(n).x.hypot(sk.position(n).y) > 0.5 * trunk_radius)
+                .min_by_key(|&n| sk.depth(n))
+                .unwrap();
+            for &v in sk.vertices(first) {
+                let p = g.mesh.position(v);
+                let d = p.x.hypot(p.y);
+                assert!(d >= trunk_radius - 1e-9, "angle {angle}, valence {valence}: vertex {v} at {d} from the axis");
+            }
+        }
+    }
+}
+
+/// Siblings share a loop by where they point: in `F F [&F F] /(90) [&F F] F` the second branch
+/// heads to −x, a quarter turn from the first (−y); taking turns, the first took the run on its
+/// side reaching round to −x and left the second a run facing +y (112° from its heading at
+/// valence 8). With sectors each run's centroid lies within 90° of its own heading.
+#[test]
+fn sibling_branches_open_on_their_own_sides() {
+    for valence in [8, 12, 16] {
+        let g = grow(&modules("F F [&F F] /(90) [&F F] F"), &GrowOptions::DEFAULT.with_valence(valence)).unwrap();
+        assert_plant(&g);
+        let sk = g.mesh.skeleton(Some(g.root)).unwrap();
+        // The trunk's second loop, which both branches nest on (two segments of S(0) up).
+        let host_z = 2.0 * sigmoid(0.0);
+        for heading in [Vec3::NEG_Y, Vec3::NEG_X] {
+            let side = |p: Vec3| p.dot(heading) > 0.15;
+            // The branch's first loop and the segment faces down to its gap.
+            let first = (0..sk.node_count() as u32)
+                .filter(|&n| !sk.is_pole(n) && side(sk.position(n)))
+                .min_by_key(|&n| sk.depth(n))
+                .unwrap();
+            let seg = sk.parent_segment(first).unwrap();
+            let m = g.mesh.mesh();
+            let mut run: Vec<u32> = sk
+                .segment_faces(seg)
+                .iter()
+                .flat_map(|&f| m.face_vertices(f).collect::<Vec<_>>())
+                .filter(|&v| (m.position(v).z - host_z).abs() < 1e-9)
+                .collect();
+            run.sort_unstable();
+            run.dedup();
+            assert!(run.len() >= 3, "valence {valence}: run {run:?}");
+            let c = run.iter().map(|&v| m.position(v)).sum::<Vec3>() / run.len() as f64;
+            let c = Vec3::new(c.x, c.y, 0.0).normalize();
+            let off = c.dot(heading).clamp(-1.0, 1.0).acos().to_degrees();
+            assert!(
+                off < 90.0,
+                "valence {valence}: the gap of the branch heading {heading} is centred {off:.1}° off it"
+            );
+        }
+    }
+}
