@@ -11,6 +11,7 @@
 //! Run: `cargo bench -p blocksmith-kernel --bench csg` (the die, the building); the stress case runs once,
 //! timed, with `CSG_STRESS=1 cargo bench -p blocksmith-kernel --bench csg`; its peak memory with
 //! `/usr/bin/time -v target/release/deps/csg-* --bench` under `CSG_STRESS=1`.
+//! `CSG_PROFILE=die` (or `building`) evaluates 100 times outside criterion, for a profiler.
 //! Peer: `PEERS_OUT=target/peers ~/.cache/blocksmith-peers/venv/bin/python
 //! ../shared/peers/die_manifold.py die|stress`.
 
@@ -90,6 +91,21 @@ fn bench(c: &mut Criterion) {
 criterion_group!(benches, bench);
 
 fn main() {
+    // `CSG_PROFILE=die|building`: evaluate 100 times outside criterion (whose analysis threads
+    // would otherwise fill a profile), printing the mean — for `perf record`.
+    if let Ok(case) = std::env::var("CSG_PROFILE") {
+        let tree = if case == "building" { building().expect("building inputs (see building_peer.py)") } else { die() };
+        let t0 = Instant::now();
+        let mut best = f64::INFINITY;
+        for _ in 0..100 {
+            let t = Instant::now();
+            black_box(tree.evaluate().unwrap());
+            best = best.min(t.elapsed().as_secs_f64());
+        }
+        let mean = t0.elapsed().as_secs_f64() / 100.0;
+        println!("CSG_PROFILE {case}: mean {:.2} ms, min {:.2} ms per evaluation", mean * 1e3, best * 1e3);
+        return;
+    }
     if std::env::var_os("CSG_STRESS").is_some() {
         let tree = stress();
         let t0 = Instant::now();

@@ -22,6 +22,11 @@
 //! outside the patch) is triangulated as a fan about its centre; one without is two triangles
 //! across its shorter diagonal. The result is a closed, manifold triangle mesh.
 //!
+//! # Creases
+//! A triangle edge along a sharp side of its patch (a sharp block edge, or a crease of the
+//! control mesh) is tagged a crease of the output mesh, so that booleans, exporters and later
+//! subdivision see the block's sharp edges as the mesh's.
+//!
 //! # Displacement
 //! A closure `d(p, n, u, v)` moves each point `p` of the limit surface along its unit normal `n`
 //! by `d`, where `(u, v)` is the block-face parameter (see [`super::block`]) the point inherits
@@ -444,6 +449,7 @@ pub fn tessellate_control_with_progress(
     let mut positions: Vec<Vec3> = Vec::new();
     let mut tris: Vec<u32> = Vec::new();
     let mut triangle_patches: Vec<u32> = Vec::new();
+    let mut creases: Vec<[u32; 2]> = Vec::new();
     let mut sub_patches = 0usize;
     for f in 0..nf {
         let h = hes[f as usize];
@@ -547,6 +553,14 @@ pub fn tessellate_control_with_progress(
                 let id = vertex(&mut ids, &mut positions, key_of(x, y), f64::from(x) / scale, f64::from(y) / scale)?;
                 vid.push(id);
             }
+            // Ring edges along a sharp side of the patch lie on the crease: tag them.
+            for k in 0..ring.len() {
+                let (a, b) = (ring[k], ring[(k + 1) % ring.len()]);
+                let side = [a.1 == 0 && b.1 == 0, a.0 == r && b.0 == r, a.1 == r && b.1 == r, a.0 == 0 && b.0 == 0];
+                if side.iter().zip(&h).any(|(&on, &hk)| on && mesh.is_crease(hk)) {
+                    creases.push([vid[k], vid[(k + 1) % vid.len()]]);
+                }
+            }
             if vid.len() == 4 {
                 let p: Vec<Vec3> = vid.iter().map(|&i| positions[i as usize]).collect();
                 if p[0].distance(p[2]) <= p[1].distance(p[3]) {
@@ -566,8 +580,9 @@ pub fn tessellate_control_with_progress(
         progress(nf as usize + f as usize + 1, total);
     }
     let arities = vec![3u32; tris.len() / 3];
-    let out = Mesh::from_indexed(positions, &tris, &arities)
+    let mut out = Mesh::from_indexed(positions, &tris, &arities)
         .map_err(|e| BlockError::Internal(format!("the tessellation is not a manifold mesh: {e}")))?;
+    out.crease_edges(&creases).map_err(|e| BlockError::Internal(format!("a crease of the tessellation: {e}")))?;
     if out.face_count() != triangle_patches.len() {
         return Err(BlockError::Internal(format!(
             "{} triangle sources for {} triangles",
@@ -655,6 +670,33 @@ mod tests {
             }
         }
         assert_eq!(off, 0, "vertices off their face's plane");
+    }
+
+    #[test]
+    fn sharp_block_edges_are_tagged_creases() {
+        // An all-sharp 1 × 2 × 3 box: its twelve edges, 24 long in all, are creases, and no
+        // other edge is (the sub-face seams inside a face are smooth).
+        let mut b = boxed([0.0; 3], [1.0, 2.0, 3.0]);
+        b.sharp_all();
+        b.subdivide(Face::PosZ, 3, 2).unwrap();
+        let mut m = BlockModel::new();
+        m.add(b);
+        let t = m.tessellate(&MeshOptions::DEFAULT, None).unwrap();
+        let p = t.mesh.positions();
+        // Along a box edge: both ends at the same bound in two coordinates.
+        let along_box_edge = |a: Vec3, b: Vec3| {
+            let (a, b) = (a.to_array(), b.to_array());
+            let hi = [1.0, 2.0, 3.0];
+            (0..3).filter(|&i| a[i] == b[i] && (a[i] == 0.0 || a[i] == hi[i])).count() == 2
+        };
+        let creases = t.mesh.crease_pairs();
+        assert!(creases.iter().all(|&[a, b]| along_box_edge(p[a as usize], p[b as usize])));
+        let length: f64 = creases.iter().map(|&[a, b]| p[a as usize].distance(p[b as usize])).sum();
+        assert!((length - 24.0).abs() < 1e-12, "crease length {length}");
+        // A smooth block has none.
+        let mut m = BlockModel::new();
+        m.add(boxed([0.0; 3], [1.0, 2.0, 3.0]));
+        assert_eq!(m.tessellate(&MeshOptions::DEFAULT, None).unwrap().mesh.crease_count(), 0);
     }
 
     #[test]

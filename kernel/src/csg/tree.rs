@@ -8,12 +8,12 @@
 //! intersecting triangle pairs; provenance and crease tags cost O(1) per output triangle.
 
 use std::borrow::Cow;
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 use std::sync::Arc;
 
 use rayon::prelude::*;
 
-use super::engine::Solid;
+use super::engine::{Solid, Triangles};
 use super::{CsgError, CsgOp, Side};
 use crate::blocks::{BlockModel, MeshOptions};
 use crate::math::Vec3;
@@ -95,8 +95,8 @@ impl Csg {
             .enumerate()
             .map(|(k, (leaf, side))| prepare(leaf, *side, k as u32))
             .collect::<Result<_, _>>()?;
-        // Leaf numbers and the global triangle tags: leaf k's triangles are tagged from
-        // offsets[k], its leaf ids start at first_leaf[k].
+        // Leaf numbers and the global face tags: leaf k's faces (coplanar groups, see
+        // `Prepared::faces`) are tagged from offsets[k], its leaf ids start at first_leaf[k].
         let total: usize = prepared.iter().map(|p| p.triangles.len()).sum();
         if total >= i32::MAX as usize {
             return Err(CsgError::TooLarge { triangles: total });
@@ -104,81 +104,47 @@ impl Csg {
         let mut offsets = Vec::with_capacity(prepared.len());
         let mut first_leaf = 0u32;
         let mut tag = 0u32;
-        let mut sources = Vec::with_capacity(total);
-        let mut corner_ids = Vec::with_capacity(total);
-        let mut vertex_base = 0u32;
+        let mut sources = Vec::new();
+        let mut creases: HashMap<[u32; 2], Vec<[Vec3; 2]>> = HashMap::new();
         for p in &prepared {
             offsets.push(tag);
-            sources.extend(p.sources.iter().map(|s| s.shifted(first_leaf)));
-            corner_ids.extend(p.triangles.iter().map(|t| t.map(|v| v + vertex_base)));
-            vertex_base += p.positions.len() as u32;
-            tag += p.triangles.len() as u32;
+            sources.extend(p.face_sources.iter().map(|s| s.shifted(first_leaf)));
+            for &(f, g, seg) in &p.creases {
+                creases.entry(edge_key(f + tag, g + tag)).or_default().push(seg);
+            }
+            tag += p.face_sources.len() as u32;
             first_leaf += p.leaf_span;
         }
-        let mut creases: HashSet<[u32; 2]> = HashSet::new();
-        let mut vb = 0u32;
-        for p in &prepared {
-            for &[a, b] in &p.creases {
-                creases.insert(edge_key(a + vb, b + vb));
-            }
-            vb += p.positions.len() as u32;
-        }
-        // Engine ids in leaf and component order, reserved before the parallel import.
-        let mut first_ids = Vec::with_capacity(prepared.len());
-        for p in &prepared {
-            first_ids.push(Solid::reserve_ids(p.components.len() as u32));
-        }
-        let solids: Vec<Solid> = prepared
-            .par_iter()
-            .zip(leaves.par_iter())
-            .zip(offsets.par_iter().zip(first_ids.par_iter()))
-            .map(|((p, (_, side)), (&off, &first_id))| {
-                let refused = |reason: String| CsgError::NonManifold {
-                    side: *side,
-                    leaf: p.first_leaf_hint,
-                    reason: format!("the boolean engine refuses it ({reason})"),
-                };
-                // A block model's separate solids (blocks side by side that the connection
-                // search did not join) are unioned: the model is the union of its blocks.
-                let parts: Vec<Solid> = p
-                    .components
-                    .par_iter()
-                    .enumerate()
-                    .map(|(k, tris)| {
-                        let (positions, triangles) =
-                            compact(&p.positions, tris.iter().map(|&t| p.triangles[t as usize]));
-                        let tags: Vec<u32> = tris.iter().map(|&t| off + t).collect();
-                        Solid::with_id(&positions, &triangles, &tags, first_id + k as u32).map_err(refused)
-                    })
-                    .collect::<Result<_, _>>()?;
-                Solid::union_all(parts).map_err(|reason| CsgError::Engine { reason })
-            })
-            .collect::<Result<_, _>>()?;
+        // The import plan: which pieces (a mesh leaf, or one connected part of a block model)
+        // go into the engine together, with engine ids reserved in plan order so the same tree
+        // gives the same mesh whatever order the parallel imports finish in.
+        let bounds: Vec<Vec<(Vec3, Vec3)>> = prepared.iter().map(Prepared::component_bounds).collect();
+        let mut leaf_no = 0usize;
+        let plan = plan(self, &bounds, &mut leaf_no);
+        let solid = run(&plan, &prepared, &leaves, &offsets)?;
         drop(prepared);
-        let mut next = 0usize;
-        let solid = eval(self, &solids, &mut next)?;
-        let out = solid.triangles();
+        let out = without_flat_shells(solid.triangles());
         let flat: Vec<u32> = out.triangles.as_flattened().to_vec();
         let mut mesh = Mesh::from_indexed(out.positions, &flat, &vec![3; out.triangles.len()])
             .map_err(|e| CsgError::Engine { reason: e.to_string() })?;
         let face_sources: Vec<FaceSource> =
             out.tags.iter().map(|&t| sources.get(t as usize).copied().unwrap_or(FaceSource::Unknown)).collect();
-        // An output edge between pieces of two different input triangles lies on their common
-        // input edge; it is a crease when that edge was.
+        // An output edge between two input faces is a crease when it lies along a crease those
+        // two faces shared.
         if !creases.is_empty() {
-            let mut tagged = Vec::new();
-            for h in mesh.edges() {
-                let (f, g) = (mesh.face(h), mesh.face(mesh.twin(h)));
-                let (tf, tg) = (out.tags[f as usize] as usize, out.tags[g as usize] as usize);
-                if tf == tg || tf >= corner_ids.len() || tg >= corner_ids.len() {
-                    continue;
-                }
-                let (a, b) = (corner_ids[tf], corner_ids[tg]);
-                let shared: Vec<u32> = a.iter().copied().filter(|v| b.contains(v)).collect();
-                if shared.len() == 2 && creases.contains(&edge_key(shared[0], shared[1])) {
-                    tagged.push(h);
-                }
-            }
+            let tol = 1e-9 * mesh.bounds().size().max_element().max(f64::MIN_POSITIVE);
+            let tagged: Vec<u32> = mesh
+                .edges()
+                .filter(|&h| {
+                    let (f, g) = (mesh.face(h), mesh.face(mesh.twin(h)));
+                    let (tf, tg) = (out.tags[f as usize], out.tags[g as usize]);
+                    let Some(segments) = (tf != tg).then(|| creases.get(&edge_key(tf, tg))).flatten() else {
+                        return false;
+                    };
+                    let (p, q) = (mesh.position(mesh.origin(h)), mesh.position(mesh.target(h)));
+                    [p, (p + q) * 0.5, q].iter().all(|&x| segments.iter().any(|&[a, b]| on_segment(x, a, b, tol)))
+                })
+                .collect();
             for h in tagged {
                 mesh.set_crease_halfedge(h, true);
             }
@@ -188,8 +154,88 @@ impl Csg {
     }
 }
 
+/// Shells thinner than this fraction of the result's size (volume / area) are flat.
+const FLAT_SHELL: f64 = 1e-9;
+
+/// The engine's triangles without their flat shells: Manifold resolves solids that only touch
+/// (two boxes meeting face to face, intersected) with symbolic perturbation and may leave a
+/// closed shell of no volume there — two coincident sheets facing apart. CSG is regularised
+/// (the closure of the interior, as CGAL's Nef polyhedra and OpenSCAD give): such a shell
+/// bounds nothing and is dropped. A shell counts as flat when its volume over its area is below
+/// [`FLAT_SHELL`] of the result's largest extent.
+fn without_flat_shells(mut t: Triangles) -> Triangles {
+    let n = t.positions.len();
+    let mut parent: Vec<u32> = (0..n as u32).collect();
+    fn root(parent: &mut [u32], mut x: u32) -> u32 {
+        while parent[x as usize] != x {
+            parent[x as usize] = parent[parent[x as usize] as usize];
+            x = parent[x as usize];
+        }
+        x
+    }
+    for tri in &t.triangles {
+        let a = root(&mut parent, tri[0]);
+        for &v in &tri[1..] {
+            let b = root(&mut parent, v);
+            if a != b {
+                parent[b as usize] = a;
+            }
+        }
+    }
+    let mut volume = vec![0.0; n];
+    let mut area = vec![0.0; n];
+    let (mut lo, mut hi) = (Vec3::splat(f64::INFINITY), Vec3::splat(f64::NEG_INFINITY));
+    for p in &t.positions {
+        lo = lo.min(*p);
+        hi = hi.max(*p);
+    }
+    let size = (hi - lo).max_element();
+    let roots: Vec<u32> = t.triangles.iter().map(|tri| root(&mut parent, tri[0])).collect();
+    for (tri, &r) in t.triangles.iter().zip(&roots) {
+        let [a, b, c] = tri.map(|v| t.positions[v as usize]);
+        // Relative to the shell's root vertex, so a far-off shell's volume keeps its digits.
+        let o = t.positions[r as usize];
+        volume[r as usize] += (a - o).dot((b - o).cross(c - o)) / 6.0;
+        area[r as usize] += (b - a).cross(c - a).length() / 2.0;
+    }
+    let flat = |r: u32| volume[r as usize].abs() <= FLAT_SHELL * size * area[r as usize];
+    if !roots.iter().any(|&r| flat(r)) {
+        return t;
+    }
+    let keep: Vec<bool> = roots.iter().map(|&r| !flat(r)).collect();
+    let mut k = keep.iter();
+    t.triangles.retain(|_| *k.next().unwrap_or(&true));
+    let mut k = keep.iter();
+    t.tags.retain(|_| *k.next().unwrap_or(&true));
+    // Renumber the vertices still used.
+    let mut map = vec![u32::MAX; n];
+    let mut positions = Vec::new();
+    for tri in &mut t.triangles {
+        for v in tri.iter_mut() {
+            if map[*v as usize] == u32::MAX {
+                map[*v as usize] = positions.len() as u32;
+                positions.push(t.positions[*v as usize]);
+            }
+            *v = map[*v as usize];
+        }
+    }
+    t.positions = positions;
+    t
+}
+
 fn edge_key(a: u32, b: u32) -> [u32; 2] {
     [a.min(b), a.max(b)]
+}
+
+/// Whether `x` lies on the segment `a b`, within `tol`.
+fn on_segment(x: Vec3, a: Vec3, b: Vec3, tol: f64) -> bool {
+    let d = b - a;
+    let len2 = d.length_squared();
+    if len2 == 0.0 {
+        return x.distance(a) <= tol;
+    }
+    let t = ((x - a).dot(d) / len2).clamp(0.0, 1.0);
+    x.distance(a + d * t) <= tol
 }
 
 /// The leaves left to right, each with the side of its parent boolean it sits on.
@@ -203,37 +249,114 @@ fn collect_leaves<'a>(node: &'a Csg, side: Side, out: &mut Vec<(&'a Csg, Side)>)
     }
 }
 
-/// Evaluates `node` from the imported leaves (`next` counts leaves left to right): the operands
-/// of a chain of unions all at once (Manifold's batch union), the two sides of any other
-/// boolean in parallel.
-fn eval(node: &Csg, solids: &[Solid], next: &mut usize) -> Result<Solid, CsgError> {
+/// How a tree is carried out in the engine.
+enum Plan {
+    /// One engine import of these pieces, `(leaf, component)`, whose bounds are pairwise apart:
+    /// side by side they are already their union, so the engine composes nothing.
+    Import { pieces: Vec<(usize, usize)>, id: u32 },
+    /// The union of all (Manifold's batch union).
+    Union(Vec<Plan>),
+    /// Any other boolean; both sides run in parallel.
+    Op(CsgOp, Box<Plan>, Box<Plan>),
+}
+
+/// The plan of `node`, whose leaves are numbered from `*next` (left to right). A chain of
+/// unions becomes one batch union whose leaf pieces are dealt into groups apart from each
+/// other, each group one import: Manifold would otherwise import every piece and then compose
+/// the disjoint ones, which costs as much again as importing them.
+fn plan(node: &Csg, bounds: &[Vec<(Vec3, Vec3)>], next: &mut usize) -> Plan {
     match node {
         Csg::Op(CsgOp::Union, ..) => {
             let mut operands = Vec::new();
             union_operands(node, &mut operands);
-            let mut starts = Vec::with_capacity(operands.len());
-            for o in &operands {
-                starts.push(*next);
-                *next += count_leaves(o);
+            let mut pieces = Vec::new();
+            let mut subtrees = Vec::new();
+            for o in operands {
+                if let Csg::Op(..) = o {
+                    subtrees.push(plan(o, bounds, next));
+                } else {
+                    pieces.extend((0..bounds[*next].len()).map(|c| (*next, c)));
+                    *next += 1;
+                }
             }
-            let parts: Vec<Solid> = operands
-                .par_iter()
-                .zip(starts.par_iter())
-                .map(|(o, &start)| eval(o, solids, &mut { start }))
-                .collect::<Result<_, _>>()?;
-            Solid::union_all(parts).map_err(|reason| CsgError::Engine { reason })
+            let mut parts = imports(pieces, bounds);
+            parts.extend(subtrees);
+            if parts.len() == 1 {
+                parts.pop().unwrap_or(Plan::Union(Vec::new()))
+            } else {
+                Plan::Union(parts)
+            }
         }
         Csg::Op(op, a, b) => {
-            let leaves_a = count_leaves(a);
-            let (start_a, start_b) = (*next, *next + leaves_a);
-            *next += leaves_a + count_leaves(b);
-            let (ra, rb) = rayon::join(|| eval(a, solids, &mut { start_a }), || eval(b, solids, &mut { start_b }));
-            ra?.boolean(&rb?, *op).map_err(|reason| CsgError::Engine { reason })
+            let a = plan(a, bounds, next);
+            let b = plan(b, bounds, next);
+            Plan::Op(*op, Box::new(a), Box::new(b))
         }
         _ => {
-            let s = solids[*next].clone();
+            let k = *next;
             *next += 1;
-            Ok(s)
+            let mut parts = imports((0..bounds[k].len()).map(|c| (k, c)).collect(), bounds);
+            if parts.len() == 1 {
+                parts.pop().unwrap_or(Plan::Union(Vec::new()))
+            } else {
+                Plan::Union(parts)
+            }
+        }
+    }
+}
+
+/// Deals `pieces` into groups whose members' bounds are pairwise apart, in order (each piece
+/// joins the first group it is apart from), one import each.
+fn imports(pieces: Vec<(usize, usize)>, bounds: &[Vec<(Vec3, Vec3)>]) -> Vec<Plan> {
+    let mut groups: Vec<Vec<(usize, usize)>> = Vec::new();
+    for p in pieces {
+        let b = bounds[p.0][p.1];
+        match groups.iter_mut().find(|g| g.iter().all(|q| apart(b, bounds[q.0][q.1]))) {
+            Some(g) => g.push(p),
+            None => groups.push(vec![p]),
+        }
+    }
+    groups.into_iter().map(|pieces| Plan::Import { pieces, id: Solid::reserve_ids(1) }).collect()
+}
+
+/// Whether two boxes are strictly apart along some axis (a gap, not a shared face).
+fn apart(a: (Vec3, Vec3), b: (Vec3, Vec3)) -> bool {
+    a.1.cmplt(b.0).any() || b.1.cmplt(a.0).any()
+}
+
+/// Carries out `plan`: imports in parallel, both sides of every boolean in parallel.
+fn run(plan: &Plan, prepared: &[Prepared], leaves: &[(&Csg, Side)], offsets: &[u32]) -> Result<Solid, CsgError> {
+    match plan {
+        Plan::Import { pieces, id } => {
+            let mut positions = Vec::new();
+            let mut triangles = Vec::new();
+            let mut tags = Vec::new();
+            for &(k, c) in pieces {
+                let p = &prepared[k];
+                let tris = &p.components[c];
+                let (pos, tri) = compact(&p.positions, tris.iter().map(|&t| p.triangles[t as usize]));
+                let base = positions.len() as u32;
+                positions.extend(pos);
+                triangles.extend(tri.into_iter().map(|t: [u32; 3]| t.map(|v| v + base)));
+                tags.extend(tris.iter().map(|&t| offsets[k] + p.faces[t as usize]));
+            }
+            Solid::with_id(&positions, &triangles, &tags, *id).map_err(|reason| {
+                let (k, _) = pieces[0];
+                CsgError::NonManifold {
+                    side: leaves[k].1,
+                    leaf: prepared[k].first_leaf_hint,
+                    reason: format!("the boolean engine refuses it ({reason})"),
+                }
+            })
+        }
+        Plan::Union(parts) => {
+            let solids: Vec<Solid> =
+                parts.par_iter().map(|p| run(p, prepared, leaves, offsets)).collect::<Result<_, _>>()?;
+            Solid::union_all(solids).map_err(|reason| CsgError::Engine { reason })
+        }
+        Plan::Op(op, a, b) => {
+            let (ra, rb) = rayon::join(|| run(a, prepared, leaves, offsets), || run(b, prepared, leaves, offsets));
+            ra?.boolean(&rb?, *op).map_err(|reason| CsgError::Engine { reason })
         }
     }
 }
@@ -266,20 +389,21 @@ fn compact(positions: &[Vec3], triangles: impl Iterator<Item = [u32; 3]>) -> (Ve
     (out, tris)
 }
 
-fn count_leaves(node: &Csg) -> usize {
-    match node {
-        Csg::Op(_, a, b) => count_leaves(a) + count_leaves(b),
-        _ => 1,
-    }
-}
-
-/// One leaf as indexed triangles with a source per triangle (leaf ids from 0).
+/// One leaf as indexed triangles grouped into faces, with a source per face (leaf ids from 0).
+///
+/// A face is a connected set of coplanar triangles of one source, bounded by crease edges,
+/// source changes and bends: the engine gets one face id per face, which lets it merge the
+/// face's triangles in its result as Manifold does for its own faces (about half the triangles
+/// on flat faces, and faster booleans), while every output triangle still names its source.
 struct Prepared {
     positions: Vec<Vec3>,
     triangles: Vec<[u32; 3]>,
-    sources: Vec<FaceSource>,
-    /// Crease edges as vertex pairs.
-    creases: Vec<[u32; 2]>,
+    /// The face of each triangle, numbered from 0 in order of first triangle.
+    faces: Vec<u32>,
+    /// The source of each face.
+    face_sources: Vec<FaceSource>,
+    /// Crease edges: the faces on their two sides and the segment.
+    creases: Vec<(u32, u32, [Vec3; 2])>,
     /// How many leaf ids the input occupies (more than one for an earlier boolean result).
     leaf_span: u32,
     /// The leaf number used in errors raised after preparation.
@@ -289,9 +413,30 @@ struct Prepared {
     components: Vec<Vec<u32>>,
 }
 
+impl Prepared {
+    /// The bounds of each component.
+    fn component_bounds(&self) -> Vec<(Vec3, Vec3)> {
+        self.components
+            .iter()
+            .map(|tris| {
+                let mut lo = Vec3::splat(f64::INFINITY);
+                let mut hi = Vec3::splat(f64::NEG_INFINITY);
+                for &t in tris {
+                    for v in self.triangles[t as usize] {
+                        let p = self.positions[v as usize];
+                        lo = lo.min(p);
+                        hi = hi.max(p);
+                    }
+                }
+                (lo, hi)
+            })
+            .collect()
+    }
+}
+
 /// `leaf_no` is the input's position among the tree's inputs, left to right (named in errors).
 fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
-    let (mesh, sources, union_parts): (Cow<'_, Mesh>, Vec<FaceSource>, bool) = match leaf {
+    let (mesh, sources, union_parts, raw): (Cow<'_, Mesh>, Vec<FaceSource>, bool, bool) = match leaf {
         Csg::Blocks(model, options) => {
             if model.blocks().is_empty() {
                 return Err(CsgError::EmptyOperand { side, leaf: leaf_no });
@@ -299,7 +444,7 @@ fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
             let t =
                 model.tessellate(options, None).map_err(|source| CsgError::Blocks { side, leaf: leaf_no, source })?;
             let sources = t.triangle_sources.iter().map(|&sub_face| FaceSource::Block { leaf: 0, sub_face }).collect();
-            (Cow::Owned(t.mesh), sources, true)
+            (Cow::Owned(t.mesh), sources, true, false)
         }
         Csg::Mesh(m) => {
             if m.face_count() == 0 {
@@ -320,12 +465,16 @@ fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
                 })?;
                 (Cow::Owned(t), Some(from))
             };
-            let sources = match (tri.face_sources(), from) {
-                (Some(fs), _) => fs.to_vec(),
-                (None, Some(from)) => from.iter().map(|&face| FaceSource::Mesh { leaf: 0, face }).collect(),
-                (None, None) => (0..tri.face_count() as u32).map(|face| FaceSource::Mesh { leaf: 0, face }).collect(),
+            // A plain triangle mesh's faces are its coplanar regions (as Manifold's): a flat side
+            // of an STL is one face, named by its first triangle.
+            let (sources, raw) = match (tri.face_sources(), from) {
+                (Some(fs), _) => (fs.to_vec(), false),
+                (None, Some(from)) => (from.iter().map(|&face| FaceSource::Mesh { leaf: 0, face }).collect(), false),
+                (None, None) => {
+                    ((0..tri.face_count() as u32).map(|face| FaceSource::Mesh { leaf: 0, face }).collect(), true)
+                }
             };
-            (tri, sources, false)
+            (tri, sources, false, raw)
         }
         Csg::Op(..) => unreachable!("collect_leaves yields leaves only"),
     };
@@ -341,15 +490,100 @@ fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
     // an edge it keeps two vertices at one point, which is no self-touching for it.
     let earlier_result = matches!(leaf, Csg::Mesh(m) if m.face_sources().is_some());
     check_solid(&mesh, &triangles, &components, !earlier_result, side, leaf_no)?;
+    let (faces, face_sources, creases) = coplanar_faces(&mesh, &triangles, &sources, raw);
     Ok(Prepared {
         positions: mesh.positions().to_vec(),
         triangles,
-        sources,
-        creases: mesh.crease_pairs(),
+        faces,
+        face_sources,
+        creases,
         leaf_span,
         first_leaf_hint: leaf_no,
         components,
     })
+}
+
+/// Sines of the angle between two triangles' normals below this count as coplanar.
+const COPLANAR_SINE: f64 = 1e-10;
+
+/// The faces of a leaf (see [`Prepared`]): triangles joined across every edge that is no crease,
+/// between triangles of one source (any two, when `any_source`) whose normals agree; with the
+/// face sources (a face's first triangle's) and the crease edges between faces.
+#[allow(clippy::type_complexity)]
+pub(super) fn coplanar_faces(
+    mesh: &Mesh,
+    triangles: &[[u32; 3]],
+    sources: &[FaceSource],
+    any_source: bool,
+) -> (Vec<u32>, Vec<FaceSource>, Vec<(u32, u32, [Vec3; 2])>) {
+    // A zero-area triangle (three corners on a line, as a block's T-vertices make along a
+    // sharp edge) has no plane: it joins the face of a neighbour, after the others are joined.
+    let normal = |t: usize| {
+        let [a, b, c] = triangles[t].map(|v| mesh.position(v));
+        let n = (b - a).cross(c - a);
+        if n.length() <= COPLANAR_SINE * (b - a).length() * (c - a).length() {
+            Vec3::ZERO
+        } else {
+            n
+        }
+    };
+    let normals: Vec<Vec3> = (0..triangles.len()).map(normal).collect();
+    let mut parent: Vec<u32> = (0..triangles.len() as u32).collect();
+    fn root(parent: &mut [u32], mut x: u32) -> u32 {
+        while parent[x as usize] != x {
+            parent[x as usize] = parent[parent[x as usize] as usize];
+            x = parent[x as usize];
+        }
+        x
+    }
+    let joinable = |h: u32| {
+        let (f, g) = (mesh.face(h) as usize, mesh.face(mesh.twin(h)) as usize);
+        (!mesh.is_crease(h) && (any_source || sources[f] == sources[g])).then_some((f, g))
+    };
+    let join = |parent: &mut [u32], f: usize, g: usize| {
+        let (a, b) = (root(parent, f as u32), root(parent, g as u32));
+        // The smaller triangle is the root, so a face is named by its first triangle.
+        parent[a.max(b) as usize] = a.min(b);
+    };
+    for (f, g) in mesh.edges().filter_map(joinable) {
+        let (nf, ng) = (normals[f], normals[g]);
+        let scale = nf.length() * ng.length();
+        if nf.dot(ng) > 0.0 && nf.cross(ng).length() <= COPLANAR_SINE * scale {
+            join(&mut parent, f, g);
+        }
+    }
+    let mut attached = vec![false; triangles.len()];
+    for (f, g) in mesh.edges().filter_map(joinable) {
+        for (lone, other) in [(f, g), (g, f)] {
+            if normals[lone] == Vec3::ZERO && !attached[lone] {
+                attached[lone] = true;
+                let r = root(&mut parent, other as u32);
+                if r != lone as u32 {
+                    parent[lone] = r;
+                }
+            }
+        }
+    }
+    let mut number = vec![u32::MAX; triangles.len()];
+    let mut face_sources = Vec::new();
+    let mut faces = Vec::with_capacity(triangles.len());
+    for t in 0..triangles.len() as u32 {
+        let r = root(&mut parent, t) as usize;
+        if number[r] == u32::MAX {
+            number[r] = face_sources.len() as u32;
+            face_sources.push(sources[r]);
+        }
+        faces.push(number[r]);
+    }
+    let creases = mesh
+        .edges()
+        .filter(|&h| mesh.is_crease(h))
+        .map(|h| {
+            let (f, g) = (faces[mesh.face(h) as usize], faces[mesh.face(mesh.twin(h)) as usize]);
+            (f, g, [mesh.position(mesh.origin(h)), mesh.position(mesh.target(h))])
+        })
+        .collect();
+    (faces, face_sources, creases)
 }
 
 /// Refuses an input that bounds no solid: open, or touching itself (two vertices of one of its
