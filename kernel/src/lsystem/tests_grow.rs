@@ -379,11 +379,17 @@ fn nested_branches_do_not_cross_themselves() {
     assert!(bad.is_empty(), "self-intersecting faces (string, valence, faces, of): {bad:?}");
 }
 
-/// Every nested string, the last two included. Ignored until they pass: a branch nested on a
-/// branch's first loop, `F F [+F [+F F] F F] F F`, crosses in 3 of 90 faces at valence 8 (its
-/// first quad at the inner gap's far end runs inside the outer branch's next quad); two pitched
-/// branches a quarter turn apart, `F F [&F F] /(90) [&F F] F`, in 9 of 68, 8 of 96 and 12 of 136
-/// faces at valences 8, 12, 16 (their tubes leave the trunk overlapping).
+/// Every nested string, the last two included. Ignored until they pass. Measured now: a branch
+/// nested on a branch's first loop, `F F [+F [+F F] F F] F F`, crosses in 3 of 90 faces at
+/// valence 8 (at the inner gap's far side the outer branch's next quad and the inner branch's
+/// first quad leave the same edge in nearly the same direction and overlap); two pitched
+/// branches a quarter turn apart, `F F [&F F] /(90) [&F F] F`, in 6 of 68 and 8 of 136 faces at
+/// valences 8 and 16 (none at 12): at valence 8 the first branch (−y) takes the run
+/// 225°…0° of its sector {225°…45°}, the tie vertex nearer the second branch's heading (−x,
+/// 180°), which is left 45°…180°, centred 67.5° off its heading; its first quads from 45°
+/// sweep through the trunk's next segment. Choosing siblings' runs jointly (here 270°…45° and
+/// 90°…225°, each 22.5° off) would remove it. Before the first loops cleared the parent's tube
+/// and siblings opened on their own sides: 9, 8 and 12.
 #[test]
 #[ignore = "two nested strings still cross: see the doc comment for the counts"]
 fn every_nested_string_is_free_of_crossings() {
@@ -465,5 +471,34 @@ fn sibling_branches_open_on_their_own_sides() {
                 "valence {valence}: the gap of the branch heading {heading} is centred {off:.1}° off it"
             );
         }
+    }
+}
+
+/// The recipes' plants (examples/lsystem_*.rhai, their grammars and options) still cross
+/// themselves, all at branch bases (every crossing pair lies within four vertex rings: no two
+/// distant branches pass through each other): this holds the counts measured when the first
+/// loops began to clear their parents' tubes and siblings to open on their own sides, so that
+/// they only fall. Before those changes: 483 of 1516 faces (shrub), 1180 of 4830 (tree), 533
+/// of 4528 (turtle plant).
+#[test]
+fn the_recipes_cross_themselves_no_more_than_measured() {
+    let turtle =
+        Lsystem::new("X", &[RuleSpec::deterministic("X", "F[&+X]/[&-X]///FX"), RuleSpec::deterministic("F", "FF")], 0)
+            .unwrap();
+    let cases = [
+        ("shrub", thesis_plant(4).derive(10).unwrap(), GrowOptions::DEFAULT.with_angle(40.0).with_radius(0.2), 513),
+        ("tree", growing_tree(2).derive(7).unwrap(), GrowOptions::DEFAULT.with_valence(10).with_angle(35.0), 791),
+        (
+            "turtle plant",
+            turtle.derive(5).unwrap(),
+            GrowOptions::DEFAULT.with_valence(16).with_angle(25.7).with_radius(0.2).with_length(0.6),
+            220,
+        ),
+    ];
+    for (what, s, opts, measured) in cases {
+        let g = grow(&s, &opts).unwrap();
+        assert_plant(&g);
+        let n = super::tests_selfint::self_intersecting_faces(g.mesh.mesh());
+        assert!(n <= measured, "{what}: {n} self-intersecting faces of {}, measured {measured}", g.mesh.face_count());
     }
 }
