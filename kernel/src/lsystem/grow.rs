@@ -24,11 +24,23 @@
 //! size. A branch keeps its parent's valence when the run fits (a run of valence/2 + 1 vertices,
 //! since the pole of a run of |VV| vertices has valence 2(|VV| − 1), §4.3.1) unless its siblings
 //! on the same loop need room (c branches get runs of at most valence/c vertices), else the
-//! largest run left; runs on one loop never overlap (§4.3.4 d). A run over 135° of its loop
-//! reaches round to the parent's sides, and the branch's first quads at its ends cross the
-//! parent's faces beyond them: only a lone branch on a round loop keeps a run of valence/2 + 1
-//! (its run is slid to 130°); siblings and branches on a branch's first loops get at most
-//! 3·valence/8 + 1 vertices, so their valence falls by a quarter.
+//! largest run left; runs on one loop never overlap (§4.3.4 d). Siblings share a loop by where
+//! they point, not by who comes first: at the first `[` of a group their headings at their
+//! first segments are read ahead in the string, and each branch's run is taken from the loop
+//! vertices nearest its own heading (its sector) when a run as long as the loop allows fits
+//! there. A run over 135° of its loop reaches round to the parent's sides, and the branch's
+//! first quads at its ends cross the parent's faces beyond them: a lone branch keeps a run of
+//! valence/2 + 1 when its loop can be slid so that the run spans 130° — the loop star-shaped
+//! about its centre and no loop edge turning over 60° from the edge facing it behind (a circle
+//! always can; a branch's first loop, shaped like its gap, seldom can: seen along a heading
+//! close to the parent's axis a gap is a crescent). Siblings and runs that cannot slide get at
+//! most 3·valence/8 + 1 vertices, so their valence falls by a quarter, compounding with depth.
+//!
+//! A branch's first segment leaves the parent's tube: along a heading at α to the parent's
+//! axis it is at least (R + r·cos α) / sin α long (α taken at least 15°), so that its first loop
+//! lies outside the parent's radius R, where the parent goes on beyond the loop (as its next
+//! segments or its tip's cap) — with a first segment of only R + r, branches at 15° to their
+//! parent ran through it (tested).
 //!
 //! Growth and steps (§11.1, §12, decided here): the string of step n is derived first
 //! ([`Lsystem::derive`](super::Lsystem::derive), every module rewritten at once as §10.1 requires)
@@ -45,13 +57,19 @@
 //! `grow(steps)` grows step `steps` from the axiom's turtle, and the same seed always gives the
 //! same string, hence the same mesh.
 //!
-//! Known limit: a gap's two ends are sharp (the far side meets the loop at the split vertices,
+//! Known limits: a gap's two ends are sharp (the far side meets the loop at the split vertices,
 //! §4.3.2), and a branch's first loops keep those corners as creases until they round off; on
 //! branches of two or three loops (the thesis's `L0 L P`) the branch stays somewhat flat. No
-//! face folds (tests_grow checks that over many seeds). Faces still cross where a branch nests on
-//! a branch's first loop at low valence (its first quad at the gap's far end runs inside the
-//! parent's next quad) and where sibling branches' tubes overlap as they leave the parent
-//! (tests_grow's ignored strict crossing test has the counts).
+//! face folds (tests_grow checks that over many seeds). Faces still cross at branch bases
+//! (tests_grow, counted with Möller's test): where a branch nests on a branch's first loop at
+//! low valence (at the inner gap's far side the parent's next quad and the branch's first quad
+//! leave one edge in nearly one direction), where a sibling's sector leaves it a run centred
+//! far off its heading (siblings' runs are chosen one after the other, not jointly), at the
+//! two quads of a gap's sharp end for branches within 20° of their parent's axis, and in the
+//! recipes' plants (shrub 513 of 1564 faces, tree 791 of 5780, turtle plant 220 of 4528; all
+//! within four vertex rings of each other — no two distant branches pass through each other).
+//! The Fig. 12.2 benchmark case grows 51k vertices, not the thesis's 400k, as its nested
+//! branches nest on crescent-shaped first loops that cannot slide (kernel/benches/lsystem.rs).
 //!
 //! Skeleton (§7.1): the trunk's base pole is the root; every drawn module adds one node (its loop,
 //! or for `P` its pole; a nesting loop and the gaps on it are one node); every branch not ended by
@@ -229,9 +247,6 @@ struct Ring {
     axis: Vec3,
     radius: f64,
     length: f64,
-    /// A circle after a circle (not a branch's first loop, which copies its gap's shape, nor
-    /// the loop after it): its vertices may slide round it.
-    round: bool,
 }
 
 #[derive(Clone, Debug)]
@@ -769,9 +784,10 @@ impl Grower {
                 };
                 st.branch = Some(b);
                 // The first segment leaves the parent's surface: at least the parent's radius
-                // plus its own away from the parent's axis, and its loop lies at least its
-                // radius beyond every vertex of the gap along the heading (a gap on a stretched
-                // loop can reach far ahead; a loop behind part of its gap folds the quads).
+                // plus its own long, clear of the parent's tube (below), and its loop lies at
+                // least its radius beyond every vertex of the gap along the heading (a gap on a
+                // stretched loop can reach far ahead; a loop behind part of its gap folds the
+                // quads).
                 let host = &self.rings[st.host.unwrap_or(0)];
                 let (o, h) = (st.turtle.position, st.turtle.heading);
                 let pm = self.mesh.as_ref().ok_or_else(|| LsystemError::Internal("nesting before the trunk".into()))?;
@@ -827,7 +843,6 @@ impl Grower {
             axis: t.heading,
             radius: r,
             length: len,
-            round: true,
         });
         self.branches.push(Branch { tip: north, ring: Some(self.rings.len() - 1), ended: pole.then_some(i) });
         st.branch = Some(self.branches.len() - 1);
@@ -869,12 +884,12 @@ impl Grower {
             .or_else(|| across(st.turtle.up, ring.axis))
             .unwrap_or_else(|| ring.axis.any_orthonormal_vector());
         let pos: Vec<Vec3> = ring.verts.iter().map(|&v| pm.position(v)).collect();
-        // Keep the valence (a run of n/2 + 1) unless the siblings on this loop need room. A run
-        // over 135° of its loop wraps round to the parent's sides, where the surface faces
-        // along the branch, and the branch's first quads at the gap's ends cross the parent's
-        // faces beyond them: a lone branch on a round loop without branches gets its run slid
-        // to 130° below; every other run (siblings, whose slides would widen each other's, or a
-        // loop that cannot slide) spans at most 3n/8 edges.
+        // Keep the valence (a run of n/2 + 1) unless the siblings on this loop need room (c
+        // siblings get runs of at most n/c, each in its own sector). A run over 135° of its loop
+        // wraps round to the parent's sides, where the surface faces along the branch, and the
+        // branch's first quads at the gap's ends cross the parent's faces beyond them: a lone
+        // branch on a loop without branches gets its run slid to 130° ([`slide_run`]) when the
+        // loop allows it; every other run spans at most 3n/8 edges.
         let lone = st.siblings <= 1 && !ring.used.iter().any(|&u| u);
         let wmax = (n / 2 + 1).min(n / st.siblings.max(1)).clamp(3, n - 1);
         let used: Vec<bool> = match &st.sector {
@@ -992,7 +1007,6 @@ impl Grower {
         if let Some(e) = self.branches[b].ended {
             return Err(LsystemError::DrawAfterPole { module: i, symbol: m.to_string(), ended: e });
         }
-        let round_after = !from_gap && self.branches[b].ring.is_some_and(|k| self.rings[k].round);
         let h = st.turtle.heading;
         let end = st.turtle.position + h * len;
         st.turtle.position = end;
@@ -1101,15 +1115,7 @@ impl Grower {
         }
         Self::polar(i, pm.set_position(tip, end + h * cap(r, len)))?;
         let verts = Self::forward_order(pm, verts, tip);
-        self.rings.push(Ring {
-            used: vec![false; nn],
-            verts,
-            center: end,
-            axis: h,
-            radius: r,
-            length: len,
-            round: round_after,
-        });
+        self.rings.push(Ring { used: vec![false; nn], verts, center: end, axis: h, radius: r, length: len });
         self.branches[b].ring = Some(self.rings.len() - 1);
         self.check_caps(i, m)
     }
