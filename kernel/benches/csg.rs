@@ -8,6 +8,9 @@
 //! The building (Figs. 18–20, 10 storeys, 1,091 blocks) is timed on the inputs its recipe saves
 //! (tests/data/csg_building/building_peer.py says how, and times manifold3d on them).
 //!
+//! `csg/die_engine_only` times what manifold3d's figure times: the inputs already imported into
+//! the engine, then the batch subtraction (compose the spheres, subtract) and the export.
+//!
 //! Run: `cargo bench -p blocksmith-kernel --bench csg` (the die, the building); the stress case runs once,
 //! timed, with `CSG_STRESS=1 cargo bench -p blocksmith-kernel --bench csg`; its peak memory with
 //! `/usr/bin/time -v target/release/deps/csg-* --bench` under `CSG_STRESS=1`.
@@ -69,7 +72,35 @@ fn building() -> Option<Csg> {
     Csg::union_all(storeys)
 }
 
+/// `m` imported into the engine as it is (one tag per triangle).
+fn import(m: &Mesh) -> Solid {
+    let (t, _) = m.triangulate_with_sources().unwrap();
+    let tris: Vec<[u32; 3]> = (0..t.face_count() as u32)
+        .map(|f| {
+            let v: Vec<u32> = t.face_vertices(f).collect();
+            [v[0], v[1], v[2]]
+        })
+        .collect();
+    let tags: Vec<u32> = (0..tris.len() as u32).collect();
+    Solid::new(t.positions(), &tris, &tags).unwrap()
+}
+
+/// The die's inputs already in the engine, as manifold3d's timing starts: the cube and the 21
+/// spheres imported one by one; timed, the batch subtraction (compose the spheres, subtract).
+fn die_solids() -> (Solid, Vec<Solid>) {
+    let s = sphere(0.15, 32);
+    let cube = import(&Mesh::cuboid(Vec3::splat(-1.0), Vec3::splat(1.0)));
+    (cube, die_pips().into_iter().map(|c| import(&s.translate(Vec3::from(c)))).collect())
+}
+
 fn bench(c: &mut Criterion) {
+    let (cube, spheres) = die_solids();
+    c.bench_function("csg/die_engine_only", |b| {
+        b.iter(|| {
+            let pits = Solid::union_all(spheres.clone()).unwrap();
+            black_box(cube.boolean(&pits, blocksmith_kernel::csg::CsgOp::Difference).unwrap().triangles())
+        });
+    });
     let tree = die();
     let m = tree.evaluate().unwrap();
     println!("die: {} triangles, volume {:.9}, genus {}", m.face_count(), m.volume(), m.genus());
@@ -117,6 +148,20 @@ fn main() {
             m.volume(),
             m.genus(),
             m.is_closed() && m.is_manifold()
+        );
+        // The same booleans from solids already in the engine (manifold3d's timing).
+        let centres: Vec<Vec3> =
+            (0..1000).map(|i| Vec3::new((i / 100) as f64, (i / 10 % 10) as f64, (i % 10) as f64) * 0.9).collect();
+        let s = sphere(0.55, 56);
+        let cubes: Vec<Solid> = centres.iter().map(|&c| import(&Mesh::cuboid(c - 0.5, c + 0.5))).collect();
+        let spheres: Vec<Solid> = centres.iter().map(|&c| import(&s.translate(c))).collect();
+        let t0 = Instant::now();
+        let u = Solid::union_all(cubes).unwrap();
+        let r = u.boolean(&Solid::union_all(spheres).unwrap(), blocksmith_kernel::csg::CsgOp::Difference).unwrap();
+        println!(
+            "CSG_STRESS engine_only tris={} engine_s={:.3}",
+            r.triangles().triangles.len(),
+            t0.elapsed().as_secs_f64()
         );
         return;
     }

@@ -2,10 +2,11 @@
 //! Manifold 3.5.4; see the [module documentation](super) for why this engine).
 //!
 //! Everything the rest of the crate knows of the engine is here: a [`Solid`] is imported from
-//! indexed triangles carrying one `u32` tag per triangle, combined by [`Solid::boolean`], and
-//! exported back to triangles whose tags name the input triangle each output triangle lies on
-//! (Manifold's `faceID`, which its booleans keep and which its simplification never merges
-//! across). Swapping the engine means rewriting this file only.
+//! indexed triangles carrying one `u32` tag per triangle — the input face it belongs to, the
+//! same for coplanar triangles of one face — combined by [`Solid::boolean`], and exported back
+//! to triangles whose tags name the input face each output triangle lies on (Manifold's
+//! `faceID`, which its booleans keep and which its simplification never merges across).
+//! Swapping the engine means rewriting this file only.
 
 use manifold_rust::manifold::Manifold;
 use manifold_rust::types::{Error as EngineStatus, MeshGLP, OpType};
@@ -31,7 +32,8 @@ pub struct Triangles {
 }
 
 impl Solid {
-    /// Imports indexed triangles with one tag per triangle.
+    /// Imports indexed triangles with one tag per triangle (triangles sharing a tag must be
+    /// coplanar: the engine treats them as one face).
     ///
     /// # Errors
     /// The engine's reason (e.g. `"Not Manifold"`) when it refuses the triangles.

@@ -27,24 +27,37 @@
 //! geometric cases; boolmesh fails on empty results and is 1.6–1.8× slower, so **manifold-rust**
 //! (its `parallel` feature on; results are bit-identical to the sequential build) is the engine.
 //! Its `faceID` survives booleans and its simplification never merges across two face ids,
-//! which gives provenance for free: every input triangle gets its own id. The paper's own
+//! which gives provenance: each input *face* — a connected flat region of one source (a block
+//! sub-face, a polygon of an input mesh, a coplanar region of a plain triangle mesh), see
+//! [`tree`] — gets its own id, so the engine re-triangulates a cut face whole (as manifold3d
+//! does with its own faces) and every output triangle still names its source. The paper's own
 //! segment/loop method would need to beat both on robustness and speed; it is not attempted.
-
 //!
-//! # Speed (release, this 2-core machine, one sitting; `cargo bench -p blocksmith-kernel --bench
-//! csg`, manifold3d by `../shared/peers/die_manifold.py`)
-//! | case | blocksmith | manifold3d 3.5.4 | ratio |
+//! # Regularised
+//! Solids that only touch over part of a face can leave, in Manifold, a closed shell of no
+//! volume there (two coincident sheets facing apart). Such shells bound nothing and are
+//! dropped, so `a ∩ b` of touching solids is empty, as in CGAL's Nef polyhedra (OpenSCAD).
+//!
+//! # Speed (release, this 2-core machine with other work paused, 2026-12-01; `cargo bench -p
+//! blocksmith-kernel --bench csg`, its `CSG_PROFILE=die|building` mode (best of 100) and
+//! `CSG_STRESS=1` mode (one run, peak by `/usr/bin/time -v`); manifold3d 3.5.4 by
+//! `../shared/peers/die_manifold.py die|stress` and `tests/data/csg_building/building_peer.py`)
+//! | case | blocksmith | manifold3d | ratio |
 //! |---|---|---|---|
-//! | the die (9.5k triangles) | 33 ms | 20 ms | 1.6× |
-//! | the building, 10 storeys, 1,091 blocks (49k triangles; manifold3d's 22k) | 291 ms | 188 ms | 1.55× |
-//! | stress: 10³ cubes ∪, − 1,000 spheres (0.99M triangles) | 11.7 s, 1.49 GB peak | 8.6 s (union + difference), 1.60 GB | 1.35×, 0.93× memory |
+//! | the die (9.5k triangles), best of runs | 20.2–21.8 ms | 10.2–11.0 ms | 2.0× |
+//! | the die, engine only (inputs already imported, as manifold3d's figure), criterion mean vs median | 23.9 ms | 12.6 ms | 1.9× |
+//! | the building, 10 storeys, 1,091 blocks (24.6k triangles; manifold3d's 22.3k), best | 101–108 ms | 93–103 ms | 1.05–1.08× |
+//! | stress: 10³ cubes ∪, − 1,000 spheres (0.99M triangles) | 7.2 s, 1.03 GB peak | 4.3 s, 1.45 GB | 1.65×, 0.71× memory |
+//! | stress, engine only | 6.9 s | 4.3 s | 1.6× |
 //!
 //! Ours includes importing every input into the engine, provenance and building the result's
-//! half-edge [`Mesh`](crate::Mesh); manifold3d's starts from already-built solids. Every input
-//! triangle keeps its own face id (for provenance), so coplanar input triangles are not merged
-//! as manifold3d merges them: our results have more triangles on flat faces. Unions are
-//! evaluated as Manifold's batch union ([`engine::Solid::union_all`]): operands whose bounds are
-//! apart are composed without a boolean.
+//! half-edge [`Mesh`](crate::Mesh); manifold3d's starts from solids it already holds. The
+//! engine-only rows time manifold-rust doing exactly manifold3d's work: the gap to the 1.5×
+//! target is the port's (its compose and import — vertex normals by `acos`, sorting — cost
+//! about as much as the boolean), not this pipeline's, which adds about 10 % (stress) and
+//! nothing on the die, where importing the disjoint spheres as one solid saves the compose.
+//! Unions are evaluated as Manifold's batch union: operands whose bounds are apart go into the
+//! engine together ([`tree`]) or are composed ([`engine::Solid::union_all`]).
 
 pub mod engine;
 mod error;

@@ -3,9 +3,18 @@
 //! nodes are union, difference and intersection. Independent subtrees are evaluated in
 //! parallel (rayon), and every output face keeps its source ([`FaceSource`]).
 //!
+//! Evaluation: the leaves are tessellated and checked, each grouped into faces (connected
+//! coplanar triangles of one source, see `Prepared`); then a plan says what goes into the
+//! engine together — a chain of unions is one batch union whose leaf pieces (a mesh, or one
+//! connected part of a block model) are dealt into groups apart from each other, each group one
+//! import — and the plan runs, imports and both sides of every boolean in parallel; last, flat
+//! zero-volume shells are dropped, and sources and creases are read back from the face tags.
+//!
 //! Cost: the leaves are tessellated and checked in O(n log n) for n input triangles (the
-//! coincident-vertex check sorts); each boolean is Manifold's, O((n + k) log n) for k
-//! intersecting triangle pairs; provenance and crease tags cost O(1) per output triangle.
+//! coincident-vertex check sorts); faces by union–find, O(n α(n)); dealing p pieces into g
+//! groups O(p · g · group size) box tests; each boolean is Manifold's, O((n + k) log n) for k
+//! intersecting triangle pairs; provenance costs O(1) per output triangle, creases O(s) per
+//! output edge between two faces that share s crease segments.
 
 use std::borrow::Cow;
 use std::collections::HashMap;
