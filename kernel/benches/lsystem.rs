@@ -6,13 +6,18 @@
 //!
 //! Also: how time grows with the steps (the number of branches doubles per step, Eq. 12.1: the
 //! time per vertex must stay flat), and the derivation alone.
-//! Measured (release, idle 2-core machine, 2026-12-01): 11 steps in 72 ms — but for 51,434
-//! vertices, not the thesis's 400k: since branch gaps are capped at 135° of their loop (so that
-//! branch bases do not cross the parent, grow.rs), a nested branch gets 3/4 of its parent's
-//! valence, compounding with depth. Before that cap the same grammar gave 393k vertices in
-//! 0.41-0.58 s (load 3-4). By steps 5 / 7 / 9 / 11: 2.7 / 7.1 / 18.7 / 71 ms; about 1.4 µs per
-//! vertex at every size, so a thesis-sized mesh would take roughly 0.5 s (extrapolated). The hot path is the
-//! mesh's `replace_faces` (about 65 % of the time) under polar's add_refinement.
+//! Measured (release, 2-core machine, 2026-12-01): before the 135° gap cap, 393k vertices in
+//! 0.41-0.58 s (load 3-4). Since the cap a nested branch gets 3/4 of its parent's valence
+//! unless its loop can be slid (grow.rs): the branches' first loops, where this grammar nests
+//! every branch, are shaped like their gaps (crescents, seen along a heading 30° from the
+//! parent's axis) and cannot slide, so valence falls with depth and 11 steps make 51,651
+//! vertices. Idle, after the cap: 11 steps in 72 ms. After sibling sectors, slides on any loop
+//! that allows them and first segments clear of the parent's tube (load 2.2, the other
+//! engineer building): 11 steps in 104 ms; by steps 5 / 7 / 9 / 11: 3.2 / 8.4 / 27.0 / 99.6 ms
+//! for 2,484 / 5,514 / 14,787 / 51,651 vertices — 1.3 / 1.5 / 1.8 / 1.9 µs per vertex, near
+//! linear in the result (the string doubles per step, Eq. 12.1). A thesis-sized mesh at 1.9 µs
+//! per vertex would take roughly 0.75 s under that load (extrapolated, not measured). The hot path is the mesh's
+//! `replace_faces` (about 65 % of the time) under polar's add_refinement.
 //! Run: `cargo bench -p blocksmith-kernel --bench lsystem -- --warm-up-time 1 --measurement-time 3
 //! --sample-size 10`.
 
