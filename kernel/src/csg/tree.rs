@@ -175,13 +175,6 @@ const FLAT_SHELL: f64 = 1e-9;
 fn without_flat_shells(mut t: Triangles) -> Triangles {
     let n = t.positions.len();
     let mut parent: Vec<u32> = (0..n as u32).collect();
-    fn root(parent: &mut [u32], mut x: u32) -> u32 {
-        while parent[x as usize] != x {
-            parent[x as usize] = parent[parent[x as usize] as usize];
-            x = parent[x as usize];
-        }
-        x
-    }
     for tri in &t.triangles {
         let a = root(&mut parent, tri[0]);
         for &v in &tri[1..] {
@@ -230,6 +223,15 @@ fn without_flat_shells(mut t: Triangles) -> Triangles {
     }
     t.positions = positions;
     t
+}
+
+/// The root of `x` in the union–find forest `parent` (path halving on the way).
+fn root(parent: &mut [u32], mut x: u32) -> u32 {
+    while parent[x as usize] != x {
+        parent[x as usize] = parent[parent[x as usize] as usize];
+        x = parent[x as usize];
+    }
+    x
 }
 
 fn edge_key(a: u32, b: u32) -> [u32; 2] {
@@ -538,13 +540,6 @@ pub(super) fn coplanar_faces(
     };
     let normals: Vec<Vec3> = (0..triangles.len()).map(normal).collect();
     let mut parent: Vec<u32> = (0..triangles.len() as u32).collect();
-    fn root(parent: &mut [u32], mut x: u32) -> u32 {
-        while parent[x as usize] != x {
-            parent[x as usize] = parent[parent[x as usize] as usize];
-            x = parent[x as usize];
-        }
-        x
-    }
     let joinable = |h: u32| {
         let (f, g) = (mesh.face(h) as usize, mesh.face(mesh.twin(h)) as usize);
         (!mesh.is_crease(h) && (any_source || sources[f] == sources[g])).then_some((f, g))
