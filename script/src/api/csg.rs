@@ -103,8 +103,9 @@ fn source_map(s: &FaceSource) -> Map {
 pub mod csg_api {
     /// The union `a ∪ b` of two solids, each a `BlockModel` (tessellated first) or a closed
     /// `Mesh` (an earlier result too): a closed manifold triangle `Mesh` whose faces know their
-    /// source (see `sources`). Same as `a + b`. Errors name the side: an operand that is open,
-    /// empty, touches itself or is not a solid type.
+    /// source (see `sources`). Same as `a + b`. The result's edges keep the crease tags of the
+    /// input edges they lie on (a block's sharp edges among them). Errors name the side: an
+    /// operand that is open, empty, touches itself or is not a solid type.
     ///
     /// ```rhai
     /// let u = union(box([0, 0, 0], [1, 1, 1]), box([0.5, 0, 0], [1.5, 1, 1]));
@@ -161,12 +162,14 @@ pub mod csg_api {
     }
 
     /// The intersection `a ∩ b`; operands and result as for `union`. Solids that do not overlap
-    /// (or only touch) give a mesh without faces.
+    /// (or only touch, over a whole face or part of one) give a mesh without faces: booleans
+    /// are regularised, no zero-thickness sheet is left where solids meet.
     ///
     /// ```rhai
     /// let i = intersect(box([0, 0, 0], [1, 1, 1]), box([0.5, 0.5, 0.5], [2, 2, 2]));
     /// assert_near(i.volume(), 0.125, 1e-12);
     /// assert_eq(intersect(box([0, 0, 0], [1, 1, 1]), box([1, 0, 0], [2, 1, 1])).face_count, 0);
+    /// assert_eq(intersect(box([0, 0, 0], [1, 1, 1]), box([0.25, 1, 0.25], [0.75, 2, 0.75])).face_count, 0);
     /// ```
     #[rhai_fn(return_raw)]
     pub fn intersect(a: Dynamic, b: Dynamic) -> ScriptResult<SharedMesh> {
