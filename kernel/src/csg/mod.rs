@@ -47,8 +47,8 @@
 //! | the die (9.5k triangles), best of runs | 20.2–21.8 ms | 10.2–11.0 ms | 2.0× |
 //! | the die, engine only (inputs already imported, as manifold3d's figure), criterion mean vs median | 23.9 ms | 12.6 ms | 1.9× |
 //! | the building, 10 storeys, 1,091 blocks (24.6k triangles; manifold3d's 22.3k), best | 101–108 ms | 93–103 ms | 1.05–1.08× |
-//! | stress: 10³ cubes ∪, − 1,000 spheres (0.99M triangles) | 7.2 s, 1.03 GB peak | 4.3 s, 1.45 GB | 1.65×, 0.71× memory |
-//! | stress, engine only | 6.9 s | 4.3 s | 1.6× |
+//! | stress: 10³ cubes ∪, − 1,000 spheres (0.99M triangles), two sittings | 7.2–7.5 s, 1.03 GB peak | 4.3–4.9 s, 1.45 GB | 1.5–1.65×, 0.71× memory |
+//! | stress, engine only | 6.9 s | 4.3–4.9 s | 1.4–1.6× |
 //!
 //! Ours includes importing every input into the engine, provenance and building the result's
 //! half-edge [`Mesh`](crate::Mesh); manifold3d's starts from solids it already holds. The
