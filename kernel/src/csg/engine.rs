@@ -12,7 +12,7 @@ use manifold_rust::manifold::Manifold;
 use manifold_rust::types::{Error as EngineStatus, MeshGLP, OpType};
 
 use super::CsgOp;
-use crate::math::Vec3;
+use crate::math::{Aabb, Vec3};
 
 /// A closed manifold triangle solid inside the engine.
 #[derive(Clone)]
@@ -79,7 +79,10 @@ impl Solid {
         // Operands whose bounds are apart (not even touching) do not interact: the union is the
         // two side by side, the difference the left one, the intersection empty — as Manifold's
         // own batch union does, without running the intersection pipeline.
-        if !self.is_empty() && !other.is_empty() && apart(&self.inner.bounding_box(), &other.inner.bounding_box()) {
+        if !self.is_empty()
+            && !other.is_empty()
+            && aabb(&self.inner.bounding_box()).is_apart(&aabb(&other.inner.bounding_box()))
+        {
             return Ok(match op {
                 CsgOp::Union => Solid { inner: Manifold::compose(&[self.inner.clone(), other.inner.clone()]) },
                 CsgOp::Difference => self.clone(),
@@ -101,8 +104,8 @@ impl Solid {
     /// The solid's bounding box (min, max).
     #[must_use]
     pub fn bounds(&self) -> (Vec3, Vec3) {
-        let b = self.inner.bounding_box();
-        (Vec3::new(b.min.x, b.min.y, b.min.z), Vec3::new(b.max.x, b.max.y, b.max.z))
+        let b = aabb(&self.inner.bounding_box());
+        (b.min, b.max)
     }
 
     /// Manifold's own sphere (`Manifold::sphere`: a subdivided octahedron, `segments` around),
@@ -119,10 +122,10 @@ impl Solid {
     /// # Errors
     /// As [`Solid::boolean`].
     pub fn union_all(parts: Vec<Solid>) -> Result<Solid, String> {
-        let mut groups: Vec<(Vec<Manifold>, Vec<manifold_rust::types::Box>)> = Vec::new();
+        let mut groups: Vec<(Vec<Manifold>, Vec<Aabb>)> = Vec::new();
         for p in parts.into_iter().filter(|p| !p.is_empty()) {
-            let b = p.inner.bounding_box();
-            match groups.iter_mut().find(|(_, boxes)| boxes.iter().all(|q| apart(&b, q))) {
+            let b = aabb(&p.inner.bounding_box());
+            match groups.iter_mut().find(|(_, boxes)| boxes.iter().all(|q| b.is_apart(q))) {
                 Some((members, boxes)) => {
                     members.push(p.inner);
                     boxes.push(b);
@@ -191,14 +194,9 @@ impl Solid {
     }
 }
 
-/// Whether two boxes are strictly apart along some axis (a gap, not a shared face).
-fn apart(a: &manifold_rust::types::Box, b: &manifold_rust::types::Box) -> bool {
-    a.max.x < b.min.x
-        || b.max.x < a.min.x
-        || a.max.y < b.min.y
-        || b.max.y < a.min.y
-        || a.max.z < b.min.z
-        || b.max.z < a.min.z
+/// An engine box as ours.
+fn aabb(b: &manifold_rust::types::Box) -> Aabb {
+    Aabb { min: Vec3::new(b.min.x, b.min.y, b.min.z), max: Vec3::new(b.max.x, b.max.y, b.max.z) }
 }
 
 fn union_pairwise(mut parts: Vec<Solid>) -> Result<Solid, String> {

@@ -25,7 +25,7 @@ use rayon::prelude::*;
 use super::engine::{Solid, Triangles};
 use super::{CsgError, CsgOp, Side};
 use crate::blocks::{BlockModel, MeshOptions};
-use crate::math::Vec3;
+use crate::math::{Aabb, Vec3};
 use crate::mesh::{FaceSource, Mesh};
 
 /// A CSG tree. Cloning is cheap (inputs are shared).
@@ -127,7 +127,7 @@ impl Csg {
         // The import plan: which pieces (a mesh leaf, or one connected part of a block model)
         // go into the engine together, with engine ids reserved in plan order so the same tree
         // gives the same mesh whatever order the parallel imports finish in.
-        let bounds: Vec<Vec<(Vec3, Vec3)>> = prepared.iter().map(Prepared::component_bounds).collect();
+        let bounds: Vec<Vec<Aabb>> = prepared.iter().map(Prepared::component_bounds).collect();
         let mut leaf_no = 0usize;
         let plan = plan(self, &bounds, &mut leaf_no);
         let solid = run(&plan, &prepared, &leaves, &offsets)?;
@@ -186,12 +186,7 @@ fn without_flat_shells(mut t: Triangles) -> Triangles {
     }
     let mut volume = vec![0.0; n];
     let mut area = vec![0.0; n];
-    let (mut lo, mut hi) = (Vec3::splat(f64::INFINITY), Vec3::splat(f64::NEG_INFINITY));
-    for p in &t.positions {
-        lo = lo.min(*p);
-        hi = hi.max(*p);
-    }
-    let size = (hi - lo).max_element();
+    let size = Aabb::from_points(&t.positions).size().max_element();
     let roots: Vec<u32> = t.triangles.iter().map(|tri| root(&mut parent, tri[0])).collect();
     for (tri, &r) in t.triangles.iter().zip(&roots) {
         let [a, b, c] = tri.map(|v| t.positions[v as usize]);
@@ -275,7 +270,7 @@ enum Plan {
 /// unions becomes one batch union whose leaf pieces are dealt into groups apart from each
 /// other, each group one import: Manifold would otherwise import every piece and then compose
 /// the disjoint ones, which costs as much again as importing them.
-fn plan(node: &Csg, bounds: &[Vec<(Vec3, Vec3)>], next: &mut usize) -> Plan {
+fn plan(node: &Csg, bounds: &[Vec<Aabb>], next: &mut usize) -> Plan {
     match node {
         Csg::Op(CsgOp::Union, ..) => {
             let mut operands = Vec::new();
@@ -318,21 +313,16 @@ fn plan(node: &Csg, bounds: &[Vec<(Vec3, Vec3)>], next: &mut usize) -> Plan {
 
 /// Deals `pieces` into groups whose members' bounds are pairwise apart, in order (each piece
 /// joins the first group it is apart from), one import each.
-fn imports(pieces: Vec<(usize, usize)>, bounds: &[Vec<(Vec3, Vec3)>]) -> Vec<Plan> {
+fn imports(pieces: Vec<(usize, usize)>, bounds: &[Vec<Aabb>]) -> Vec<Plan> {
     let mut groups: Vec<Vec<(usize, usize)>> = Vec::new();
     for p in pieces {
         let b = bounds[p.0][p.1];
-        match groups.iter_mut().find(|g| g.iter().all(|q| apart(b, bounds[q.0][q.1]))) {
+        match groups.iter_mut().find(|g| g.iter().all(|q| b.is_apart(&bounds[q.0][q.1]))) {
             Some(g) => g.push(p),
             None => groups.push(vec![p]),
         }
     }
     groups.into_iter().map(|pieces| Plan::Import { pieces, id: Solid::reserve_ids(1) }).collect()
-}
-
-/// Whether two boxes are strictly apart along some axis (a gap, not a shared face).
-fn apart(a: (Vec3, Vec3), b: (Vec3, Vec3)) -> bool {
-    a.1.cmplt(b.0).any() || b.1.cmplt(a.0).any()
 }
 
 /// Carries out `plan`: imports in parallel, both sides of every boolean in parallel.
@@ -426,20 +416,13 @@ struct Prepared {
 
 impl Prepared {
     /// The bounds of each component.
-    fn component_bounds(&self) -> Vec<(Vec3, Vec3)> {
+    fn component_bounds(&self) -> Vec<Aabb> {
         self.components
             .iter()
             .map(|tris| {
-                let mut lo = Vec3::splat(f64::INFINITY);
-                let mut hi = Vec3::splat(f64::NEG_INFINITY);
-                for &t in tris {
-                    for v in self.triangles[t as usize] {
-                        let p = self.positions[v as usize];
-                        lo = lo.min(p);
-                        hi = hi.max(p);
-                    }
-                }
-                (lo, hi)
+                tris.iter()
+                    .flat_map(|&t| self.triangles[t as usize])
+                    .fold(Aabb::EMPTY, |b, v| b.grow(self.positions[v as usize]))
             })
             .collect()
     }

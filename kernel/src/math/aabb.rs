@@ -60,6 +60,13 @@ impl Aabb {
     pub fn contains(&self, p: Vec3) -> bool {
         p.cmpge(self.min).all() && p.cmple(self.max).all()
     }
+
+    /// Whether the two boxes are strictly apart along some axis: a gap between them, not a
+    /// shared face, edge or corner.
+    #[must_use]
+    pub fn is_apart(&self, other: &Aabb) -> bool {
+        self.max.cmplt(other.min).any() || other.max.cmplt(self.min).any()
+    }
 }
 
 #[cfg(test)]
@@ -73,6 +80,12 @@ mod tests {
         assert_eq!(b.max, Vec3::new(1.0, 4.0, 3.0));
         assert!(b.contains(Vec3::ZERO));
         assert!(Aabb::EMPTY.is_empty());
+        // Touching boxes are not apart; a gap on one axis is enough.
+        let unit = Aabb { min: Vec3::ZERO, max: Vec3::ONE };
+        let touching = Aabb { min: Vec3::new(1.0, 0.5, 0.5), max: Vec3::new(2.0, 2.0, 2.0) };
+        let beyond = Aabb { min: Vec3::new(0.0, 1.5, 0.0), max: Vec3::new(1.0, 2.0, 1.0) };
+        assert!(!unit.is_apart(&touching) && !touching.is_apart(&unit));
+        assert!(unit.is_apart(&beyond) && beyond.is_apart(&unit));
         assert_eq!(Aabb::EMPTY.size(), Vec3::ZERO);
     }
 }
