@@ -21,7 +21,7 @@ mod error;
 pub mod model;
 pub mod tessellate;
 #[cfg(test)]
-mod test_models;
+pub(crate) mod test_models;
 #[cfg(test)]
 mod tests_fuzz;
 #[cfg(test)]

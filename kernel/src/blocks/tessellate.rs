@@ -617,7 +617,7 @@ fn side_points(rect: Rect, r: u32) -> Vec<(usize, u32)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::blocks::test_models::boxed;
+    use crate::blocks::test_models::{along_box_edge, boxed, sharp_box};
     use crate::blocks::Face;
 
     fn check_solid(m: &Mesh) {
@@ -650,13 +650,8 @@ mod tests {
         // of a triangle on a face must have that face's coordinate to the last bit, or faces of
         // two blocks meant to touch miss by an ulp (a sliver in a boolean).
         let (lo, hi) = (Vec3::new(-0.1, 0.2, 0.3), Vec3::new(0.3, 0.7, 1.1));
-        let mut b = boxed(lo.to_array(), hi.to_array());
-        b.sharp_all();
-        b.subdivide(Face::PosX, 3, 7).unwrap();
-        b.subdivide(Face::NegY, 5, 3).unwrap();
-        b.subdivide(Face::PosZ, 6, 9).unwrap();
-        let mut m = BlockModel::new();
-        m.add(b);
+        let grids = [(Face::PosX, 3, 7), (Face::NegY, 5, 3), (Face::PosZ, 6, 9)];
+        let m = sharp_box(lo.to_array(), hi.to_array(), &grids);
         let t = m.tessellate(&MeshOptions::DEFAULT, None).unwrap();
         check_solid(&t.mesh);
         let bounds = [lo, hi];
@@ -676,21 +671,11 @@ mod tests {
     fn sharp_block_edges_are_tagged_creases() {
         // An all-sharp 1 × 2 × 3 box: its twelve edges, 24 long in all, are creases, and no
         // other edge is (the sub-face seams inside a face are smooth).
-        let mut b = boxed([0.0; 3], [1.0, 2.0, 3.0]);
-        b.sharp_all();
-        b.subdivide(Face::PosZ, 3, 2).unwrap();
-        let mut m = BlockModel::new();
-        m.add(b);
-        let t = m.tessellate(&MeshOptions::DEFAULT, None).unwrap();
+        let (lo, hi) = ([0.0; 3], [1.0, 2.0, 3.0]);
+        let t = sharp_box(lo, hi, &[(Face::PosZ, 3, 2)]).tessellate(&MeshOptions::DEFAULT, None).unwrap();
         let p = t.mesh.positions();
-        // Along a box edge: both ends at the same bound in two coordinates.
-        let along_box_edge = |a: Vec3, b: Vec3| {
-            let (a, b) = (a.to_array(), b.to_array());
-            let hi = [1.0, 2.0, 3.0];
-            (0..3).filter(|&i| a[i] == b[i] && (a[i] == 0.0 || a[i] == hi[i])).count() == 2
-        };
         let creases = t.mesh.crease_pairs();
-        assert!(creases.iter().all(|&[a, b]| along_box_edge(p[a as usize], p[b as usize])));
+        assert!(creases.iter().all(|&[a, b]| along_box_edge(p[a as usize], p[b as usize], lo, hi)));
         let length: f64 = creases.iter().map(|&[a, b]| p[a as usize].distance(p[b as usize])).sum();
         assert!((length - 24.0).abs() < 1e-12, "crease length {length}");
         // A smooth block has none.

@@ -1,6 +1,7 @@
 //! Tests of CSG evaluation: exact volumes on boxes, genus, provenance, creases, bad input.
 
 use super::{Csg, CsgError, Side};
+use crate::blocks::test_models::{along_box_edge, sharp_box};
 use crate::blocks::{Block, BlockModel, Face, MeshOptions, SubFaceRef};
 use crate::mesh::{FaceSource, Mesh};
 use crate::Vec3;
@@ -242,11 +243,7 @@ fn the_engine_gets_one_face_per_flat_region_of_one_source() {
     };
     // An all-sharp block: one face per sub-face (its 8+ triangles are coplanar), and the
     // creases along the box's edges lie between faces.
-    let mut b = Block::from_bounds(Vec3::new(-0.1, 0.2, 0.3), Vec3::new(0.3, 0.7, 1.1)).unwrap();
-    b.sharp_all();
-    b.subdivide(Face::PosZ, 2, 3).unwrap();
-    let mut model = BlockModel::new();
-    model.add(b);
+    let model = sharp_box([-0.1, 0.2, 0.3], [0.3, 0.7, 1.1], &[(Face::PosZ, 2, 3)]);
     let t = model.tessellate(&MeshOptions::DEFAULT, None).unwrap();
     let sources: Vec<FaceSource> =
         t.triangle_sources.iter().map(|&sub_face| FaceSource::Block { leaf: 0, sub_face }).collect();
@@ -271,11 +268,7 @@ fn the_engine_gets_one_face_per_flat_region_of_one_source() {
 fn coplanar_triangles_of_one_source_are_cut_as_one_face() {
     // A sharp block cut at a corner: the cut faces are re-triangulated as whole faces, each
     // output triangle still naming its sub-face.
-    let mut b = Block::from_bounds(Vec3::ZERO, Vec3::splat(1.0)).unwrap();
-    b.sharp_all();
-    b.subdivide(Face::PosZ, 2, 2).unwrap();
-    let mut model = BlockModel::new();
-    model.add(b);
+    let model = sharp_box([0.0; 3], [1.0; 3], &[(Face::PosZ, 2, 2)]);
     let m = eval(&Csg::blocks(model, MeshOptions::DEFAULT).difference(cuboid([0.8; 3], [2.0; 3])));
     assert!((m.volume() - (1.0 - 0.008)).abs() < 1e-12, "{}", m.volume());
     let out = m.face_sources().unwrap();
@@ -293,8 +286,5 @@ fn coplanar_triangles_of_one_source_are_cut_as_one_face() {
     let creases = m.crease_pairs();
     let length: f64 = creases.iter().map(|&[a, b]| p[a as usize].distance(p[b as usize])).sum();
     assert!((length - (12.0 - 3.0 * 0.2)).abs() < 1e-9, "crease length {length}");
-    assert!(creases.iter().all(|&[a, b]| {
-        let (a, b) = (p[a as usize].to_array(), p[b as usize].to_array());
-        (0..3).filter(|&i| a[i] == b[i] && (a[i] == 0.0 || a[i] == 1.0)).count() == 2
-    }));
+    assert!(creases.iter().all(|&[a, b]| along_box_edge(p[a as usize], p[b as usize], [0.0; 3], [1.0; 3])));
 }
