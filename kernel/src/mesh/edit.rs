@@ -248,8 +248,9 @@ impl EditLog {
 enum Plan {
     /// The half-edge of a removed face on the patch border, kept with its twin.
     Reuse(u32),
-    /// A new half-edge, paired with the new corner edge running the other way.
-    New,
+    /// A new half-edge, paired with the new corner edge running the other way (its index in
+    /// the corner edges).
+    New(usize),
 }
 
 /// A corner of a vertex: the vertex before it and the vertex after it in one face.
@@ -259,6 +260,24 @@ type Corner = (u32, u32);
 /// stepping from corner `(u, w)` to the corner entered from `w`, every corner is met once.
 fn is_single_fan(corners: &mut [Corner]) -> bool {
     let n = corners.len();
+    if n <= 12 {
+        // Small fans (nearly every vertex): a walk with linear look-ups, no sort.
+        if (1..n).any(|i| corners[..i].iter().any(|c| c.0 == corners[i].0)) {
+            return false;
+        }
+        let mut at = 0usize;
+        for step in 1..=n {
+            let out = corners[at].1;
+            match corners.iter().position(|c| c.0 == out) {
+                Some(i) => at = i,
+                None => return false,
+            }
+            if at == 0 {
+                return step == n;
+            }
+        }
+        return false;
+    }
     corners.sort_unstable();
     if corners.windows(2).any(|w| w[0].0 == w[1].0) {
         return false;
@@ -362,9 +381,9 @@ impl Mesh {
             }
         }
         let is_removed = |f: u32| f != NONE && removed.contains(&f);
-        let mut border: IdMap<(u32, u32), u32> = IdMap::default();
-        let mut dead_he: Vec<u32> = Vec::new();
-        let mut patch_vertices: Vec<u32> = Vec::new();
+        let mut border: IdMap<(u32, u32), u32> = IdMap::with_capacity_and_hasher(remove.len() * 4, Default::default());
+        let mut dead_he: Vec<u32> = Vec::with_capacity(remove.len() * 4);
+        let mut patch_vertices: Vec<u32> = Vec::with_capacity(remove.len() * 4);
         for &f in remove {
             for h in self.face_halfedges(f) {
                 let g = self.face(self.twin(h));
@@ -437,10 +456,10 @@ impl Mesh {
                     }
                 }
             }
-            if !directed.contains_key(&(b, a)) {
-                return Err(EditError::OpenEdge { a, b });
+            match directed.get(&(b, a)) {
+                Some(&t) => plans.push(Plan::New(t)),
+                None => return Err(EditError::OpenEdge { a, b }),
             }
-            plans.push(Plan::New);
         }
         if covered != border.len() {
             let (&(a, b), _) =
@@ -461,16 +480,30 @@ impl Mesh {
         new_corners.sort_unstable_by_key(|c| c.0);
         patch_vertices.sort_unstable();
         patch_vertices.dedup();
-        let mut affected: Vec<u32> = patch_vertices.clone();
-        affected.extend(new_corners.iter().map(|c| c.0));
-        affected.sort_unstable();
-        affected.dedup();
+        // Both lists are sorted: merged, not sorted again.
+        let mut affected: Vec<u32> = Vec::with_capacity(patch_vertices.len() + new_corners.len());
+        {
+            let (mut i, mut j) = (0, 0);
+            while i < patch_vertices.len() || j < new_corners.len() {
+                let v = if j == new_corners.len() || (i < patch_vertices.len() && patch_vertices[i] <= new_corners[j].0)
+                {
+                    i += 1;
+                    patch_vertices[i - 1]
+                } else {
+                    j += 1;
+                    new_corners[j - 1].0
+                };
+                if affected.last() != Some(&v) {
+                    affected.push(v);
+                }
+            }
+        }
         let mut dead_v: Vec<u32> = Vec::new();
         // Per affected vertex: a kept outgoing half-edge (NONE if none) and whether it has new
         // corners.
         let mut kept_out: Vec<u32> = vec![NONE; affected.len()];
         let mut has_new: Vec<bool> = vec![false; affected.len()];
-        let mut corners: Vec<Corner> = Vec::new();
+        let mut corners: Vec<Corner> = Vec::with_capacity(16);
         let mut at = 0usize;
         for (i, &v) in affected.iter().enumerate() {
             corners.clear();
@@ -541,11 +574,18 @@ impl Mesh {
         // New elements take the lowest dead slots: the leftover (higher) ones are then filled
         // by moving elements from the end, which are never new ones, so new ids are final.
         dead_he.sort_unstable();
+        let fresh = plans.iter().filter(|p| matches!(p, Plan::New(_))).count().saturating_sub(dead_he.len());
+        self.he_origin.reserve(fresh);
+        self.he_next.reserve(fresh);
+        self.he_prev.reserve(fresh);
+        self.he_twin.reserve(fresh);
+        self.he_face.reserve(fresh);
+        self.he_crease.reserve(fresh);
         let mut free_he = dead_he.iter().copied();
         for plan in &plans {
             he_id.push(match *plan {
                 Plan::Reuse(r) => r,
-                Plan::New => match free_he.next() {
+                Plan::New(_) => match free_he.next() {
                     Some(h) => h,
                     None => {
                         self.he_origin.push(NONE);
@@ -588,10 +628,9 @@ impl Mesh {
                 self.he_face[h] = f;
                 self.he_next[h] = he_id[c0 + (k + 1) % n];
                 self.he_prev[h] = he_id[c0 + (k + n - 1) % n];
-                if let Plan::New = plans[c] {
+                if let Plan::New(t) = plans[c] {
                     self.he_crease[h] = false;
-                    let (a, b) = corner_edges[c];
-                    self.he_twin[h] = he_id[directed[&(b, a)]];
+                    self.he_twin[h] = he_id[t];
                 }
             }
             self.face_he[f as usize] = he_id[c0];
@@ -1094,6 +1133,67 @@ mod tests {
             z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
             ((z ^ (z >> 31)) % n.max(1) as u64) as usize
         }
+    }
+
+    /// The fan check by sorting and binary search alone (the path fans over 12 corners take).
+    fn single_fan_by_sorting(corners: &[Corner]) -> bool {
+        let mut c = corners.to_vec();
+        c.sort_unstable();
+        if c.windows(2).any(|w| w[0].0 == w[1].0) {
+            return false;
+        }
+        let mut at = 0usize;
+        for step in 1..=c.len() {
+            match c.binary_search_by_key(&c[at].1, |x| x.0) {
+                Ok(i) => at = i,
+                Err(_) => return false,
+            }
+            if at == 0 {
+                return step == c.len();
+            }
+        }
+        false
+    }
+
+    /// Small fans are checked by linear look-ups without sorting (faster on the few corners
+    /// nearly every vertex has): the answer is the sorted check's on closed fans, fans split in
+    /// two, open fans and repeated corners, in every order.
+    #[test]
+    fn small_fans_are_judged_as_the_sorted_check_judges_them() {
+        let mut rng = Rng(11);
+        let (mut yes, mut no) = (0, 0);
+        for case in 0..4000 {
+            let n = 1 + rng.below(20);
+            // A closed fan over neighbours 0..n, then one of: kept, split in two cycles, one
+            // corner dropped (open), one neighbour repeated; shuffled.
+            let mut c: Vec<Corner> = (0..n as u32).map(|k| (k, (k + 1) % n as u32)).collect();
+            match case % 4 {
+                1 if n >= 4 => {
+                    let k = 1 + rng.below(n - 2) as u32;
+                    c[k as usize - 1].1 = 0;
+                    c[n - 1].1 = k;
+                }
+                2 if n >= 2 => {
+                    c.remove(rng.below(n));
+                }
+                3 if n >= 2 => {
+                    let k = rng.below(n);
+                    c[k].0 = c[(k + 1) % n].0;
+                }
+                _ => {}
+            }
+            for k in (1..c.len()).rev() {
+                c.swap(k, rng.below(k + 1));
+            }
+            let want = single_fan_by_sorting(&c);
+            assert_eq!(is_single_fan(&mut c.clone()), want, "case {case}: {c:?}");
+            if want {
+                yes += 1;
+            } else {
+                no += 1;
+            }
+        }
+        assert!(yes > 500 && no > 500, "both answers exercised: {yes} / {no}");
     }
 
     #[test]
