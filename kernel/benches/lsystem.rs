@@ -5,19 +5,27 @@
 //! thesis reports "several seconds" for its 400k vertices; the target here is under 0.5 s.
 //!
 //! Also: how time grows with the steps (the number of branches doubles per step, Eq. 12.1: the
-//! time per vertex must stay flat), and the derivation alone.
-//! Measured (release, 2-core machine, 2026-12-01): before the 135° gap cap, 393k vertices in
-//! 0.41-0.58 s (load 3-4). Since the cap a nested branch gets 3/4 of its parent's valence
-//! unless its loop can be slid (grow.rs): the branches' first loops, where this grammar nests
-//! every branch, are shaped like their gaps (crescents, seen along a heading 30° from the
-//! parent's axis) and cannot slide, so valence falls with depth and 11 steps make 51,651
-//! vertices. Idle, after the cap: 11 steps in 72 ms. After sibling sectors, slides on any loop
-//! that allows them and first segments clear of the parent's tube (load 2.2, the other
-//! engineer building): 11 steps in 104 ms; by steps 5 / 7 / 9 / 11: 3.2 / 8.4 / 27.0 / 99.6 ms
-//! for 2,484 / 5,514 / 14,787 / 51,651 vertices — 1.3 / 1.5 / 1.8 / 1.9 µs per vertex, near
-//! linear in the result (the string doubles per step, Eq. 12.1). A thesis-sized mesh at 1.9 µs
-//! per vertex would take roughly 0.75 s under that load (extrapolated, not measured). The hot path is the mesh's
-//! `replace_faces` (about 65 % of the time) under polar's add_refinement.
+//! time per vertex must stay flat), the default gap rule, and the derivation alone.
+//!
+//! Size. The thesis's branches keep their parent's valence (a run of valence/2 + 1 loop
+//! vertices, §4.3.1): grown so (`GrowOptions::wide_gaps`), 11 steps make 393,090 vertices,
+//! about 96 per branch. By default a run that cannot be slid spans at most 135° of its loop
+//! (grow.rs), this grammar nests every branch on a branch's first loop, shaped like its gap
+//! (a crescent seen along a heading 30° off the parent's axis), which cannot slide, so valence
+//! falls by a quarter per level and 11 steps make 51,651 vertices. Wide gaps cross more at
+//! branch bases (grow.rs has the counts); taller, lens-shaped gaps meant to round those first
+//! loops folded faces and kept the size (measured, not kept).
+//!
+//! Measured (release, 2-core machine shared with another engineer's builds, load 2-3,
+//! 2026-12-02), wide gaps, by steps 5 / 7 / 9 / 11: 6.4 / 25.9 / 108.8 / 389 ms for 6,018 /
+//! 24,450 / 98,178 / 393,090 vertices — 1.07 / 1.06 / 1.11 / 0.99 µs per vertex, flat: time
+//! linear in the result (the string doubles per step, Eq. 12.1). `fig12_2_grow_11_steps` (the
+//! same case, run first): 426-502 ms, mean 465 ms; the default gaps (51,651 vertices): 79 ms;
+//! the derivation alone 3.3 ms. Before the mesh's replace_faces was made cheaper on small
+//! patches (same day, same load, alternating runs of the 11-step wide-gap case): 497-627 ms
+//! against 399-614 ms after. About 20 % of the time is the kernel zeroing fresh pages for the
+//! growing mesh arrays; replace_faces (validation, hashing, sorting the new corners) is most of
+//! the rest, under add_refinement.
 //! Run: `cargo bench -p blocksmith-kernel --bench lsystem -- --warm-up-time 1 --measurement-time 3
 //! --sample-size 10`.
 
@@ -31,26 +39,38 @@ fn fig_12_2() -> Lsystem {
     Lsystem::new("L(0) L0(0) P(0)", &[rule], 0).expect("the Fig. 12.2 grammar is valid")
 }
 
+/// The thesis's branches: wide gaps, every branch at the trunk's valence.
 fn options() -> GrowOptions {
+    GrowOptions::DEFAULT.with_valence(32).with_wide_gaps(true)
+}
+
+/// The default gap rule (135° unless a loop can be slid).
+fn narrow() -> GrowOptions {
     GrowOptions::DEFAULT.with_valence(32)
 }
 
 fn bench(c: &mut Criterion) {
     let ls = fig_12_2();
     let s11: Vec<Module> = ls.derive(11).expect("derives");
-    let g = grow(&s11, &options()).expect("grows");
-    eprintln!(
-        "Fig. 12.2 case: {} modules, {} vertices, {} faces, {} nested branches",
-        s11.len(),
-        g.mesh.vertex_count(),
-        g.mesh.face_count(),
-        g.features
-    );
+    for (what, o) in [("wide gaps", options()), ("default gaps", narrow())] {
+        let g = grow(&s11, &o).expect("grows");
+        eprintln!(
+            "Fig. 12.2 case, {what}: {} modules, {} vertices, {} faces, {} nested branches",
+            s11.len(),
+            g.mesh.vertex_count(),
+            g.mesh.face_count(),
+            g.features
+        );
+    }
     c.bench_function("lsystem/fig12_2_grow_11_steps", |b| b.iter(|| grow(black_box(&s11), &options()).expect("grows")));
+    c.bench_function("lsystem/fig12_2_grow_11_steps_default_gaps", |b| {
+        b.iter(|| grow(black_box(&s11), &narrow()).expect("grows"))
+    });
     c.bench_function("lsystem/fig12_2_derive_11_steps", |b| b.iter(|| ls.derive(black_box(11)).expect("derives")));
     let mut group = c.benchmark_group("lsystem/grow_by_steps");
     for steps in [5u32, 7, 9, 11] {
         let s = ls.derive(steps).expect("derives");
+        eprintln!("{steps} steps: {} vertices", grow(&s, &options()).expect("grows").mesh.vertex_count());
         group.bench_with_input(BenchmarkId::from_parameter(steps), &s, |b, s| {
             b.iter(|| grow(s, &options()).expect("grows"))
         });

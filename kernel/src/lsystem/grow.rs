@@ -35,6 +35,9 @@
 //! always can; a branch's first loop, shaped like its gap, seldom can: seen along a heading
 //! close to the parent's axis a gap is a crescent). Siblings and runs that cannot slide get at
 //! most 3·valence/8 + 1 vertices, so their valence falls by a quarter, compounding with depth.
+//! [`GrowOptions::wide_gaps`] lifts that cap, growing every branch at its parent's valence as
+//! the thesis does (runs of valence/2 + 1 everywhere; lone runs still slide where they can),
+//! at the price of more crossings at branch bases (measured below).
 //!
 //! A branch's first segment leaves the parent's tube: along a heading at α to the parent's
 //! axis it is at least (R + r·cos α) / sin α long (α taken at least 15°), so that its first loop
@@ -68,8 +71,18 @@
 //! two quads of a gap's sharp end for branches within 20° of their parent's axis, and in the
 //! recipes' plants (shrub 513 of 1564 faces, tree 791 of 5780, turtle plant 220 of 4528; all
 //! within four vertex rings of each other — no two distant branches pass through each other).
-//! The Fig. 12.2 benchmark case grows 51k vertices, not the thesis's 400k, as its nested
-//! branches nest on crescent-shaped first loops that cannot slide (kernel/benches/lsystem.rs).
+//! The Fig. 12.2 benchmark case grows 51k vertices by default, not the thesis's 400k, as its
+//! branches nest on crescent-shaped first loops that cannot slide (kernel/benches/lsystem.rs);
+//! with wide gaps it grows 393k. Wide gaps cross more: the Fig. 12.2 case at 7 steps in 10,139
+//! of 28,544 faces (1,632 of 6,396 by default), the recipes' plants shrub 1,033 of 2,872, tree
+//! 1,709 of 9,660, turtle plant 614 of 6,064, and the nested strings of tests_grow at valences
+//! 8/12/16: `F F [+F [-F [+F F] F] F] F` 8/6/7 faces (0/0/0 by default), `F F [+F [+F F] F F] F
+//! F` 8/5/7 (3/0/0), `F F [&F F] /(90) [&F F] F` 6/16/22 (6/0/8). Gaps made taller for
+//! low-angle branches (the far side lifted so that, seen along the heading, the gap is a lens
+//! or a half-disc instead of a crescent, so the first loop could round off and slide) folded
+//! faces in every plant and gained no valence; capping runs by their angle about the loop's
+//! centre instead of their vertex count (135°) doubled the Fig. 12.2 case (98k) but crossed
+//! the nested strings and the recipes more (measured, not kept).
 //!
 //! Skeleton (§7.1): the trunk's base pole is the root; every drawn module adds one node (its loop,
 //! or for `P` its pole; a nesting loop and the gaps on it are one node); every branch not ended by
@@ -131,6 +144,14 @@ pub struct GrowOptions {
     pub max_vertices: usize,
     /// Growth stops with an error once more branches are nested. Default value: 200,000.
     pub max_features: usize,
+    /// Whether every branch may open a gap as wide as keeps its parent's valence (a run of
+    /// valence/2 + 1 vertices, §4.3.1), as the thesis's branches do, where by default a run
+    /// that cannot be slid spans at most 135° of its loop (3·valence/8 + 1 vertices, so the
+    /// branch's valence falls by a quarter). Wide gaps reach round to the parent's sides and
+    /// the branches' first quads there cross the parent's faces beyond them (grow's module doc
+    /// has the counts); the Fig. 12.2 case keeps the thesis's size with them (393k vertices at
+    /// 11 steps, 51k by default). Default value: false.
+    pub wide_gaps: bool,
 }
 
 impl GrowOptions {
@@ -144,6 +165,7 @@ impl GrowOptions {
         sigmoid: true,
         max_vertices: 4_000_000,
         max_features: 200_000,
+        wide_gaps: false,
     };
 
     /// With `radius`.
@@ -185,6 +207,13 @@ impl GrowOptions {
     #[must_use]
     pub fn with_sigmoid(mut self, on: bool) -> GrowOptions {
         self.sigmoid = on;
+        self
+    }
+
+    /// With or without wide gaps.
+    #[must_use]
+    pub fn with_wide_gaps(mut self, on: bool) -> GrowOptions {
+        self.wide_gaps = on;
         self
     }
 
@@ -929,10 +958,12 @@ impl Grower {
         } else {
             None
         };
-        // Otherwise a run over 135° would reach round to the parent's sides: at most 3n/8 edges.
+        // Otherwise a run over 135° would reach round to the parent's sides: at most 3n/8 edges
+        // (unless the options ask for wide gaps, as the thesis grew them).
+        let narrow = if self.opts.wide_gaps { wmax } else { wmax.min(3 * n / 8 + 1).max(3) };
         let (s, w, moved) = match slid {
             Some(x) => x,
-            None => match choose(wmax.min(3 * n / 8 + 1).max(3)) {
+            None => match choose(narrow) {
                 Some((s, w)) => (s, w, None),
                 None => return Err(LsystemError::NoRoomForBranch { module: i, symbol: m.to_string(), valence: n }),
             },
