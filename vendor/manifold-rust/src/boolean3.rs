@@ -396,7 +396,8 @@ pub fn compose_meshes(meshes: &[ManifoldImpl]) -> ManifoldImpl {
     // coplanar triangles (why the robust engine skips it: robust::assemble).
     crate::edge_op::cleanup_topology(&mut out);
     crate::edge_op::collapse_short_edges(&mut out, 0);
-    crate::face_op::calculate_vert_normals(&mut out);
+    // blocksmith patch (PATCHES.md, 1): the vertex normals are computed once, by
+    // set_normals_and_coplanar below; sort_geometry does not read them.
     out.sort_geometry();
     out.increment_mesh_ids();
     out.set_normals_and_coplanar();

@@ -929,7 +929,7 @@ pub fn remove_degenerates(mesh: &mut ManifoldImpl, first_new_vert: i32) {
 
 /// Halfedge count from which the edge-flag scans run in parallel, as C++
 /// `FlagStore::run`'s `n > 1e5` (edge_op.cpp:90).
-const FLAG_PAR_THRESHOLD: usize = 100_001;
+const FLAG_PAR_THRESHOLD: usize = 10_000;
 
 /// Collapses edges shorter than epsilon_ when at least one endpoint is new.
 pub fn collapse_short_edges(mesh: &mut ManifoldImpl, first_new_vert: i32) {

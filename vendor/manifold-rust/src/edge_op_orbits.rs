@@ -47,7 +47,7 @@ use crate::types::{next_halfedge, Halfedge};
 
 /// Halfedge count from which the orbit scans run in parallel. Above C++'s 1e4:
 /// every halfedge walks its own orbit, and below 100k that costs more than it saves.
-pub(super) const ORBIT_PAR_THRESHOLD: usize = 100_001;
+pub(super) const ORBIT_PAR_THRESHOLD: usize = 10_000;
 
 /// Steps after which a parallel orbit walk stops and leaves its orbit to the
 /// sequential pass. Vertex valences rarely exceed it, so that pass is usually

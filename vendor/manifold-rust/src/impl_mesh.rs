@@ -391,8 +391,8 @@ impl ManifoldImpl {
         // edge key (duplicate directed edges in degenerate/intermediate
         // meshes) the tie must break on original halfedge-index order, so we
         // use a stable sort to stay bit-identical to C++.
-        let mut ids: Vec<usize> = (0..num_halfedge).collect();
-        ids.sort_by_key(|&i| edge_keys[i]);
+        // blocksmith patch (PATCHES.md, 3): the same stable order by a linear radix sort.
+        let mut ids: Vec<usize> = crate::sort::stable_order_by_key(num_halfedge, 64, |i| edge_keys[i]);
 
         // ids[0..num_edge] = backward halfedges (startVert > endVert), sorted by (min,max)
         // ids[num_edge..] = forward halfedges (startVert < endVert), sorted by (min,max)

@@ -423,7 +423,9 @@ impl Manifold {
         } else {
             Vec::new()
         };
-        imp.set_normals_and_coplanar();
+        // blocksmith patch (PATCHES.md, 1): both branches below end by computing the vertex
+        // normals, so they are not computed here first.
+        crate::face_op::set_face_normals_and_coplanar(&mut imp);
         for (r, &c) in imp.mesh_relation.tri_ref.iter_mut().zip(&kept) {
             r.coplanar_id = c;
         }

@@ -16,7 +16,53 @@ const K_NO_CODE: u32 = 0xFFFF_FFFFu32;
 /// Element count from which the passes below run in parallel; above C++'s
 /// `kSeqThreshold` (1e4), as they are cheap per element. Each is a per-element
 /// map or update or a stable integer-key sort, so the result is sequential's.
-const PAR_THRESHOLD: usize = 100_000;
+const PAR_THRESHOLD: usize = 10_000;
+
+/// The indices `0..codes.len()` ordered by `codes`, equal codes in index order: what a stable
+/// sort of `0..n` by `codes[i]` gives. blocksmith patch (PATCHES.md, 3): the comparison sort it
+/// replaces was a fifth of an import.
+pub(crate) fn stable_order_by_code(codes: &[u32]) -> Vec<usize> {
+    stable_order_by_key(codes.len(), 32, |i| u64::from(codes[i]))
+}
+
+/// The indices `0..n` ordered by `key(i)` (whose significant bits are the low `bits`), equal
+/// keys in index order — a stable sort of `0..n` by key — by an LSD radix sort in 11-bit
+/// digits, a pass skipped when every key has the same digit there: linear in `n`.
+pub(crate) fn stable_order_by_key(n: usize, bits: u32, key: impl Fn(usize) -> u64) -> Vec<usize> {
+    const DIGIT: u32 = 11;
+    const BUCKETS: usize = 1 << DIGIT;
+    let mut order: Vec<usize> = (0..n).collect();
+    if n < 64 {
+        order.sort_by_key(|&i| key(i));
+        return order;
+    }
+    let keys: Vec<u64> = (0..n).map(&key).collect();
+    let mut next = vec![0usize; n];
+    let mut count = vec![0usize; BUCKETS];
+    for shift in (0..bits).step_by(DIGIT as usize) {
+        let digit = |i: usize| ((keys[i] >> shift) as usize) & (BUCKETS - 1);
+        count.iter_mut().for_each(|c| *c = 0);
+        for &i in &order {
+            count[digit(i)] += 1;
+        }
+        if count.iter().any(|&c| c == n) {
+            continue;
+        }
+        let mut start = 0;
+        for c in &mut count {
+            let k = *c;
+            *c = start;
+            start += k;
+        }
+        for &i in &order {
+            let d = digit(i);
+            next[count[d]] = i;
+            count[d] += 1;
+        }
+        std::mem::swap(&mut order, &mut next);
+    }
+    order
+}
 
 /// Spread the low 10 bits of v into bits 0,3,6,9,...,27 (every 3rd bit).
 /// This is the inverse of the interleaving needed for a 3D Morton code.
@@ -66,10 +112,7 @@ pub fn sort_verts(mesh: &mut ManifoldImpl) {
         crate::par::maybe_par_map(num_vert, PAR_THRESHOLD, |v| morton_code(vert_pos[v], &bbox));
 
     // Build sorted index array (a stable sort, so equal codes keep index order)
-    let mut vert_new2old: Vec<i32> = (0..num_vert as i32).collect();
-    crate::par::maybe_par_sort_by_key(&mut vert_new2old, PAR_THRESHOLD, |&v| {
-        vert_morton[v as usize]
-    });
+    let vert_new2old: Vec<i32> = stable_order_by_code(&vert_morton).into_iter().map(|v| v as i32).collect();
 
     // Find how many survive (NaN verts get K_NO_CODE, sort to end)
     let new_num_vert = vert_new2old.partition_point(|&v| vert_morton[v as usize] < K_NO_CODE);
@@ -146,11 +189,8 @@ pub fn get_face_box_morton(mesh: &ManifoldImpl) -> (Vec<BBox>, Vec<u32>) {
 /// Sorts faces by Morton code, removing faces flagged for removal (K_NO_CODE).
 /// Updates `face_box` and `face_morton` in-place.
 pub fn sort_faces(mesh: &mut ManifoldImpl, face_box: &mut Vec<BBox>, face_morton: &mut Vec<u32>) {
-    let num_tri = face_box.len();
-    let mut face_new2old: Vec<usize> = (0..num_tri).collect();
-
     // Stable sort by Morton code (removed tris get K_NO_CODE → sorted last)
-    crate::par::maybe_par_sort_by_key(&mut face_new2old, PAR_THRESHOLD, |&f| face_morton[f]);
+    let mut face_new2old: Vec<usize> = stable_order_by_code(face_morton);
 
     // Trim removed faces
     let new_num_tri = face_new2old.partition_point(|&f| face_morton[f] < K_NO_CODE);
@@ -339,6 +379,30 @@ mod tests {
     use super::*;
     use crate::impl_mesh::ManifoldImpl;
     use crate::linalg::Mat3x4;
+
+    #[test]
+    fn stable_order_by_code_is_a_stable_sort() {
+        let mut x = 12345u32;
+        for n in [0usize, 1, 5, 63, 64, 1000, 5000] {
+            for spread in [3u32, 1 << 11, 1 << 22, u32::MAX] {
+                let codes: Vec<u32> = (0..n)
+                    .map(|_| {
+                        x ^= x << 13;
+                        x ^= x >> 17;
+                        x ^= x << 5;
+                        if x % 7 == 0 { K_NO_CODE } else { x % spread }
+                    })
+                    .collect();
+                let mut expected: Vec<usize> = (0..n).collect();
+                expected.sort_by_key(|&i| codes[i]);
+                assert_eq!(super::stable_order_by_code(&codes), expected, "n {n}, spread {spread}");
+                let wide: Vec<u64> = codes.iter().map(|&c| (u64::from(c) << 32) | u64::from(c % 5)).collect();
+                let mut expected: Vec<usize> = (0..n).collect();
+                expected.sort_by_key(|&i| wide[i]);
+                assert_eq!(super::stable_order_by_key(n, 64, |i| wide[i]), expected, "n {n}, 64 bits");
+            }
+        }
+    }
 
     #[test]
     fn test_spread_bits3() {
