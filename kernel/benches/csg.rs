@@ -14,9 +14,15 @@
 //! Run: `cargo bench -p blocksmith-kernel --bench csg` (the die, the building); the stress case runs once,
 //! timed, with `CSG_STRESS=1 cargo bench -p blocksmith-kernel --bench csg`; its peak memory with
 //! `/usr/bin/time -v target/release/deps/csg-* --bench` under `CSG_STRESS=1`.
-//! `CSG_PROFILE=die` (or `building`) evaluates 100 times outside criterion, for a profiler.
+//! `CSG_PROFILE=die` (or `building`, or `die_engine` for the engine-only die) evaluates outside
+//! criterion (best, median, mean), for a profiler and for steadier side-by-side figures.
 //! Peer: `PEERS_OUT=target/peers ~/.cache/blocksmith-peers/venv/bin/python
 //! ../shared/peers/die_manifold.py die|stress`.
+
+/// The allocator the `blocksmith` binary uses (script/src/main.rs), so the figures are what a
+/// recipe run gets.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 use std::hint::black_box;
 use std::path::PathBuf;
@@ -121,20 +127,38 @@ fn bench(c: &mut Criterion) {
 
 criterion_group!(benches, bench);
 
-fn main() {
-    // `CSG_PROFILE=die|building`: evaluate 100 times outside criterion (whose analysis threads
-    // would otherwise fill a profile), printing the mean — for `perf record`.
-    if let Ok(case) = std::env::var("CSG_PROFILE") {
-        let tree = if case == "building" { building().expect("building inputs (see building_peer.py)") } else { die() };
-        let t0 = Instant::now();
-        let mut best = f64::INFINITY;
-        for _ in 0..100 {
+/// Runs `f` `n` times and prints the best, median and mean times of one run.
+fn timed(case: &str, n: usize, mut f: impl FnMut()) {
+    let mut times: Vec<f64> = (0..n)
+        .map(|_| {
             let t = Instant::now();
-            black_box(tree.evaluate().unwrap());
-            best = best.min(t.elapsed().as_secs_f64());
+            f();
+            t.elapsed().as_secs_f64() * 1e3
+        })
+        .collect();
+    times.sort_by(f64::total_cmp);
+    let mean = times.iter().sum::<f64>() / n as f64;
+    println!("CSG_PROFILE {case}: min {:.2} ms, median {:.2} ms, mean {mean:.2} ms of {n}", times[0], times[n / 2]);
+}
+
+fn main() {
+    // `CSG_PROFILE=die|die_engine|building`: evaluate 200 times outside criterion (whose
+    // analysis threads would otherwise fill a profile), printing best, median and mean — for
+    // `perf record`, and for side-by-side figures steadier than criterion's on a busy machine.
+    if let Ok(case) = std::env::var("CSG_PROFILE") {
+        if case == "die_engine" {
+            let (cube, spheres) = die_solids();
+            timed(&case, 200, || {
+                let pits = Solid::union_all(spheres.clone()).unwrap();
+                black_box(cube.boolean(&pits, blocksmith_kernel::csg::CsgOp::Difference).unwrap().triangles());
+            });
+        } else {
+            let tree =
+                if case == "building" { building().expect("building inputs (see building_peer.py)") } else { die() };
+            timed(&case, if case == "building" { 30 } else { 200 }, || {
+                black_box(tree.evaluate().unwrap());
+            });
         }
-        let mean = t0.elapsed().as_secs_f64() / 100.0;
-        println!("CSG_PROFILE {case}: mean {:.2} ms, min {:.2} ms per evaluation", mean * 1e3, best * 1e3);
         return;
     }
     if std::env::var_os("CSG_STRESS").is_some() {

@@ -7,6 +7,11 @@ use blocksmith::run::{execute, RunCommand};
 use blocksmith::{doc, new_engine, repl, test_runner, EngineOptions};
 use clap::{Parser, Subcommand};
 
+/// mimalloc rather than the system allocator: the boolean engine allocates and frees many
+/// mid-sized arrays per operation, which glibc returns to the system and faults back in.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 #[derive(Parser)]
 #[command(name = "blocksmith", version, about = "Scriptable 3D modeling: blocks, polar meshes, subdivision, voxels.")]
 struct Cli {

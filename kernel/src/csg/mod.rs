@@ -26,6 +26,9 @@
 //! (Medians of 5 in one release run on this 2-core machine.) Both are robust on the hard
 //! geometric cases; boolmesh fails on empty results and is 1.6–1.8× slower, so **manifold-rust**
 //! (its `parallel` feature on; results are bit-identical to the sequential build) is the engine.
+//! We carry it in `vendor/manifold-rust` with three speed patches that leave every result as it
+//! was (`vendor/manifold-rust/PATCHES.md`: vertex normals computed once, parallel thresholds
+//! near C++'s, linear-time stable sorts), until upstream takes them.
 //! Its `faceID` survives booleans and its simplification never merges across two face ids,
 //! which gives provenance: each input *face* — a connected flat region of one source (a block
 //! sub-face, a polygon of an input mesh, a coplanar region of a plain triangle mesh), see
@@ -38,24 +41,29 @@
 //! volume there (two coincident sheets facing apart). Such shells bound nothing and are
 //! dropped, so `a ∩ b` of touching solids is empty, as in CGAL's Nef polyhedra (OpenSCAD).
 //!
-//! # Speed (release, this 2-core machine with other work paused, 2026-12-01; `cargo bench -p
-//! blocksmith-kernel --bench csg`, its `CSG_PROFILE=die|building` mode (best of 100) and
-//! `CSG_STRESS=1` mode (one run, peak by `/usr/bin/time -v`); manifold3d 3.5.4 by
-//! `../shared/peers/die_manifold.py die|stress` and `tests/data/csg_building/building_peer.py`)
+//! # Speed (release, this 2-core machine with other work paused, 2026-12-02; `cargo bench -p
+//! blocksmith-kernel --bench csg`, its `CSG_PROFILE=die|die_engine|building` mode (best and
+//! median of 200, of 30 for the building) and `CSG_STRESS=1` mode (one run, peak by
+//! `/usr/bin/time -v`); manifold3d 3.5.4 by `../shared/peers/die_manifold.py die --reps 200` and
+//! `stress`, and `tests/data/csg_building/building_peer.py` (15 runs))
 //! | case | blocksmith | manifold3d | ratio |
 //! |---|---|---|---|
-//! | the die (9.5k triangles), best of runs | 20.2–21.8 ms | 10.2–11.0 ms | 2.0× |
-//! | the die, engine only (inputs already imported, as manifold3d's figure), criterion mean vs median | 23.9 ms | 12.6 ms | 1.9× |
-//! | the building, 10 storeys, 1,091 blocks (24.6k triangles; manifold3d's 22.3k), best | 101–108 ms | 93–103 ms | 1.05–1.08× |
-//! | stress: 10³ cubes ∪, − 1,000 spheres (0.99M triangles), two sittings | 7.2–7.5 s, 1.03 GB peak | 4.3–4.9 s, 1.45 GB | 1.5–1.65×, 0.71× memory |
-//! | stress, engine only | 6.9 s | 4.3–4.9 s | 1.4–1.6× |
+//! | the die (9.5k triangles), best | 14.7–16.0 ms | 9.7–10.3 ms | 1.45–1.6× |
+//! | the die, median | 19.5–21.8 ms | 10.9–14.2 ms | 1.5–1.9× |
+//! | the die, engine only (inputs already imported, as manifold3d's figure), best / median | 12.7–14.1 / 17.2–20.1 ms | as above | 1.3–1.4× / 1.4–1.8× |
+//! | the building, 10 storeys, 1,091 blocks (24.6k triangles; manifold3d's 22.3k), best / median | 87–88 / 104–117 ms | 94–95 / 97–102 ms | 0.93× / 1.07–1.15× |
+//! | stress: 10³ cubes ∪, − 1,000 spheres (0.99M triangles), three runs | 5.1–6.1 s, 1.13 GB peak | 4.25 s (median of 3), 1.75 GB | 1.2–1.45×, 0.65× memory |
+//! | stress, engine only | 5.6–6.3 s | as above | 1.3–1.5× |
 //!
 //! Ours includes importing every input into the engine, provenance and building the result's
-//! half-edge [`Mesh`](crate::Mesh); manifold3d's starts from solids it already holds. The
-//! engine-only rows time manifold-rust doing exactly manifold3d's work: the gap to the 1.5×
-//! target is the port's (its compose and import — vertex normals by `acos`, sorting — cost
-//! about as much as the boolean), not this pipeline's, which adds about 10 % (stress) and
-//! nothing on the die, where importing the disjoint spheres as one solid saves the compose.
+//! half-edge [`Mesh`](crate::Mesh) (about 2 ms of the die: 0.7–1.1 ms preparing the leaves,
+//! 1.2–1.7 ms after the engine); manifold3d's starts from solids it already holds and stops at
+//! its own lazy result. Before the engine patches and mimalloc (2026-12-01): the die 20.2–21.8 ms
+//! best (2.0×), the stress case 7.2–7.5 s (1.5–1.65×). Our runs spread more than manifold3d's
+//! (median 30–40 % above best, its 10–35 %, on this virtual machine, with one thread as with
+//! two), so both statistics are given. The binary and the benches allocate with mimalloc:
+//! glibc's malloc hands the engine's many mid-sized arrays back to the system and faults them
+//! in again (17 % of the die).
 //! Unions are evaluated as Manifold's batch union: operands whose bounds are apart go into the
 //! engine together ([`tree`]) or are composed ([`engine::Solid::union_all`]).
 
