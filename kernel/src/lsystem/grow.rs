@@ -28,7 +28,9 @@
 //! they point, not by who comes first: at the first `[` of a group their headings at their
 //! first segments are read ahead in the string, and each branch's run is taken from the loop
 //! vertices nearest its own heading (its sector) when a run as long as the loop allows fits
-//! there. A run over 135° of its loop reaches round to the parent's sides, and the branch's
+//! there; two siblings get their runs chosen together, the pair of disjoint runs whose
+//! worse-facing run faces its own heading best (in time linear in the loop size), so that
+//! the first does not take a vertex the second needs. A run over 135° of its loop reaches round to the parent's sides, and the branch's
 //! first quads at its ends cross the parent's faces beyond them: a lone branch keeps a run of
 //! valence/2 + 1 when its loop can be slid so that the run spans 130° — the loop star-shaped
 //! about its centre and no loop edge turning over 60° from the edge facing it behind (a circle
@@ -66,10 +68,12 @@
 //! face folds (tests_grow checks that over many seeds). Faces still cross at branch bases
 //! (tests_grow, counted with Möller's test): where a branch nests on a branch's first loop at
 //! low valence (at the inner gap's far side the parent's next quad and the branch's first quad
-//! leave one edge in nearly one direction), where a sibling's sector leaves it a run centred
-//! far off its heading (siblings' runs are chosen one after the other, not jointly), at the
-//! two quads of a gap's sharp end for branches within 20° of their parent's axis, and in the
-//! recipes' plants (shrub 513 of 1564 faces, tree 791 of 5780, turtle plant 220 of 4528; all
+//! leave one edge in nearly one direction), where two siblings on a loop of low valence
+//! cannot both face their headings (at valence 8 two branches a quarter turn apart share the
+//! loop's two halves, whose centroids are opposite: the best pair is 22.5° and 67.5° off,
+//! jointly chosen or not), at the two quads of a gap's sharp end for branches within 20° of
+//! their parent's axis, and in the recipes' plants (shrub 513 of 1564 faces, tree 791 of 5780,
+//! turtle plant 202 of 4528 — 220 before siblings' runs were paired; all
 //! within four vertex rings of each other — no two distant branches pass through each other).
 //! The Fig. 12.2 benchmark case grows 51k vertices by default, not the thesis's 400k, as its
 //! branches nest on crescent-shaped first loops that cannot slide (kernel/benches/lsystem.rs);
@@ -385,6 +389,92 @@ fn sibling_sectors(pos: &[Vec3], center: Vec3, axis: Vec3, headings: &[Vec3]) ->
     sectors.iter().all(|s| s.iter().filter(|&&x| x).count() >= 3).then_some(sectors)
 }
 
+/// Two siblings' runs on one loop chosen together: of the pairs of disjoint runs of `w` free
+/// consecutive vertices, the one whose worse-facing run faces its own heading best (the larger
+/// cosine between a run's centroid direction and its heading, seen across the loop's axis;
+/// ties to the larger sum), so that neither takes a vertex the other needs to face its way —
+/// one after the other, the first may take the tie vertex nearer the second's heading and
+/// leave it a run centred far off it. Returned as each sibling's sector (exactly its run);
+/// `None` when no two disjoint runs fit. Time linear in the loop size: for each first run the
+/// best second run among the starts that do not overlap it (a window of n − 2w + 1 starts that
+/// slides with the first) is a sliding-window maximum kept in a deque.
+fn paired_runs(
+    pos: &[Vec3],
+    used: &[bool],
+    center: Vec3,
+    axis: Vec3,
+    headings: [Vec3; 2],
+    w: usize,
+) -> Option<Vec<Vec<bool>>> {
+    let n = pos.len();
+    if w < 3 || 2 * w > n {
+        return None;
+    }
+    let dirs = headings.map(|h| across(h, axis).unwrap_or_else(|| axis.any_orthonormal_vector()));
+    // fits[s]: the run of w from s is free; facing[k][s]: its cosine to heading k.
+    let mut fits = vec![false; n];
+    let mut facing = [vec![f64::NEG_INFINITY; n], vec![f64::NEG_INFINITY; n]];
+    let mut free_ahead = 0usize;
+    let mut sum: Vec3 = (0..w).map(|j| pos[j % n]).sum();
+    // Free stretch lengths from each start, capped at w, by one backward pass over 2n.
+    let mut stretch = vec![0usize; n];
+    for t in (0..2 * n).rev() {
+        free_ahead = if used[t % n] { 0 } else { (free_ahead + 1).min(w) };
+        if t < n {
+            stretch[t] = free_ahead;
+        }
+    }
+    for s0 in 0..n {
+        if stretch[s0] >= w {
+            fits[s0] = true;
+            if let Some(d) = across(sum / w as f64 - center, axis) {
+                for k in 0..2 {
+                    facing[k][s0] = d.dot(dirs[k]);
+                }
+            }
+        }
+        sum += pos[(s0 + w) % n] - pos[s0];
+    }
+    // For first run s1 the second starts at s1 + w + t, t in 0..=n − 2w (mod n).
+    let span = n - 2 * w + 1;
+    let second = |x: usize| facing[1][x % n];
+    let mut deque: std::collections::VecDeque<usize> = std::collections::VecDeque::new();
+    let mut next = w; // next index (in 0..2n) to push into the window
+    let mut best: Option<(f64, f64, usize, usize)> = None;
+    for s1 in 0..n {
+        let (lo, hi) = (s1 + w, s1 + w + span); // window [lo, hi) of second starts
+        while next < hi {
+            while deque.back().is_some_and(|&b| second(b) <= second(next)) {
+                deque.pop_back();
+            }
+            deque.push_back(next);
+            next += 1;
+        }
+        while deque.front().is_some_and(|&f| f < lo) {
+            deque.pop_front();
+        }
+        if !fits[s1] {
+            continue;
+        }
+        let Some(&s2) = deque.front() else { continue };
+        let (a, b) = (facing[0][s1], second(s2));
+        if !fits[s2 % n] || !a.is_finite() || !b.is_finite() {
+            continue;
+        }
+        let (worse, total) = (a.min(b), a + b);
+        if best.is_none_or(|(bw, bt, _, _)| worse > bw + 1e-12 || (worse > bw - 1e-12 && total > bt + 1e-12)) {
+            best = Some((worse, total, s1, s2 % n));
+        }
+    }
+    let (_, _, s1, s2) = best?;
+    let mut out = vec![vec![false; n]; 2];
+    for j in 0..w {
+        out[0][(s1 + j) % n] = true;
+        out[1][(s2 + j) % n] = true;
+    }
+    Some(out)
+}
+
 /// Grows `modules` as polar operations with lengths and radii `opts.length · S(step)` and
 /// `opts.radius · S(step)` (S the [`sigmoid`] of Eq. 11.2, or 1 without it). See
 /// [`grow_with`].
@@ -468,7 +558,15 @@ pub fn grow_with<E: Display>(
                             let pos: Vec<Vec3> =
                                 ring.verts.iter().map(|&v| pm.map_or(Vec3::ZERO, |pm| pm.position(v))).collect();
                             let hs = sibling_headings(modules, gr, &close, st.turtle, opts.angle);
-                            if let Some(sec) = sibling_sectors(&pos, ring.center, ring.axis, &hs) {
+                            let n = pos.len();
+                            let wmax = (n / 2 + 1).min(n / gr.len()).clamp(3, n - 1);
+                            let w = if opts.wide_gaps { wmax } else { wmax.min(3 * n / 8 + 1).max(3) };
+                            let paired = if hs.len() == 2 {
+                                paired_runs(&pos, &ring.used, ring.center, ring.axis, [hs[0], hs[1]], w)
+                            } else {
+                                None
+                            };
+                            if let Some(sec) = paired.or_else(|| sibling_sectors(&pos, ring.center, ring.axis, &hs)) {
                                 sectors.extend(gr.iter().copied().zip(sec));
                             }
                         }
@@ -1178,6 +1276,72 @@ mod tests {
             }
         }
         None
+    }
+
+    /// Two siblings' runs by brute force: every pair of disjoint free runs of `w`, the worse
+    /// cosine first, then the sum (O(n²·w)).
+    fn paired_brute_force(pos: &[Vec3], used: &[bool], dirs: [Vec3; 2], w: usize) -> Option<(f64, f64)> {
+        let n = pos.len();
+        let cosine = |s: usize, d: Vec3| {
+            let c = (0..w).map(|j| pos[(s + j) % n]).sum::<Vec3>() / w as f64;
+            across(c, Vec3::Z).map(|c| c.dot(d))
+        };
+        let free = |s: usize| (0..w).all(|j| !used[(s + j) % n]);
+        let mut best: Option<(f64, f64)> = None;
+        for s1 in (0..n).filter(|&s| free(s)) {
+            for t in 0..=n - 2 * w {
+                let s2 = (s1 + w + t) % n;
+                let (Some(a), Some(b)) = (cosine(s1, dirs[0]), cosine(s2, dirs[1])) else { continue };
+                if !free(s2) {
+                    continue;
+                }
+                let (worse, total) = (a.min(b), a + b);
+                if best.is_none_or(|(bw, bt)| worse > bw + 1e-12 || (worse > bw - 1e-12 && total > bt + 1e-12)) {
+                    best = Some((worse, total));
+                }
+            }
+        }
+        best
+    }
+
+    #[test]
+    fn paired_runs_are_the_brute_force_choice() {
+        let mut rng = SplitMix64::new(5);
+        let mut found = 0;
+        for case in 0..400 {
+            let n = 6 + (rng.next_u64() % 30) as usize;
+            let pos: Vec<Vec3> = (0..n)
+                .map(|j| {
+                    let a = std::f64::consts::TAU * j as f64 / n as f64;
+                    let r = 1.0 + 0.3 * rng.next_f64() * (case % 2) as f64;
+                    Vec3::new(a.cos() * r, a.sin() * r, 0.0)
+                })
+                .collect();
+            let used: Vec<bool> = (0..n).map(|_| rng.next_f64() < 0.05 * (case % 3) as f64).collect();
+            let mut dir = || {
+                let a = std::f64::consts::TAU * rng.next_f64();
+                Vec3::new(a.cos(), a.sin(), 0.0)
+            };
+            let dirs = [dir(), dir()];
+            let w = 3 + (rng.next_u64() % (n as u64 / 2 - 2)) as usize;
+            let got = paired_runs(&pos, &used, Vec3::ZERO, Vec3::Z, dirs, w);
+            let want = paired_brute_force(&pos, &used, dirs, w);
+            assert_eq!(got.is_some(), want.is_some(), "case {case}: n {n}, w {w}");
+            if let (Some(sec), Some((worse, total))) = (got, want) {
+                found += 1;
+                // Each sector is one free run of w; the pair scores as the brute force's best.
+                let score = |k: usize| {
+                    assert_eq!(sec[k].iter().filter(|&&x| x).count(), w);
+                    assert!((0..n).all(|v| !(sec[k][v] && used[v])));
+                    let c = (0..n).filter(|&v| sec[k][v]).map(|v| pos[v]).sum::<Vec3>();
+                    across(c, Vec3::Z).unwrap().dot(dirs[k])
+                };
+                let (a, b) = (score(0), score(1));
+                assert!((0..n).all(|v| !(sec[0][v] && sec[1][v])), "case {case}: runs overlap");
+                assert!((a.min(b) - worse).abs() < 1e-9 && (a + b - total).abs() < 1e-9, "case {case}");
+            }
+        }
+        assert!(found > 200, "{found} cases with a pair");
     }
 
     #[test]
