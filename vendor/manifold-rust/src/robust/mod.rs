@@ -449,9 +449,7 @@ pub(crate) fn assemble_all(meshes: &[ManifoldImpl]) -> ManifoldImpl {
 #[path = "engine_tests.rs"]
 mod engine_tests;
 
-// blocksmith: this battery needs rusqlite and zip, which the vendored copy does not carry
-// (PATCHES.md); the rest of upstream's tests run with `cargo test --manifest-path`.
-#[cfg(any())]
+#[cfg(test)]
 #[path = "cross_validation_tests.rs"]
 mod cross_validation_tests;
 
