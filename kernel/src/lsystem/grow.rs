@@ -77,16 +77,16 @@
 //! within four vertex rings of each other — no two distant branches pass through each other).
 //! The Fig. 12.2 benchmark case grows 51k vertices by default, not the thesis's 400k, as its
 //! branches nest on crescent-shaped first loops that cannot slide (kernel/benches/lsystem.rs);
-//! with wide gaps it grows 393k. Wide gaps cross more: the Fig. 12.2 case at 7 steps in 10,139
-//! of 28,544 faces (1,632 of 6,396 by default), the recipes' plants shrub 1,033 of 2,872, tree
-//! 1,709 of 9,660, turtle plant 614 of 6,064, and the nested strings of tests_grow at valences
-//! 8/12/16: `F F [+F [-F [+F F] F] F] F` 8/6/7 faces (0/0/0 by default), `F F [+F [+F F] F F] F
-//! F` 8/5/7 (3/0/0), `F F [&F F] /(90) [&F F] F` 6/16/22 (6/0/8). Gaps made taller for
-//! low-angle branches (the far side lifted so that, seen along the heading, the gap is a lens
-//! or a half-disc instead of a crescent, so the first loop could round off and slide) folded
-//! faces in every plant and gained no valence; capping runs by their angle about the loop's
-//! centre instead of their vertex count (135°) doubled the Fig. 12.2 case (98k) but crossed
-//! the nested strings and the recipes more (measured, not kept).
+//! with wide gaps it grows 393k. Wide gaps cross more: the Fig. 12.2 case at 7 steps in 10,139 of
+//! 28,544 faces (1,632 of 6,396 by default), the recipes' plants shrub 1,033 of 2,872, tree 1,709
+//! of 9,660, turtle plant 581 of 6,064 (no face folds), and the nested strings of tests_grow at
+//! valences 8/12/16: `F F [+F [-F [+F F] F] F] F` 8/6/7 faces (0/0/0 by default),
+//! `F F [+F [+F F] F F] F F` 8/5/7 (3/0/0), `F F [&F F] /(90) [&F F] F` 6/16/22 (6/0/8). Gaps made taller for
+//! low-angle branches (the far side lifted so that, seen along the heading, the gap is a lens or a
+//! half-disc instead of a crescent, so the first loop could round off and slide) folded faces in
+//! every plant and gained no valence; capping runs by their angle about the loop's centre instead
+//! of their vertex count (135°) doubled the Fig. 12.2 case (98k) but crossed the nested strings and
+//! the recipes more (measured, not kept).
 //!
 //! Skeleton (§7.1): the trunk's base pole is the root; every drawn module adds one node (its loop,
 //! or for `P` its pole; a nesting loop and the gaps on it are one node); every branch not ended by
