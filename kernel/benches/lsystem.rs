@@ -26,8 +26,17 @@
 //! against 399-614 ms after. About 20 % of the time is the kernel zeroing fresh pages for the
 //! growing mesh arrays; replace_faces (validation, hashing, sorting the new corners) is most of
 //! the rest, under add_refinement.
+//! With mimalloc, the allocator of the `blocksmith` binary, which this bench now uses as well
+//! (other work paused, 2026-12-02): `fig12_2_grow_11_steps` 326-345 ms, mean 335 ms (glibc's
+//! malloc in the same sitting: 428-543 ms, mean 481 ms); by steps 5 / 7 / 9 / 11: 6.1 / 20.3 /
+//! 83.3 / 384 ms (1.01 / 0.83 / 0.85 / 0.98 µs per vertex); default gaps 56 ms; derivation 1.4 ms.
 //! Run: `cargo bench -p blocksmith-kernel --bench lsystem -- --warm-up-time 1 --measurement-time 3
 //! --sample-size 10`.
+
+/// The allocator the `blocksmith` binary uses (script/src/main.rs), so the figures are what a
+/// recipe run gets.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 use std::hint::black_box;
 

@@ -174,7 +174,7 @@ fn grow_all(ctx: &NativeCallContext, ls: &LSystem, steps: INT, options: Map) -> 
     let opts = Options::new(
         F,
         options,
-        &["radius", "length", "valence", "angle", "divergence", "sigmoid", "max_vertices", "max_features"],
+        &["radius", "length", "valence", "angle", "divergence", "sigmoid", "wide_gaps", "max_vertices", "max_features"],
     )?;
     let d = GrowOptions::DEFAULT;
     let radius = size_opt(&opts, "radius", d.radius)?;
@@ -196,6 +196,7 @@ fn grow_all(ctx: &NativeCallContext, ls: &LSystem, steps: INT, options: Map) -> 
         .with_angle(opts.number("angle", d.angle)?)
         .with_divergence(opts.number("divergence", d.divergence)?)
         .with_sigmoid(sigmoid)
+        .with_wide_gaps(opts.bool("wide_gaps", d.wide_gaps)?)
         .with_caps(caps("max_vertices", d.max_vertices)?, caps("max_features", d.max_features)?);
     for (key, s) in [("radius", &radius), ("length", &length)] {
         if let SizeOpt::Number(x) = s {
@@ -296,8 +297,10 @@ pub mod lsystem_api {
     /// number scaled by the sigmoid of Eq. 11.2 of the step (a thesis symbol's first parameter,
     /// else the branch depth) unless `sigmoid: false`, or a closure `|step|` giving the value —,
     /// `valence` (8, vertices per trunk loop), `angle` (30°), `divergence` (137.5°, the parent's
-    /// roll at each `[L` / `[R`), `max_vertices` (4,000,000) and `max_features` (200,000), the
-    /// caps that stop runaway growth with an error.
+    /// roll at each `[L` / `[R`), `wide_gaps` (false; true grows every branch at its parent's
+    /// valence on half its loop, as the thesis does — bigger plants, more crossings at branch
+    /// bases), `max_vertices` (4,000,000) and `max_features` (200,000), the caps that stop
+    /// runaway growth with an error.
     ///
     /// ```rhai
     /// let ls = lsystem(#{ axiom: "L(0) [L(0) L(1) P(1)] P(0)" });
