@@ -1304,19 +1304,25 @@ mod tests {
         best
     }
 
+    /// `n` vertices around the origin in the xy-plane, radii wobbling by up to 0.3 when `wobbly`,
+    /// heights random up to `lift`.
+    fn random_loop(rng: &mut SplitMix64, n: usize, wobbly: bool, lift: f64) -> Vec<Vec3> {
+        (0..n)
+            .map(|j| {
+                let a = std::f64::consts::TAU * j as f64 / n as f64;
+                let r = 1.0 + 0.3 * rng.next_f64() * f64::from(u8::from(wobbly));
+                Vec3::new(a.cos() * r, a.sin() * r, lift * rng.next_f64())
+            })
+            .collect()
+    }
+
     #[test]
     fn paired_runs_are_the_brute_force_choice() {
         let mut rng = SplitMix64::new(5);
         let mut found = 0;
         for case in 0..400 {
             let n = 6 + (rng.next_u64() % 30) as usize;
-            let pos: Vec<Vec3> = (0..n)
-                .map(|j| {
-                    let a = std::f64::consts::TAU * j as f64 / n as f64;
-                    let r = 1.0 + 0.3 * rng.next_f64() * (case % 2) as f64;
-                    Vec3::new(a.cos() * r, a.sin() * r, 0.0)
-                })
-                .collect();
+            let pos = random_loop(&mut rng, n, case % 2 == 1, 0.0);
             let used: Vec<bool> = (0..n).map(|_| rng.next_f64() < 0.05 * (case % 3) as f64).collect();
             let mut dir = || {
                 let a = std::f64::consts::TAU * rng.next_f64();
@@ -1349,15 +1355,8 @@ mod tests {
         let mut rng = SplitMix64::new(7);
         for case in 0..400 {
             let n = 6 + (rng.next_u64() % 40) as usize;
-            // A loop about the origin in the xy-plane (wobbly in odd cases), some vertices used
-            // by branches in three cases of four.
-            let pos: Vec<Vec3> = (0..n)
-                .map(|j| {
-                    let a = std::f64::consts::TAU * j as f64 / n as f64;
-                    let r = 1.0 + 0.3 * rng.next_f64() * (case % 2) as f64;
-                    Vec3::new(a.cos() * r, a.sin() * r, 0.2 * rng.next_f64())
-                })
-                .collect();
+            // Some vertices used by branches in three cases of four.
+            let pos = random_loop(&mut rng, n, case % 2 == 1, 0.2);
             let used: Vec<bool> = (0..n).map(|_| rng.next_f64() < 0.1 * (case % 4) as f64).collect();
             let a = std::f64::consts::TAU * rng.next_f64();
             let dir = Vec3::new(a.cos(), a.sin(), 0.0);
