@@ -163,6 +163,9 @@ impl Csg {
     }
 }
 
+/// No vertex yet (in [`run`]'s renumbering).
+const NONE: u32 = u32::MAX;
+
 /// Shells thinner than this fraction of the result's size (volume / area) are flat.
 const FLAT_SHELL: f64 = 1e-9;
 
@@ -329,17 +332,34 @@ fn imports(pieces: Vec<(usize, usize)>, bounds: &[Vec<Aabb>]) -> Vec<Plan> {
 fn run(plan: &Plan, prepared: &[Prepared], leaves: &[(&Csg, Side)], offsets: &[u32]) -> Result<Solid, CsgError> {
     match plan {
         Plan::Import { pieces, id } => {
+            // Each piece brings the vertices its triangles use, numbered in order of first use.
             let mut positions = Vec::new();
             let mut triangles = Vec::new();
             let mut tags = Vec::new();
+            // A piece's vertex -> its number in the import (`NONE` when not yet used), and
+            // the piece's vertices, to clear the map for the next piece.
+            let mut number: Vec<u32> = Vec::new();
+            let mut used: Vec<u32> = Vec::new();
             for &(k, c) in pieces {
                 let p = &prepared[k];
-                let tris = &p.components[c];
-                let (pos, tri) = compact(&p.positions, tris.iter().map(|&t| p.triangles[t as usize]));
-                let base = positions.len() as u32;
-                positions.extend(pos);
-                triangles.extend(tri.into_iter().map(|t: [u32; 3]| t.map(|v| v + base)));
-                tags.extend(tris.iter().map(|&t| offsets[k] + p.faces[t as usize]));
+                if number.len() < p.positions.len() {
+                    number.resize(p.positions.len(), NONE);
+                }
+                for &t in &p.components[c] {
+                    triangles.push(p.triangles[t as usize].map(|v| {
+                        let slot = &mut number[v as usize];
+                        if *slot == NONE {
+                            *slot = positions.len() as u32;
+                            positions.push(p.positions[v as usize]);
+                            used.push(v);
+                        }
+                        *slot
+                    }));
+                    tags.push(offsets[k] + p.faces[t as usize]);
+                }
+                for v in used.drain(..) {
+                    number[v as usize] = NONE;
+                }
             }
             Solid::with_id(&positions, &triangles, &tags, *id).map_err(|reason| {
                 let (k, _) = pieces[0];
@@ -371,23 +391,6 @@ fn union_operands<'a>(node: &'a Csg, out: &mut Vec<&'a Csg>) {
         }
         other => out.push(other),
     }
-}
-
-/// The vertices `triangles` use, renumbered from 0 in order of first use.
-fn compact(positions: &[Vec3], triangles: impl Iterator<Item = [u32; 3]>) -> (Vec<Vec3>, Vec<[u32; 3]>) {
-    let mut map: HashMap<u32, u32> = HashMap::new();
-    let mut out = Vec::new();
-    let tris = triangles
-        .map(|t| {
-            t.map(|v| {
-                *map.entry(v).or_insert_with(|| {
-                    out.push(positions[v as usize]);
-                    (out.len() - 1) as u32
-                })
-            })
-        })
-        .collect();
-    (out, tris)
 }
 
 /// One leaf as indexed triangles grouped into faces, with a source per face (leaf ids from 0).

@@ -80,6 +80,10 @@ where
     if !paired_back.is_empty() {
         return None;
     }
+    // blocksmith patch (PATCHES.md, 4): with no pinched vertex, in O(n).
+    if let Some(owners) = vertex_owners(halfedge, threshold, &eligible) {
+        return Some(owners);
+    }
     // The step from `current`, or `None` at an open end (no pair, or a count
     // not a multiple of 3): those cases are left to the sequential scan.
     let step = |current: usize| -> Option<usize> {
@@ -133,6 +137,75 @@ where
         }
     }
     Some((0..n).filter(|&i| role[i] == OWNER).collect())
+}
+
+/// blocksmith patch (PATCHES.md, 4). The owners when no vertex is pinched, in
+/// O(n) rather than the walks' O(sum of squared valences): each vertex's
+/// smallest eligible halfedge, when its orbit is closed and holds every
+/// eligible halfedge leaving that vertex, and only those. Then every orbit
+/// with an eligible halfedge is such a vertex's orbit (its eligible halfedges
+/// all leave one vertex, whose first orbit holds them all), and that vertex's
+/// smallest eligible halfedge is the orbit's: the owners the walks find.
+/// `None` when any vertex fails the test (a pinched vertex, an open orbit, an
+/// eligible halfedge with no start vertex), left to the walks. Called with the
+/// pairing already checked to be an involution, so a walk either closes or
+/// ends at a halfedge with no pair.
+fn vertex_owners<F>(halfedge: &[Halfedge], threshold: usize, eligible: &F) -> Option<Vec<usize>>
+where
+    F: Fn(&Halfedge) -> bool + Sync + Send,
+{
+    let n = halfedge.len();
+    let num_vert = halfedge.iter().map(|h| h.start_vert).max().unwrap_or(-1) + 1;
+    let num_vert = usize::try_from(num_vert).ok()?;
+    // Each vertex's smallest eligible halfedge and how many eligible ones leave it.
+    let mut first = vec![u32::MAX; num_vert];
+    let mut degree = vec![0u32; num_vert];
+    for (i, h) in halfedge.iter().enumerate() {
+        if eligible(h) {
+            let v = usize::try_from(h.start_vert).ok()?;
+            if first[v] == u32::MAX {
+                first[v] = i as u32;
+            }
+            degree[v] += 1;
+        }
+    }
+    let one_orbit = crate::par::maybe_par_map(num_vert, threshold / 4, |v| {
+        let start = first[v] as usize;
+        if first[v] == u32::MAX {
+            return true;
+        }
+        let mut count = 0u32;
+        let mut current = start;
+        for _ in 0..n {
+            let h = &halfedge[current];
+            if eligible(h) {
+                if h.start_vert as usize != v {
+                    return false;
+                }
+                count += 1;
+            }
+            let p = h.paired_halfedge;
+            if p < 0 {
+                return false;
+            }
+            current = next_halfedge(p) as usize;
+            if current >= n {
+                return false;
+            }
+            if current == start {
+                return count == degree[v];
+            }
+        }
+        false
+    });
+    if !one_orbit.iter().all(|&ok| ok) {
+        return None;
+    }
+    let mut owner = vec![false; n];
+    for &f in first.iter().filter(|&&f| f != u32::MAX) {
+        owner[f as usize] = true;
+    }
+    Some((0..n).filter(|&i| owner[i]).collect())
 }
 
 /// Appends the duplicate edges of the orbit walked from `i`, in walk order:

@@ -89,6 +89,7 @@ pub fn set_face_normals_and_coplanar(mesh: &mut ManifoldImpl) {
     mesh.face_normal.resize(num_tri, Vec3::new(0.0, 0.0, 1.0));
 
     // Struct for sorting triangles by area
+    #[derive(Clone, Copy)]
     struct TriPriority {
         area2: f64,
         tri: usize,
@@ -124,11 +125,19 @@ pub fn set_face_normals_and_coplanar(mesh: &mut ManifoldImpl) {
         .collect();
 
     // Sort by area descending (largest triangles first → better coplanar seeds)
-    tri_priority.sort_by(|a, b| {
-        b.area2
-            .partial_cmp(&a.area2)
-            .unwrap_or(std::cmp::Ordering::Equal)
-    });
+    // blocksmith patch (PATCHES.md, 3): the same stable order by a radix sort on the
+    // areas' bits (non-negative doubles order as their bits), descending as the
+    // complement ascending; with a NaN area (no total order) as before.
+    if tri_priority.iter().all(|t| t.area2 >= 0.0 && t.area2.is_sign_positive()) {
+        let order = crate::sort::stable_order_by_key(num_tri, 64, |i| !tri_priority[i].area2.to_bits());
+        tri_priority = order.into_iter().map(|i| tri_priority[i]).collect();
+    } else {
+        tri_priority.sort_by(|a, b| {
+            b.area2
+                .partial_cmp(&a.area2)
+                .unwrap_or(std::cmp::Ordering::Equal)
+        });
+    }
 
     // Flood-fill coplanar groups from each unassigned face
     let mut interior_halfedges: Vec<usize> = Vec::new();
