@@ -27,6 +27,11 @@ use crate::types::Box as BBox;
 // - Root is always node index 1 (internal node 0)
 const K_ROOT: i32 = 1;
 
+/// Internal-node count from which the radix tree's nodes are found in parallel
+/// (each costs two binary searches over the codes). blocksmith patch
+/// (PATCHES.md, 5).
+const RADIX_TREE_PAR_THRESHOLD: usize = 4096;
+
 fn leaf_to_node(leaf: i32) -> i32 {
     leaf * 2
 }
@@ -164,8 +169,11 @@ impl Collider {
             split
         };
 
-        // For each internal node, find its range and split point
-        for internal in 0..num_internal {
+        // For each internal node, find its range and split point. Each node's
+        // children depend only on the codes, so they are found in parallel and
+        // the parent links set after, in the same order. blocksmith patch
+        // (PATCHES.md, 5).
+        let children = crate::par::maybe_par_map(num_internal, RADIX_TREE_PAR_THRESHOLD, |internal| {
             let i = internal as i32;
             let mut first = i;
             let mut last = range_end(i);
@@ -194,8 +202,11 @@ impl Collider {
                 child1
             };
 
+            [child1, child2]
+        });
+        for (internal, &[child1, child2]) in children.iter().enumerate() {
             self.internal_children[internal] = [child1, child2];
-            let node = internal_to_node(i);
+            let node = internal_to_node(internal as i32);
             self.node_parent[child1 as usize] = node;
             self.node_parent[child2 as usize] = node;
         }

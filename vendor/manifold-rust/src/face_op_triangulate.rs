@@ -171,23 +171,30 @@ pub fn face2tri_ct(
     let face_normal_ref = &mesh.face_normal;
     let vert_pos_ref = &mesh.vert_pos;
     let epsilon = mesh.epsilon;
-    let general: Vec<Option<HalfedgeTriangulation>> =
-        match crate::par::maybe_par_map_ct(num_faces, 512, token, |face| {
-            let num_edge = (face_edge[face + 1] - face_edge[face]) as usize;
-            if num_edge <= 4 {
-                return None;
-            }
+    // blocksmith patch (PATCHES.md, 5): one task per general face, as C++ spawns
+    // one per face, so a few large faces (a cube side with its holes) spread over
+    // the threads instead of landing in one chunk of the face range.
+    let general_faces: Vec<usize> = (0..num_faces)
+        .filter(|&face| face_edge[face + 1] - face_edge[face] > 4)
+        .collect();
+    let triangulated: Vec<HalfedgeTriangulation> =
+        match crate::par::maybe_par_map_each_ct(general_faces.len(), 2, token, |k| {
+            let face = general_faces[k];
             let first_edge = face_edge[face] as usize;
             let last_edge = face_edge[face + 1] as usize;
             let projection = get_axis_aligned_projection(face_normal_ref[face]);
             let polys_loops =
                 assemble_halfedges(&face_halfedge[first_edge..last_edge], first_edge as i32);
             let polys = project_polygons(&polys_loops, &face_halfedge, vert_pos_ref, &projection);
-            Some(triangulate_idx_halfedges(&polys, epsilon, allow_convex))
+            triangulate_idx_halfedges(&polys, epsilon, allow_convex)
         }) {
-            Some(general) => general,
+            Some(triangulated) => triangulated,
             None => return false,
         };
+    let mut general: Vec<Option<HalfedgeTriangulation>> = (0..num_faces).map(|_| None).collect();
+    for (&face, triangulation) in general_faces.iter().zip(triangulated) {
+        general[face] = Some(triangulation);
+    }
 
     let mut tri_offset = vec![0usize; face_edge.len()];
     for (face, triangulation) in general.iter().enumerate() {

@@ -11,7 +11,8 @@
 // The sites, with the size at which each goes parallel (manifold-sharp's
 // Par.cs mirrors this list; keep it current):
 //   face_op.rs            `calculate_vert_normals`, per-vertex map    10,000 verts
-//   face_op_triangulate.rs `face2tri_ct` triangulation, map_ct       512 faces
+//   face_op_triangulate.rs `face2tri_ct` triangulation of the faces
+//                         of over four edges, map_each_ct           2 faces
 //                         `face2tri` writes, runs of 4,096 faces into
 //                         disjoint `split_at_mut` slices             2 runs
 //   boolean3_kernels.rs   `intersect12` query map_ct; result stable
@@ -233,6 +234,52 @@ where
             })
             .collect()
     }
+}
+
+/// [`maybe_par_map_ct`] with every index its own task (rayon's `with_max_len(1)`),
+/// for a few items of very uneven cost: the default splitting hands out ranges,
+/// and a range holding all the costly items runs them on one thread. Same
+/// results, in index order. blocksmith patch (PATCHES.md, 5).
+#[cfg(feature = "parallel")]
+pub fn maybe_par_map_each_ct<T, F>(
+    n: usize,
+    threshold: usize,
+    token: Option<&crate::cancel::CancelToken>,
+    f: F,
+) -> Option<Vec<T>>
+where
+    T: Send,
+    F: Fn(usize) -> T + Sync + Send,
+{
+    use rayon::prelude::*;
+    if n < threshold {
+        return maybe_par_map_ct(n, usize::MAX, token, f);
+    }
+    (0..n)
+        .into_par_iter()
+        .with_max_len(1)
+        .map(|i| {
+            if crate::cancel::is_cancelled(token) {
+                None
+            } else {
+                Some(f(i))
+            }
+        })
+        .collect()
+}
+
+/// Sequential fallback: identical output to the parallel version.
+#[cfg(not(feature = "parallel"))]
+pub fn maybe_par_map_each_ct<T, F>(
+    n: usize,
+    threshold: usize,
+    token: Option<&crate::cancel::CancelToken>,
+    f: F,
+) -> Option<Vec<T>>
+where
+    F: Fn(usize) -> T,
+{
+    maybe_par_map_ct(n, threshold, token, f)
 }
 
 /// Sequential fallback: identical output to the parallel version.
