@@ -77,6 +77,8 @@ impl Mesh {
         let mut he_prev = Vec::with_capacity(nfh * 2);
         let mut he_face = Vec::with_capacity(nfh * 2);
         let mut face_he = Vec::with_capacity(arities.len());
+        // Each face half-edge's target, so the twin search reads one array.
+        let mut he_target = Vec::with_capacity(nfh);
         let mut start = 0usize;
         for (f, &arity) in arities.iter().enumerate() {
             let arity = arity as usize;
@@ -101,6 +103,7 @@ impl Mesh {
                 he_next.push((start + (i + 1) % arity) as u32);
                 he_prev.push((start + (i + arity - 1) % arity) as u32);
                 he_face.push(f as u32);
+                he_target.push(corners[(i + 1) % arity]);
             }
             start += arity;
         }
@@ -119,7 +122,7 @@ impl Mesh {
             out_list[fill[v as usize] as usize] = h as u32;
             fill[v as usize] += 1;
         }
-        let target = |h: usize| he_origin[he_next[h] as usize];
+        let target = |h: usize| he_target[h];
 
         // 3. Twins. A repeated directed edge is a non-manifold edge.
         let mut he_twin = vec![NONE; nfh];

@@ -528,11 +528,19 @@ pub fn recursive_edge_swap(
 /// Finds vertices where multiple halfedge cycles meet (pinched verts) and
 /// splits them into separate vertices — one per cycle.
 pub fn split_pinched_verts(mesh: &mut ManifoldImpl) {
+    split_pinched_verts_with_owners(mesh);
+}
+
+/// [`split_pinched_verts`], returning the orbit owners it found when it split
+/// nothing: the mesh is then unchanged, and `dedupe_edges_from` can start from
+/// them. blocksmith patch (PATCHES.md, 4).
+fn split_pinched_verts_with_owners(mesh: &mut ManifoldImpl) -> Option<Vec<usize>> {
     // With the owners known (`orbit_owners`), walk only the pinched orbits, in
     // the order the sequential scan below reaches them.
     if let Some(owners) = orbit_owners(&mesh.halfedge, ORBIT_PAR_THRESHOLD, |h| h.start_vert >= 0) {
         let mut vert_processed = vec![false; mesh.vert_pos.len()];
-        for i in owners {
+        let mut split_any = false;
+        for &i in &owners {
             let vert = mesh.halfedge[i].start_vert as usize;
             if vert_processed.get(vert) != Some(&true) {
                 if vert < vert_processed.len() {
@@ -540,6 +548,7 @@ pub fn split_pinched_verts(mesh: &mut ManifoldImpl) {
                 }
                 continue;
             }
+            split_any = true;
             let new_pos = mesh.vert_pos[vert];
             mesh.vert_pos.push(new_pos);
             let new_vert = (mesh.vert_pos.len() - 1) as i32;
@@ -555,7 +564,7 @@ pub fn split_pinched_verts(mesh: &mut ManifoldImpl) {
                 }
             }
         }
-        return;
+        return (!split_any).then_some(owners);
     }
     let n_edges = mesh.halfedge.len();
     let mut vert_processed = vec![false; mesh.vert_pos.len()];
@@ -623,6 +632,7 @@ pub fn split_pinched_verts(mesh: &mut ManifoldImpl) {
         }
         i += 1;
     }
+    None
 }
 
 // -----------------------------------------------------------------------
@@ -812,13 +822,26 @@ pub fn dedupe_edge(mesh: &mut ManifoldImpl, edge: usize) {
 
 /// Finds and fixes all duplicate edges (4-manifold conditions).
 pub fn dedupe_edges(mesh: &mut ManifoldImpl) {
+    dedupe_edges_from(mesh, None);
+}
+
+/// [`dedupe_edges`], whose first pass takes `split_owners`, the owners of the
+/// orbits of halfedges with a start vertex (from `split_pinched_verts_with_owners`
+/// on this very mesh), when every such halfedge also has an end vertex: its
+/// own eligible halfedges are then the same, and so are the owners.
+/// blocksmith patch (PATCHES.md, 4).
+fn dedupe_edges_from(mesh: &mut ManifoldImpl, mut split_owners: Option<Vec<usize>>) {
     let max_iterations = mesh.halfedge.len(); // safety bound
     for _iteration in 0..max_iterations {
         let n_edges = mesh.halfedge.len();
         // Orbit by orbit in parallel if every orbit is a closed cycle (see
         // `orbit_owners`), else sequentially; both give the same list.
         let valid = |h: &Halfedge| h.start_vert >= 0 && h.end_vert >= 0;
-        let duplicates: Vec<usize> = match orbit_owners(&mesh.halfedge, ORBIT_PAR_THRESHOLD, valid)
+        let owners = match split_owners.take() {
+            Some(owners) if mesh.halfedge.iter().all(|h| h.start_vert < 0 || h.end_vert >= 0) => Some(owners),
+            _ => orbit_owners(&mesh.halfedge, ORBIT_PAR_THRESHOLD, valid),
+        };
+        let duplicates: Vec<usize> = match owners
         {
             Some(owners) => {
                 let m: &ManifoldImpl = mesh;
@@ -899,8 +922,8 @@ pub fn cleanup_topology(mesh: &mut ManifoldImpl) {
     if mesh.halfedge.is_empty() {
         return;
     }
-    split_pinched_verts(mesh);
-    dedupe_edges(mesh);
+    let owners = split_pinched_verts_with_owners(mesh);
+    dedupe_edges_from(mesh, owners);
 }
 
 /// Collapses short edges and colinear edges, and swaps degenerate edge diagonals.

@@ -357,6 +357,17 @@ impl ManifoldImpl {
         // forward: v0 < v1 → bit=1; backward: v0 > v1 → bit=0
         // After sorting: backward halfedges first, then forward, both by (min,max)
         let mut edge_keys = vec![0u64; num_halfedge];
+        // blocksmith patch (PATCHES.md, 3): the key packs the vertex ids in as
+        // many bits as the largest needs (`id_bits`), an order-preserving map of
+        // the layout above, so the radix sort below makes fewer passes; with a
+        // negative id, the layout above.
+        let vert_ids = if use_prop { tri_prop } else { tri_vert };
+        let (min_id, max_id) = vert_ids
+            .iter()
+            .flat_map(|t| [t.x, t.y, t.z])
+            .fold((0i32, 0i32), |(lo, hi), v| (lo.min(v), hi.max(v)));
+        let id_bits: u32 = if min_id < 0 { 32 } else { 32 - (max_id as u32).leading_zeros() };
+        let (fwd_shift, min_shift) = if min_id < 0 { (63, 32) } else { (2 * id_bits, id_bits) };
 
         for tri in 0..num_tri {
             for i in 0usize..3 {
@@ -381,7 +392,7 @@ impl ManifoldImpl {
                 let fwd = if v0 < v1 { 1u64 } else { 0u64 };
                 let min_v = v0.min(v1) as u64;
                 let max_v = v0.max(v1) as u64;
-                edge_keys[e] = (fwd << 63) | (min_v << 32) | max_v;
+                edge_keys[e] = (fwd << fwd_shift) | (min_v << min_shift) | max_v;
             }
         }
 
@@ -392,7 +403,8 @@ impl ManifoldImpl {
         // meshes) the tie must break on original halfedge-index order, so we
         // use a stable sort to stay bit-identical to C++.
         // blocksmith patch (PATCHES.md, 3): the same stable order by a linear radix sort.
-        let mut ids: Vec<usize> = crate::sort::stable_order_by_key(num_halfedge, 64, |i| edge_keys[i]);
+        let mut ids: Vec<usize> =
+            crate::sort::stable_order_by_key(num_halfedge, fwd_shift + 1, |i| edge_keys[i]);
 
         // ids[0..num_edge] = backward halfedges (startVert > endVert), sorted by (min,max)
         // ids[num_edge..] = forward halfedges (startVert < endVert), sorted by (min,max)
