@@ -279,3 +279,33 @@ fn test_orbit_owners_match_the_sequential_scan_on_orbits_longer_than_the_cap() {
     assert!(n as usize > super::orbits::ORBIT_WALK_CAP);
     assert_orbit_owners_match(halfedge);
 }
+
+/// The same at a pinched vertex: two tetrahedra sharing vertex 0, so two
+/// orbits leave it and the linear owner test (`vertex_owners`, blocksmith
+/// patch 4) must hand over to the walks; also with every halfedge eligible
+/// but those of the second tetrahedron's far face.
+#[cfg(feature = "parallel")]
+#[test]
+fn test_orbit_owners_match_the_sequential_scan_at_a_pinched_vertex() {
+    use crate::linalg::IVec3;
+    let tet = |a: i32, b: i32, c: i32, d: i32| {
+        [
+            IVec3::new(a, c, b),
+            IVec3::new(a, b, d),
+            IVec3::new(a, d, c),
+            IVec3::new(b, c, d),
+        ]
+    };
+    let tris: Vec<IVec3> = tet(0, 1, 2, 3).into_iter().chain(tet(0, 4, 5, 6)).collect();
+    let mut imp = ManifoldImpl::new();
+    imp.vert_pos = (0..7).map(|i| Vec3::new(f64::from(i), 0.0, 0.0)).collect();
+    imp.create_halfedges(&tris, &[]);
+    assert!(imp.halfedge.iter().all(|h| h.paired_halfedge >= 0));
+    assert_orbit_owners_match(&imp.halfedge);
+    let eligible = |h: &Halfedge| h.start_vert >= 0 && !(h.start_vert >= 4 && h.end_vert >= 4);
+    let expected = sequential_orbit_owners(&imp.halfedge, &eligible);
+    assert_eq!(orbit_owners(&imp.halfedge, 0, eligible), Some(expected));
+    // Vertex 0 owns two orbits.
+    let owners = orbit_owners(&imp.halfedge, 0, |h: &Halfedge| h.start_vert >= 0).unwrap();
+    assert_eq!(owners.iter().filter(|&&i| imp.halfedge[i].start_vert == 0).count(), 2);
+}
