@@ -97,6 +97,14 @@ impl Csg {
     /// [`CsgError`] naming the operand: an open, empty or self-touching input, one with a
     /// non-finite coordinate, a block model that cannot be meshed.
     pub fn evaluate(&self) -> Result<Mesh, CsgError> {
+        // On a worker of the thread pool: the parallel steps inside then share work with the
+        // other workers directly, rather than each handing a job from this thread to the pool
+        // and sleeping until it is done.
+        rayon::scope(|_| self.evaluate_here())
+    }
+
+    /// [`Csg::evaluate`] on the calling thread.
+    fn evaluate_here(&self) -> Result<Mesh, CsgError> {
         let mut leaves = Vec::new();
         collect_leaves(self, Side::Left, &mut leaves);
         let prepared: Vec<Prepared> = leaves
