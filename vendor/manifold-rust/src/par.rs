@@ -205,35 +205,10 @@ where
     T: Send,
     F: Fn(usize) -> T + Sync + Send,
 {
-    use rayon::prelude::*;
     let Some(token) = token else {
         return Some(maybe_par_map(n, threshold, f));
     };
-    // Collecting `Option<T>` into `Option<Vec<T>>` short-circuits on the first
-    // `None` in both rayon and std, so a cancel stops the remaining work
-    // instead of merely skipping each element's body.
-    if n >= threshold {
-        (0..n)
-            .into_par_iter()
-            .map(|i| {
-                if token.is_cancelled() {
-                    None
-                } else {
-                    Some(f(i))
-                }
-            })
-            .collect()
-    } else {
-        (0..n)
-            .map(|i| {
-                if token.is_cancelled() {
-                    None
-                } else {
-                    Some(f(i))
-                }
-            })
-            .collect()
-    }
+    cancellable_map(n, threshold, usize::MAX, Some(token), f)
 }
 
 /// [`maybe_par_map_ct`] with every index its own task (rayon's `with_max_len(1)`),
@@ -251,21 +226,40 @@ where
     T: Send,
     F: Fn(usize) -> T + Sync + Send,
 {
+    cancellable_map(n, threshold, 1, token, f)
+}
+
+/// The body of [`maybe_par_map_ct`] and [`maybe_par_map_each_ct`]: `f` over
+/// `0..n`, in rayon tasks of at most `max_len` indices when `n >= threshold`,
+/// `None` once `token` is cancelled.
+#[cfg(feature = "parallel")]
+fn cancellable_map<T, F>(
+    n: usize,
+    threshold: usize,
+    max_len: usize,
+    token: Option<&crate::cancel::CancelToken>,
+    f: F,
+) -> Option<Vec<T>>
+where
+    T: Send,
+    F: Fn(usize) -> T + Sync + Send,
+{
     use rayon::prelude::*;
-    if n < threshold {
-        return maybe_par_map_ct(n, usize::MAX, token, f);
+    let one = |i: usize| {
+        if crate::cancel::is_cancelled(token) {
+            None
+        } else {
+            Some(f(i))
+        }
+    };
+    // Collecting `Option<T>` into `Option<Vec<T>>` short-circuits on the first
+    // `None` in both rayon and std, so a cancel stops the remaining work
+    // instead of merely skipping each element's body.
+    if n >= threshold {
+        (0..n).into_par_iter().with_max_len(max_len).map(one).collect()
+    } else {
+        (0..n).map(one).collect()
     }
-    (0..n)
-        .into_par_iter()
-        .with_max_len(1)
-        .map(|i| {
-            if crate::cancel::is_cancelled(token) {
-                None
-            } else {
-                Some(f(i))
-            }
-        })
-        .collect()
 }
 
 /// Sequential fallback: identical output to the parallel version.
