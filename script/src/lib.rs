@@ -13,6 +13,7 @@ pub mod doc;
 pub mod repl;
 pub mod resolver;
 pub mod run;
+pub mod studio;
 pub mod test_runner;
 
 use std::cell::Cell;

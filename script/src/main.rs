@@ -3,8 +3,8 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use blocksmith::run::{execute, RunCommand};
-use blocksmith::{doc, new_engine, repl, test_runner, EngineOptions};
+use blocksmith::run::{execute, RunCommand, RunError};
+use blocksmith::{doc, new_engine, repl, test_runner, EngineOptions, RunContext};
 use clap::{Parser, Subcommand};
 
 /// mimalloc rather than the system allocator: the boolean engine allocates and frees many
@@ -45,6 +45,23 @@ enum Command {
         #[arg(long, default_value = "target/test-output")]
         out: PathBuf,
     },
+    /// Draw a recipe's value (or a mesh file) to a PNG on the CPU: no GPU, no browser.
+    Render {
+        /// The recipe (.rhai) or mesh file (.glb .gltf .obj .stl).
+        file: PathBuf,
+        /// The PNG to write.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// The picture's size.
+        #[arg(long, default_value = "800x600", value_parser = parse_size)]
+        size: (u32, u32),
+        /// Where the camera looks from: iso, front, back, left, right, top, bottom.
+        #[arg(long, default_value = "iso")]
+        view: blocksmith::studio::render::View,
+        /// A parameter read by `param(name, default)`; repeatable.
+        #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_set)]
+        set: Vec<(String, String)>,
+    },
     /// Print the API reference (of one function, or all).
     Doc {
         /// A function name.
@@ -59,20 +76,44 @@ fn parse_set(s: &str) -> Result<(String, String), String> {
     }
 }
 
+fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("expected WIDTHxHEIGHT (each 1 to 8192), got `{s}`");
+    let (w, h) = s.split_once('x').ok_or_else(bad)?;
+    let (w, h) = (w.parse::<u32>().map_err(|_| bad())?, h.parse::<u32>().map_err(|_| bad())?);
+    if (1..=8192).contains(&w) && (1..=8192).contains(&h) {
+        Ok((w, h))
+    } else {
+        Err(bad())
+    }
+}
+
+/// The options of a run with `--set` parameters.
+fn with_params(set: Vec<(String, String)>) -> EngineOptions {
+    EngineOptions {
+        context: RunContext { params: set.into_iter().collect(), ..RunContext::default() },
+        ..EngineOptions::default()
+    }
+}
+
+/// Prints a command's result: the summary on success, the error on failure.
+fn report(result: Result<String, RunError>) -> ExitCode {
+    match result {
+        Ok(summary) => {
+            eprintln!("{summary}");
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("{e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
         Command::Run { file, output, set, max_operations } => {
-            match execute(&RunCommand { file, output, params: set, max_operations }) {
-                Ok(summary) => {
-                    eprintln!("{summary}");
-                    ExitCode::SUCCESS
-                }
-                Err(e) => {
-                    eprintln!("{e}");
-                    ExitCode::FAILURE
-                }
-            }
+            report(execute(&RunCommand { file, output, params: set, max_operations }))
         }
         Command::Repl => match repl::run() {
             Ok(()) => ExitCode::SUCCESS,
@@ -97,6 +138,9 @@ fn main() -> ExitCode {
             } else {
                 ExitCode::SUCCESS
             }
+        }
+        Command::Render { file, output, size, view, set } => {
+            report(blocksmith::studio::render_to_png(&file, with_params(set), &output, size, view))
         }
         Command::Doc { name } => {
             let engine = new_engine(EngineOptions::default());

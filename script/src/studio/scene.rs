@@ -1,0 +1,211 @@
+//! What the studio shows: a run's value, or a mesh file, as named layers — each a `.glb` as
+//! `save` writes it (so the page shows exactly what `blocksmith run -o x.glb` would write,
+//! animation included) and the mesh read back from it, for its facts and for `render`.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+
+use blocksmith_kernel::io::{self, gltf::write_glb};
+use blocksmith_kernel::Mesh;
+use rhai::{Dynamic, Engine, AST};
+
+use crate::run::{eval_file, save_value, RunError};
+use crate::{new_engine, EngineOptions};
+
+/// One value of a scene.
+#[derive(Clone, Debug)]
+pub struct Layer {
+    /// `model` for a single value; the key or `[index]` of a map or array element.
+    pub name: String,
+    /// The value as a binary glTF file.
+    pub glb: Vec<u8>,
+    /// The mesh of the file (its rest pose for an animation).
+    pub mesh: Mesh,
+}
+
+/// A mesh's facts as the page lists them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Facts {
+    pub vertices: usize,
+    pub triangles: usize,
+    pub closed: bool,
+    pub manifold: bool,
+    pub genus: i64,
+    pub volume: f64,
+    pub min: [f64; 3],
+    pub max: [f64; 3],
+}
+
+impl Facts {
+    /// The facts of `mesh`.
+    #[must_use]
+    pub fn of(mesh: &Mesh) -> Facts {
+        let b = mesh.bounds();
+        Facts {
+            vertices: mesh.vertex_count(),
+            triangles: mesh.triangle_count(),
+            closed: mesh.is_closed(),
+            manifold: mesh.is_manifold(),
+            genus: mesh.genus(),
+            volume: mesh.volume(),
+            min: b.min.to_array(),
+            max: b.max.to_array(),
+        }
+    }
+
+    /// The facts as a JSON object.
+    #[must_use]
+    pub fn json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "vertices": self.vertices, "triangles": self.triangles, "closed": self.closed,
+            "manifold": self.manifold, "genus": self.genus, "volume": self.volume,
+            "min": self.min, "max": self.max,
+        })
+    }
+}
+
+/// A recipe's run: its layers and how long the run took (the script, not the conversion).
+#[derive(Clone, Debug)]
+pub struct Scene {
+    pub layers: Vec<Layer>,
+    pub run_time: Duration,
+}
+
+/// Runs the recipe at `path` with `options` and makes its value a scene.
+///
+/// # Errors
+/// The run's error, formatted as the terminal prints it, or a value that cannot be saved.
+pub fn run_recipe(path: &Path, options: EngineOptions) -> Result<Scene, RunError> {
+    let start = Instant::now();
+    let (value, ast) = eval_file(path, options.clone())?;
+    let run_time = start.elapsed();
+    let mut options = options;
+    options.context.script_dir = path.parent().map(Path::to_path_buf);
+    let engine = new_engine(options);
+    Ok(Scene { layers: layers(&engine, &ast, value)?, run_time })
+}
+
+/// The layers of a value: each element of an array (`[0]`, `[1]`, …) or map (by key), else
+/// the value itself as `model`. Nothing (unit) is an error, as for `run -o`.
+///
+/// # Errors
+/// An element that cannot be saved, named.
+pub fn layers(engine: &Engine, functions: &AST, value: Dynamic) -> Result<Vec<Layer>, RunError> {
+    let named: Vec<(String, Dynamic)> = if value.is_array() {
+        value.into_array().unwrap_or_default().into_iter().enumerate().map(|(i, v)| (format!("[{i}]"), v)).collect()
+    } else if value.is_map() {
+        value.cast::<rhai::Map>().into_iter().map(|(k, v)| (k.to_string(), v)).collect()
+    } else {
+        vec![("model".to_string(), value)]
+    };
+    if named.is_empty() {
+        return Err(RunError("error: nothing to show: the script's last value is an empty array or map".into()));
+    }
+    named
+        .into_iter()
+        .map(|(name, v)| {
+            let glb = glb_of(engine, functions, v).map_err(|e| {
+                if name == "model" {
+                    e
+                } else {
+                    RunError(format!("layer {name}: {e}"))
+                }
+            })?;
+            let mesh = io::gltf::read_gltf(&glb, None, Path::new(&format!("{name}.glb")))
+                .map_err(|e| RunError(format!("error: layer {name}: {e}")))?;
+            Ok(Layer { name, glb, mesh })
+        })
+        .collect()
+}
+
+/// The `.glb` that `save` writes for `value`, through a temporary file.
+fn glb_of(engine: &Engine, functions: &AST, value: Dynamic) -> Result<Vec<u8>, RunError> {
+    static COUNTER: AtomicU64 = AtomicU64::new(0);
+    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+    let path: PathBuf = std::env::temp_dir().join(format!("blocksmith-studio-{}-{n}.glb", std::process::id()));
+    let result = save_value(engine, functions, value, &path)
+        .and_then(|()| std::fs::read(&path).map_err(|e| RunError(format!("error: cannot read back the model: {e}"))));
+    // Best effort: the file may not exist when saving failed.
+    let _ = std::fs::remove_file(&path);
+    result
+}
+
+/// A mesh file (`.glb`, `.gltf`, `.obj`, `.stl`) as a one-layer scene; a `.glb` is shown as it
+/// is (with its animation), the others as the `.glb` of their mesh.
+///
+/// # Errors
+/// The file's read error.
+pub fn load_file(path: &Path) -> Result<Scene, RunError> {
+    let start = Instant::now();
+    let mesh = io::load(path).map_err(|e| RunError(format!("error: {e}")))?;
+    let glb = if io::Format::from_path(path).ok() == Some(io::Format::Glb) {
+        std::fs::read(path).map_err(|e| RunError(format!("error: cannot read {}: {e}", path.display())))?
+    } else {
+        let mut bytes = Vec::new();
+        write_glb(&mesh, &mut bytes, path).map_err(|e| RunError(format!("error: {e}")))?;
+        bytes
+    };
+    Ok(Scene { layers: vec![Layer { name: "model".into(), glb, mesh }], run_time: start.elapsed() })
+}
+
+/// A recipe (`.rhai`) is run, any other file is read as a mesh.
+///
+/// # Errors
+/// As [`run_recipe`] or [`load_file`].
+pub fn open(path: &Path, options: EngineOptions) -> Result<Scene, RunError> {
+    if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("rhai")) {
+        run_recipe(path, options)
+    } else {
+        load_file(path)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn recipe(dir: &Path, text: &str) -> PathBuf {
+        let p = dir.join("r.rhai");
+        std::fs::write(&p, text).unwrap();
+        p
+    }
+
+    #[test]
+    fn a_single_value_is_one_layer_with_its_facts() {
+        let dir = tempfile::tempdir().unwrap();
+        let scene = run_recipe(&recipe(dir.path(), "cube(2)"), EngineOptions::default()).unwrap();
+        assert_eq!(scene.layers.len(), 1);
+        assert_eq!(scene.layers[0].name, "model");
+        assert_eq!(&scene.layers[0].glb[..4], b"glTF");
+        let f = Facts::of(&scene.layers[0].mesh);
+        assert_eq!((f.vertices, f.triangles, f.closed, f.manifold, f.genus), (8, 12, true, true, 0));
+        assert!((f.volume - 8.0).abs() < 1e-6, "{}", f.volume);
+    }
+
+    #[test]
+    fn an_array_or_map_is_named_layers_and_a_bad_element_is_named() {
+        let dir = tempfile::tempdir().unwrap();
+        let s = run_recipe(&recipe(dir.path(), "[cube(1), icosphere(1, 1)]"), EngineOptions::default()).unwrap();
+        let names: Vec<&str> = s.layers.iter().map(|l| l.name.as_str()).collect();
+        assert_eq!(names, ["[0]", "[1]"]);
+        assert_eq!(s.layers[1].mesh.triangle_count(), 80);
+        let s = run_recipe(&recipe(dir.path(), "#{ lid: cube(1), box: cube(2) }"), EngineOptions::default()).unwrap();
+        let names: Vec<&str> = s.layers.iter().map(|l| l.name.as_str()).collect();
+        assert_eq!(names, ["box", "lid"]);
+        let e = run_recipe(&recipe(dir.path(), "#{ a: cube(1), b: 5 }"), EngineOptions::default()).unwrap_err();
+        assert!(e.0.contains("layer b") && e.0.contains("cannot be saved"), "{e}");
+        let e = run_recipe(&recipe(dir.path(), "[]"), EngineOptions::default()).unwrap_err();
+        assert!(e.0.contains("nothing to show"), "{e}");
+    }
+
+    #[test]
+    fn a_mesh_file_is_one_layer() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("c.obj");
+        io::save(&Mesh::cuboid(blocksmith_kernel::Vec3::ZERO, blocksmith_kernel::Vec3::ONE), &p).unwrap();
+        let s = open(&p, EngineOptions::default()).unwrap();
+        assert_eq!(s.layers[0].mesh.face_count(), 6);
+        assert_eq!(&s.layers[0].glb[..4], b"glTF");
+    }
+}
