@@ -7,6 +7,8 @@ use std::rc::Rc;
 
 use rhai::{Dynamic, NativeCallContext};
 
+use crate::record::Recorder;
+
 /// The surroundings of one script run.
 #[derive(Clone, Debug, Default)]
 pub struct RunContext {
@@ -17,6 +19,8 @@ pub struct RunContext {
     /// Where relative `save` paths are written (the working directory for `run` and the REPL,
     /// the output directory for `test`).
     pub output_dir: Option<PathBuf>,
+    /// What the run declares and reads (parameters, input files), filled in as it goes.
+    pub record: Recorder,
 }
 
 impl RunContext {
@@ -55,7 +59,8 @@ impl RunContext {
     }
 }
 
-/// Parses a `--set` value: integer, float, bool, else string.
+/// Parses a `--set` value of a parameter whose default has no simple type (see
+/// [`crate::param`]): integer, float, bool, else string.
 pub fn parse_param(text: &str) -> Dynamic {
     if let Ok(i) = text.parse::<rhai::INT>() {
         Dynamic::from(i)

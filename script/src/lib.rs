@@ -10,6 +10,9 @@ pub mod context;
 pub mod convert;
 pub mod diagnostics;
 pub mod doc;
+pub mod param;
+pub mod params_list;
+pub mod record;
 pub mod repl;
 pub mod resolver;
 pub mod run;
@@ -53,7 +56,9 @@ pub fn new_engine(options: EngineOptions) -> Engine {
     engine.set_max_array_size(64 << 20);
     engine.set_max_map_size(1 << 20);
     api::register_all(&mut engine);
-    engine.set_module_resolver(resolver::Resolver::new(options.context.script_dir.clone()));
+    engine.set_module_resolver(
+        resolver::Resolver::new(options.context.script_dir.clone()).recording(options.context.record.clone()),
+    );
     engine.set_default_tag(options.context.clone().into_tag());
     let limit = options.max_operations;
     let interrupt = options.interrupt;

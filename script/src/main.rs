@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use blocksmith::params_list::{self, ListFormat};
 use blocksmith::run::{execute, RunCommand, RunError};
 use blocksmith::{doc, new_engine, repl, test_runner, EngineOptions, RunContext};
 use clap::{Parser, Subcommand};
@@ -34,6 +35,17 @@ enum Command {
         /// Stop the script after this many operations (also inside closures).
         #[arg(long)]
         max_operations: Option<u64>,
+    },
+    /// List a recipe's parameters (found by running it): name, type, default, range, doc.
+    Params {
+        /// The recipe (.rhai).
+        file: PathBuf,
+        /// `text` (a table) or `json`.
+        #[arg(long, value_parser = ["text", "json"], default_value = "text")]
+        format: String,
+        /// A parameter value to list with (a default may depend on another parameter).
+        #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_set)]
+        set: Vec<(String, String)>,
     },
     /// Interactive session (also reads piped standard input).
     Repl,
@@ -114,6 +126,19 @@ fn main() -> ExitCode {
     match cli.command {
         Command::Run { file, output, set, max_operations } => {
             report(execute(&RunCommand { file, output, params: set, max_operations }))
+        }
+        Command::Params { file, format, set } => {
+            let format = if format == "json" { ListFormat::Json } else { ListFormat::Text };
+            match params_list::execute(&file, &set, format) {
+                Ok(listing) => {
+                    print!("{listing}");
+                    ExitCode::SUCCESS
+                }
+                Err(e) => {
+                    eprintln!("{e}");
+                    ExitCode::FAILURE
+                }
+            }
         }
         Command::Repl => match repl::run() {
             Ok(()) => ExitCode::SUCCESS,

@@ -8,6 +8,8 @@ use std::path::{Path, PathBuf};
 use rhai::module_resolvers::FileModuleResolver;
 use rhai::{Engine, EvalAltResult, Module, ModuleResolver, Position, Scope, Shared};
 
+use crate::record::Recorder;
+
 type SharedModule = Shared<Module>;
 
 include!(concat!(env!("OUT_DIR"), "/stdlib.rs"));
@@ -17,6 +19,7 @@ pub struct Resolver {
     base: Option<PathBuf>,
     files: FileModuleResolver,
     stdlib_cache: RefCell<HashMap<String, SharedModule>>,
+    record: Recorder,
 }
 
 impl Resolver {
@@ -28,7 +31,14 @@ impl Resolver {
             Some(b) => FileModuleResolver::new_with_path(b),
             None => FileModuleResolver::new(),
         };
-        Resolver { base, files, stdlib_cache: RefCell::new(HashMap::new()) }
+        Resolver { base, files, stdlib_cache: RefCell::new(HashMap::new()), record: Recorder::default() }
+    }
+
+    /// The resolver, recording each module it resolves (the file, or the standard-library
+    /// module's name) in `record`.
+    #[must_use]
+    pub fn recording(self, record: Recorder) -> Resolver {
+        Resolver { record, ..self }
     }
 
     /// The source of standard-library module `name`, if there is one.
@@ -69,9 +79,13 @@ impl ModuleResolver for Resolver {
         if local.exists() {
             // Absolute, so the file resolver does not join it to its own base a second time.
             let local = local.canonicalize().unwrap_or(local);
+            self.record.input(&local);
             return self.files.resolve(engine, None, &local.to_string_lossy(), pos);
         }
         let name = path.trim_end_matches(".rhai");
+        if Resolver::stdlib_source(name).is_some() {
+            self.record.stdlib(name);
+        }
         if let Some(m) = self.stdlib_cache.borrow().get(name) {
             return Ok(m.clone());
         }

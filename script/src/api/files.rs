@@ -55,7 +55,11 @@ pub mod files_api {
     /// ```
     #[rhai_fn(return_raw)]
     pub fn load(ctx: NativeCallContext, path: &str) -> ScriptResult<SharedMesh> {
-        let p = RunContext::of(&ctx).input_path(path);
+        let run = RunContext::of(&ctx);
+        let p = run.input_path(path);
+        if p.exists() {
+            run.record.input(&p);
+        }
         match io::load(&p) {
             Ok(m) => Ok(SharedMesh::new(m)),
             Err(e) => fail("load", e),

@@ -2,9 +2,11 @@
 
 use blocksmith_kernel::Vec3;
 use rhai::plugin::*;
+use rhai::Map;
 
-use crate::context::{parse_param, RunContext};
+use crate::context::RunContext;
 use crate::convert::{fail, number, type_name, vec3, ScriptResult};
+use crate::param::Declared;
 
 fn show(ctx: &NativeCallContext, v: &Dynamic) -> String {
     ctx.call_native_fn::<String>("to_debug", (v.clone(),)).unwrap_or_else(|_| v.to_string())
@@ -85,25 +87,45 @@ pub mod runtime_api {
         }
     }
 
-    /// The value given on the command line with `--set name=value` (parsed as integer, float,
-    /// bool, else string), or `default`. An integer given for a float default becomes a float.
-    /// Recipes declare their knobs this way.
+    /// The value given on the command line with `--set name=value`, parsed by the type of
+    /// `default` (integer, float — an integer is taken —, bool, text, `Vec3` as `x,y,z`, array
+    /// as comma-separated elements), or `default`. Recipes declare their knobs this way; the run
+    /// records each (`blocksmith params` lists them). A value that does not parse is an error
+    /// naming the parameter, what it must be and its default.
     ///
     /// ```rhai
     /// let teeth = param("teeth", 12);
     /// assert(teeth > 0, "teeth must be positive");
     /// ```
-    pub fn param(ctx: NativeCallContext, name: &str, default: Dynamic) -> Dynamic {
-        match RunContext::of(&ctx).params.get(name) {
-            None => default,
-            Some(text) => {
-                let v = parse_param(text);
-                if default.is_float() && v.is_int() {
-                    Dynamic::from(v.as_int().unwrap_or_default() as f64)
-                } else {
-                    v
-                }
-            }
-        }
+    #[rhai_fn(return_raw)]
+    pub fn param(ctx: NativeCallContext, name: &str, default: Dynamic) -> ScriptResult<Dynamic> {
+        declare(&ctx, name, default, Map::new())
     }
+
+    /// `param(name, default, #{min, max, step, choices, doc})`: a parameter with a range
+    /// (`min`, `max`: inclusive, of a number or of each coordinate or element), the increment a
+    /// control should use (`step`), the allowed values (`choices`, of the default's type) and a
+    /// one-line description (`doc`), after OpenSCAD's customizer. The default must pass the
+    /// checks; a `--set` value outside them is an error naming the parameter, what it must be
+    /// and its default, before the recipe runs further.
+    ///
+    /// ```rhai
+    /// let teeth = param("teeth", 12, #{ min: 6, max: 40, step: 1, doc: "number of teeth" });
+    /// let wood = param("wood", "oak", #{ choices: ["oak", "pine", "walnut"] });
+    /// assert_eq(teeth, 12);
+    /// assert_eq(wood, "oak");
+    /// ```
+    #[rhai_fn(name = "param", return_raw)]
+    pub fn param_with(ctx: NativeCallContext, name: &str, default: Dynamic, options: Map) -> ScriptResult<Dynamic> {
+        declare(&ctx, name, default, options)
+    }
+}
+
+/// Declares the parameter `name`, records it in the run's record and returns its value.
+fn declare(ctx: &NativeCallContext, name: &str, default: Dynamic, options: Map) -> ScriptResult<Dynamic> {
+    let run = RunContext::of(ctx);
+    let declared = Declared::new(name, default, options)?;
+    let (value, spec) = declared.resolve(run.params.get(name).map(String::as_str))?;
+    run.record.param(spec);
+    Ok(value)
 }
