@@ -25,6 +25,7 @@ pub mod anim;
 pub mod blocks;
 pub mod csg;
 pub mod io;
+pub mod limits;
 pub mod lsystem;
 pub mod math;
 pub mod mesh;

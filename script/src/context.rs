@@ -2,7 +2,7 @@
 //! where relative output paths go. Carried as the engine's default tag.
 
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::{Component, Path, PathBuf};
 use std::rc::Rc;
 
 use rhai::{Dynamic, NativeCallContext};
@@ -43,14 +43,31 @@ impl RunContext {
         }
     }
 
-    /// Where to write `path`: as given when absolute, else under the output directory.
-    #[must_use]
-    pub fn output_path(&self, path: &str) -> PathBuf {
+    /// Where to write `path`: as given when absolute or when there is no output directory,
+    /// else under the output directory, which a relative path may not leave.
+    ///
+    /// # Errors
+    /// A relative path whose `..` segments climb out of the output directory.
+    pub fn output_path(&self, path: &str) -> Result<PathBuf, String> {
         let p = Path::new(path);
-        match &self.output_dir {
-            Some(dir) if !p.is_absolute() => dir.join(p),
-            _ => p.to_path_buf(),
+        let Some(dir) = self.output_dir.as_ref().filter(|_| !p.is_absolute()) else {
+            return Ok(p.to_path_buf());
+        };
+        let mut depth = 0usize;
+        for c in p.components() {
+            match c {
+                Component::ParentDir if depth == 0 => {
+                    return Err(format!(
+                        "the path `{path}` leaves the output directory {}; relative paths are written inside it",
+                        dir.display()
+                    ))
+                }
+                Component::ParentDir => depth -= 1,
+                Component::Normal(_) => depth += 1,
+                Component::CurDir | Component::RootDir | Component::Prefix(_) => {}
+            }
         }
+        Ok(dir.join(p))
     }
 
     /// Packs the context as an engine tag.
@@ -83,5 +100,18 @@ mod tests {
         assert_eq!(parse_param("1.5").as_float().unwrap(), 1.5);
         assert!(parse_param("true").as_bool().unwrap());
         assert_eq!(parse_param("oak").into_string().unwrap(), "oak");
+    }
+
+    #[test]
+    fn relative_output_paths_cannot_leave_the_output_directory() {
+        let ctx = RunContext { output_dir: Some(PathBuf::from("out")), ..RunContext::default() };
+        assert_eq!(ctx.output_path("a/../b.obj").unwrap(), Path::new("out/a/../b.obj"));
+        assert_eq!(ctx.output_path("/tmp/x.obj").unwrap(), Path::new("/tmp/x.obj"));
+        for escape in ["../../x.obj", "a/../../x.obj", "./../x.obj"] {
+            let e = ctx.output_path(escape).unwrap_err();
+            assert!(e.contains("leaves the output directory out"), "{escape}: {e}");
+        }
+        // Without an output directory (run, the REPL) paths are the working directory's.
+        assert_eq!(RunContext::default().output_path("../x.obj").unwrap(), Path::new("../x.obj"));
     }
 }

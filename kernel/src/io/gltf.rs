@@ -410,19 +410,8 @@ pub fn read_gltf(bytes: &[u8], base: Option<&Path>, path: &Path) -> Result<Mesh,
         }
     }
     let doc = gltf::Document::from_json(root).map_err(|e| gltf_error(path, e.to_string()))?;
-    for buffer in doc.buffers() {
-        if let gltf::buffer::Source::Uri(uri) = buffer.source() {
-            check_relative_uri(uri)
-                .map_err(|reason| gltf_error(path, format!("buffer {}: {reason}", buffer.index())))?;
-            if base.is_none() && !uri.contains(':') {
-                return Err(gltf_error(
-                    path,
-                    format!("buffer {} is in an external file ({uri:.80}), which needs a folder", buffer.index()),
-                ));
-            }
-        }
-    }
-    let buffers = gltf::import_buffers(&doc, base, blob).map_err(|e| gltf_error(path, format!("buffers: {e}")))?;
+    // Only the file's own folder is read, and only the declared lengths (see `uri`).
+    let buffers = super::uri::read_buffers(&doc, base, blob, path)?;
     let instances = mesh_instances(&doc).map_err(|reason| gltf_error(path, reason))?;
 
     let mut soup = Soup::default();
@@ -435,32 +424,6 @@ pub fn read_gltf(bytes: &[u8], base: Option<&Path>, path: &Path) -> Result<Mesh,
         }
     }
     soup.build(path)
-}
-
-/// Rejects a relative URI whose percent-decoding is not UTF-8 (gltf would panic on it).
-fn check_relative_uri(uri: &str) -> Result<(), String> {
-    if uri.contains(':') {
-        return Ok(());
-    }
-    let bytes = uri.as_bytes();
-    let mut decoded = Vec::with_capacity(bytes.len());
-    let mut i = 0;
-    while i < bytes.len() {
-        if bytes[i] == b'%' {
-            let hex = bytes
-                .get(i + 1..i + 3)
-                .and_then(|h| std::str::from_utf8(h).ok())
-                .and_then(|h| u8::from_str_radix(h, 16).ok());
-            if let Some(b) = hex {
-                decoded.push(b);
-                i += 3;
-                continue;
-            }
-        }
-        decoded.push(bytes[i]);
-        i += 1;
-    }
-    String::from_utf8(decoded).map(|_| ()).map_err(|_| format!("the URI {uri:.80} does not decode to UTF-8"))
 }
 
 /// Every mesh the scene instances, with its node's world matrix.
@@ -942,7 +905,5 @@ mod tests {
     #[test]
     fn uri_encoding_escapes_spaces() {
         assert_eq!(uri_encode("my mesh.bin"), "my%20mesh.bin");
-        assert!(check_relative_uri("a%ffb.bin").is_err());
-        assert!(check_relative_uri("a%20b.bin").is_ok());
     }
 }

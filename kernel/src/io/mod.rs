@@ -17,16 +17,18 @@
 //! | glTF | f32 | yes (mesh `extras`) | yes | yes (mesh `extras`) | RGBA |
 //! | STL | f32 | triangles | no (welded by position) | no | no |
 
+mod atomic;
 mod error;
 pub mod gltf;
 pub mod obj;
 mod source_colors;
 pub mod stl;
+mod uri;
 
-use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::Write;
 use std::path::Path;
 
+pub use atomic::write_atomic;
 pub use error::{IoError, KNOWN_EXTENSIONS};
 pub use source_colors::source_color;
 
@@ -75,7 +77,7 @@ impl Format {
 pub fn load(path: impl AsRef<Path>) -> Result<Mesh, IoError> {
     let path = path.as_ref();
     let format = Format::from_path(path)?;
-    let bytes = std::fs::read(path).map_err(|e| IoError::from_read(path, e))?;
+    let bytes = uri::read_regular(path).map_err(|e| e.into_io(path))?;
     match format {
         Format::Obj => obj::read_obj(&bytes, path),
         Format::Glb | Format::Gltf => gltf::read_gltf(&bytes, path.parent(), path),
@@ -84,7 +86,8 @@ pub fn load(path: impl AsRef<Path>) -> Result<Mesh, IoError> {
 }
 
 /// Writes `mesh` to the file at `path`, by extension: `.obj`, `.glb`, `.gltf` (which also
-/// writes the buffer to the same path with the extension `.bin`), `.stl`.
+/// writes the buffer to the same path with the extension `.bin`), `.stl`. Each file is written
+/// atomically ([`write_atomic`]): a failing save leaves the old file as it was.
 ///
 /// # Errors
 /// [`IoError::UnknownExtension`]; [`IoError::Write`] when the file cannot be created or
@@ -97,30 +100,22 @@ pub fn save(mesh: &Mesh, path: impl AsRef<Path>) -> Result<(), IoError> {
     let format = Format::from_path(path)?;
     match format {
         Format::Obj => {
-            write_file(path, |w| obj::write_obj(mesh, w).map_err(|e| IoError::Write { path: path.into(), source: e }))
+            write_atomic(path, |w| obj::write_obj(mesh, w).map_err(|e| IoError::Write { path: path.into(), source: e }))
         }
-        Format::Glb => write_file(path, |w| gltf::write_glb(mesh, w, path)),
-        Format::Stl => write_file(path, |w| stl::write_stl(mesh, w, path)),
+        Format::Glb => write_atomic(path, |w| gltf::write_glb(mesh, w, path)),
+        Format::Stl => write_atomic(path, |w| stl::write_stl(mesh, w, path)),
         Format::Gltf => {
             let bin_path = path.with_extension("bin");
             let bin_name = bin_path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
             let (json, bin) = gltf::gltf_json_and_buffer(mesh, &gltf::uri_encode(&bin_name), path)?;
             if let Some(bin) = bin {
-                write_file(&bin_path, |w| {
+                write_atomic(&bin_path, |w| {
                     w.write_all(&bin).map_err(|e| IoError::Write { path: bin_path.clone(), source: e })
                 })?;
             }
-            write_file(path, |w| w.write_all(&json).map_err(|e| IoError::Write { path: path.into(), source: e }))
+            write_atomic(path, |w| w.write_all(&json).map_err(|e| IoError::Write { path: path.into(), source: e }))
         }
     }
-}
-
-/// Creates `path` and runs `write` on a buffered writer to it, then flushes.
-fn write_file(path: &Path, write: impl FnOnce(&mut BufWriter<File>) -> Result<(), IoError>) -> Result<(), IoError> {
-    let file = File::create(path).map_err(|e| IoError::Write { path: path.into(), source: e })?;
-    let mut w = BufWriter::with_capacity(1 << 20, file);
-    write(&mut w)?;
-    w.flush().map_err(|e| IoError::Write { path: path.into(), source: e })
 }
 
 /// The triangles of every face, each face's consecutively, and each face's arity.
@@ -207,6 +202,27 @@ mod tests {
     fn unwritable_path_is_a_write_error() {
         let e = save(&Mesh::cube(1.0), "/nonexistent/dir/cube.obj").unwrap_err();
         assert!(matches!(e, IoError::Write { .. }) && e.to_string().starts_with("/nonexistent/dir/cube.obj"), "{e}");
+    }
+
+    #[test]
+    fn a_save_failing_to_triangulate_leaves_the_old_file_in_every_format() {
+        // A self-crossing pentagon cannot be triangulated for glTF and STL, and the .gltf
+        // writer fails before writing either of its files.
+        let p: Vec<Vec3> =
+            [(0., 0.), (2., 2.), (2., 0.), (0., 2.), (1., 3.)].iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect();
+        let bad = Mesh::from_polygons(p, &[[0, 2, 1, 3, 4]]).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        for name in ["old.glb", "old.stl", "old.gltf"] {
+            let path = dir.path().join(name);
+            save(&Mesh::cube(1.0), &path).unwrap();
+            let before = std::fs::read(&path).unwrap();
+            assert!(matches!(save(&bad, &path), Err(IoError::Mesh { .. })), "{name}");
+            assert_eq!(std::fs::read(&path).unwrap(), before, "{name} was changed");
+        }
+        let mut names: Vec<String> =
+            std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into()).collect();
+        names.sort();
+        assert_eq!(names, ["old.bin", "old.glb", "old.gltf", "old.stl"], "no temporary file remains");
     }
 
     #[test]

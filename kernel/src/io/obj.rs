@@ -578,6 +578,14 @@ mod tests {
     }
 
     #[test]
+    fn mtllib_is_never_read() {
+        // Materials are not read at all: a library out of the folder or a device is ignored
+        // (reading /dev/zero would never end).
+        let m = read("mtllib /dev/zero ../../etc/passwd\nusemtl x\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+        assert_eq!(m.face_count(), 1);
+    }
+
+    #[test]
     fn empty_text_is_an_empty_mesh() {
         let m = read("# nothing\n\n").unwrap();
         assert_eq!((m.vertex_count(), m.face_count()), (0, 0));

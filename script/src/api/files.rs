@@ -14,9 +14,12 @@ use crate::convert::{fail, ScriptResult};
 /// directory; missing parent directories are created. Errors name `func`.
 ///
 /// # Errors
-/// A directory that cannot be created.
+/// A relative path leaving the output directory, or a directory that cannot be created.
 pub fn output_file(ctx: &NativeCallContext, func: &str, path: &str) -> ScriptResult<PathBuf> {
-    let p = RunContext::of(ctx).output_path(path);
+    let p = match RunContext::of(ctx).output_path(path) {
+        Ok(p) => p,
+        Err(e) => return fail(func, e),
+    };
     if let Some(dir) = p.parent().filter(|d| !d.as_os_str().is_empty()) {
         if let Err(e) = fs::create_dir_all(dir) {
             return fail(func, format!("cannot create directory {}: {e}", dir.display()));

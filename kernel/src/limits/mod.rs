@@ -1,0 +1,15 @@
+//! Limits on the kernel's work, so that no request aborts the process or runs unstoppably:
+//! a memory budget that size-driven operations check *before* allocating ([`check_memory`]),
+//! and a cancellation token that long loops check ([`check`]).
+//!
+//! Both are set by the caller (the command line's `--memory-limit`, `--timeout`,
+//! `--max-operations` and Ctrl-C) and reported as a [`LimitError`], which every module's error
+//! type carries.
+
+mod budget;
+mod cancel;
+mod error;
+
+pub use budget::{check_memory, memory_limit, set_memory_limit, DEFAULT_MEMORY_SHARE};
+pub use cancel::{charge, check, current, install, CancelToken, InstallGuard};
+pub use error::{human_bytes, LimitError, StopReason};
