@@ -24,7 +24,12 @@ pub fn render_to_png(
     let scene = scene::open(input, options)?;
     let meshes: Vec<&blocksmith_kernel::Mesh> = scene.layers.iter().map(|l| &l.mesh).collect();
     let picture = render::render(&meshes, width, height, view);
-    std::fs::write(out, picture.png()).map_err(|e| RunError(format!("error: cannot write {}: {e}", out.display())))?;
+    let png = picture.png();
+    blocksmith_kernel::io::write_atomic(out, |w| {
+        std::io::Write::write_all(w, &png)
+            .map_err(|source| blocksmith_kernel::io::IoError::Write { path: out.into(), source })
+    })
+    .map_err(|e| RunError(format!("error: {e}")))?;
     let triangles: usize = meshes.iter().map(|m| m.triangle_count()).sum();
     Ok(format!("wrote {} ({width}x{height}, {triangles} triangles)", out.display()))
 }
