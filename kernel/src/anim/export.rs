@@ -10,6 +10,10 @@
 //! thickness). A thickness of exactly 0 (a grown plant's first frame) is written as 1e-6, so
 //! that the division stays finite: the collapsed rings are a millionth of their size instead of
 //! points.
+//!
+//! Axes. glTF is Y-up: the rest mesh is converted by the mesh writer, and every joint
+//! translation, rotation and inverse bind matrix here by the same change of axes
+//! ([`UpAxis::Y`]), so the animated file shows what [`Animation::mesh_of`] gives, standing up.
 
 use std::io::Write;
 use std::path::Path;
@@ -19,7 +23,7 @@ use json::validation::{Checked::Valid, USize64};
 
 use super::{Animation, NodeState};
 use crate::io::gltf::{accessor, document, internal, push_f32s, push_view, write_glb_document};
-use crate::io::IoError;
+use crate::io::{IoError, UpAxis};
 use crate::math::{Quat, Vec3};
 
 /// The smallest joint scale written (see the module documentation).
@@ -31,12 +35,15 @@ fn push_u16s(out: &mut Vec<u8>, values: &[u16]) {
     }
 }
 
+/// A kernel point or direction in glTF's axes, in f32.
 fn f3(v: Vec3) -> [f32; 3] {
+    let v = UpAxis::Y.to_file(v);
     [v.x as f32, v.y as f32, v.z as f32]
 }
 
+/// A kernel rotation in glTF's axes, in f32.
 fn q4(q: Quat) -> [f32; 4] {
-    let q = q.normalize();
+    let q = UpAxis::Y.rotation_to_file(q.normalize());
     [q.x as f32, q.y as f32, q.z as f32, q.w as f32]
 }
 
@@ -100,7 +107,7 @@ pub fn write_animation_glb<W: Write>(
     let ibm: Vec<f32> = rest
         .iter()
         .flat_map(|p| {
-            let m = crate::math::Mat4::from_translation(-*p);
+            let m = crate::math::Mat4::from_translation(-UpAxis::Y.to_file(*p));
             m.to_cols_array().map(|x| x as f32)
         })
         .collect();

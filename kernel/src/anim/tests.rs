@@ -182,3 +182,63 @@ fn export_writes_one_joint_per_node_and_a_key_per_frame() {
     assert_eq!(input.count(), 48);
     assert_eq!(input.max().unwrap()[0].as_f64().unwrap() as f32, (47.0 / 24.0) as f32);
 }
+
+#[test]
+fn exported_animation_stands_up_and_poses_as_mesh_of() {
+    // Skinning the file's rest positions by the file's joints at a frame (glTF 2.0 §3.7.3:
+    // world joint matrix × inverse bind matrix) must give that frame's mesh in glTF's Y-up
+    // axes: kernel (x, y, z) as (x, z, −y), to f32 precision.
+    let pm = branched();
+    let mut anim = Animation::new(&pm, Some(0), Skinning::Simple).unwrap();
+    anim.add(Modifier::Gravity(Gravity { drag: 0.5, ..Gravity::default() })).unwrap();
+    let frames = anim.frame_states(6, 1.0 / 24.0, &mut no_custom()).unwrap();
+    let mut bytes = Vec::new();
+    write_animation_glb(&anim, &frames, 24.0, &mut bytes, std::path::Path::new("plant.glb")).unwrap();
+    let gltf = gltf::Gltf::from_slice(&bytes).unwrap();
+    let blob = gltf.blob.as_deref().unwrap();
+    let skin = gltf.skins().next().unwrap();
+    let joints: Vec<usize> = skin.joints().map(|j| j.index()).collect();
+    let ibm: Vec<glam::Mat4> =
+        skin.reader(|_| Some(blob)).read_inverse_bind_matrices().unwrap().map(|m| glam::Mat4::from_cols_array_2d(&m)).collect();
+    let prim = gltf.meshes().next().unwrap().primitives().next().unwrap();
+    let rest: Vec<glam::Vec3> = prim.reader(|_| Some(blob)).read_positions().unwrap().map(glam::Vec3::from).collect();
+    let node_count = gltf.nodes().count();
+    let frame = 5;
+    let mut local = vec![glam::Mat4::IDENTITY; node_count];
+    let (mut t, mut r, mut s) =
+        (vec![glam::Vec3::ZERO; node_count], vec![glam::Quat::IDENTITY; node_count], vec![glam::Vec3::ONE; node_count]);
+    for ch in gltf.animations().next().unwrap().channels() {
+        let i = ch.target().node().index();
+        use gltf::animation::util::{ReadOutputs, Rotations};
+        match ch.reader(|_| Some(blob)).read_outputs().unwrap() {
+            ReadOutputs::Translations(mut v) => t[i] = glam::Vec3::from(v.nth(frame).unwrap()),
+            ReadOutputs::Rotations(Rotations::F32(mut v)) => r[i] = glam::Quat::from_array(v.nth(frame).unwrap()),
+            ReadOutputs::Scales(mut v) => s[i] = glam::Vec3::from(v.nth(frame).unwrap()),
+            _ => panic!("unexpected channel"),
+        }
+    }
+    for i in 0..node_count {
+        local[i] = glam::Mat4::from_scale_rotation_translation(s[i], r[i], t[i]);
+    }
+    let mut world = local.clone();
+    let mut stack: Vec<gltf::Node> = gltf.scenes().next().unwrap().nodes().collect();
+    while let Some(n) = stack.pop() {
+        for c in n.children() {
+            world[c.index()] = world[n.index()] * local[c.index()];
+            stack.push(c);
+        }
+    }
+    let posed = anim.mesh_of(&frames[frame]);
+    let nodes = anim.skeleton().vertex_nodes();
+    let mut worst = 0.0f32;
+    for (v, p) in rest.iter().enumerate() {
+        let j = nodes[v] as usize;
+        let got = (world[joints[j]] * ibm[j]).transform_point3(*p);
+        let want = crate::io::UpAxis::Y.to_file(posed.position(v as u32)).as_vec3();
+        worst = worst.max((got - want).length());
+    }
+    assert!(worst < 1e-5, "largest difference {worst}");
+    // Upright: the file's y extent is the kernel's z extent.
+    let top = anim.rest_mesh().bounds().max.z as f32;
+    assert_eq!(rest.iter().map(|p| p.y).fold(f32::MIN, f32::max), top);
+}

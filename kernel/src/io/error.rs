@@ -41,6 +41,12 @@ pub enum IoError {
     /// an accessor of the wrong type or reaching past its buffer, a missing buffer.
     #[error("{}: malformed glTF: {reason}", path.display())]
     Gltf { path: PathBuf, reason: String },
+    /// A well-formed file that uses a feature blocksmith does not read, such as a required glTF
+    /// extension that compresses or quantizes geometry (`KHR_draco_mesh_compression`), or
+    /// options that do not apply to the format (an up axis for glTF, which is Y-up by
+    /// specification).
+    #[error("{}: {reason}", path.display())]
+    Unsupported { path: PathBuf, reason: String },
     /// A face names a vertex that does not exist. `at` says where (an OBJ line, a glTF
     /// primitive); `index` is as written in the file (1-based or negative for OBJ).
     #[error("{}: {at}: vertex index {index} is out of range (there are {vertex_count} vertices)", path.display())]
@@ -77,6 +83,7 @@ impl IoError {
             | IoError::Obj { path, .. }
             | IoError::Stl { path, .. }
             | IoError::Gltf { path, .. }
+            | IoError::Unsupported { path, .. }
             | IoError::IndexOutOfRange { path, .. }
             | IoError::NonFinite { path, .. }
             | IoError::Mesh { path, .. }

@@ -1,5 +1,10 @@
 //! glTF 2.0: write (`.glb`, or `.gltf` JSON with a `.bin` buffer) and read (both).
 //!
+//! Axes: glTF is Y-up (glTF 2.0 §3.4), blocksmith Z-up. Positions, normals and (for an
+//! animation, see `anim::export`) joint transforms are converted on write, kernel `(x, y, z)` to
+//! glTF `(x, z, −y)`, and back on read (see [`UpAxis`]): a swap and a negation, so a round
+//! trip keeps every bit and a tall box stands upright in every glTF viewer.
+//!
 //! Writing builds the document by hand with `gltf::json`: one scene, one node, one mesh with
 //! one triangle primitive. Vertex `i` of the file is vertex `i` of the mesh. Attributes:
 //! `POSITION` (f32, with the min/max the specification requires), `NORMAL` (unit f32,
@@ -16,10 +21,13 @@
 //!
 //! Reading takes every triangle primitive (triangles, strips, fans) of every mesh instanced by
 //! the nodes of the default scene (the first scene when none is marked; every root node when
-//! the file has no scene), applies each node's world transform, and merges them into one mesh,
-//! one vertex per glTF vertex (no welding: files whose vertices are split at seams read as
-//! open pieces). Triangles with a repeated vertex (strip restarts) are dropped, and so are
-//! point and line primitives. Coordinates are taken verbatim (no change of axes).
+//! the file has no scene) — every instance, each with its node's world transform — and merges
+//! them into one mesh. Accessors may be sparse (glTF 2.0 §3.6.2.3). Vertices are then welded by
+//! position ([`Weld::DEFAULT`], so models split at normal or UV seams read closed;
+//! [`Weld::Off`] keeps one vertex per glTF vertex). Triangles with a repeated vertex (strip
+//! restarts, slivers welded shut) are dropped, and so are point and line primitives. A file
+//! that requires an extension blocksmith does not read (such as `KHR_draco_mesh_compression`)
+//! is refused as unsupported, naming the extension.
 
 use std::collections::HashSet;
 use std::io::Write;
@@ -29,6 +37,7 @@ use gltf::json;
 use json::validation::{Checked::Valid, USize64};
 
 use super::error::IoError;
+use super::options::{UpAxis, Weld};
 use crate::math::{Mat4, Vec3};
 use crate::mesh::{Mesh, MeshError};
 
@@ -281,7 +290,7 @@ pub(crate) fn document(
     let file_vertex = |i: usize| split.as_ref().map_or(i, |s| s.from[i] as usize);
     let pos32: Vec<f32> = (0..n)
         .flat_map(|i| {
-            let p = mesh.positions()[file_vertex(i)];
+            let p = UpAxis::Y.to_file(mesh.positions()[file_vertex(i)]);
             [p.x as f32, p.y as f32, p.z as f32]
         })
         .collect();
@@ -298,10 +307,13 @@ pub(crate) fn document(
     let positions =
         root.push(accessor(view, n, json::accessor::ComponentType::F32, json::accessor::Type::Vec3, Some((lo, hi))));
 
-    let normals: Vec<[f32; 3]> = match &split {
+    let mut normals: Vec<[f32; 3]> = match &split {
         Some(s) => s.normals.clone(),
         None => vertex_normals_f32(mesh, &tris, &arities),
     };
+    for n in &mut normals {
+        *n = [n[0], n[2], -n[1]];
+    }
     let view = push_view(&mut root, &mut bin, Some(json::buffer::Target::ArrayBuffer), |b| {
         push_f32s(b, normals.as_flattened())
     });
@@ -374,20 +386,35 @@ fn finish(
     Ok((root, Some(bin)))
 }
 
-/// Reads a glTF file (binary `.glb`, or `.gltf` JSON) into one mesh. `base` is the folder that
-/// relative buffer URIs are resolved against (`None`: only embedded buffers). See the module
-/// documentation for what is read.
+/// Reads a glTF file into one mesh, welding by [`Weld::DEFAULT`]; see [`read_gltf_with`].
 ///
 /// # Errors
+/// As [`read_gltf_with`].
+pub fn read_gltf(bytes: &[u8], base: Option<&Path>, path: &Path) -> Result<Mesh, IoError> {
+    read_gltf_with(bytes, base, path, Weld::DEFAULT)
+}
+
+/// glTF extensions that change how geometry is stored: a file that requires one cannot be read
+/// without decoding it.
+const GEOMETRY_EXTENSIONS: &[&str] = &["KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization"];
+
+/// Reads a glTF file (binary `.glb`, or `.gltf` JSON) into one mesh, in kernel (Z-up) axes,
+/// its vertices welded by `weld`. `base` is the folder that relative buffer URIs are resolved
+/// against (`None`: only embedded buffers). See the module documentation for what is read.
+///
+/// # Errors
+/// - [`IoError::Unsupported`] naming a required extension that compresses or quantizes
+///   geometry (`KHR_draco_mesh_compression`, `EXT_meshopt_compression`,
+///   `KHR_mesh_quantization`);
 /// - [`IoError::Gltf`]: not glTF, truncated, invalid JSON or schema, a missing buffer, an
-///   accessor of an unexpected type or reaching past its buffer, sparse accessors, a node
-///   hierarchy that is not a tree;
+///   accessor of an unexpected type or reaching past its buffer, a sparse accessor whose
+///   indices are not increasing or pass its count, a node hierarchy that is not a tree;
 /// - [`IoError::IndexOutOfRange`] naming the mesh and primitive of an index past its vertices;
 /// - [`IoError::NonFinite`] for a NaN or infinite coordinate;
 /// - [`IoError::Mesh`] when the triangles are not a manifold mesh.
 ///
-/// See also [`write_glb`], [`super::load`].
-pub fn read_gltf(bytes: &[u8], base: Option<&Path>, path: &Path) -> Result<Mesh, IoError> {
+/// See also [`write_glb`], [`super::load_with`].
+pub fn read_gltf_with(bytes: &[u8], base: Option<&Path>, path: &Path, weld: Weld) -> Result<Mesh, IoError> {
     if let Some(h) = bytes.get(..12).filter(|h| h.starts_with(b"glTF")) {
         // gltf subtracts the header size from this length unchecked.
         let length = u32::from_le_bytes([h[8], h[9], h[10], h[11]]);
@@ -401,7 +428,16 @@ pub fn read_gltf(bytes: &[u8], base: Option<&Path>, path: &Path) -> Result<Mesh,
     let gltf::Gltf { document: doc, blob } =
         gltf::Gltf::from_slice_without_validation(bytes).map_err(|e| gltf_error(path, e.to_string()))?;
     // gltf's own validation indexes the POSITION accessor before checking that it exists.
-    let root = doc.into_json();
+    let mut root = doc.into_json();
+    if let Some(ext) = root.extensions_required.iter().find(|e| GEOMETRY_EXTENSIONS.contains(&e.as_str())) {
+        return Err(IoError::Unsupported {
+            path: path.into(),
+            reason: format!("unsupported glTF extension {ext}: the file's geometry is stored in a form blocksmith cannot decode (re-export it without {ext})"),
+        });
+    }
+    // Other required extensions (materials, textures, lights) do not change the geometry read
+    // here; gltf's validation would refuse them all.
+    root.extensions_required.clear();
     for (m, mesh) in root.meshes.iter().enumerate() {
         for (p, prim) in mesh.primitives.iter().enumerate() {
             if prim.attributes.values().any(|a| a.value() >= root.accessors.len()) {
@@ -423,7 +459,7 @@ pub fn read_gltf(bytes: &[u8], base: Option<&Path>, path: &Path) -> Result<Mesh,
             soup.add_primitive(&prim, &buffers, world, if single { extras.as_ref() } else { None }, &at, path)?;
         }
     }
-    soup.build(path)
+    soup.build(weld, path)
 }
 
 /// Every mesh the scene instances, with its node's world matrix.
@@ -501,8 +537,10 @@ fn blocksmith_extras(m: &gltf::Mesh) -> Option<Extras> {
     Some(Extras { arity_runs, creases, corners })
 }
 
-/// Checks that `acc` has one of the `allowed` types and lies inside its buffer, so that gltf's
-/// reader neither panics nor returns less than `count` items.
+/// Checks that `acc` has one of the `allowed` types and lies inside its buffer (and, when
+/// sparse, that its indices and values do, the indices increasing and below its count), so
+/// that gltf's reader neither panics nor returns less than `count` items nor skips a
+/// substitution.
 fn check_accessor(
     acc: &gltf::Accessor,
     buffers: &[gltf::buffer::Data],
@@ -510,9 +548,6 @@ fn check_accessor(
     what: &str,
 ) -> Result<(), String> {
     let name = format!("the {what} accessor ({})", acc.index());
-    if acc.sparse().is_some() {
-        return Err(format!("{name} is sparse, which is not supported"));
-    }
     if !allowed.contains(&(acc.data_type(), acc.dimensions())) {
         return Err(format!(
             "{name} has type {:?} {:?}, expected one of {allowed:?}",
@@ -523,20 +558,62 @@ fn check_accessor(
     if acc.count() == 0 {
         return Err(format!("{name} has no elements"));
     }
-    let view = acc.view().ok_or_else(|| format!("{name} has no buffer view"))?;
     let size = acc.size();
+    match acc.view() {
+        Some(view) => check_range(&view, acc.offset(), acc.count(), size, buffers)
+            .map_err(|e| format!("{name}{e}"))?,
+        // A sparse accessor without a view starts from zeros (glTF 2.0 §3.6.2.3).
+        None if acc.sparse().is_some() => {}
+        None => return Err(format!("{name} has no buffer view")),
+    }
+    if let Some(sparse) = acc.sparse() {
+        let n = sparse.count();
+        if n == 0 || n > acc.count() {
+            return Err(format!("{name} is sparse with {n} substitutions (1 to its count, {})", acc.count()));
+        }
+        let (idx, values) = (sparse.indices(), sparse.values());
+        let isize = idx.index_type().size();
+        check_range(&idx.view(), idx.offset(), n, isize, buffers).map_err(|e| format!("{name}'s sparse indices{e}"))?;
+        check_range(&values.view(), values.offset(), n, size, buffers)
+            .map_err(|e| format!("{name}'s sparse values{e}"))?;
+        // The indices must increase strictly and stay below the count.
+        let data = &buffers[idx.view().buffer().index()].0;
+        let stride = idx.view().stride().unwrap_or(isize);
+        let start = idx.view().offset() + idx.offset();
+        let mut last: Option<u64> = None;
+        for k in 0..n {
+            let b = &data[start + k * stride..start + k * stride + isize];
+            let i = b.iter().rev().fold(0u64, |a, &x| (a << 8) | u64::from(x));
+            if last.is_some_and(|l| i <= l) || i >= acc.count() as u64 {
+                return Err(format!(
+                    "{name}'s sparse index {k} is {i}: indices must increase and stay below the count {}",
+                    acc.count()
+                ));
+            }
+            last = Some(i);
+        }
+    }
+    Ok(())
+}
+
+/// Checks that `count` items of `size` bytes from `offset` in `view` lie inside the view, and
+/// the view inside its buffer. The error completes a sentence about the accessor.
+fn check_range(
+    view: &gltf::buffer::View,
+    offset: usize,
+    count: usize,
+    size: usize,
+    buffers: &[gltf::buffer::Data],
+) -> Result<(), String> {
     let stride = view.stride().unwrap_or(size);
     let buffer_len = buffers.get(view.buffer().index()).map_or(0, |b| b.len());
     let view_end = view.offset().checked_add(view.length());
     if stride < size || view_end.is_none_or(|end| end > buffer_len) {
-        return Err(format!("{name}'s buffer view {} does not fit its buffer", view.index()));
+        return Err(format!("'s buffer view {} does not fit its buffer", view.index()));
     }
-    let end = (acc.count() - 1)
-        .checked_mul(stride)
-        .and_then(|x| x.checked_add(size))
-        .and_then(|x| x.checked_add(acc.offset()));
+    let end = (count - 1).checked_mul(stride).and_then(|x| x.checked_add(size)).and_then(|x| x.checked_add(offset));
     if end.is_none_or(|end| end > view.length()) {
-        return Err(format!("{name} reaches past the end of its buffer view {}", view.index()));
+        return Err(format!(" reaches past the end of its buffer view {}", view.index()));
     }
     Ok(())
 }
@@ -584,11 +661,7 @@ impl Soup {
         self.positions.reserve(nv);
         self.positions.extend(local.map(|p| {
             let p = Vec3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2]));
-            if identity {
-                p
-            } else {
-                world.transform_point3(p)
-            }
+            UpAxis::Y.from_file(if identity { p } else { world.transform_point3(p) })
         }));
 
         match prim.get(&gltf::Semantic::Colors(0)) {
@@ -715,20 +788,38 @@ impl Soup {
         }
     }
 
-    fn build(self, path: &Path) -> Result<Mesh, IoError> {
-        let mut mesh = Mesh::from_indexed(self.positions, &self.indices, &self.arities)
-            .map_err(|e| IoError::from_mesh(path, e))?;
-        if self.any_color {
-            let mut colors = self.colors;
+    /// Welds by `rule` and builds the mesh, with colours and tags carried to the kept
+    /// vertices.
+    fn build(self, rule: Weld, path: &Path) -> Result<Mesh, IoError> {
+        let (map, kept) = super::weld::weld(&self.positions, rule);
+        let Soup { mut positions, mut colors, any_color, mut indices, mut arities, mut creases, mut corners } = self;
+        if kept.len() < positions.len() {
+            positions = kept.iter().map(|&i| positions[i as usize]).collect();
+            if any_color {
+                colors.resize(map.len(), [1.0; 4]);
+                colors = kept.iter().map(|&i| colors[i as usize]).collect();
+            }
+            (indices, arities, _) = super::weld::remap_faces(&indices, &arities, &map);
+            for pairs in &mut creases {
+                for p in pairs.iter_mut() {
+                    *p = p.map(|v| map[v as usize]);
+                }
+            }
+            for v in &mut corners {
+                *v = map[*v as usize];
+            }
+        }
+        let mut mesh = Mesh::from_indexed(positions, &indices, &arities).map_err(|e| IoError::from_mesh(path, e))?;
+        if any_color {
             colors.resize(mesh.vertex_count(), [1.0; 4]);
             mesh.set_vertex_colors(Some(colors)).map_err(|e| IoError::from_mesh(path, e))?;
         }
-        for pairs in &self.creases {
+        for pairs in &creases {
             // All or nothing per primitive: pairs that are not edges mean the extras do not
             // belong to these triangles, and are ignored.
             let _ = mesh.crease_edges(pairs);
         }
-        for v in self.corners {
+        for v in corners {
             mesh.set_corner(v, true);
         }
         Ok(mesh)

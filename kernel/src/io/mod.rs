@@ -5,9 +5,15 @@
 //! has functions that read from bytes and write to any [`std::io::Write`], so that they can be
 //! used without files; they take the path only to name it in errors.
 //!
-//! Coordinates are written and read verbatim, with no change of axes: glTF's convention is
-//! +Y up, blocksmith's primitives are built around +Z, so a viewer shows them lying on their
-//! side unless the recipe rotates them (trimesh does the same).
+//! Axes: blocksmith is Z-up. glTF is Y-up by specification and is converted on write and on
+//! read, kernel `(x, y, z)` ↔ glTF `(x, z, −y)`, exactly (see [`UpAxis`]); OBJ and STL have no
+//! convention and are written and read as they are, unless [`SaveOptions::up`] /
+//! [`LoadOptions::up`] say the file is Y-up.
+//!
+//! Welding: STL stores each triangle's corners apart and glTF splits vertices at normal and UV
+//! seams; both are welded by position on reading, within a tolerance relative to the model's
+//! size ([`Weld`], default 1e-8 of the bounding box's diagonal), so that they read as the closed
+//! surfaces they draw. OBJ names its shared vertices and is read as it is.
 //!
 //! What each format keeps:
 //!
@@ -21,15 +27,18 @@ mod atomic;
 mod error;
 pub mod gltf;
 pub mod obj;
+mod options;
 mod source_colors;
 pub mod stl;
 mod uri;
+mod weld;
 
 use std::io::Write;
 use std::path::Path;
 
 pub use atomic::write_atomic;
 pub use error::{IoError, KNOWN_EXTENSIONS};
+pub use options::{LoadOptions, SaveOptions, UpAxis, Weld};
 pub use source_colors::source_color;
 
 use crate::mesh::{Mesh, MeshError};
@@ -67,37 +76,83 @@ impl Format {
     }
 }
 
-/// Reads the mesh in the file at `path`, by extension: `.obj`, `.glb`, `.gltf`, `.stl`.
+/// Reads the mesh in the file at `path` with the default [`LoadOptions`]; see [`load_with`].
 ///
 /// # Errors
-/// [`IoError::UnknownExtension`] first, then [`IoError::NotFound`] / [`IoError::Read`], then
-/// the format's own errors ([`obj::read_obj`], [`gltf::read_gltf`], [`stl::read_stl`]).
-///
-/// See also [`save`].
+/// As [`load_with`].
 pub fn load(path: impl AsRef<Path>) -> Result<Mesh, IoError> {
+    load_with(path, &LoadOptions::DEFAULT)
+}
+
+/// Reads the mesh in the file at `path`, by extension: `.obj`, `.glb`, `.gltf`, `.stl`, in
+/// kernel (Z-up) axes. `options.up` is the file's up axis (OBJ and STL only; glTF is Y-up by
+/// specification), `options.weld` how STL and glTF corners are welded.
+///
+/// # Errors
+/// [`IoError::UnknownExtension`] first, then [`IoError::Unsupported`] for an up axis given to
+/// glTF, then [`IoError::NotFound`] / [`IoError::Read`], then the format's own errors
+/// ([`obj::read_obj`], [`gltf::read_gltf_with`], [`stl::read_stl_with`]).
+///
+/// See also [`save_with`].
+pub fn load_with(path: impl AsRef<Path>, options: &LoadOptions) -> Result<Mesh, IoError> {
     let path = path.as_ref();
     let format = Format::from_path(path)?;
+    let up = file_up(format, options.up, path)?;
     let bytes = uri::read_regular(path).map_err(|e| e.into_io(path))?;
-    match format {
-        Format::Obj => obj::read_obj(&bytes, path),
-        Format::Glb | Format::Gltf => gltf::read_gltf(&bytes, path.parent(), path),
-        Format::Stl => stl::read_stl(&bytes, path),
+    let mesh = match format {
+        Format::Obj => obj::read_obj(&bytes, path)?,
+        Format::Glb | Format::Gltf => gltf::read_gltf_with(&bytes, path.parent(), path, options.weld)?,
+        Format::Stl => stl::read_stl_with(&bytes, path, options.weld)?,
+    };
+    Ok(match up {
+        UpAxis::Z => mesh,
+        up => mesh.map_positions(|p| up.from_file(p)),
+    })
+}
+
+/// The up axis asked of a format that has no convention (OBJ, STL), Z when none is asked;
+/// glTF converts by itself and refuses another axis.
+fn file_up(format: Format, up: Option<UpAxis>, path: &Path) -> Result<UpAxis, IoError> {
+    match (format, up) {
+        (Format::Glb | Format::Gltf, Some(UpAxis::Z)) => Err(IoError::Unsupported {
+            path: path.into(),
+            reason: "glTF is Y-up by specification and always converted to and from Z-up: it takes no up axis".into(),
+        }),
+        (Format::Glb | Format::Gltf, _) => Ok(UpAxis::Z),
+        (_, up) => Ok(up.unwrap_or_default()),
     }
 }
 
-/// Writes `mesh` to the file at `path`, by extension: `.obj`, `.glb`, `.gltf` (which also
-/// writes the buffer to the same path with the extension `.bin`), `.stl`. Each file is written
-/// atomically ([`write_atomic`]): a failing save leaves the old file as it was.
+/// Writes `mesh` to the file at `path` with the default [`SaveOptions`]; see [`save_with`].
 ///
 /// # Errors
-/// [`IoError::UnknownExtension`]; [`IoError::Write`] when the file cannot be created or
-/// written; [`IoError::Mesh`] when a face cannot be triangulated (glTF, STL) or the mesh is too
-/// large for the format.
-///
-/// See also [`load`].
+/// As [`save_with`].
 pub fn save(mesh: &Mesh, path: impl AsRef<Path>) -> Result<(), IoError> {
+    save_with(mesh, path, &SaveOptions::DEFAULT)
+}
+
+/// Writes `mesh` to the file at `path`, by extension: `.obj`, `.glb`, `.gltf` (which also
+/// writes the buffer to the same path with the extension `.bin`), `.stl`. glTF is written Y-up
+/// (converted exactly); OBJ and STL Z-up unless `options.up` says otherwise. Each file is
+/// written atomically ([`write_atomic`]): a failing save leaves the old file as it was.
+///
+/// # Errors
+/// [`IoError::UnknownExtension`]; [`IoError::Unsupported`] for an up axis given to glTF;
+/// [`IoError::Write`] when the file cannot be created or written; [`IoError::Mesh`] when a
+/// face cannot be triangulated (glTF, STL) or the mesh is too large for the format.
+///
+/// See also [`load_with`].
+pub fn save_with(mesh: &Mesh, path: impl AsRef<Path>, options: &SaveOptions) -> Result<(), IoError> {
     let path = path.as_ref();
     let format = Format::from_path(path)?;
+    let turned;
+    let mesh = match file_up(format, options.up, path)? {
+        UpAxis::Z => mesh,
+        up => {
+            turned = mesh.map_positions(|p| up.to_file(p));
+            &turned
+        }
+    };
     match format {
         Format::Obj => {
             write_atomic(path, |w| obj::write_obj(mesh, w).map_err(|e| IoError::Write { path: path.into(), source: e }))

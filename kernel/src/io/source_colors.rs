@@ -87,7 +87,8 @@ mod tests {
     use std::path::Path;
 
     use crate::csg::Csg;
-    use crate::io::gltf::{read_gltf, write_glb};
+    use crate::io::gltf::{read_gltf, read_gltf_with, write_glb};
+    use crate::io::Weld;
     use crate::mesh::Mesh;
     use crate::Vec3;
 
@@ -99,7 +100,11 @@ mod tests {
             .unwrap();
         let mut bytes = Vec::new();
         write_glb(&m, &mut bytes, Path::new("t.glb")).unwrap();
-        let back = read_gltf(&bytes, None, Path::new("t.glb")).unwrap();
+        // Welded by position (the default), the file reads back as the closed result.
+        let welded = read_gltf(&bytes, None, Path::new("t.glb")).unwrap();
+        assert_eq!((welded.vertex_count(), welded.face_count()), (m.vertex_count(), m.face_count()));
+        assert!(welded.is_closed() && welded.is_manifold());
+        let back = read_gltf_with(&bytes, None, Path::new("t.glb"), Weld::Off).unwrap();
         assert_eq!(back.face_count(), m.face_count());
         // Each vertex is written once per source among its faces (doubled on the seams).
         let expected: usize = (0..m.vertex_count() as u32)

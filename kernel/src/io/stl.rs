@@ -1,15 +1,16 @@
 //! STL: binary write; binary and ASCII read.
 //!
 //! STL stores a soup of triangles, each with its own copy of its corners in `f32`. Writing
-//! triangulates every face (see [`super::face_triangles`]); reading welds corners with
-//! bit-identical coordinates back into shared vertices, so a closed mesh written by
-//! [`write_stl`] reads back closed. Vertex ids, polygons, creases and colours are not kept.
+//! triangulates every face (see [`super::face_triangles`]); reading welds corners within a
+//! tolerance relative to the model's size (see [`super::Weld`]) back into shared vertices, so
+//! a closed mesh written by [`write_stl`] — or a CAD part whose corners differ by arithmetic
+//! noise — reads back closed. Vertex ids, polygons, creases and colours are not kept.
 
-use std::collections::HashMap;
 use std::io::Write;
 use std::path::Path;
 
 use super::error::IoError;
+use super::options::Weld;
 use crate::math::Vec3;
 use crate::mesh::{Mesh, MeshError};
 
@@ -54,11 +55,22 @@ pub fn write_stl<W: Write>(mesh: &Mesh, out: &mut W, path: &Path) -> Result<(), 
     out.write_all(&buf).map_err(write_err)
 }
 
-/// Reads a binary or ASCII STL file into a mesh, welding corners with identical coordinates.
+/// Reads a binary or ASCII STL file into a mesh, welding corners by [`Weld::DEFAULT`].
+///
+/// See [`read_stl_with`].
+///
+/// # Errors
+/// As [`read_stl_with`].
+pub fn read_stl(bytes: &[u8], path: &Path) -> Result<Mesh, IoError> {
+    read_stl_with(bytes, path, Weld::DEFAULT)
+}
+
+/// Reads a binary or ASCII STL file into a mesh, welding corners by `weld`.
 ///
 /// A file is binary when its length is exactly 84 + 50 × (the count in bytes 80..84); otherwise
-/// it must be ASCII (`solid … endsolid`). Triangles that weld to fewer than three distinct
-/// vertices (zero-area slivers) are dropped. Normals and attribute words are ignored.
+/// it must be ASCII: one or more `solid … endsolid` blocks, all read into the one mesh.
+/// Triangles that weld to fewer than three distinct vertices (slivers thinner than the
+/// tolerance) are dropped. Normals and attribute words are ignored.
 ///
 /// # Errors
 /// - [`IoError::Stl`]: a file too short for a binary header, a length that does not match the
@@ -66,8 +78,8 @@ pub fn write_stl<W: Write>(mesh: &Mesh, out: &mut W, path: &Path) -> Result<(), 
 /// - [`IoError::NonFinite`] for a NaN or infinite coordinate;
 /// - [`IoError::Mesh`] when the welded triangles are not a manifold mesh.
 ///
-/// See also [`write_stl`], [`super::load`].
-pub fn read_stl(bytes: &[u8], path: &Path) -> Result<Mesh, IoError> {
+/// See also [`write_stl`], [`super::load_with`].
+pub fn read_stl_with(bytes: &[u8], path: &Path, weld: Weld) -> Result<Mesh, IoError> {
     let binary_count = bytes.get(80..84).map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]) as u64);
     let corners = match binary_count {
         Some(n) if 84 + 50 * n == bytes.len() as u64 => read_binary(&bytes[84..], n as usize),
@@ -86,7 +98,7 @@ pub fn read_stl(bytes: &[u8], path: &Path) -> Result<Mesh, IoError> {
             ))
         }
     };
-    weld(&corners, path)
+    build(&corners, weld, path)
 }
 
 fn stl_error(path: &Path, reason: String) -> IoError {
@@ -110,6 +122,31 @@ fn read_ascii(bytes: &[u8], path: &Path) -> Result<Vec<Vec3>, IoError> {
     let text = std::str::from_utf8(bytes).map_err(|_| stl_error(path, "ASCII STL that is not valid text".into()))?;
     let mut words =
         text.lines().enumerate().flat_map(|(i, line)| line.split_whitespace().map(move |w| (i + 1, w))).peekable();
+    let mut corners = Vec::new();
+    // One or more solids, each `solid [name]`, facets, `endsolid [name]`.
+    let mut solids = 0;
+    while let Some((solid_line, w)) = words.next() {
+        if w != "solid" {
+            let what = if solids == 0 { "ASCII STL must begin with `solid`" } else { "expected `solid` or the end" };
+            return Err(stl_error(path, format!("line {solid_line}: {what}, found `{w:.40}`")));
+        }
+        solids += 1;
+        // The solid's name is the rest of its line.
+        while words.peek().is_some_and(|&(l, w)| l == solid_line && w != "facet" && w != "endsolid") {
+            words.next();
+        }
+        read_facets(&mut words, &mut corners, path)?;
+    }
+    Ok(corners)
+}
+
+/// Reads facets up to and including `endsolid` (and the name after it on the same line),
+/// appending their corners, three per triangle (a facet with more corners is a fan).
+fn read_facets<'a>(
+    words: &mut std::iter::Peekable<impl Iterator<Item = (usize, &'a str)>>,
+    corners: &mut Vec<Vec3>,
+    path: &Path,
+) -> Result<(), IoError> {
     let expect = |want: &str, words: &mut dyn Iterator<Item = (usize, &str)>| match words.next() {
         Some((_, w)) if w == want => Ok(()),
         Some((line, w)) => Err(stl_error(path, format!("line {line}: expected `{want}`, found `{w:.40}`"))),
@@ -121,34 +158,30 @@ fn read_ascii(bytes: &[u8], path: &Path) -> Result<Vec<Vec3>, IoError> {
         }
         None => Err(stl_error(path, "the file ends inside a facet".into())),
     };
-    let solid_line = match words.next() {
-        Some((line, "solid")) => line,
-        _ => return Err(stl_error(path, "ASCII STL must begin with `solid`".into())),
-    };
-    // The solid's name is the rest of its line.
-    while words.peek().is_some_and(|&(l, w)| l == solid_line && w != "facet" && w != "endsolid") {
-        words.next();
-    }
-    let mut corners = Vec::new();
     loop {
         match words.next() {
             Some((_, "facet")) => {}
-            Some((_, "endsolid")) => break,
+            Some((end_line, "endsolid")) => {
+                while words.peek().is_some_and(|&(l, _)| l == end_line) {
+                    words.next();
+                }
+                return Ok(());
+            }
             Some((line, w)) => {
                 return Err(stl_error(path, format!("line {line}: expected `facet` or `endsolid`, found `{w:.40}`")))
             }
             None => return Err(stl_error(path, "the file ends without `endsolid`".into())),
         }
-        expect("normal", &mut words)?;
+        expect("normal", words)?;
         for _ in 0..3 {
-            number(&mut words)?;
+            number(words)?;
         }
-        expect("outer", &mut words)?;
-        expect("loop", &mut words)?;
+        expect("outer", words)?;
+        expect("loop", words)?;
         let mut facet = Vec::with_capacity(3);
         while words.peek().is_some_and(|&(_, w)| w == "vertex") {
             words.next();
-            let (x, y, z) = (number(&mut words)?, number(&mut words)?, number(&mut words)?);
+            let (x, y, z) = (number(words)?, number(words)?, number(words)?);
             facet.push(Vec3::new(x, y, z));
         }
         if facet.len() < 3 {
@@ -161,30 +194,21 @@ fn read_ascii(bytes: &[u8], path: &Path) -> Result<Vec<Vec3>, IoError> {
         for i in 1..facet.len() - 1 {
             corners.extend_from_slice(&[facet[0], facet[i], facet[i + 1]]);
         }
-        expect("endloop", &mut words)?;
-        expect("endfacet", &mut words)?;
+        expect("endloop", words)?;
+        expect("endfacet", words)?;
     }
-    Ok(corners)
 }
 
-/// Welds bit-identical corners (−0 and +0 are the same) and builds the mesh.
-fn weld(corners: &[Vec3], path: &Path) -> Result<Mesh, IoError> {
-    let key = |p: Vec3| [p.x, p.y, p.z].map(|c| if c == 0.0 { 0u64 } else { c.to_bits() });
-    let mut ids: HashMap<[u64; 3], u32> = HashMap::with_capacity(corners.len() / 5);
-    let mut positions = Vec::with_capacity(corners.len() / 5);
-    let mut indices = Vec::with_capacity(corners.len());
-    for tri in corners.chunks_exact(3) {
-        let t = tri.iter().map(|&p| {
-            *ids.entry(key(p)).or_insert_with(|| {
-                positions.push(p);
-                (positions.len() - 1) as u32
-            })
-        });
-        let t: Vec<u32> = t.collect();
-        if t[0] != t[1] && t[1] != t[2] && t[0] != t[2] {
-            indices.extend_from_slice(&t);
-        }
-    }
+/// Welds the corners by `rule` and builds the mesh of the triangles that keep three corners.
+fn build(corners: &[Vec3], rule: Weld, path: &Path) -> Result<Mesh, IoError> {
+    let (map, kept) = super::weld::weld(corners, rule);
+    let indices: Vec<u32> = map
+        .chunks_exact(3)
+        .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
+        .flatten()
+        .copied()
+        .collect();
+    let positions = kept.iter().map(|&i| corners[i as usize]).collect();
     let arities = vec![3; indices.len() / 3];
     Mesh::from_indexed(positions, &indices, &arities).map_err(|e| IoError::from_mesh(path, e))
 }

@@ -3,12 +3,14 @@
 use std::fs;
 use std::path::PathBuf;
 
+use blocksmith_kernel::io::{LoadOptions, SaveOptions, UpAxis, Weld};
 use blocksmith_kernel::{io, Mesh};
 use rhai::plugin::*;
+use rhai::Map;
 
 use super::mesh::SharedMesh;
 use crate::context::RunContext;
-use crate::convert::{fail, ScriptResult};
+use crate::convert::{fail, type_name, Options, ScriptResult};
 
 /// The file a script names by `path` for writing: a relative path goes under the run's output
 /// directory; missing parent directories are created. Errors name `func`.
@@ -34,11 +36,53 @@ pub fn output_file(ctx: &NativeCallContext, func: &str, path: &str) -> ScriptRes
 /// # Errors
 /// A directory that cannot be created, or the kernel's file error.
 pub fn write_mesh(ctx: &NativeCallContext, func: &str, mesh: &Mesh, path: &str) -> ScriptResult<()> {
+    write_mesh_with(ctx, func, mesh, path, &SaveOptions::DEFAULT)
+}
+
+/// [`write_mesh`] with save options.
+///
+/// # Errors
+/// As [`write_mesh`].
+fn write_mesh_with(
+    ctx: &NativeCallContext,
+    func: &str,
+    mesh: &Mesh,
+    path: &str,
+    options: &SaveOptions,
+) -> ScriptResult<()> {
     let p = output_file(ctx, func, path)?;
-    match io::save(mesh, &p) {
+    match io::save_with(mesh, &p, options) {
         Ok(()) => Ok(()),
         Err(e) => fail(func, e),
     }
+}
+
+/// The `up` option: `"z"` or `"y"`, `None` when not given.
+fn up_option(o: &Options, func: &str) -> ScriptResult<Option<UpAxis>> {
+    if !o.has("up") {
+        return Ok(None);
+    }
+    let name = o.string("up", "z")?;
+    match UpAxis::from_name(&name) {
+        Some(up) => Ok(Some(up)),
+        None => fail(func, format!("option `up` must be \"z\" or \"y\", got \"{name}\"")),
+    }
+}
+
+/// The `weld` option: `true` (the default tolerance), `false` (off), or a tolerance relative
+/// to the bounding box's diagonal (≥ 0; 0 joins equal coordinates only).
+fn weld_option(o: &Options) -> ScriptResult<Weld> {
+    let Some(v) = o.raw("weld") else { return Ok(Weld::DEFAULT) };
+    if let Ok(b) = v.as_bool() {
+        return Ok(if b { Weld::DEFAULT } else { Weld::Off });
+    }
+    let t = o.number("weld", 0.0).map_err(|_| {
+        crate::convert::error("load", format!("option `weld` must be true, false or a number, got {}", type_name(v)))
+    })?;
+    if !(t.is_finite() && t >= 0.0) {
+        return fail("load", format!("option `weld` must be a tolerance ≥ 0 (relative to the model's size), got {t}"));
+    }
+    Ok(Weld::Relative(t))
 }
 
 #[export_module]
@@ -50,6 +94,10 @@ pub mod files_api {
     /// missing file, an unknown extension or a malformed file is an error naming the path and
     /// the reason.
     ///
+    /// Axes: blocksmith is Z-up. glTF is Y-up by specification (glTF 2.0 §3.4) and is turned
+    /// to Z-up exactly; OBJ and STL are read as they are (see `load(path, #{up})`). STL corners
+    /// and glTF vertices split at seams are welded by position (see `load(path, #{weld})`).
+    ///
     /// ```rhai
     /// let c = cube(2);
     /// c.save("doc_example_cube.obj");
@@ -58,12 +106,36 @@ pub mod files_api {
     /// ```
     #[rhai_fn(return_raw)]
     pub fn load(ctx: NativeCallContext, path: &str) -> ScriptResult<SharedMesh> {
+        load_with_options(ctx, path, Map::new())
+    }
+
+    /// Reads a mesh file with options: `up` (`"z"` or `"y"`: the file's up axis, for OBJ and
+    /// STL, which have no convention; default `"z"`, read as it is; glTF is always Y-up and
+    /// takes no other), `weld` (STL and glTF: corners closer than this fraction of the model's
+    /// bounding-box diagonal in every coordinate become one vertex — default `true`, 1e-8;
+    /// `0` joins equal coordinates only; `false` keeps every vertex of the file, so a glTF
+    /// split at normal or UV seams stays split).
+    ///
+    /// ```rhai
+    /// let c = box(vec3(0, 0, 0), vec3(1, 1, 3));
+    /// c.save("doc_example_tall.stl", #{ up: "y" });
+    /// let back = load("doc_example_tall.stl", #{ up: "y", weld: 1e-6 });
+    /// assert_eq(back.bounds().max, vec3(1, 1, 3));
+    /// assert_eq(load("doc_example_tall.stl", #{ weld: false }).vertex_count, 36);
+    /// ```
+    #[rhai_fn(name = "load", return_raw)]
+    pub fn load_with_options(ctx: NativeCallContext, path: &str, options: Map) -> ScriptResult<SharedMesh> {
+        let o = Options::new("load", options, &["up", "weld"])?;
+        let mut opts = LoadOptions::DEFAULT.with_weld(weld_option(&o)?);
+        if let Some(up) = up_option(&o, "load")? {
+            opts = opts.with_up(up);
+        }
         let run = RunContext::of(&ctx);
         let p = run.input_path(path);
         if p.exists() {
             run.record.input(&p);
         }
-        match io::load(&p) {
+        match io::load_with(&p, &opts) {
             Ok(m) => Ok(SharedMesh::new(m)),
             Err(e) => fail("load", e),
         }
@@ -74,11 +146,39 @@ pub mod files_api {
     /// directory, or the test output directory under `blocksmith test`). Parent directories are
     /// created. Also callable as `mesh.save(path)`.
     ///
+    /// Axes: blocksmith is Z-up; glTF is written Y-up as its specification says (glTF 2.0
+    /// §3.4), converted exactly, so models stand upright in glTF viewers and read back to the
+    /// same positions. OBJ and STL are written as they are (see `save(mesh, path, #{up})`).
+    ///
     /// ```rhai
     /// save(icosphere(1, 1), "doc_example_ico.glb");
     /// ```
     #[rhai_fn(return_raw)]
     pub fn save(ctx: NativeCallContext, mesh: &mut SharedMesh, path: &str) -> ScriptResult<()> {
         write_mesh(&ctx, "save", &mesh.0, path)
+    }
+
+    /// Writes a mesh by extension with options: `up` (`"z"` or `"y"`: the up axis to write
+    /// OBJ and STL in, for tools that expect Y-up; default `"z"`, as it is; glTF is always
+    /// written Y-up and takes no other).
+    ///
+    /// ```rhai
+    /// let c = box(vec3(0, 0, 0), vec3(1, 1, 3));
+    /// c.save("doc_example_tall_y.obj", #{ up: "y" });
+    /// assert_eq(load("doc_example_tall_y.obj").bounds().max, vec3(1, 3, 0));
+    /// ```
+    #[rhai_fn(name = "save", return_raw)]
+    pub fn save_with_options(
+        ctx: NativeCallContext,
+        mesh: &mut SharedMesh,
+        path: &str,
+        options: Map,
+    ) -> ScriptResult<()> {
+        let o = Options::new("save", options, &["up"])?;
+        let mut opts = SaveOptions::DEFAULT;
+        if let Some(up) = up_option(&o, "save")? {
+            opts = opts.with_up(up);
+        }
+        write_mesh_with(&ctx, "save", &mesh.0, path, &opts)
     }
 }

@@ -1,0 +1,248 @@
+//! Welding: joining a file's corners that lie at the same place (up to a tolerance) into shared
+//! vertices, so that an STL's triangle soup or a glTF split at normal and UV seams reads as the
+//! closed surface it draws.
+//!
+//! Each vertex, in file order, joins the first earlier *kept* vertex within the tolerance in
+//! every coordinate (a box, not a ball), or is kept itself. Kept vertices keep their position
+//! bit for bit, and a file without near-duplicates is returned unchanged, so round trips stay
+//! exact. Lookup goes through a hash grid of cells 256 tolerances wide: a vertex looks in its
+//! own cell, and in a neighbouring one only when it lies within the tolerance of that side, so
+//! the cost is one hash lookup per vertex (linear) unless many vertices crowd one cell.
+
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+
+use crate::math::Vec3;
+
+use super::options::Weld;
+
+/// Cell width in tolerances: wide, so that few vertices need a neighbouring cell.
+const CELL: f64 = 256.0;
+
+/// A multiply-rotate hash for integer keys (the standard SipHash is several times slower here,
+/// and the keys are not attacker-chosen in a way that matters: a crowded cell only costs time).
+#[derive(Default)]
+pub(crate) struct FastHasher(u64);
+
+impl Hasher for FastHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(u64::from(b));
+        }
+    }
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+    fn write_i64(&mut self, x: i64) {
+        self.write_u64(x as u64);
+    }
+}
+
+pub(crate) type FastMap<K, V> = HashMap<K, V, BuildHasherDefault<FastHasher>>;
+
+/// The weld of `positions`: for each file vertex its new id, and for each new id the file
+/// vertex it keeps (in increasing order). `Weld::Off` keeps every vertex.
+#[must_use]
+pub(crate) fn weld(positions: &[Vec3], rule: Weld) -> (Vec<u32>, Vec<u32>) {
+    let tol = match rule {
+        Weld::Off => return ((0..positions.len() as u32).collect(), (0..positions.len() as u32).collect()),
+        Weld::Relative(r) => r.max(0.0) * diagonal(positions),
+    };
+    let mut map = Vec::with_capacity(positions.len());
+    let mut kept: Vec<u32> = Vec::with_capacity(positions.len() / 2);
+    if !(tol > f64::MIN_POSITIVE) || !tol.is_finite() {
+        // Equal coordinates only (−0 = +0).
+        let key = |p: Vec3| [p.x, p.y, p.z].map(|c| if c == 0.0 { 0u64 } else { c.to_bits() });
+        let mut ids: FastMap<[u64; 3], u32> = FastMap::default();
+        ids.reserve(positions.len() / 2);
+        for (i, &p) in positions.iter().enumerate() {
+            let id = *ids.entry(key(p)).or_insert_with(|| {
+                kept.push(i as u32);
+                (kept.len() - 1) as u32
+            });
+            map.push(id);
+        }
+        return (map, kept);
+    }
+    let width = tol * CELL;
+    let cell_of = |c: f64| (c / width).floor() as i64;
+    // The kept vertices of each cell, as a linked list through `next` (by new id).
+    let mut heads: FastMap<[i64; 3], u32> = FastMap::default();
+    heads.reserve(positions.len() / 2);
+    let mut next: Vec<u32> = Vec::with_capacity(positions.len() / 2);
+    let near = |a: Vec3, b: Vec3| (a.x - b.x).abs() <= tol && (a.y - b.y).abs() <= tol && (a.z - b.z).abs() <= tol;
+    let mut neighbours: Vec<[i64; 3]> = Vec::with_capacity(27);
+    for (i, &p) in positions.iter().enumerate() {
+        let cell = [cell_of(p.x), cell_of(p.y), cell_of(p.z)];
+        // Offsets per axis: 0, and −1 / +1 when p lies within tol of that side of its cell.
+        let steps = [p.x, p.y, p.z].map(|c| {
+            let lo = (c - tol) / width;
+            let hi = (c + tol) / width;
+            (lo.floor() as i64 - (c / width).floor() as i64, hi.floor() as i64 - (c / width).floor() as i64)
+        });
+        neighbours.clear();
+        for dx in steps[0].0..=steps[0].1 {
+            for dy in steps[1].0..=steps[1].1 {
+                for dz in steps[2].0..=steps[2].1 {
+                    neighbours.push([cell[0] + dx, cell[1] + dy, cell[2] + dz]);
+                }
+            }
+        }
+        // The first (smallest id) kept vertex within tol over all candidate cells.
+        let mut found: Option<u32> = None;
+        for c in &neighbours {
+            let mut at = heads.get(c).copied();
+            while let Some(k) = at {
+                if found.is_none_or(|f| k < f) && near(p, positions[kept[k as usize] as usize]) {
+                    found = Some(k);
+                }
+                at = Some(next[k as usize]).filter(|&n| n != u32::MAX);
+            }
+        }
+        let id = match found {
+            Some(k) => k,
+            None => {
+                let k = kept.len() as u32;
+                kept.push(i as u32);
+                // Pushed at the head: lists hold decreasing ids.
+                next.push(heads.insert(cell, k).unwrap_or(u32::MAX));
+                k
+            }
+        };
+        map.push(id);
+    }
+    (map, kept)
+}
+
+/// The length of the diagonal of the bounding box of the finite `positions` (0 if none).
+fn diagonal(positions: &[Vec3]) -> f64 {
+    let mut lo = Vec3::splat(f64::INFINITY);
+    let mut hi = Vec3::splat(f64::NEG_INFINITY);
+    for &p in positions.iter().filter(|p| p.is_finite()) {
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    if lo.x > hi.x {
+        0.0
+    } else {
+        (hi - lo).length()
+    }
+}
+
+/// Re-indexes polygons (`indices` split by `arities`) through `map`, dropping repeated
+/// consecutive corners that welding made; a polygon left with fewer than three corners is
+/// dropped (a sliver thinner than the tolerance), as is a triangle with a repeated corner.
+/// Returns the new indices and arities, and for each kept polygon the index of the polygon it
+/// comes from.
+#[must_use]
+pub(crate) fn remap_faces(indices: &[u32], arities: &[u32], map: &[u32]) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
+    let mut out = Vec::with_capacity(indices.len());
+    let mut out_arities = Vec::with_capacity(arities.len());
+    let mut from = Vec::with_capacity(arities.len());
+    let mut start = 0;
+    for (f, &a) in arities.iter().enumerate() {
+        let face = &indices[start..start + a as usize];
+        start += a as usize;
+        let begin = out.len();
+        for &v in face {
+            let w = map[v as usize];
+            if out.len() == begin || out[out.len() - 1] != w {
+                out.push(w);
+            }
+        }
+        while out.len() > begin + 1 && out[out.len() - 1] == out[begin] {
+            out.pop();
+        }
+        let n = out.len() - begin;
+        let mut poly = out[begin..].to_vec();
+        poly.sort_unstable();
+        poly.dedup();
+        if n < 3 || poly.len() != n {
+            // Fewer than three corners, or a corner repeated further apart (a pinched polygon).
+            out.truncate(begin);
+            continue;
+        }
+        out_arities.push(n as u32);
+        from.push(f as u32);
+    }
+    (out, out_arities, from)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exact_weld_joins_equal_coordinates_and_signed_zeros() {
+        let p = [Vec3::new(0.0, 1.0, 2.0), Vec3::new(-0.0, 1.0, 2.0), Vec3::new(1e-300, 1.0, 2.0)];
+        let (map, kept) = weld(&p, Weld::Relative(0.0));
+        assert_eq!(map, vec![0, 0, 1]);
+        assert_eq!(kept, vec![0, 2]);
+    }
+
+    #[test]
+    fn relative_weld_joins_cad_noise_and_keeps_the_first_position() {
+        // The noise of the CAD files of issue 19: 0 against −3.79e-33, −6.123e-17 against −6.147e-17.
+        let p = [
+            Vec3::new(0.0, -6.123e-17, 1.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(-3.79e-33, -6.147e-17, 1.0),
+            Vec3::new(1.0, 1e-9, 0.0),
+        ];
+        let (map, kept) = weld(&p, Weld::DEFAULT);
+        assert_eq!(map, vec![0, 1, 0, 1]);
+        assert_eq!(kept, vec![0, 1]);
+        // 1e-9 apart in a model of diagonal √2 is more than 1e-10 × √2: kept apart.
+        let (map, _) = weld(&p, Weld::Relative(1e-10));
+        assert_eq!(map, vec![0, 1, 0, 2]);
+        let (map, _) = weld(&p, Weld::Off);
+        assert_eq!(map, vec![0, 1, 2, 3]);
+    }
+
+    #[test]
+    fn weld_across_cell_sides_matches_brute_force() {
+        // Points on a lattice with jitter straddling cell boundaries: the grid must find the
+        // same first-kept neighbour as comparing every pair.
+        let tol_rel = 1e-3;
+        let mut p = Vec::new();
+        let mut s = 12345u64;
+        let mut rnd = || {
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..2000 {
+            let base = Vec3::new((rnd() * 8.0).floor(), (rnd() * 8.0).floor(), (rnd() * 8.0).floor()) * 0.05;
+            p.push(base + Vec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5) * 0.002);
+        }
+        let (map, kept) = weld(&p, Weld::Relative(tol_rel));
+        let tol = tol_rel * diagonal(&p);
+        let mut want_kept: Vec<u32> = Vec::new();
+        for (i, &q) in p.iter().enumerate() {
+            let hit = want_kept.iter().position(|&k| {
+                let r = p[k as usize];
+                (r.x - q.x).abs() <= tol && (r.y - q.y).abs() <= tol && (r.z - q.z).abs() <= tol
+            });
+            match hit {
+                Some(h) => assert_eq!(map[i] as usize, h, "vertex {i}"),
+                None => {
+                    assert_eq!(map[i] as usize, want_kept.len(), "vertex {i}");
+                    want_kept.push(i as u32);
+                }
+            }
+        }
+        assert_eq!(kept, want_kept);
+        assert!(kept.len() < p.len(), "the case must weld something");
+    }
+
+    #[test]
+    fn remap_drops_collapsed_faces() {
+        // A quad whose last two corners weld becomes a triangle; a triangle with two welded
+        // corners is dropped.
+        let map = [0, 1, 2, 2, 0, 0];
+        let (idx, ar, from) = remap_faces(&[0, 1, 2, 3, 4, 5, 3], &[4, 3], &map);
+        assert_eq!((idx, ar, from), (vec![0, 1, 2], vec![3], vec![0]));
+    }
+}
