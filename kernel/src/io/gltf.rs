@@ -994,6 +994,107 @@ mod tests {
     }
 
     #[test]
+    fn a_required_draco_extension_is_unsupported_not_malformed() {
+        let (mut root, bin) = document(&Mesh::cube(1.0), None, Path::new("mem.glb")).unwrap();
+        root.extensions_used.push("KHR_draco_mesh_compression".into());
+        root.extensions_required.push("KHR_draco_mesh_compression".into());
+        let mut bytes = Vec::new();
+        write_glb_document(&root, bin, &mut bytes, Path::new("mem.glb")).unwrap();
+        let e = read_gltf(&bytes, None, Path::new("draco.glb")).unwrap_err();
+        assert!(matches!(e, IoError::Unsupported { .. }), "{e}");
+        assert!(e.to_string().starts_with("draco.glb: unsupported glTF extension KHR_draco_mesh_compression"), "{e}");
+        // A required extension that does not touch geometry (a material model) is read past.
+        let (mut root, bin) = document(&Mesh::cube(1.0), None, Path::new("mem.glb")).unwrap();
+        root.extensions_used.push("KHR_materials_unlit".into());
+        root.extensions_required.push("KHR_materials_unlit".into());
+        let mut bytes = Vec::new();
+        write_glb_document(&root, bin, &mut bytes, Path::new("mem.glb")).unwrap();
+        assert_eq!(read_gltf(&bytes, None, Path::new("unlit.glb")).unwrap().face_count(), 6);
+    }
+
+    /// A glb of `mesh` whose POSITION accessor is made sparse by `edit`, given the root, the
+    /// buffer and the positions accessor's index.
+    fn sparse_glb(mesh: &Mesh, edit: impl FnOnce(&mut json::Root, &mut Vec<u8>, usize)) -> Vec<u8> {
+        let (mut root, bin) = document(mesh, None, Path::new("mem.glb")).unwrap();
+        let mut bin = bin.unwrap();
+        let pos = root.meshes[0].primitives[0].attributes[&Valid(json::mesh::Semantic::Positions)].value();
+        edit(&mut root, &mut bin, pos);
+        root.buffers[0].byte_length = USize64::from(bin.len());
+        let mut bytes = Vec::new();
+        write_glb_document(&root, Some(bin), &mut bytes, Path::new("mem.glb")).unwrap();
+        bytes
+    }
+
+    fn make_sparse(root: &mut json::Root, bin: &mut Vec<u8>, pos: usize, indices: &[u32], values: &[f32]) {
+        let iv = push_view(root, bin, None, |b| push_u32s(b, indices));
+        let vv = push_view(root, bin, None, |b| push_f32s(b, values));
+        bin.resize(bin.len().next_multiple_of(4), 0);
+        root.accessors[pos].sparse = Some(json::accessor::sparse::Sparse {
+            count: USize64::from(indices.len()),
+            indices: json::accessor::sparse::Indices {
+                buffer_view: iv,
+                byte_offset: USize64(0),
+                component_type: Valid(json::accessor::IndexComponentType(json::accessor::ComponentType::U32)),
+                extensions: None,
+                extras: None,
+            },
+            values: json::accessor::sparse::Values { buffer_view: vv, byte_offset: USize64(0), extensions: None, extras: None },
+            extensions: None,
+            extras: None,
+        });
+    }
+
+    #[test]
+    fn sparse_positions_are_substituted() {
+        // The cube's corner at kernel (1, 1, 1), glTF (1, 1, −1), pulled out to glTF (2, 2, −2):
+        // kernel (2, 2, 2). min/max are left as they were: readers do not rely on them.
+        let cube = Mesh::cube(2.0);
+        let v = cube.positions().iter().position(|&p| p == Vec3::ONE).unwrap();
+        let bytes = sparse_glb(&cube, |root, bin, pos| make_sparse(root, bin, pos, &[v as u32], &[2.0, 2.0, -2.0]));
+        let m = read_gltf(&bytes, None, Path::new("sparse.glb")).unwrap();
+        assert_eq!(m.position(v as u32), Vec3::new(2.0, 2.0, 2.0));
+        let others = |m: &Mesh| m.positions().iter().enumerate().filter(|&(i, _)| i != v).map(|(_, &p)| p).collect::<Vec<_>>();
+        assert_eq!(others(&m), others(&cube));
+        assert!(m.is_closed());
+    }
+
+    #[test]
+    fn sparse_indices_out_of_order_or_range_are_malformed() {
+        for (indices, what) in [(&[5u32, 3][..], "sparse index 1 is 3"), (&[8][..], "sparse index 0 is 8")] {
+            let values = vec![0.5f32; 3 * indices.len()];
+            let bytes = sparse_glb(&Mesh::cube(2.0), |root, bin, pos| make_sparse(root, bin, pos, indices, &values));
+            let e = read_gltf(&bytes, None, Path::new("sparse.glb")).unwrap_err();
+            assert!(matches!(e, IoError::Gltf { .. }) && e.to_string().contains(what), "{e}");
+        }
+    }
+
+    #[test]
+    fn every_instance_of_a_mesh_is_read_with_its_node_transform() {
+        // Two nodes instance one cube mesh, the second moved by glTF (3, 0, 0) under a parent
+        // turned 90° about glTF y: two closed cubes, the second centred at kernel (0, 0, 0) +
+        // R(3, 0, 0), R the turn; glTF y is kernel z, so the turn is about kernel z.
+        let (mut root, bin) = document(&Mesh::cube(1.0), None, Path::new("mem.glb")).unwrap();
+        let mesh = json::Index::new(0);
+        let child = root.push(json::Node { mesh: Some(mesh), translation: Some([3.0, 0.0, 0.0]), ..Default::default() });
+        let s = std::f32::consts::FRAC_1_SQRT_2;
+        let parent = root.push(json::Node {
+            rotation: Some(json::scene::UnitQuaternion([0.0, s, 0.0, s])),
+            children: Some(vec![child]),
+            ..Default::default()
+        });
+        root.scenes[0].nodes.push(parent);
+        let mut bytes = Vec::new();
+        write_glb_document(&root, bin, &mut bytes, Path::new("mem.glb")).unwrap();
+        let m = read_gltf(&bytes, None, Path::new("instances.glb")).unwrap();
+        assert_eq!((m.vertex_count(), m.face_count(), m.component_count()), (16, 12, 2));
+        assert!(m.is_closed());
+        // glTF: a turn of 90° about +y takes +x to −z; glTF −z is kernel +y.
+        let c: Vec3 = m.positions()[8..].iter().copied().sum::<Vec3>() / 8.0;
+        assert!((c - Vec3::new(0.0, 3.0, 0.0)).length() < 1e-6, "{c}");
+        assert!((m.volume() - 2.0).abs() < 1e-6);
+    }
+
+    #[test]
     fn uri_encoding_escapes_spaces() {
         assert_eq!(uri_encode("my mesh.bin"), "my%20mesh.bin");
     }

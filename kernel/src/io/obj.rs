@@ -8,7 +8,8 @@
 //! `v` as a corner. Objects and groups (`o`, `g`), materials, smoothing groups, normals and
 //! texture coordinates are accepted and ignored: every face goes into one mesh whose vertex `i`
 //! is the file's `i`-th `v` line (OBJ indices are global, so faces of different objects that
-//! share a vertex stay joined). A line whose keyword OBJ does not define is an error.
+//! share a vertex stay joined). A line ending in `\` continues on the next (OBJ's line
+//! continuation). A line whose keyword OBJ does not define is an error.
 //!
 //! What is written: the same subset, every coordinate with enough digits to read back the very
 //! same `f64`, crease and corner tags as `t` lines (sharpness 10, OpenSubdiv's "infinitely
@@ -88,6 +89,37 @@ struct Scan {
 
 fn obj_error(path: &Path, line: usize, reason: impl Into<String>) -> IoError {
     IoError::Obj { path: path.into(), line, reason: reason.into() }
+}
+
+/// `text` with each line that ends in `\\` (OBJ's line continuation) joined to the next by a
+/// space; an empty line is left after each joined line for each one it took, so every other
+/// line keeps its number (and an error in a joined line names its first line).
+fn join_continued_lines(text: &str) -> std::borrow::Cow<'_, str> {
+    let continued = |l: &str| l.strip_suffix('\r').unwrap_or(l).ends_with('\\');
+    if !text.split('\n').any(continued) {
+        return std::borrow::Cow::Borrowed(text);
+    }
+    let mut out = String::with_capacity(text.len() + 1);
+    let mut taken = 0;
+    let mut lines = text.split('\n').peekable();
+    while let Some(line) = lines.next() {
+        let body = line.strip_suffix('\r').unwrap_or(line);
+        if let Some(head) = body.strip_suffix('\\').filter(|_| lines.peek().is_some()) {
+            out.push_str(head);
+            out.push(' ');
+            taken += 1;
+            continue;
+        }
+        out.push_str(body);
+        for _ in 0..taken {
+            out.push('\n');
+        }
+        taken = 0;
+        if lines.peek().is_some() {
+            out.push('\n');
+        }
+    }
+    std::borrow::Cow::Owned(out)
 }
 
 /// The lines of `text` with their 1-based numbers, without line terminators.
@@ -326,6 +358,8 @@ pub fn read_obj(bytes: &[u8], path: &Path) -> Result<Mesh, IoError> {
         let line = bytes[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count() + 1;
         obj_error(path, line, "the text is not valid UTF-8")
     })?;
+    let joined = join_continued_lines(text);
+    let text: &str = &joined;
     let scan = scan(text, path)?;
     let options = tobj_options();
     let mut reader = TobjInput::new(text, scan.vertex_count);
@@ -501,6 +535,16 @@ mod tests {
         let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 -1 0\ng a\nf 1 2 3\ng b\nusemtl red\nf 2 1 4\n";
         let m = read(text).unwrap();
         assert_eq!((m.vertex_count(), m.edge_count(), m.face_count()), (4, 5, 2));
+    }
+
+    #[test]
+    fn continued_lines_are_joined_and_later_lines_keep_their_numbers() {
+        // A quad whose `f` line continues twice (with CRLF), then a junk line on line 9.
+        let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 \\\r\n2 3 \\\n 4\n# end\n";
+        let m = read(text).unwrap();
+        assert_eq!(m.to_polygons(), vec![vec![0, 1, 2, 3]]);
+        let e = read(&format!("{text}junk 1\n")).unwrap_err();
+        assert!(matches!(e, IoError::Obj { line: 9, .. }), "{e}");
     }
 
     #[test]

@@ -262,6 +262,57 @@ mod tests {
         assert!((m.volume() - 1.0 / 6.0).abs() < 1e-15, "{}", m.volume());
     }
 
+    /// The outward tetrahedron's facets, with `noise` added to coordinates that are 0 in a
+    /// different facet each time (as a CAD exporter's arithmetic leaves them).
+    fn tet_facets(offset: f64, noise: f64) -> String {
+        let facets = [
+            [[0., 0., 0.], [0., 1., 0.], [1., 0., 0.]],
+            [[0., 0., 0.], [1., 0., 0.], [0., 0., 1.]],
+            [[0., 0., 0.], [0., 0., 1.], [0., 1., 0.]],
+            [[1., 0., 0.], [0., 1., 0.], [0., 0., 1.]],
+        ];
+        let mut out = String::new();
+        for (i, f) in facets.iter().enumerate() {
+            out += "facet normal 0 0 0\n outer loop\n";
+            for p in f {
+                let q = p.map(|c| if c == 0.0 { c + noise * (i as f64 - 1.5) } else { c } + offset);
+                out += &format!("  vertex {:e} {:e} {:e}\n", q[0], q[1], q[2]);
+            }
+            out += " endloop\nendfacet\n";
+        }
+        out
+    }
+
+    #[test]
+    fn every_solid_of_an_ascii_file_is_read() {
+        // Two tetrahedra in two solids (the second named on its endsolid line too).
+        let text = format!("solid a\n{}endsolid a\nsolid b\n{}endsolid b\n", tet_facets(0.0, 0.0), tet_facets(3.0, 0.0));
+        let m = read_stl(text.as_bytes(), Path::new("two.stl")).unwrap();
+        assert_eq!((m.vertex_count(), m.face_count(), m.component_count()), (8, 8, 2));
+        assert!((m.volume() - 2.0 / 6.0).abs() < 1e-12, "{}", m.volume());
+        // Anything after the last solid but another solid is an error, not ignored.
+        let e = read_stl(format!("{text}junk\n").as_bytes(), Path::new("junk.stl")).unwrap_err();
+        assert!(e.to_string().contains("expected `solid` or the end, found `junk`"), "{e}");
+    }
+
+    #[test]
+    fn cad_noise_is_welded_relative_to_the_size() {
+        // Corners equal up to 1e-17 (issue 19's CAD parts), or 1e-13 at an offset of 1e3 (a few
+        // ulps there), weld shut: the tolerance is 1e-8 of the diagonal. Welding only equal
+        // coordinates leaves the facets apart (a soup that is not closed).
+        for (offset, noise) in [(0.0, 1e-17), (1e3, 1e-13)] {
+            let text = format!("solid n\n{}endsolid n\n", tet_facets(offset, noise));
+            let m = read_stl(text.as_bytes(), Path::new("noise.stl")).unwrap();
+            assert_eq!((m.vertex_count(), m.face_count()), (4, 4), "offset {offset}");
+            assert!(m.is_closed());
+        }
+        let text = format!("solid n\n{}endsolid n\n", tet_facets(0.0, 1e-17));
+        let m = read_stl_with(text.as_bytes(), Path::new("noise.stl"), Weld::Relative(0.0));
+        assert!(m.is_err() || !m.unwrap().is_closed());
+        let m = read_stl_with(text.as_bytes(), Path::new("noise.stl"), Weld::Off).unwrap();
+        assert_eq!((m.vertex_count(), m.component_count()), (12, 4));
+    }
+
     #[test]
     fn truncated_and_garbage_files_are_stl_errors_naming_the_path() {
         let bytes = written(&Mesh::cube(2.0));
