@@ -198,8 +198,12 @@ fn exported_animation_stands_up_and_poses_as_mesh_of() {
     let blob = gltf.blob.as_deref().unwrap();
     let skin = gltf.skins().next().unwrap();
     let joints: Vec<usize> = skin.joints().map(|j| j.index()).collect();
-    let ibm: Vec<glam::Mat4> =
-        skin.reader(|_| Some(blob)).read_inverse_bind_matrices().unwrap().map(|m| glam::Mat4::from_cols_array_2d(&m)).collect();
+    let ibm: Vec<glam::Mat4> = skin
+        .reader(|_| Some(blob))
+        .read_inverse_bind_matrices()
+        .unwrap()
+        .map(|m| glam::Mat4::from_cols_array_2d(&m))
+        .collect();
     let prim = gltf.meshes().next().unwrap().primitives().next().unwrap();
     let rest: Vec<glam::Vec3> = prim.reader(|_| Some(blob)).read_positions().unwrap().map(glam::Vec3::from).collect();
     let node_count = gltf.nodes().count();

@@ -396,7 +396,8 @@ pub fn read_gltf(bytes: &[u8], base: Option<&Path>, path: &Path) -> Result<Mesh,
 
 /// glTF extensions that change how geometry is stored: a file that requires one cannot be read
 /// without decoding it.
-const GEOMETRY_EXTENSIONS: &[&str] = &["KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization"];
+const GEOMETRY_EXTENSIONS: &[&str] =
+    &["KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization"];
 
 /// Reads a glTF file (binary `.glb`, or `.gltf` JSON) into one mesh, in kernel (Z-up) axes,
 /// its vertices welded by `weld`. `base` is the folder that relative buffer URIs are resolved
@@ -560,8 +561,7 @@ fn check_accessor(
     }
     let size = acc.size();
     match acc.view() {
-        Some(view) => check_range(&view, acc.offset(), acc.count(), size, buffers)
-            .map_err(|e| format!("{name}{e}"))?,
+        Some(view) => check_range(&view, acc.offset(), acc.count(), size, buffers).map_err(|e| format!("{name}{e}"))?,
         // A sparse accessor without a view starts from zeros (glTF 2.0 §3.6.2.3).
         None if acc.sparse().is_some() => {}
         None => return Err(format!("{name} has no buffer view")),
@@ -1038,7 +1038,12 @@ mod tests {
                 extensions: None,
                 extras: None,
             },
-            values: json::accessor::sparse::Values { buffer_view: vv, byte_offset: USize64(0), extensions: None, extras: None },
+            values: json::accessor::sparse::Values {
+                buffer_view: vv,
+                byte_offset: USize64(0),
+                extensions: None,
+                extras: None,
+            },
             extensions: None,
             extras: None,
         });
@@ -1053,7 +1058,8 @@ mod tests {
         let bytes = sparse_glb(&cube, |root, bin, pos| make_sparse(root, bin, pos, &[v as u32], &[2.0, 2.0, -2.0]));
         let m = read_gltf(&bytes, None, Path::new("sparse.glb")).unwrap();
         assert_eq!(m.position(v as u32), Vec3::new(2.0, 2.0, 2.0));
-        let others = |m: &Mesh| m.positions().iter().enumerate().filter(|&(i, _)| i != v).map(|(_, &p)| p).collect::<Vec<_>>();
+        let others =
+            |m: &Mesh| m.positions().iter().enumerate().filter(|&(i, _)| i != v).map(|(_, &p)| p).collect::<Vec<_>>();
         assert_eq!(others(&m), others(&cube));
         assert!(m.is_closed());
     }
@@ -1075,7 +1081,8 @@ mod tests {
         // R(3, 0, 0), R the turn; glTF y is kernel z, so the turn is about kernel z.
         let (mut root, bin) = document(&Mesh::cube(1.0), None, Path::new("mem.glb")).unwrap();
         let mesh = json::Index::new(0);
-        let child = root.push(json::Node { mesh: Some(mesh), translation: Some([3.0, 0.0, 0.0]), ..Default::default() });
+        let child =
+            root.push(json::Node { mesh: Some(mesh), translation: Some([3.0, 0.0, 0.0]), ..Default::default() });
         let s = std::f32::consts::FRAC_1_SQRT_2;
         let parent = root.push(json::Node {
             rotation: Some(json::scene::UnitQuaternion([0.0, s, 0.0, s])),

@@ -202,12 +202,8 @@ fn read_facets<'a>(
 /// Welds the corners by `rule` and builds the mesh of the triangles that keep three corners.
 fn build(corners: &[Vec3], rule: Weld, path: &Path) -> Result<Mesh, IoError> {
     let (map, kept) = super::weld::weld(corners, rule);
-    let indices: Vec<u32> = map
-        .chunks_exact(3)
-        .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
-        .flatten()
-        .copied()
-        .collect();
+    let indices: Vec<u32> =
+        map.chunks_exact(3).filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2]).flatten().copied().collect();
     let positions = kept.iter().map(|&i| corners[i as usize]).collect();
     let arities = vec![3; indices.len() / 3];
     Mesh::from_indexed(positions, &indices, &arities).map_err(|e| IoError::from_mesh(path, e))
@@ -286,7 +282,8 @@ mod tests {
     #[test]
     fn every_solid_of_an_ascii_file_is_read() {
         // Two tetrahedra in two solids (the second named on its endsolid line too).
-        let text = format!("solid a\n{}endsolid a\nsolid b\n{}endsolid b\n", tet_facets(0.0, 0.0), tet_facets(3.0, 0.0));
+        let text =
+            format!("solid a\n{}endsolid a\nsolid b\n{}endsolid b\n", tet_facets(0.0, 0.0), tet_facets(3.0, 0.0));
         let m = read_stl(text.as_bytes(), Path::new("two.stl")).unwrap();
         assert_eq!((m.vertex_count(), m.face_count(), m.component_count()), (8, 8, 2));
         assert!((m.volume() - 2.0 / 6.0).abs() < 1e-12, "{}", m.volume());

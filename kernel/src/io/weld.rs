@@ -53,7 +53,7 @@ pub(crate) fn weld(positions: &[Vec3], rule: Weld) -> (Vec<u32>, Vec<u32>) {
     };
     let mut map = Vec::with_capacity(positions.len());
     let mut kept: Vec<u32> = Vec::with_capacity(positions.len() / 2);
-    if !(tol > f64::MIN_POSITIVE) || !tol.is_finite() {
+    if tol.is_nan() || tol <= f64::MIN_POSITIVE || tol.is_infinite() {
         // Equal coordinates only (−0 = +0).
         let key = |p: Vec3| [p.x, p.y, p.z].map(|c| if c == 0.0 { 0u64 } else { c.to_bits() });
         let mut ids: FastMap<[u64; 3], u32> = FastMap::default();

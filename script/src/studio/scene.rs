@@ -112,7 +112,8 @@ pub fn layers(engine: &Engine, functions: &AST, value: Dynamic) -> Result<Vec<La
                     RunError(format!("layer {name}: {e}"))
                 }
             })?;
-            let mesh = io::gltf::read_gltf(&glb, None, Path::new(&format!("{name}.glb")))
+            // Unwelded: the file's own vertices, colour seams included, as the page shows them.
+            let mesh = io::gltf::read_gltf_with(&glb, None, Path::new(&format!("{name}.glb")), io::Weld::Off)
                 .map_err(|e| RunError(format!("error: layer {name}: {e}")))?;
             Ok(Layer { name, glb, mesh })
         })
