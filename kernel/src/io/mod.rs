@@ -173,59 +173,13 @@ pub fn save_with(mesh: &Mesh, path: impl AsRef<Path>, options: &SaveOptions) -> 
     }
 }
 
-/// The triangles of every face, each face's consecutively, and each face's arity.
-///
-/// The first triangle of face `f` starts at the face's first vertex `v0` and holds its first
-/// edge `v0 → v1`, so walking the boundary of a face's triangles from `v0` gives back the face
-/// in its own order (how [`gltf::read_gltf`] re-joins polygons). Convex faces are fans from
-/// `v0`; other faces are triangulated by [`Mesh::triangulate_face`].
-///
-/// Output: (3·T indices, F arities).
+/// The triangles of every face, each face's consecutively, and each face's arity: see
+/// [`Mesh::triangulate_faces`].
 ///
 /// # Errors
-/// [`MeshError::Triangulation`] naming the first face that cannot be triangulated;
-/// [`MeshError::TooLarge`] for more than 2³² − 1 triangles.
+/// As [`Mesh::triangulate_faces`].
 pub(crate) fn face_triangles(mesh: &Mesh) -> Result<(Vec<u32>, Vec<u32>), MeshError> {
-    let mut tris = Vec::with_capacity(3 * mesh.face_count() * 2);
-    let mut arities = Vec::with_capacity(mesh.face_count());
-    let mut ids: Vec<u32> = Vec::with_capacity(8);
-    for f in 0..mesh.face_count() as u32 {
-        ids.clear();
-        ids.extend(mesh.face_vertices(f));
-        arities.push(ids.len() as u32);
-        match ids.len() {
-            3 => tris.extend_from_slice(&ids),
-            4 if is_convex_quad(mesh, &ids) => {
-                tris.extend_from_slice(&[ids[0], ids[1], ids[2], ids[0], ids[2], ids[3]])
-            }
-            _ => {
-                let mut t = mesh.triangulate_face(f)?;
-                let first = t
-                    .iter()
-                    .position(|tri| (0..3).any(|i| tri[i] == ids[0] && tri[(i + 1) % 3] == ids[1]))
-                    .ok_or_else(|| MeshError::Internal(format!("face {f}'s triangles lack its first edge")))?;
-                t.swap(0, first);
-                let r = t[0].iter().position(|&v| v == ids[0]).unwrap_or(0);
-                t[0].rotate_left(r);
-                for tri in t {
-                    tris.extend_from_slice(&tri);
-                }
-            }
-        }
-    }
-    if tris.len() / 3 > u32::MAX as usize {
-        return Err(MeshError::TooLarge { what: format!("{} triangles", tris.len() / 3) });
-    }
-    Ok((tris, arities))
-}
-
-/// Whether the quad `ids` turns the same way at every corner about its normal: the test
-/// [`Mesh::triangulate_face`] uses to take a fan, with the quad's vector area ½ (p₂ − p₀) ×
-/// (p₃ − p₁) (Newell's, in closed form) as the normal.
-fn is_convex_quad(mesh: &Mesh, ids: &[u32]) -> bool {
-    let p = [ids[0], ids[1], ids[2], ids[3]].map(|v| mesh.position(v));
-    let n = (p[2] - p[0]).cross(p[3] - p[1]);
-    (0..4).all(|i| (p[(i + 1) % 4] - p[i]).cross(p[(i + 2) % 4] - p[(i + 1) % 4]).dot(n) > 0.0)
+    mesh.triangulate_faces()
 }
 
 #[cfg(test)]

@@ -1,5 +1,13 @@
 //! Triangulation of polygon faces: a fan for convex faces, spade's constrained Delaunay
 //! triangulation in the face's plane for the others.
+//!
+//! A whole mesh is triangulated face by face with one more rule, so that any valid manifold
+//! polygon mesh gives a valid manifold triangle mesh: a face's new edges (its diagonals) must
+//! not be an edge of the mesh or another face's diagonal, else the edge would have four
+//! triangles. Two quads sharing two consecutive edges (a vertex of valence 2) would otherwise
+//! both cut along the same diagonal. When a face's first choice repeats an edge, or fails (a
+//! non-planar polygon whose projection crosses itself), the fans from each of its corners are
+//! tried, the best-facing first (the one whose worst triangle faces the face's normal most).
 
 use spade::handles::FixedVertexHandle;
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
@@ -30,7 +38,7 @@ pub fn triangulate_polygon(corners: &[Vec3], normal: Vec3) -> Result<Triangles, 
     let is_convex = (0..k).all(|i| {
         let (a, b, c) = (corners[i], corners[(i + 1) % k], corners[(i + 2) % k]);
         (b - a).cross(c - b).dot(n) > 0.0
-    });
+    }) && (k < 5 || turns_once(corners, n));
     if is_convex {
         return Ok((1..k - 1).map(|i| [0, i, i + 1]).collect());
     }
@@ -91,6 +99,62 @@ pub fn triangulate_polygon(corners: &[Vec3], normal: Vec3) -> Result<Triangles, 
     Ok(triangles)
 }
 
+/// The edges of the triangles `t` of a `k`-gon that are not edges of the polygon (corner
+/// indices, each once).
+fn new_edges(t: &[[usize; 3]], k: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
+    t.iter()
+        .flat_map(|tri| [(tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0])])
+        .filter(move |&(a, b)| (a + 1) % k != b && (b + 1) % k != a && a < b)
+}
+
+/// Whether the polygon `corners`, turning left at every corner about `n`, turns once in all
+/// (a convex polygon) rather than two or more times (a star, such as a pentagram): the turning
+/// angles, measured in the plane of `n`, add up to 2π. A polygon of at most four corners that
+/// turns left everywhere turns once.
+fn turns_once(corners: &[Vec3], n: Vec3) -> bool {
+    let k = corners.len();
+    let (u, v) = n.any_orthonormal_pair();
+    let d = |i: usize| {
+        let e = corners[(i + 1) % k] - corners[i % k];
+        (e.dot(u), e.dot(v))
+    };
+    let total: f64 = (0..k)
+        .map(|i| {
+            let ((ax, ay), (bx, by)) = (d(i), d(i + 1));
+            (ax * by - ay * bx).atan2(ax * bx + ay * by)
+        })
+        .sum();
+    total < 3.0 * std::f64::consts::PI
+}
+
+/// Whether the polygon `corners` lies in a plane of normal `normal`, up to 1e-9 of its size.
+fn is_planar(corners: &[Vec3], normal: Vec3) -> bool {
+    let Some(n) = normal.try_normalize() else { return true };
+    let d: Vec<f64> = corners.iter().map(|p| (*p - corners[0]).dot(n)).collect();
+    let spread = d.iter().copied().fold(f64::NEG_INFINITY, f64::max) - d.iter().copied().fold(f64::INFINITY, f64::min);
+    let size = corners.iter().map(|p| (*p - corners[0]).length()).fold(0.0, f64::max);
+    spread <= 1e-9 * size
+}
+
+/// The fans of the polygon `corners` from each corner, best first, each with its worst
+/// facing: the smallest dot product of a triangle's vector area with `normal`; largest first,
+/// ties by corner order.
+fn fans_best_first(corners: &[Vec3], normal: Vec3) -> Vec<(f64, Triangles)> {
+    let k = corners.len();
+    let mut fans: Vec<(f64, usize, Triangles)> = (0..k)
+        .map(|i| {
+            let t: Triangles = (1..k - 1).map(|j| [i, (i + j) % k, (i + j + 1) % k]).collect();
+            let worst = t
+                .iter()
+                .map(|&[a, b, c]| (corners[b] - corners[a]).cross(corners[c] - corners[a]).dot(normal))
+                .fold(f64::INFINITY, f64::min);
+            (worst, i, t)
+        })
+        .collect();
+    fans.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+    fans.into_iter().map(|(w, _, t)| (w, t)).collect()
+}
+
 impl Mesh {
     /// The triangles of face `f`, as vertex-id triples oriented like the face.
     ///
@@ -105,23 +169,103 @@ impl Mesh {
         Ok(tris.into_iter().map(|[a, b, c]| [ids[a], ids[b], ids[c]]).collect())
     }
 
+    /// The triangles of every face, each face's consecutively, and each face's arity; no
+    /// diagonal repeats an edge (see the module documentation), so the triangles make a
+    /// manifold mesh whenever the faces do.
+    ///
+    /// The first triangle of face `f` starts at the face's first vertex `v0` and holds its first
+    /// edge `v0 → v1`, so walking the boundary of a face's triangles from `v0` gives back the
+    /// face in its own order (how the glTF reader re-joins polygons).
+    ///
+    /// Output: (3·T indices, F arities).
+    ///
+    /// # Errors
+    /// [`MeshError::Triangulation`] naming the first face whose every fan repeats an edge (a
+    /// face both of whose diagonals are already edges, such as a quad over a tetrahedron's
+    /// edge); [`MeshError::TooLarge`] for more than 2³² − 1 triangles.
+    pub fn triangulate_faces(&self) -> Result<(Vec<u32>, Vec<u32>), MeshError> {
+        let mut tris = Vec::with_capacity(3 * self.face_count() * 2);
+        let mut arities = Vec::with_capacity(self.face_count());
+        let mut diagonals: std::collections::HashSet<(u32, u32)> = std::collections::HashSet::new();
+        let mut ids: Vec<u32> = Vec::with_capacity(8);
+        let mut corners: Vec<Vec3> = Vec::with_capacity(8);
+        for f in 0..self.face_count() as u32 {
+            ids.clear();
+            ids.extend(self.face_vertices(f));
+            let k = ids.len();
+            arities.push(k as u32);
+            if k == 3 {
+                tris.extend_from_slice(&ids);
+                continue;
+            }
+            corners.clear();
+            corners.extend(ids.iter().map(|&v| self.position(v)));
+            let normal = if k == 4 {
+                (corners[2] - corners[0]).cross(corners[3] - corners[1]) / 2.0
+            } else {
+                self.face_vector_area(f)
+            };
+            let fresh = |t: &[[usize; 3]], diagonals: &std::collections::HashSet<(u32, u32)>| {
+                new_edges(t, k).all(|(a, b)| {
+                    let (a, b) = (ids[a], ids[b]);
+                    self.find_halfedge(a, b).is_none() && !diagonals.contains(&(a.min(b), a.max(b)))
+                })
+            };
+            let first = triangulate_polygon(&corners, normal);
+            let t = match first {
+                Ok(t) if fresh(&t, &diagonals) => t,
+                first => {
+                    // A planar face takes only fans that keep every triangle facing its normal
+                    // (else triangles would overlap); a non-planar one any fan.
+                    let planar = is_planar(&corners, normal);
+                    let fan = fans_best_first(&corners, normal)
+                        .into_iter()
+                        .find(|(worst, t)| (!planar || *worst > 0.0) && fresh(t, &diagonals));
+                    match (fan, first) {
+                        (Some((_, t)), _) => t,
+                        (None, Err(reason)) => return Err(MeshError::Triangulation { face: f as usize, reason }),
+                        (None, Ok(_)) => {
+                            return Err(MeshError::Triangulation {
+                                face: f as usize,
+                                reason: "every way to cut it repeats an edge of the mesh".into(),
+                            })
+                        }
+                    }
+                }
+            };
+            diagonals.extend(new_edges(&t, k).map(|(a, b)| (ids[a].min(ids[b]), ids[a].max(ids[b]))));
+            // The triangle holding the first edge goes first, starting at the first corner.
+            let at = tris.len();
+            for tri in &t {
+                tris.extend(tri.iter().map(|&c| ids[c]));
+            }
+            let first = t
+                .iter()
+                .position(|tri| (0..3).any(|i| tri[i] == 0 && tri[(i + 1) % 3] == 1))
+                .ok_or_else(|| MeshError::Internal(format!("face {f}'s triangles lack its first edge")))?;
+            for i in 0..3 {
+                tris.swap(at + i, at + 3 * first + i);
+            }
+            let r = (0..3).position(|i| tris[at + i] == ids[0]).unwrap_or(0);
+            tris[at..at + 3].rotate_left(r);
+        }
+        if tris.len() / 3 > u32::MAX as usize {
+            return Err(MeshError::TooLarge { what: format!("{} triangles", tris.len() / 3) });
+        }
+        Ok((tris, arities))
+    }
+
     /// A triangle mesh of the same surface: same vertices (ids kept), each face split into
-    /// triangles (see [`Mesh::triangulate_face`]); crease tags, corners, colours and face sources kept.
+    /// triangles (see [`Mesh::triangulate_faces`]); crease tags, corners, colours and face sources kept.
     /// Returns also, for each triangle, the face it came from.
     ///
     /// # Errors
     /// [`MeshError::Triangulation`] naming the first face that cannot be triangulated.
     pub fn triangulate_with_sources(&self) -> Result<(Mesh, Vec<u32>), MeshError> {
-        let mut tris = Vec::with_capacity(self.face_count() * 2);
-        let mut sources = Vec::with_capacity(self.face_count() * 2);
-        for f in 0..self.face_count() as u32 {
-            for t in self.triangulate_face(f)? {
-                tris.push(t);
-                sources.push(f);
-            }
-        }
-        let flat: Vec<u32> = tris.iter().flatten().copied().collect();
-        let mut m = Mesh::from_indexed(self.positions.clone(), &flat, &vec![3; tris.len()])?;
+        let (flat, arities) = self.triangulate_faces()?;
+        let sources: Vec<u32> =
+            arities.iter().enumerate().flat_map(|(f, &a)| std::iter::repeat_n(f as u32, a as usize - 2)).collect();
+        let mut m = Mesh::from_indexed(self.positions.clone(), &flat, &vec![3; sources.len()])?;
         m.copy_attributes_from(self);
         if let Some(fs) = &self.face_sources {
             m.face_sources = Some(sources.iter().map(|&f| fs[f as usize]).collect());
@@ -173,6 +317,51 @@ mod tests {
             assert!((t.volume() - m.volume()).abs() < 1e-12);
             assert_eq!(t.genus(), m.genus());
         }
+    }
+
+    /// Checks that `t` is a closed manifold triangle mesh with Euler characteristic 2.
+    fn assert_closed_sphere(t: &Mesh) {
+        assert!(t.is_triangle_mesh() && t.is_closed() && t.is_manifold());
+        let chi = t.vertex_count() as i64 - t.edge_count() as i64 + t.face_count() as i64;
+        assert_eq!(chi, 2);
+    }
+
+    #[test]
+    fn quads_sharing_two_consecutive_edges_get_different_diagonals() {
+        // Two skew quads glued along all four edges (every vertex of valence 2, as in
+        // OpenSubdiv's catmark_val2 shapes). The second quad starts at b, so its fan from its
+        // first corner would cut along b–a, the diagonal the first quad took: an edge of four
+        // triangles. It must take v–c instead: a tetrahedron.
+        let p = vec![Vec3::ZERO, Vec3::new(1.0, 0.0, 0.5), Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 1.0, 0.5)];
+        let (a, v, b, c) = (0, 1, 2, 3);
+        let m = Mesh::from_polygons(p, &[[a, v, b, c], [b, v, a, c]]).unwrap();
+        let t = m.triangulate().unwrap();
+        assert_closed_sphere(&t);
+        assert!(t.find_halfedge(a, b).is_some() && t.find_halfedge(v, c).is_some());
+        // The tetrahedron's volume: det(v − a, b − a, c − a) / 6 = 1/6 (these faces wind inward).
+        assert!((t.volume().abs() - 1.0 / 6.0).abs() < 1e-12, "{}", t.volume());
+        // The io path writes the same triangles.
+        let (tris, _) = m.triangulate_faces().unwrap();
+        assert_eq!(tris.len(), 12);
+    }
+
+    #[test]
+    fn non_planar_polygon_whose_projection_crosses_itself_triangulates() {
+        // A pentagram (a pentagon that winds twice around the z axis), climbing so that it does
+        // not meet itself in 3D: its projection crosses itself, so the Delaunay triangulation
+        // refuses it; a fan does not. Glued to its reverse, it is a closed sphere of two faces,
+        // and the second face must avoid the first one's diagonals.
+        let p: Vec<Vec3> = (0..5)
+            .map(|i| {
+                let a = f64::from(i) * 4.0 * std::f64::consts::PI / 5.0;
+                Vec3::new(a.cos(), a.sin(), f64::from(i) * 0.3)
+            })
+            .collect();
+        let m = Mesh::from_polygons(p, &[vec![0, 1, 2, 3, 4], vec![4, 3, 2, 1, 0]]).unwrap();
+        assert!(m.triangulate_face(0).is_err(), "the projection crosses itself");
+        let t = m.triangulate().unwrap();
+        assert_closed_sphere(&t);
+        assert_eq!(t.face_count(), 6);
     }
 
     #[test]
