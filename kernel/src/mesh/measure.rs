@@ -154,34 +154,71 @@ impl Mesh {
         normals.iter().map(|n| n.normalize_or_zero()).collect()
     }
 
-    /// Total surface area.
+    /// Total surface area: the area of the triangles the mesh is written with
+    /// ([`Mesh::triangulate_faces`]; each face's fan when a face cannot be triangulated), which
+    /// is each face's area for planar faces and what a tool reading the written file (trimesh)
+    /// reports for non-planar ones.
     #[must_use]
     pub fn area(&self) -> f64 {
-        (0..self.face_count() as u32).map(|f| self.face_area(f)).sum()
+        let tris = self.measured_triangles();
+        let p = &self.positions;
+        tris.chunks_exact(3)
+            .map(|t| {
+                let a = p[t[0] as usize];
+                (p[t[1] as usize] - a).cross(p[t[2] as usize] - a).length()
+            })
+            .sum::<f64>()
+            * 0.5
     }
 
-    /// Area of face `f`: the sum of the triangles of its fan from the first corner (exact for
-    /// planar faces, convex or not, since signed fan triangles cancel outside the polygon).
+    /// The triangles area and volume are summed over: every face's, as written to files
+    /// ([`Mesh::triangulate_faces`]), or each face's fan from its first corner when some face
+    /// cannot be triangulated.
+    fn measured_triangles(&self) -> std::borrow::Cow<'_, [u32]> {
+        if (0..self.face_count() as u32).all(|f| self.face_arity(f) == 3) {
+            return std::borrow::Cow::Owned(
+                (0..self.face_count() as u32).flat_map(|f| self.face_vertices(f)).collect(),
+            );
+        }
+        if let Ok((tris, _)) = self.triangulate_faces() {
+            return std::borrow::Cow::Owned(tris);
+        }
+        let mut tris = Vec::new();
+        for f in 0..self.face_count() as u32 {
+            let ids: Vec<u32> = self.face_vertices(f).collect();
+            for i in 1..ids.len() - 1 {
+                tris.extend_from_slice(&[ids[0], ids[i], ids[i + 1]]);
+            }
+        }
+        std::borrow::Cow::Owned(tris)
+    }
+
+    /// Area of face `f`: the length of its vector area (its area for a planar face, convex or
+    /// not; for a non-planar face the area of its projection on its best-fit plane — see
+    /// [`Mesh::area`] for the area of its triangles).
     #[must_use]
     pub fn face_area(&self, f: u32) -> f64 {
         self.face_vector_area(f).length()
     }
 
-    /// Signed enclosed volume by the divergence theorem, Σ over fan triangles of
-    /// det(p0, pi, pi+1)/6: positive for a closed, outward-facing mesh.
+    /// Signed enclosed volume by the divergence theorem, Σ over the triangles the mesh is
+    /// written with (see [`Mesh::area`]) of det(a − r, b − r, c − r)/6: positive for a closed,
+    /// outward-facing mesh. `r` is the centre of the bounds, so that a model far from the origin
+    /// loses no digits to cancellation (summed about the origin, an icosphere of radius 1 at
+    /// (1e6, 1e6, 1e6) came out at −1135 instead of 4.15).
     #[must_use]
     pub fn volume(&self) -> f64 {
-        let mut total = 0.0;
-        for f in 0..self.face_count() as u32 {
-            let mut hs = self.face_halfedges(f);
-            let Some(h0) = hs.next() else { continue };
-            let p0 = self.position(self.origin(h0));
-            for h in hs {
-                let a = self.position(self.origin(h));
-                let b = self.position(self.target(h));
-                total += p0.dot(a.cross(b));
-            }
-        }
+        let r = self.bounds();
+        let r = if r.is_empty() { Vec3::ZERO } else { r.center() };
+        let tris = self.measured_triangles();
+        let p = &self.positions;
+        let total: f64 = tris
+            .chunks_exact(3)
+            .map(|t| {
+                let [a, b, c] = [t[0], t[1], t[2]].map(|v| p[v as usize] - r);
+                a.dot(b.cross(c))
+            })
+            .sum();
         total / 6.0
     }
 
@@ -217,6 +254,36 @@ mod tests {
     fn assert_rel(a: f64, b: f64, tol: f64) {
         let d = (a - b).abs() / b.abs().max(1e-300);
         assert!(d <= tol, "got {a}, expected {b}, relative difference {d:e}");
+    }
+
+    #[test]
+    fn measures_far_from_the_origin_keep_their_digits() {
+        // icosphere(1, 3) has volume 4.15 (issue 19: 2.40 at 1e5 and −1135 at 1e6 when summed
+        // about the origin). Moving it rounds each coordinate to within half an ulp of the
+        // offset (7.5e-9 at 1e8), which moves the volume by at most area × that ≈ 1e-7.
+        let m = Mesh::icosphere(1.0, 3);
+        let (v, a) = (m.volume(), m.area());
+        for offset in [1e3, 1e5, 1e6, 1e7, 1e8] {
+            let far = m.translate(Vec3::splat(offset));
+            assert_rel(far.volume(), v, 1e-6);
+            assert_rel(far.area(), a, 1e-6);
+        }
+    }
+
+    #[test]
+    fn area_of_a_non_planar_quad_is_that_of_its_two_triangles() {
+        // A skew quad folded along its diagonal 0–2: triangles (0, 1, 2) of area 1/2 and
+        // (0, 2, 3) of area √2/2, 1.207 in all; its vector area is only √3/2 = 0.866 long.
+        let p = vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Z];
+        let m = Mesh::from_polygons(p, &[[0u32, 1, 2, 3]]).unwrap();
+        let (tris, _) = m.triangulate_faces().unwrap();
+        let want: f64 = tris
+            .chunks(3)
+            .map(|t| (m.position(t[1]) - m.position(t[0])).cross(m.position(t[2]) - m.position(t[0])).length() / 2.0)
+            .sum();
+        assert_rel(m.area(), want, 1e-15);
+        assert_rel(want, 0.5 + 0.5 * 2f64.sqrt(), 1e-15);
+        assert!(m.area() > m.face_area(0) + 0.1, "{} vs {}", m.area(), m.face_area(0));
     }
 
     #[test]
