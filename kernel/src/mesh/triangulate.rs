@@ -216,11 +216,12 @@ impl Mesh {
                 Ok(t) if fresh(&t, &diagonals) => t,
                 first => {
                     // A planar face takes only fans that keep every triangle facing its normal
-                    // (else triangles would overlap); a non-planar one any fan.
+                    // (else triangles would overlap); a non-planar one any fan. Areas beyond
+                    // f64's range stay an error.
                     let planar = is_planar(&corners, normal);
                     let fan = fans_best_first(&corners, normal)
                         .into_iter()
-                        .find(|(worst, t)| (!planar || *worst > 0.0) && fresh(t, &diagonals));
+                        .find(|(worst, t)| worst.is_finite() && (!planar || *worst > 0.0) && fresh(t, &diagonals));
                     match (fan, first) {
                         (Some((_, t)), _) => t,
                         (None, Err(reason)) => return Err(MeshError::Triangulation { face: f as usize, reason }),
