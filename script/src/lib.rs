@@ -10,12 +10,14 @@ pub mod context;
 pub mod convert;
 pub mod diagnostics;
 pub mod doc;
+pub mod manifest;
 pub mod param;
 pub mod params_list;
 pub mod record;
 pub mod repl;
 pub mod resolver;
 pub mod run;
+pub mod stats;
 pub mod studio;
 pub mod test_runner;
 

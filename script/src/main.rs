@@ -4,7 +4,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use blocksmith::params_list::{self, ListFormat};
-use blocksmith::run::{execute, RunCommand, RunError};
+use blocksmith::run::{execute_with_outcome, RunCommand, RunError};
 use blocksmith::{doc, new_engine, repl, test_runner, EngineOptions, RunContext};
 use clap::{Parser, Subcommand};
 
@@ -35,6 +35,14 @@ enum Command {
         /// Stop the script after this many operations (also inside closures).
         #[arg(long)]
         max_operations: Option<u64>,
+        /// Print the written model's facts (counts, closed, manifold, genus, volume, area,
+        /// bounds, run time) to standard output as JSON; needs -o.
+        #[arg(long, value_parser = ["json"], requires = "output")]
+        stats: Option<String>,
+        /// Write a manifest (hashes of the recipe, its inputs and the output; the parameters;
+        /// the tool version) to this JSON file.
+        #[arg(long, value_name = "FILE.json")]
+        manifest: Option<PathBuf>,
     },
     /// List a recipe's parameters (found by running it): name, type, default, range, doc.
     Params {
@@ -124,8 +132,14 @@ fn report(result: Result<String, RunError>) -> ExitCode {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
-        Command::Run { file, output, set, max_operations } => {
-            report(execute(&RunCommand { file, output, params: set, max_operations }))
+        Command::Run { file, output, set, max_operations, stats, manifest } => {
+            let cmd = RunCommand { file, output, params: set, max_operations, stats: stats.is_some(), manifest };
+            report(execute_with_outcome(&cmd).map(|o| {
+                if let Some(stats) = o.stats {
+                    println!("{stats:#}");
+                }
+                o.summary
+            }))
         }
         Command::Params { file, format, set } => {
             let format = if format == "json" { ListFormat::Json } else { ListFormat::Text };

@@ -205,6 +205,18 @@ pub struct RunCommand {
     pub output: Option<PathBuf>,
     pub params: Vec<(String, String)>,
     pub max_operations: Option<u64>,
+    /// `--stats json`: the written model's facts ([`crate::stats::of_file`]); needs `output`.
+    pub stats: bool,
+    /// `--manifest FILE.json`: where to write the run's manifest ([`crate::manifest`]).
+    pub manifest: Option<PathBuf>,
+}
+
+/// What `blocksmith run` reports: a one-line summary (for standard error) and, with
+/// `--stats json`, the facts (for standard output).
+#[derive(Debug, Clone)]
+pub struct RunOutcome {
+    pub summary: String,
+    pub stats: Option<serde_json::Value>,
 }
 
 /// Runs `blocksmith run`: evaluates the recipe and writes its last value to the output file.
@@ -213,17 +225,37 @@ pub struct RunCommand {
 /// # Errors
 /// Any error of the run or the write, formatted.
 pub fn execute(cmd: &RunCommand) -> Result<String, RunError> {
+    execute_with_outcome(cmd).map(|o| o.summary)
+}
+
+/// As [`execute`], also writing the manifest and computing the stats `cmd` asks for.
+///
+/// # Errors
+/// Any error of the run, the write, the stats or the manifest, formatted.
+pub fn execute_with_outcome(cmd: &RunCommand) -> Result<RunOutcome, RunError> {
+    if cmd.stats && cmd.output.is_none() {
+        return Err(RunError("error: --stats needs -o OUT: the facts are those of the written model".into()));
+    }
     let context = RunContext { params: cmd.params.iter().cloned().collect(), ..RunContext::default() };
     let options = EngineOptions { context, max_operations: cmd.max_operations, interrupt: None };
-    let RecipeRun { engine, value, ast, .. } = run_recipe(&cmd.file, options)?;
+    let RecipeRun { engine, value, ast, record, elapsed } = run_recipe(&cmd.file, options)?;
     let summary = describe(&engine, &value);
-    match &cmd.output {
+    let summary = match &cmd.output {
         Some(out) => {
             save_value(&engine, &ast, value, out)?;
-            Ok(format!("wrote {} ({summary})", out.display()))
+            format!("wrote {} ({summary})", out.display())
         }
-        None => Ok(summary),
+        None => summary,
+    };
+    let stats = match &cmd.output {
+        Some(out) if cmd.stats => Some(crate::stats::of_file(out, elapsed)?),
+        _ => None,
+    };
+    if let Some(path) = &cmd.manifest {
+        let manifest = crate::manifest::build(&cmd.file, &record, cmd.output.as_deref())?;
+        crate::manifest::write(&manifest, path)?;
     }
+    Ok(RunOutcome { summary, stats })
 }
 
 #[cfg(test)]

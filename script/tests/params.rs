@@ -87,3 +87,85 @@ fn an_unknown_set_name_fails_with_the_parameters_and_a_did_you_mean() {
     assert!(stderr(&o).contains("edge length"), "{}", stderr(&o));
     assert!(!out.exists(), "a model was written for a misspelt parameter");
 }
+
+#[test]
+fn stats_json_prints_the_written_models_facts() {
+    let d = tempfile::tempdir().unwrap();
+    let p = script(d.path(), "table.rhai", TABLE);
+    let out = d.path().join("cube.obj");
+    let o =
+        blocksmith().arg("run").arg(&p).args(["--set", "size=3", "--stats", "json", "-o"]).arg(&out).output().unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    // A cube of edge 3 moved by (0, 0, 1): 8 vertices, 12 edges, 6 quads, closed genus 0,
+    // volume 27, area 54, bounds [-1.5, 1.5] × [-1.5, 1.5] × [-0.5, 2.5].
+    assert_eq!((v["vertices"].as_u64(), v["edges"].as_u64(), v["faces"].as_u64()), (Some(8), Some(12), Some(6)));
+    assert_eq!(
+        (v["closed"].as_bool(), v["manifold"].as_bool(), v["genus"].as_i64()),
+        (Some(true), Some(true), Some(0))
+    );
+    assert!((v["volume"].as_f64().unwrap() - 27.0).abs() < 1e-9, "{v}");
+    assert!((v["area"].as_f64().unwrap() - 54.0).abs() < 1e-9, "{v}");
+    assert_eq!(v["bounds"]["min"], serde_json::json!([-1.5, -1.5, -0.5]));
+    assert_eq!(v["bounds"]["max"], serde_json::json!([1.5, 1.5, 2.5]));
+    assert!(v["run_time_s"].as_f64().unwrap() >= 0.0);
+    let o = blocksmith().arg("run").arg(&p).args(["--stats", "json"]).output().unwrap();
+    assert_fails_with(&o, "--output");
+}
+
+/// The manifest of one run, read back.
+fn manifest(recipe: &Path, out: &Path, sets: &[&str]) -> String {
+    let m = out.with_extension("json");
+    let mut cmd = blocksmith();
+    cmd.arg("run").arg(recipe).arg("-o").arg(out).arg("--manifest").arg(&m);
+    for s in sets {
+        cmd.args(["--set", s]);
+    }
+    let o = cmd.output().unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    std::fs::read_to_string(&m).unwrap()
+}
+
+#[test]
+fn a_manifest_changes_when_an_imported_or_loaded_file_changes_and_only_then() {
+    let d = tempfile::tempdir().unwrap();
+    let dir = d.path();
+    script(dir, "part.rhai", "fn side() { 2.0 }\n");
+    let wrote =
+        blocksmith().arg("run").arg(script(dir, "base.rhai", "cube(1)")).arg("-o").arg(dir.join("base.obj")).output();
+    assert!(wrote.unwrap().status.success());
+    let recipe = script(
+        dir,
+        "r.rhai",
+        "import \"part\" as part;\nimport \"check\" as check;\nlet k = param(\"k\", 1.0);\n\
+         let b = load(\"base.obj\");\ncube(part::side() * k)\n",
+    );
+    let out = dir.join("r.obj");
+    let first = manifest(&recipe, &out, &["k=1.5"]);
+    let v: serde_json::Value = serde_json::from_str(&first).unwrap();
+    let paths: Vec<&str> = v["inputs"].as_array().unwrap().iter().map(|i| i["path"].as_str().unwrap()).collect();
+    assert_eq!(paths, ["part.rhai", "base.obj"]);
+    assert_eq!(v["stdlib"][0]["module"], "check");
+    assert_eq!(v["params"], serde_json::json!([{ "name": "k", "value": 1.5, "set": true }]));
+    assert_eq!(v["tool"]["version"], env!("CARGO_PKG_VERSION"));
+    assert_eq!(v["output"]["sha256"].as_str().unwrap().len(), 64);
+    assert_eq!((&v["rebuild"][3], &v["rebuild"][4]), (&serde_json::json!("--set"), &serde_json::json!("k=1.5")));
+    // Same inputs, same manifest, byte for byte — also after a file is rewritten unchanged.
+    assert_eq!(manifest(&recipe, &out, &["k=1.5"]), first);
+    std::fs::write(dir.join("part.rhai"), "fn side() { 2.0 }\n").unwrap();
+    assert_eq!(manifest(&recipe, &out, &["k=1.5"]), first);
+    // An edit of the imported module that leaves the output alone still changes its hash.
+    std::fs::write(dir.join("part.rhai"), "// the side\nfn side() { 2.0 }\n").unwrap();
+    let edited = manifest(&recipe, &out, &["k=1.5"]);
+    let e: serde_json::Value = serde_json::from_str(&edited).unwrap();
+    assert_ne!(e["inputs"][0]["sha256"], v["inputs"][0]["sha256"]);
+    assert_eq!((&e["inputs"][1], &e["output"], &e["recipe"]), (&v["inputs"][1], &v["output"], &v["recipe"]));
+    // So does a changed loaded file; and a changed parameter changes the parameters and output.
+    std::fs::write(dir.join("base.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let l: serde_json::Value = serde_json::from_str(&manifest(&recipe, &out, &["k=1.5"])).unwrap();
+    assert_ne!(l["inputs"][1]["sha256"], e["inputs"][1]["sha256"]);
+    assert_eq!(l["inputs"][0], e["inputs"][0]);
+    let k: serde_json::Value = serde_json::from_str(&manifest(&recipe, &out, &["k=2"])).unwrap();
+    assert_ne!(k["output"]["sha256"], l["output"]["sha256"]);
+    assert_eq!(k["params"][0]["value"], 2.0);
+}
