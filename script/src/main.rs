@@ -5,7 +5,7 @@ use std::process::ExitCode;
 
 use blocksmith::params_list::{self, ListFormat};
 use blocksmith::run::{execute_with_outcome, RunCommand, RunError};
-use blocksmith::{doc, new_engine, repl, test_runner, EngineOptions, RunContext};
+use blocksmith::{doc, new_engine, repl, studio, test_runner, EngineOptions, RunContext};
 use clap::{Parser, Subcommand};
 
 /// mimalloc rather than the system allocator: the boolean engine allocates and frees many
@@ -82,6 +82,31 @@ enum Command {
         #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_set)]
         set: Vec<(String, String)>,
     },
+    /// Show a recipe in the browser and run it again on every save (page on 127.0.0.1).
+    Watch {
+        /// The recipe (.rhai).
+        file: PathBuf,
+        /// A parameter read by `param(name, default)`; repeatable.
+        #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_set)]
+        set: Vec<(String, String)>,
+        /// The port (default: any free one).
+        #[arg(long, default_value_t = 0)]
+        port: u16,
+        /// Open the page in the default browser.
+        #[arg(long)]
+        open: bool,
+    },
+    /// Show a mesh file (.glb .gltf .obj .stl) in the browser, read again on every save.
+    View {
+        /// The mesh file.
+        file: PathBuf,
+        /// The port (default: any free one).
+        #[arg(long, default_value_t = 0)]
+        port: u16,
+        /// Open the page in the default browser.
+        #[arg(long)]
+        open: bool,
+    },
     /// Print the API reference (of one function, or all).
     Doc {
         /// A function name.
@@ -122,6 +147,17 @@ fn report(result: Result<String, RunError>) -> ExitCode {
             eprintln!("{summary}");
             ExitCode::SUCCESS
         }
+        Err(e) => {
+            eprintln!("{e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// The exit of a server that stopped (it only returns on an error).
+fn served(result: Result<(), String>) -> ExitCode {
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("{e}");
             ExitCode::FAILURE
@@ -179,8 +215,10 @@ fn main() -> ExitCode {
             }
         }
         Command::Render { file, output, size, view, set } => {
-            report(blocksmith::studio::render_to_png(&file, with_params(set), &output, size, view))
+            report(studio::render_to_png(&file, with_params(set), &output, size, view))
         }
+        Command::Watch { file, set, port, open } => served(studio::serve(&file, set.into_iter().collect(), port, open)),
+        Command::View { file, port, open } => served(studio::serve(&file, Default::default(), port, open)),
         Command::Doc { name } => {
             let engine = new_engine(EngineOptions::default());
             match doc::render(&engine, name.as_deref()) {

@@ -1,9 +1,16 @@
 //! The studio: seeing a model. [`scene`] turns a run's value or a mesh file into named
-//! layers; [`render`] draws them on the CPU (`blocksmith render`).
+//! layers; [`render`] draws them on the CPU (`blocksmith render`); [`session`] runs a recipe
+//! again and again and keeps what is shown, [`watch`] runs it on save, and [`server`] shows it
+//! in a browser page ([`assets`], the files under `script/web/`), `blocksmith watch` and `view`.
 
+pub mod assets;
 pub mod render;
 pub mod scene;
+pub mod server;
+pub mod session;
+pub mod watch;
 
+use std::collections::BTreeMap;
 use std::path::Path;
 
 use crate::run::RunError;
@@ -32,4 +39,47 @@ pub fn render_to_png(
     .map_err(|e| RunError(format!("error: {e}")))?;
     let triangles: usize = meshes.iter().map(|m| m.triangle_count()).sum();
     Ok(format!("wrote {} ({width}x{height}, {triangles} triangles)", out.display()))
+}
+
+/// `blocksmith watch` (a recipe, run again on save) and `blocksmith view` (a mesh file, read
+/// again on save): serves the page on 127.0.0.1:`port`, prints its address, opens it in the
+/// browser when `open`, and serves until the process is stopped.
+///
+/// # Errors
+/// A missing file, a port that cannot be bound, a folder that cannot be watched.
+pub fn serve(file: &Path, params: BTreeMap<String, String>, port: u16, open: bool) -> Result<(), String> {
+    if !file.is_file() {
+        return Err(format!("error: {}: no such file", file.display()));
+    }
+    let is_recipe = file.extension().is_some_and(|e| e.eq_ignore_ascii_case("rhai"));
+    let source = if is_recipe {
+        session::Source::Recipe(file.to_path_buf())
+    } else {
+        blocksmith_kernel::io::Format::from_path(file).map_err(|e| format!("error: {e}"))?;
+        session::Source::File(file.to_path_buf())
+    };
+    let studio = server::Studio::bind(port)?;
+    let session = session::Session::start(source, params);
+    let _watcher = watch::watch(&session)?;
+    let url = studio.url();
+    eprintln!("showing {} at {url} (Ctrl-C stops)", file.display());
+    if open {
+        open_browser(&url);
+    }
+    studio.serve(&session);
+    Ok(())
+}
+
+/// Opens `url` with the desktop's opener; says so when there is none.
+fn open_browser(url: &str) {
+    let opener = if cfg!(target_os = "macos") {
+        "open"
+    } else if cfg!(windows) {
+        "explorer"
+    } else {
+        "xdg-open"
+    };
+    if std::process::Command::new(opener).arg(url).spawn().is_err() {
+        eprintln!("cannot start `{opener}`; open {url} yourself");
+    }
 }

@@ -1,0 +1,293 @@
+//! One studio session: what is shown (the last good model and the last error), the runs that
+//! make it, and the pages that follow it.
+//!
+//! Runs happen on their own thread, one at a time, never on the server's. A request for a run
+//! (a save, new parameters) while one is going sets the engine's interrupt
+//! (`EngineOptions::interrupt`, the one cancellation switch), and the run that follows reads
+//! the newest state; a superseded run's result, good or bad, is dropped. A failed run keeps
+//! the last good model and adds the error, formatted as the terminal prints it.
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::mpsc::{self, Receiver, Sender};
+use std::sync::{Arc, Mutex, MutexGuard};
+
+use serde_json::json;
+
+use super::scene::{self, Facts, Layer, Scene};
+use crate::context::RunContext;
+use crate::EngineOptions;
+
+/// What a session shows.
+#[derive(Clone, Debug)]
+pub enum Source {
+    /// A recipe, run again on every request.
+    Recipe(PathBuf),
+    /// A mesh file, read again on every request.
+    File(PathBuf),
+}
+
+impl Source {
+    /// The file behind the source.
+    #[must_use]
+    pub fn path(&self) -> &std::path::Path {
+        match self {
+            Source::Recipe(p) | Source::File(p) => p,
+        }
+    }
+}
+
+/// A model on show: its number (counting every successful run) and layers.
+#[derive(Debug)]
+pub struct Model {
+    pub version: u64,
+    pub layers: Vec<Layer>,
+    pub run_ms: f64,
+}
+
+impl Model {
+    /// The message that tells a page about the model (it fetches each layer's `.glb` by URL).
+    #[must_use]
+    pub fn message(&self) -> String {
+        let layers: Vec<serde_json::Value> = self
+            .layers
+            .iter()
+            .enumerate()
+            .map(|(i, l)| {
+                json!({
+                    "name": l.name,
+                    "url": format!("/model/{}/{i}.glb", self.version),
+                    "facts": Facts::of(&l.mesh).json(),
+                })
+            })
+            .collect();
+        json!({ "type": "model", "version": self.version, "run_ms": self.run_ms, "layers": layers }).to_string()
+    }
+}
+
+#[derive(Default)]
+struct State {
+    model: Option<Arc<Model>>,
+    error: Option<String>,
+    params: BTreeMap<String, String>,
+    pages: Vec<Sender<String>>,
+}
+
+/// A studio session, shared by the server, the watcher and the runner.
+pub struct Session {
+    pub source: Source,
+    state: Mutex<State>,
+    /// Counts run requests; a run whose count is no longer the newest is superseded.
+    requested: AtomicU64,
+    interrupt: Arc<AtomicBool>,
+    running: AtomicBool,
+    wake: Mutex<Sender<()>>,
+}
+
+impl Session {
+    /// A session on `source` with `params` (`--set`), and its runner thread, which makes the
+    /// first run at once.
+    #[must_use]
+    pub fn start(source: Source, params: BTreeMap<String, String>) -> Arc<Session> {
+        let (wake, woken) = mpsc::channel();
+        let session = Arc::new(Session {
+            source,
+            state: Mutex::new(State { params, ..State::default() }),
+            requested: AtomicU64::new(0),
+            interrupt: Arc::new(AtomicBool::new(false)),
+            running: AtomicBool::new(false),
+            wake: Mutex::new(wake),
+        });
+        let runner = Arc::clone(&session);
+        std::thread::spawn(move || runner.run_loop(&woken));
+        session.request_run();
+        session
+    }
+
+    fn state(&self) -> MutexGuard<'_, State> {
+        // A page thread that panicked cannot leave the state half-written: every update is
+        // one assignment.
+        self.state.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+
+    /// Asks for a new run; a run in progress is interrupted.
+    pub fn request_run(&self) {
+        self.requested.fetch_add(1, Ordering::SeqCst);
+        if self.running.load(Ordering::SeqCst) {
+            self.interrupt.store(true, Ordering::SeqCst);
+        }
+        let _ = self.wake.lock().unwrap_or_else(std::sync::PoisonError::into_inner).send(());
+    }
+
+    /// Sets the parameters (all of them; those not given fall back to the recipe's defaults)
+    /// and runs again when they changed.
+    pub fn set_params(&self, params: BTreeMap<String, String>) {
+        let changed = {
+            let mut s = self.state();
+            let changed = s.params != params;
+            s.params = params;
+            changed
+        };
+        if changed {
+            self.request_run();
+        }
+    }
+
+    /// The parameters in force.
+    #[must_use]
+    pub fn params(&self) -> BTreeMap<String, String> {
+        self.state().params.clone()
+    }
+
+    /// The model on show, if a run has succeeded.
+    #[must_use]
+    pub fn model(&self) -> Option<Arc<Model>> {
+        self.state().model.clone()
+    }
+
+    /// A new page: it receives the messages of the current state at once, then every update.
+    #[must_use]
+    pub fn follow(&self) -> Receiver<String> {
+        let (tx, rx) = mpsc::channel();
+        let mut s = self.state();
+        for m in Self::state_messages(&s) {
+            let _ = tx.send(m);
+        }
+        s.pages.push(tx);
+        rx
+    }
+
+    fn state_messages(s: &State) -> Vec<String> {
+        let mut out = Vec::new();
+        if let Some(m) = &s.model {
+            out.push(m.message());
+        }
+        out.push(json!({ "type": "params", "values": s.params }).to_string());
+        if let Some(e) = &s.error {
+            out.push(json!({ "type": "error", "text": e }).to_string());
+        }
+        out
+    }
+
+    /// The current state as one JSON document (for tools and tests).
+    #[must_use]
+    pub fn snapshot(&self) -> serde_json::Value {
+        let s = self.state();
+        let model: Option<serde_json::Value> = s.model.as_ref().and_then(|m| serde_json::from_str(&m.message()).ok());
+        json!({ "model": model, "error": s.error, "params": s.params })
+    }
+
+    fn broadcast(s: &mut State, message: &str) {
+        s.pages.retain(|p| p.send(message.to_string()).is_ok());
+    }
+
+    fn run_loop(&self, woken: &Receiver<()>) {
+        let mut version = 0;
+        while woken.recv().is_ok() {
+            while woken.try_recv().is_ok() {}
+            let ticket = self.requested.load(Ordering::SeqCst);
+            self.interrupt.store(false, Ordering::SeqCst);
+            self.running.store(true, Ordering::SeqCst);
+            let params = self.params();
+            Self::broadcast(&mut self.state(), &json!({ "type": "running" }).to_string());
+            let result = self.run_once(params);
+            self.running.store(false, Ordering::SeqCst);
+            if self.requested.load(Ordering::SeqCst) != ticket {
+                continue; // superseded: a newer request is waiting
+            }
+            let mut s = self.state();
+            match result {
+                Ok(scene) => {
+                    version += 1;
+                    let model = Model { version, layers: scene.layers, run_ms: scene.run_time.as_secs_f64() * 1000.0 };
+                    eprintln!("{}: shown ({:.0} ms)", self.source.path().display(), model.run_ms);
+                    let message = model.message();
+                    s.model = Some(Arc::new(model));
+                    s.error = None;
+                    Self::broadcast(&mut s, &message);
+                }
+                Err(e) => {
+                    eprintln!("{e}");
+                    Self::broadcast(&mut s, &json!({ "type": "error", "text": e.0 }).to_string());
+                    s.error = Some(e.0);
+                }
+            }
+        }
+    }
+
+    fn run_once(&self, params: BTreeMap<String, String>) -> Result<Scene, crate::run::RunError> {
+        match &self.source {
+            Source::Recipe(path) => {
+                let options = EngineOptions {
+                    context: RunContext { params, ..RunContext::default() },
+                    interrupt: Some(Arc::clone(&self.interrupt)),
+                    ..EngineOptions::default()
+                };
+                scene::run_recipe(path, options)
+            }
+            Source::File(path) => scene::load_file(path),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::time::Duration;
+
+    use super::*;
+
+    /// The next message of `type` within 30 s (debug builds run recipes slowly).
+    fn next(rx: &Receiver<String>, kind: &str) -> serde_json::Value {
+        loop {
+            let m = rx.recv_timeout(Duration::from_secs(30)).expect("a message");
+            let v: serde_json::Value = serde_json::from_str(&m).unwrap();
+            if v["type"] == kind {
+                return v;
+            }
+        }
+    }
+
+    #[test]
+    fn a_failed_run_keeps_the_model_and_a_fixed_one_clears_the_error() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("r.rhai");
+        std::fs::write(&p, "cube(1)").unwrap();
+        let session = Session::start(Source::Recipe(p.clone()), BTreeMap::new());
+        let rx = session.follow();
+        let m = next(&rx, "model");
+        assert_eq!(m["layers"][0]["facts"]["triangles"], 12);
+        std::fs::write(&p, "let x = ;\ncube(1)").unwrap();
+        session.request_run();
+        let e = next(&rx, "error");
+        assert!(e["text"].as_str().unwrap().contains("r.rhai:1:"), "{e}");
+        assert_eq!(session.model().unwrap().version, 1, "the last good model stays");
+        std::fs::write(&p, "icosphere(1, 1)").unwrap();
+        session.request_run();
+        let m = next(&rx, "model");
+        assert_eq!((m["version"].as_u64(), m["layers"][0]["facts"]["triangles"].as_u64()), (Some(2), Some(80)));
+        assert!(session.snapshot()["error"].is_null());
+    }
+
+    #[test]
+    fn a_request_during_a_long_run_interrupts_it_and_only_the_newest_is_shown() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("r.rhai");
+        std::fs::write(&p, "let n = 0; while true { n += 1; }").unwrap();
+        let session = Session::start(Source::Recipe(p.clone()), BTreeMap::new());
+        let rx = session.follow();
+        next(&rx, "running");
+        std::fs::write(&p, "cube(param(\"size\", 1))").unwrap();
+        session.set_params(BTreeMap::from([("size".to_string(), "2".to_string())]));
+        let m = loop {
+            let v: serde_json::Value =
+                serde_json::from_str(&rx.recv_timeout(Duration::from_secs(30)).unwrap()).unwrap();
+            assert_ne!(v["type"], "error", "the interrupted run is dropped, not shown: {v}");
+            if v["type"] == "model" {
+                break v;
+            }
+        };
+        assert_eq!(m["version"], 1);
+        assert!((m["layers"][0]["facts"]["volume"].as_f64().unwrap() - 8.0).abs() < 1e-9);
+    }
+}

@@ -1,0 +1,141 @@
+//! `blocksmith watch` end to end: the server answers on 127.0.0.1 only, serves nothing outside
+//! what it shows (`/../`, absolute and percent-encoded paths), re-runs on save, and the page
+//! shows the model in a real browser (Debian's `chromium`, headless on SwiftShader; skipped
+//! when it is missing, except under CI=true, where it must be there).
+
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::TcpStream;
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// A `blocksmith watch` process, stopped when dropped.
+struct Watch {
+    child: Child,
+    addr: String,
+}
+
+impl Drop for Watch {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn watch(recipe: &Path) -> Watch {
+    let mut child =
+        Command::new(env!("CARGO_BIN_EXE_blocksmith")).arg("watch").arg(recipe).stderr(Stdio::piped()).spawn().unwrap();
+    let mut lines = BufReader::new(child.stderr.take().unwrap()).lines();
+    let first = lines.next().unwrap().unwrap();
+    let addr = first.split("http://").nth(1).unwrap().trim_end_matches(|c| c != '/').trim_end_matches('/');
+    let addr = addr.split_whitespace().next().unwrap().to_string();
+    // Keep draining its messages so it never blocks on a full pipe.
+    std::thread::spawn(move || lines.for_each(drop));
+    Watch { child, addr }
+}
+
+/// A raw GET of `path` as sent (no normalisation): status and body.
+fn get(addr: &str, path: &str) -> (u16, Vec<u8>) {
+    let mut s = TcpStream::connect(addr).unwrap();
+    write!(s, "GET {path} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\r\n").unwrap();
+    let mut out = Vec::new();
+    s.read_to_end(&mut out).unwrap();
+    let status = std::str::from_utf8(&out[9..12]).unwrap().parse().unwrap();
+    let body = out.windows(4).position(|w| w == b"\r\n\r\n").map_or(Vec::new(), |i| out[i + 4..].to_vec());
+    (status, body)
+}
+
+/// The session's state once `ready` holds of it, within `limit`.
+fn state_when(addr: &str, limit: Duration, ready: impl Fn(&serde_json::Value) -> bool) -> serde_json::Value {
+    let start = Instant::now();
+    loop {
+        let (status, body) = get(addr, "/api/state");
+        assert_eq!(status, 200);
+        let v: serde_json::Value = serde_json::from_slice(&body).unwrap();
+        if ready(&v) {
+            return v;
+        }
+        assert!(start.elapsed() < limit, "not ready after {limit:?}: {v}");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+fn triangles(v: &serde_json::Value) -> Option<u64> {
+    v["model"]["layers"][0]["facts"]["triangles"].as_u64()
+}
+
+#[test]
+fn watch_serves_only_what_it_shows_and_runs_again_on_save() {
+    let dir = tempfile::tempdir().unwrap();
+    let recipe = dir.path().join("part.rhai");
+    std::fs::write(&recipe, "cube(1)").unwrap();
+    std::fs::write(dir.path().join("secret.txt"), "not for the page").unwrap();
+    let w = watch(&recipe);
+    assert!(w.addr.starts_with("127.0.0.1:"), "{}", w.addr);
+    let v = state_when(&w.addr, Duration::from_secs(30), |v| triangles(v).is_some());
+    assert_eq!(triangles(&v), Some(12));
+    let (status, page) = get(&w.addr, "/");
+    assert_eq!(status, 200);
+    assert!(String::from_utf8_lossy(&page).contains("importmap"));
+    let url = v["model"]["layers"][0]["url"].as_str().unwrap();
+    assert_eq!(&get(&w.addr, url).1[..4], b"glTF");
+    for (ext, magic) in [("glb", &b"glTF"[..]), ("obj", b"# "), ("stl", b"")] {
+        let (status, body) = get(&w.addr, &format!("/download/0.{ext}"));
+        assert_eq!(status, 200, ".{ext}");
+        assert!(body.starts_with(magic), ".{ext}");
+    }
+    for bad in [
+        "/../secret.txt",
+        "/secret.txt",
+        "/part.rhai",
+        "/..%2fsecret.txt",
+        "/%2e%2e/%2e%2e/etc/passwd",
+        "//etc/passwd",
+        "/vendor/three/../../../secret.txt",
+        &format!("/{}", dir.path().join("secret.txt").display()),
+        "/model/1/../../secret.txt",
+        "/download/../secret.txt",
+    ] {
+        let (status, body) = get(&w.addr, bad);
+        assert_eq!(status, 404, "{bad}");
+        assert!(!String::from_utf8_lossy(&body).contains("not for the page"), "{bad}");
+    }
+    // A save shows the new model; a syntax error keeps it and says where.
+    std::fs::write(&recipe, "icosphere(1, 1)").unwrap();
+    state_when(&w.addr, Duration::from_secs(10), |v| triangles(v) == Some(80));
+    std::fs::write(&recipe, "let a = ;\nicosphere(1, 1)").unwrap();
+    let v = state_when(&w.addr, Duration::from_secs(10), |v| v["error"].is_string());
+    assert!(v["error"].as_str().unwrap().contains("part.rhai:1:"), "{v}");
+    assert_eq!(triangles(&v), Some(80), "the last good model stays");
+}
+
+/// chromium, or None where it is missing (an error under CI, which installs it).
+fn chromium() -> Option<&'static str> {
+    let found = Command::new("chromium").arg("--version").output().is_ok_and(|o| o.status.success());
+    if !found {
+        assert!(std::env::var("CI").as_deref() != Ok("true"), "CI must install chromium for the browser tests");
+        eprintln!("chromium not found: browser test skipped");
+        return None;
+    }
+    Some("chromium")
+}
+
+#[test]
+fn the_page_shows_the_model_in_a_real_browser() {
+    let Some(browser) = chromium() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let recipe = dir.path().join("gear.rhai");
+    std::fs::copy(Path::new(env!("CARGO_MANIFEST_DIR")).join("../examples/gear.rhai"), &recipe).unwrap();
+    let w = watch(&recipe);
+    state_when(&w.addr, Duration::from_secs(30), |v| triangles(v).is_some());
+    let shot = dir.path().join("page.png");
+    let o = Command::new(browser)
+        .args(["--headless", "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader"])
+        .args(["--window-size=800,600", "--virtual-time-budget=10000", "--dump-dom"])
+        .arg(format!("--screenshot={}", shot.display()))
+        .arg(format!("http://{}/", w.addr))
+        .output()
+        .unwrap();
+    let dom = String::from_utf8_lossy(&o.stdout);
+    assert!(dom.contains("<title>blocksmith: 840 triangles</title>"), "{dom}");
+}

@@ -1,0 +1,134 @@
+// The studio page: wires the connection, the 3D view and the panel (facts, layers, toggles,
+// animation timeline, parameters, downloads). `window.studio` tells tests what is on show.
+
+import { Viewer } from './viewer.js';
+import { connect, sendParams } from './connection.js';
+import { renderParams, paramsFromAddress, paramsToAddress } from './controls.js';
+
+const $ = (id) => document.getElementById(id);
+const viewer = new Viewer($('view'));
+const studio = (window.studio = { version: 0, triangles: 0, error: null, loads: 0 });
+let shown = 0;
+let loading = Promise.resolve();
+let sentAddress = false;
+
+const fmt = (x) => (Number.isInteger(x) ? String(x) : x.toPrecision(6).replace(/\.?0+$/, ''));
+
+function showFacts(layers, runMs) {
+  const sum = (key) => layers.reduce((s, l) => s + l.facts[key], 0);
+  const f = layers.map((l) => l.facts);
+  const min = [0, 1, 2].map((k) => Math.min(...f.map((x) => x.min[k])));
+  const max = [0, 1, 2].map((k) => Math.max(...f.map((x) => x.max[k])));
+  const rows = [
+    ['vertices', sum('vertices')], ['triangles', sum('triangles')],
+    ['closed', f.every((x) => x.closed) ? 'yes' : 'no'], ['manifold', f.every((x) => x.manifold) ? 'yes' : 'no'],
+    ['genus', f.map((x) => x.genus).join(', ')], ['volume', fmt(sum('volume'))],
+    ['bounds', `${min.map(fmt).join(', ')} … ${max.map(fmt).join(', ')}`], ['run time', `${runMs.toFixed(0)} ms`],
+  ];
+  $('facts').replaceChildren(...rows.flatMap(([k, v]) => {
+    const dt = document.createElement('dt'); dt.textContent = k;
+    const dd = document.createElement('dd'); dd.textContent = v; dd.id = `fact-${k.replace(' ', '-')}`;
+    return [dt, dd];
+  }));
+}
+
+function showLayers(layers, objects) {
+  $('layers-section').hidden = layers.length < 2;
+  $('layers').replaceChildren(...layers.map((l) => {
+    const li = document.createElement('li');
+    const box = document.createElement('input');
+    box.type = 'checkbox'; box.checked = true;
+    box.onchange = () => { objects[l.name].visible = box.checked; studio.triangles = viewer.triangles(); };
+    const name = document.createElement('span'); name.className = 'layer-name'; name.textContent = ` ${l.name}`;
+    li.append(box, name, ` (${l.facts.triangles} triangles)`);
+    return li;
+  }));
+  $('downloads').replaceChildren(...layers.flatMap((l, i) => ['glb', 'obj', 'stl'].map((ext) => {
+    const a = document.createElement('a');
+    a.href = `/download/${i}.${ext}`;
+    a.textContent = layers.length > 1 ? `${l.name}.${ext}` : `.${ext}`;
+    return a;
+  })));
+}
+
+async function showModel(message) {
+  if (message.version <= shown) return;
+  const objects = await viewer.show(message.layers);
+  shown = message.version;
+  showFacts(message.layers, message.run_ms);
+  showLayers(message.layers, objects);
+  $('animation').hidden = !viewer.duration;
+  $('timeline').max = viewer.duration || 1;
+  Object.assign(studio, { version: message.version, triangles: viewer.triangles(), loads: studio.loads + 1 });
+  document.title = `blocksmith: ${studio.triangles} triangles`;
+}
+
+// Messages are handled one after the other, a model only once it has loaded, so an error that
+// follows a model is never hidden by that model's late arrival.
+function onMessage(message) {
+  loading = loading.then(() => handle(message)).catch((e) => showError(`cannot show the model: ${e}`));
+}
+
+async function handle(message) {
+  switch (message.type) {
+    case 'model':
+      await showModel(message);
+      showError(null);
+      setStatus('live');
+      break;
+    case 'error':
+      showError(message.text);
+      break;
+    case 'running':
+      setStatus('running');
+      break;
+    case 'params':
+      if (!sentAddress) {
+        // The address wins on the first connection: a shared or reloaded view.
+        sentAddress = true;
+        const wanted = paramsFromAddress();
+        if (Object.keys(wanted).length) { sendParams({ ...message.values, ...wanted }); return; }
+      }
+      paramsToAddress(message.values);
+      renderParams($('params'), message.specs ?? [], message.values, (values) => {
+        paramsToAddress(values);
+        sendParams(values);
+      });
+      break;
+  }
+}
+
+function showError(text) {
+  studio.error = text;
+  $('error').hidden = !text;
+  $('error').textContent = text ?? '';
+  if (text) setStatus('live');
+}
+
+function setStatus(state) {
+  $('status').textContent = state;
+  $('status').className = `status ${state}`;
+}
+
+$('colours').onchange = (e) => viewer.setColours(e.target.checked);
+$('wireframe').onchange = (e) => viewer.setWireframe(e.target.checked);
+$('grid').onchange = (e) => viewer.setHelpers(e.target.checked);
+$('fit').onclick = () => viewer.fit();
+$('play').onclick = () => {
+  viewer.playing = !viewer.playing;
+  $('play').textContent = viewer.playing ? 'pause' : 'play';
+};
+$('timeline').oninput = (e) => {
+  viewer.playing = false;
+  $('play').textContent = 'play';
+  viewer.setTime(Number(e.target.value));
+};
+viewer.onFrame = () => {
+  if (!viewer.duration) return;
+  const t = viewer.time();
+  studio.time = t;
+  if (viewer.playing) $('timeline').value = t;
+  $('time').textContent = `${t.toFixed(2)} s`;
+};
+
+connect(onMessage, setStatus);

@@ -1,0 +1,156 @@
+// The 3D view: three.js with the kernel's +Z up, a grid on the XY plane and axes, orbit / pan /
+// zoom, fit to view on the first model (later models keep the camera), feature colours or a
+// plain material, wireframe, and the playback of a model's animation.
+
+import * as THREE from 'three';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+
+// glTF is +Y up; the files the server sends are written with the kernel's +Z up as it is, so
+// the view keeps +Z up and shows the files without turning them.
+THREE.Object3D.DEFAULT_UP.set(0, 0, 1);
+
+// The colours of `blocksmith render` (script/src/studio/render.rs), linear RGB.
+const BACKGROUND = [0.86, 0.87, 0.89];
+const PLAIN = [0.55, 0.6, 0.68];
+
+export class Viewer {
+  constructor(container) {
+    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    this.renderer.setPixelRatio(window.devicePixelRatio);
+    container.appendChild(this.renderer.domElement);
+    this.scene = new THREE.Scene();
+    this.scene.background = new THREE.Color().setRGB(...BACKGROUND, THREE.LinearSRGBColorSpace);
+    this.camera = new THREE.PerspectiveCamera(40, 1, 0.01, 1000);
+    this.camera.up.set(0, 0, 1);
+    this.camera.position.set(4, -6, 4);
+    this.camera.add(new THREE.DirectionalLight(0xffffff, 2.2).translateX(-2).translateY(3).translateZ(1));
+    this.scene.add(this.camera, new THREE.HemisphereLight(0xffffff, 0x9999aa, 1.4));
+    this.helpers = new THREE.Group();
+    this.scene.add(this.helpers);
+    this.controls = new OrbitControls(this.camera, this.renderer.domElement);
+    this.models = new THREE.Group();
+    this.scene.add(this.models);
+    this.plain = new THREE.MeshStandardMaterial({ roughness: 0.6, metalness: 0.05, side: THREE.DoubleSide });
+    this.plain.color.setRGB(...PLAIN, THREE.LinearSRGBColorSpace);
+    this.colours = true;
+    this.wireframe = false;
+    this.fitted = false;
+    this.mixers = [];
+    this.clock = new THREE.Clock();
+    this.playing = true;
+    this.loader = new GLTFLoader();
+    new ResizeObserver(() => this.resize(container)).observe(container);
+    this.resize(container);
+    this.renderer.setAnimationLoop(() => this.frame());
+  }
+
+  resize(container) {
+    const w = Math.max(container.clientWidth, 1), h = Math.max(container.clientHeight, 1);
+    this.renderer.setSize(w, h, false);
+    this.camera.aspect = w / h;
+    this.camera.updateProjectionMatrix();
+  }
+
+  frame() {
+    const dt = this.clock.getDelta();
+    if (this.playing) this.mixers.forEach((m) => m.update(dt));
+    this.controls.update();
+    this.renderer.render(this.scene, this.camera);
+    this.onFrame?.();
+  }
+
+  // Loads the layers ({name, url}) and swaps them in whole when all have loaded; resolves to
+  // the three.js objects by layer name.
+  async show(layers) {
+    const loaded = await Promise.all(layers.map((l) => this.loader.loadAsync(l.url)));
+    this.models.clear();
+    this.mixers = [];
+    this.duration = 0;
+    const objects = {};
+    loaded.forEach((gltf, i) => {
+      const root = gltf.scene;
+      root.name = layers[i].name;
+      root.traverse((o) => {
+        if (o.isMesh) {
+          o.userData.own = o.material;
+          o.material.side = THREE.DoubleSide;
+        }
+      });
+      if (gltf.animations.length) {
+        const mixer = new THREE.AnimationMixer(root);
+        gltf.animations.forEach((clip) => {
+          mixer.clipAction(clip).play();
+          this.duration = Math.max(this.duration, clip.duration);
+        });
+        this.mixers.push(mixer);
+      }
+      this.models.add(root);
+      objects[root.name] = root;
+    });
+    this.applyMaterials();
+    this.placeHelpers();
+    if (!this.fitted) {
+      this.fit();
+      this.fitted = true;
+    }
+    return objects;
+  }
+
+  triangles() {
+    let n = 0;
+    this.models.traverse((o) => {
+      if (o.isMesh && o.visible) n += (o.geometry.index ? o.geometry.index.count : o.geometry.attributes.position.count) / 3;
+    });
+    return n;
+  }
+
+  applyMaterials() {
+    this.models.traverse((o) => {
+      if (!o.isMesh) return;
+      const own = o.userData.own;
+      const m = this.colours && own.vertexColors ? own : this.plain;
+      m.wireframe = this.wireframe;
+      o.material = m;
+    });
+  }
+
+  setColours(on) { this.colours = on; this.applyMaterials(); }
+  setWireframe(on) { this.wireframe = on; this.plain.wireframe = on; this.applyMaterials(); }
+  setHelpers(on) { this.helpers.visible = on; }
+
+  // A grid on the XY plane under the model, sized to it, and axes at the origin.
+  placeHelpers() {
+    const box = new THREE.Box3().setFromObject(this.models);
+    if (box.isEmpty()) return;
+    const size = box.getSize(new THREE.Vector3());
+    const extent = Math.max(size.x, size.y, size.z, 1e-6);
+    const step = 10 ** Math.floor(Math.log10(extent / 2));
+    const span = Math.ceil((extent * 2) / step) * step;
+    this.helpers.clear();
+    const grid = new THREE.GridHelper(span, Math.round(span / step), 0x999999, 0xc8c8c8);
+    grid.rotation.x = Math.PI / 2;
+    grid.position.set(Math.round(box.getCenter(new THREE.Vector3()).x / step) * step,
+      Math.round(box.getCenter(new THREE.Vector3()).y / step) * step, box.min.z);
+    this.helpers.add(grid, new THREE.AxesHelper(extent * 0.6));
+  }
+
+  fit() {
+    const box = new THREE.Box3().setFromObject(this.models);
+    if (box.isEmpty()) return;
+    const centre = box.getCenter(new THREE.Vector3());
+    const radius = box.getSize(new THREE.Vector3()).length() / 2 || 1;
+    const distance = radius / Math.sin(THREE.MathUtils.degToRad(this.camera.fov / 2));
+    const direction = new THREE.Vector3(1, -1.4, 0.9).normalize();
+    this.camera.position.copy(centre).addScaledVector(direction, distance);
+    this.camera.near = distance / 100;
+    this.camera.far = distance * 100;
+    this.camera.updateProjectionMatrix();
+    this.controls.target.copy(centre);
+    this.controls.update();
+  }
+
+  // The animation's time, in seconds, and setting it (scrubbing).
+  time() { return this.mixers.length ? this.mixers[0].time % (this.duration || 1) : 0; }
+  setTime(t) { this.mixers.forEach((m) => m.setTime(t)); }
+}
