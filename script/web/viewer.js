@@ -6,8 +6,8 @@ import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 
-// glTF is +Y up; the files the server sends are written with the kernel's +Z up as it is, so
-// the view keeps +Z up and shows the files without turning them.
+// The view keeps the kernel's +Z up. glTF is +Y up: the files the server sends are written with
+// kernel (x, y, z) as glTF (x, z, -y), so each is turned a quarter about +X back to the kernel's.
 THREE.Object3D.DEFAULT_UP.set(0, 0, 1);
 
 // The colours of `blocksmith render` (script/src/studio/render.rs), linear RGB.
@@ -71,6 +71,7 @@ export class Viewer {
     loaded.forEach((gltf, i) => {
       const root = gltf.scene;
       root.name = layers[i].name;
+      root.rotation.x = Math.PI / 2;
       root.traverse((o) => {
         if (o.isMesh) {
           o.userData.own = o.material;
