@@ -1,0 +1,99 @@
+"""Makes the regression corpus of issue 19 ("real-world files"): one small file per class of
+file that failed, and expected.json with what trimesh (the peer) finds in each after merging
+vertices: vertices, faces (triangles), Euler characteristic, area and volume. The Rust test
+kernel/tests/files_corpus.rs loads each file with blocksmith and holds it to these numbers and
+to the behaviour named in `must`.
+
+    python tests/data/files/make_files.py      # needs trimesh and numpy; rewrites the files
+
+Files (all made here, no third-party data):
+  cad_noise.stl        ASCII cube whose shared corners differ by CAD arithmetic noise (0 vs
+                       -3.79e-33, -6.123e-17 vs -6.147e-17): must weld closed
+  two_solids.stl       ASCII, two `solid` blocks (a cube and a tetrahedron): both must be read
+  continued.obj        a cube whose `f` lines continue with `\\`: must read as 6 quads
+  split_seams.glb      a cube with every triangle's corners apart (as glTF exporters split at
+                       normal/UV seams): must weld closed
+  instanced.glb        one cube mesh used by two nodes, the second moved: both instances read
+  val2_pillow.obj      two skew quads glued along all four edges (valence-2 vertices): must
+                       triangulate to a closed manifold mesh and save to STL and GLB
+"""
+import json
+from pathlib import Path
+
+import numpy as np
+import trimesh
+
+HERE = Path(__file__).parent
+CUBE_V = np.array([[x, y, z] for x in (0.0, 1.0) for y in (0.0, 1.0) for z in (0.0, 1.0)])
+CUBE_F = trimesh.creation.box(bounds=[[0, 0, 0], [1, 1, 1]]).faces
+
+
+def facets(vertices, faces, noise):
+    out = []
+    for k, f in enumerate(faces):
+        out.append("facet normal 0 0 0\n outer loop\n")
+        for v in f:
+            p = vertices[v].copy()
+            # Zero coordinates become tiny noise in some facets, as a CAD kernel leaves them.
+            p = np.where(p == 0.0, [0.0, -3.79e-33, -6.123e-17, -6.147e-17][k % 4] * noise, p)
+            out.append("  vertex {!r} {!r} {!r}\n".format(*map(float, p)))
+        out.append(" endloop\nendfacet\n")
+    return "".join(out)
+
+
+def peer(mesh):
+    mesh = mesh.copy()
+    mesh.merge_vertices()
+    return {
+        "vertices": len(mesh.vertices),
+        "faces": len(mesh.faces),
+        "euler": int(mesh.euler_number),
+        "area": float(mesh.area),
+        "volume": float(mesh.volume),
+        "watertight": bool(mesh.is_watertight),
+    }
+
+
+def main():
+    box = trimesh.Trimesh(CUBE_V, CUBE_F, process=False)
+    expected = {}
+
+    (HERE / "cad_noise.stl").write_text("solid cad\n" + facets(CUBE_V, CUBE_F, 1.0) + "endsolid cad\n")
+    expected["cad_noise.stl"] = dict(peer(trimesh.load(HERE / "cad_noise.stl", process=False)), must="closed")
+
+    tet = trimesh.Trimesh([[3, 0, 0], [4, 0, 0], [3, 1, 0], [3, 0, 1]], [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]], process=False)
+    text = "solid a\n" + facets(CUBE_V, CUBE_F, 0.0) + "endsolid a\nsolid b\n"
+    text += facets(tet.vertices, tet.faces, 0.0) + "endsolid b\n"
+    (HERE / "two_solids.stl").write_text(text)
+    expected["two_solids.stl"] = dict(peer(trimesh.util.concatenate([box, tet])), must="closed", components=2)
+
+    quads = [[1, 3, 4, 2], [5, 6, 8, 7], [1, 2, 6, 5], [3, 7, 8, 4], [1, 5, 7, 3], [2, 4, 8, 6]]
+    lines = ["v {} {} {}".format(*map(float, p)) for p in CUBE_V]
+    lines += ["f {} \\\n  {} {} \\\n {}".format(*q[::-1]) for q in quads]
+    (HERE / "continued.obj").write_text("\n".join(lines) + "\n")
+    expected["continued.obj"] = dict(peer(box), must="closed", polygons=6)
+
+    corners = CUBE_V[CUBE_F].reshape(-1, 3)
+    split = trimesh.Trimesh(corners, np.arange(len(corners)).reshape(-1, 3), process=False)
+    split.export(HERE / "split_seams.glb")
+    expected["split_seams.glb"] = dict(peer(split), must="closed")
+
+    scene = trimesh.Scene()
+    scene.add_geometry(box, geom_name="cube", node_name="first")
+    scene.add_geometry(box, geom_name="cube", node_name="second", transform=trimesh.transformations.translation_matrix([2.5, 0, 0]))
+    scene.export(HERE / "instanced.glb")
+    expected["instanced.glb"] = dict(peer(scene.to_geometry()), must="closed", components=2)
+
+    p = [[0, 0, 0], [1, 0, 0.5], [1, 1, 0], [0, 1, 0.5]]
+    (HERE / "val2_pillow.obj").write_text("".join("v {} {} {}\n".format(*map(float, q)) for q in p) + "f 4 1 2 3\nf 4 3 2 1\n")
+    # Fanning each quad from its first corner repeats the diagonal 4-2 (an edge of four
+    # triangles): the peer's numbers are those of the outward tetrahedron on the four corners,
+    # the only closed triangulation there is.
+    pillow = trimesh.Trimesh(p, [[2, 1, 0], [3, 2, 0], [3, 1, 2], [3, 0, 1]], process=False)
+    expected["val2_pillow.obj"] = dict(peer(pillow), must="triangulates", polygons=2)
+
+    (HERE / "expected.json").write_text(json.dumps(expected, indent=1, sort_keys=True) + "\n")
+
+
+if __name__ == "__main__":
+    main()
