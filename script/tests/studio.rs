@@ -107,6 +107,15 @@ fn watch_serves_only_what_it_shows_and_runs_again_on_save() {
     let v = state_when(&w.addr, Duration::from_secs(10), |v| v["error"].is_string());
     assert!(v["error"].as_str().unwrap().contains("part.rhai:1:"), "{v}");
     assert_eq!(triangles(&v), Some(80), "the last good model stays");
+    // A parameter from the page's controls runs the recipe with it.
+    std::fs::write(&recipe, "cube(param(\"size\", 1, #{ min: 0.1 }))").unwrap();
+    state_when(&w.addr, Duration::from_secs(10), |v| v["model"]["params"][0]["name"] == "size");
+    let mut s = TcpStream::connect(&w.addr).unwrap();
+    write!(s, "POST /api/params HTTP/1.1\r\nHost: x\r\nContent-Length: 6\r\nConnection: close\r\n\r\nsize=2").unwrap();
+    s.read_to_end(&mut Vec::new()).unwrap();
+    let v = state_when(&w.addr, Duration::from_secs(10), |v| v["model"]["params"][0]["value"] == 2);
+    assert!((v["model"]["layers"][0]["facts"]["volume"].as_f64().unwrap() - 8.0).abs() < 1e-6, "{v}");
+    assert_eq!(v["model"]["params"][0]["min"], 0.1);
 }
 
 /// chromium, or None where it is missing (an error under CI, which installs it).

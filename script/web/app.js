@@ -11,6 +11,15 @@ const studio = (window.studio = { version: 0, triangles: 0, error: null, loads: 
 let shown = 0;
 let loading = Promise.resolve();
 let sentAddress = false;
+let specs = [];
+let values = {};
+
+function showParams() {
+  renderParams($('params'), specs, values, (changed) => {
+    paramsToAddress(changed);
+    sendParams(changed);
+  });
+}
 
 const fmt = (x) => (Number.isInteger(x) ? String(x) : x.toPrecision(6).replace(/\.?0+$/, ''));
 
@@ -73,6 +82,8 @@ async function handle(message) {
   switch (message.type) {
     case 'model':
       await showModel(message);
+      specs = message.params ?? [];
+      showParams();
       showError(null);
       setStatus('live');
       break;
@@ -89,11 +100,9 @@ async function handle(message) {
         const wanted = paramsFromAddress();
         if (Object.keys(wanted).length) { sendParams({ ...message.values, ...wanted }); return; }
       }
-      paramsToAddress(message.values);
-      renderParams($('params'), message.specs ?? [], message.values, (values) => {
-        paramsToAddress(values);
-        sendParams(values);
-      });
+      values = message.values;
+      paramsToAddress(values);
+      showParams();
       break;
   }
 }

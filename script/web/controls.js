@@ -9,7 +9,7 @@ export function renderParams(form, specs, values, onChange) {
   const list = specs.length ? specs : Object.keys(values).map((name) => ({ name, default: guess(values[name]) }));
   form.replaceChildren();
   for (const spec of list) {
-    const current = values[spec.name] ?? String(spec.default);
+    const current = values[spec.name] ?? String(spec.value ?? spec.default);
     const label = document.createElement('label');
     label.title = spec.doc ?? '';
     const input = control(spec, current);

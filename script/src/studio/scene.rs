@@ -10,8 +10,8 @@ use blocksmith_kernel::io::{self, gltf::write_glb};
 use blocksmith_kernel::Mesh;
 use rhai::{Dynamic, Engine, AST};
 
-use crate::run::{eval_file, save_value, RunError};
-use crate::{new_engine, EngineOptions};
+use crate::run::{save_value, RunError};
+use crate::EngineOptions;
 
 /// One value of a scene.
 #[derive(Clone, Debug)]
@@ -70,6 +70,8 @@ impl Facts {
 pub struct Scene {
     pub layers: Vec<Layer>,
     pub run_time: Duration,
+    /// The parameters the recipe declared (`ParamSpec::to_json`), for the page's controls.
+    pub params: Vec<serde_json::Value>,
 }
 
 /// Runs the recipe at `path` with `options` and makes its value a scene.
@@ -77,13 +79,9 @@ pub struct Scene {
 /// # Errors
 /// The run's error, formatted as the terminal prints it, or a value that cannot be saved.
 pub fn run_recipe(path: &Path, options: EngineOptions) -> Result<Scene, RunError> {
-    let start = Instant::now();
-    let (value, ast) = eval_file(path, options.clone())?;
-    let run_time = start.elapsed();
-    let mut options = options;
-    options.context.script_dir = path.parent().map(Path::to_path_buf);
-    let engine = new_engine(options);
-    Ok(Scene { layers: layers(&engine, &ast, value)?, run_time })
+    let run = crate::run::run_recipe(path, options).map_err(|f| f.error)?;
+    let params = run.record.params.iter().map(crate::record::ParamSpec::to_json).collect();
+    Ok(Scene { layers: layers(&run.engine, &run.ast, run.value)?, run_time: run.elapsed, params })
 }
 
 /// The layers of a value: each element of an array (`[0]`, `[1]`, …) or map (by key), else
@@ -147,7 +145,7 @@ pub fn load_file(path: &Path) -> Result<Scene, RunError> {
         write_glb(&mesh, &mut bytes, path).map_err(|e| RunError(format!("error: {e}")))?;
         bytes
     };
-    Ok(Scene { layers: vec![Layer { name: "model".into(), glb, mesh }], run_time: start.elapsed() })
+    Ok(Scene { layers: vec![Layer { name: "model".into(), glb, mesh }], run_time: start.elapsed(), params: Vec::new() })
 }
 
 /// A recipe (`.rhai`) is run, any other file is read as a mesh.

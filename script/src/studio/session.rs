@@ -44,6 +44,8 @@ pub struct Model {
     pub version: u64,
     pub layers: Vec<Layer>,
     pub run_ms: f64,
+    /// The recipe's parameters as declared (name, kind, default, value, range, choices, doc).
+    pub params: Vec<serde_json::Value>,
 }
 
 impl Model {
@@ -62,7 +64,8 @@ impl Model {
                 })
             })
             .collect();
-        json!({ "type": "model", "version": self.version, "run_ms": self.run_ms, "layers": layers }).to_string()
+        json!({ "type": "model", "version": self.version, "run_ms": self.run_ms, "layers": layers, "params": self.params })
+            .to_string()
     }
 }
 
@@ -200,7 +203,12 @@ impl Session {
             match result {
                 Ok(scene) => {
                     version += 1;
-                    let model = Model { version, layers: scene.layers, run_ms: scene.run_time.as_secs_f64() * 1000.0 };
+                    let model = Model {
+                        version,
+                        layers: scene.layers,
+                        run_ms: scene.run_time.as_secs_f64() * 1000.0,
+                        params: scene.params,
+                    };
                     eprintln!("{}: shown ({:.0} ms)", self.source.path().display(), model.run_ms);
                     let message = model.message();
                     s.model = Some(Arc::new(model));
@@ -288,6 +296,7 @@ mod tests {
             }
         };
         assert_eq!(m["version"], 1);
+        assert_eq!((m["params"][0]["name"].as_str(), m["params"][0]["value"].as_i64()), (Some("size"), Some(2)));
         assert!((m["layers"][0]["facts"]["volume"].as_f64().unwrap() - 8.0).abs() < 1e-9);
     }
 }
