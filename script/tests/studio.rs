@@ -147,4 +147,14 @@ fn the_page_shows_the_model_in_a_real_browser() {
         .unwrap();
     let dom = String::from_utf8_lossy(&o.stdout);
     assert!(dom.contains("<title>blocksmith: 840 triangles</title>"), "{dom}");
+    // The screenshot shows the model, not a blank canvas: in the view (left of the panel),
+    // enough pixels far from the background's colour.
+    let shot = image::open(&shot).unwrap().to_rgb8();
+    let background = shot.get_pixel(2, 2).0;
+    let far =
+        |p: [u8; 3]| p.iter().zip(background).map(|(&a, b)| i32::from(a).abs_diff(i32::from(b))).sum::<u32>() > 60;
+    let view: Vec<[u8; 3]> =
+        (0..shot.height()).flat_map(|y| (0..480).map(move |x| (x, y))).map(|(x, y)| shot.get_pixel(x, y).0).collect();
+    let share = view.iter().filter(|&&p| far(p)).count() as f64 / view.len() as f64;
+    assert!(share > 0.05, "only {:.1} % of the view differs from the background", share * 100.0);
 }
