@@ -47,7 +47,14 @@ fn twenty_seeds_under_gnu_parallel_match_sequential_runs_byte_for_byte() {
             .current_dir(&seq)
             .arg("run")
             .arg(&recipe)
-            .args(["--set", &format!("seed={seed}"), "-o", &format!("{seed}.glb"), "--manifest", &format!("{seed}.json")])
+            .args([
+                "--set",
+                &format!("seed={seed}"),
+                "-o",
+                &format!("{seed}.glb"),
+                "--manifest",
+                &format!("{seed}.json"),
+            ])
             .output()
             .unwrap();
         assert!(o.status.success(), "seed {seed}: {}", String::from_utf8_lossy(&o.stderr));
@@ -70,7 +77,8 @@ fn twenty_seeds_under_gnu_parallel_match_sequential_runs_byte_for_byte() {
         assert!(x == y, "{name} differs between the sequential and the parallel run");
     }
     // The seeds make different variants, and each manifest names its seed and output hash.
-    let models: std::collections::BTreeSet<&Vec<u8>> = a.iter().filter(|(n, _)| n.ends_with(".glb")).map(|(_, x)| x).collect();
+    let models: std::collections::BTreeSet<&Vec<u8>> =
+        a.iter().filter(|(n, _)| n.ends_with(".glb")).map(|(_, x)| x).collect();
     assert_eq!(models.len(), SEEDS as usize, "two seeds gave the same model");
     let m: serde_json::Value = serde_json::from_slice(&std::fs::read(par.join("7.json")).unwrap()).unwrap();
     assert_eq!(m["params"][0], serde_json::json!({ "name": "seed", "value": 7, "set": true }));
