@@ -177,7 +177,10 @@ fn gltf_without_its_buffer_file_is_an_error() {
     std::fs::remove_file(dir.path().join("cube.bin")).unwrap();
     let e = load(&path).unwrap_err();
     assert!(matches!(e, IoError::Gltf { .. }), "{e}");
+    // The message starts with the file being loaded and names the missing one.
+    let bin = dir.path().join("cube.bin").display().to_string();
     assert!(e.to_string().starts_with(&path.display().to_string()) && e.to_string().contains("buffer"), "{e}");
+    assert!(e.to_string().contains(&format!("{bin} is not found")), "{e}");
 }
 
 #[test]

@@ -17,7 +17,7 @@ pub const KNOWN_EXTENSIONS: &str = ".obj, .glb, .gltf, .stl";
 #[derive(Debug, Error)]
 #[non_exhaustive]
 pub enum IoError {
-    /// The file (or, for `.gltf`, its buffer file) does not exist.
+    /// The file does not exist (a `.gltf` whose buffer file is missing is [`IoError::Gltf`]).
     #[error("{}: file not found", path.display())]
     NotFound { path: PathBuf },
     /// The file exists but could not be read (permissions, a directory, a device error).

@@ -23,8 +23,7 @@ use super::IoError;
 ///
 /// # Errors
 /// [`IoError::Gltf`] naming the buffer: a refused URI (see the module), a missing or short
-/// file or chunk, an invalid `data:` URI; [`IoError::NotFound`] / [`IoError::Read`] naming the
-/// buffer's file.
+/// file or chunk (naming the buffer's file), an unreadable file, an invalid `data:` URI.
 pub(crate) fn read_buffers(
     doc: &gltf::Document,
     base: Option<&Path>,
@@ -53,8 +52,13 @@ pub(crate) fn read_buffers(
                     decode_data_uri(rest).map_err(&fail)?
                 } else {
                     let file = resolve(base, uri).map_err(&fail)?;
+                    // The error is about the .gltf being loaded (its message starts with that
+                    // path) and names the buffer file it could not get.
                     read_exactly(&file, len as u64).map_err(|e| match e {
-                        ReadError::Io(e) => IoError::from_read(&file, e),
+                        ReadError::Io(e) if e.kind() == std::io::ErrorKind::NotFound => {
+                            fail(format!("its file {} is not found", file.display()))
+                        }
+                        ReadError::Io(e) => fail(format!("cannot read its file {}: {e}", file.display())),
                         ReadError::Reason(r) => fail(format!("{}: {r}", file.display())),
                     })?
                 };
