@@ -118,6 +118,44 @@ fn watch_serves_only_what_it_shows_and_runs_again_on_save() {
     assert_eq!(v["model"]["params"][0]["min"], 0.1);
 }
 
+fn version(v: &serde_json::Value) -> u64 {
+    v["model"]["version"].as_u64().unwrap_or(0)
+}
+
+#[test]
+fn watch_runs_again_when_an_imported_module_or_a_loaded_file_is_saved() {
+    let dir = tempfile::tempdir().unwrap();
+    let (home, lib) = (dir.path().join("part"), dir.path().join("lib"));
+    std::fs::create_dir_all(home.join("data")).unwrap();
+    std::fs::create_dir_all(&lib).unwrap();
+    std::fs::write(lib.join("sizes.rhai"), "fn side() { 1 }").unwrap();
+    std::fs::write(lib.join("other.rhai"), "fn unused() { 1 }").unwrap();
+    let tetra = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    std::fs::write(home.join("data/shape.obj"), tetra).unwrap();
+    let recipe = home.join("part.rhai");
+    std::fs::write(&recipe, "import \"../lib/sizes\" as s;\n[cube(s::side()), load(\"data/shape.obj\")]").unwrap();
+    let w = watch(&recipe);
+    let layer = |v: &serde_json::Value, i: usize, fact: &str| v["model"]["layers"][i]["facts"][fact].as_f64();
+    let v = state_when(&w.addr, Duration::from_secs(30), |v| triangles(v).is_some());
+    assert_eq!((layer(&v, 0, "volume"), layer(&v, 1, "triangles")), (Some(1.0), Some(4.0)), "{v}");
+    // The imported module, in another folder, is saved: the recipe runs again with it.
+    std::fs::write(lib.join("sizes.rhai"), "fn side() { 2 }").unwrap();
+    let v = state_when(&w.addr, Duration::from_secs(10), |v| layer(v, 0, "volume") == Some(8.0));
+    let after_module = version(&v);
+    // The loaded file, in a folder below, is saved: a square pyramid (a quad and four triangles).
+    let pyramid = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 1\nf 1 4 3 2\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n";
+    std::fs::write(home.join("data/shape.obj"), pyramid).unwrap();
+    let v = state_when(&w.addr, Duration::from_secs(10), |v| {
+        layer(v, 1, "triangles") == Some(6.0) && version(v) > after_module
+    });
+    let before = version(&v);
+    // A module the recipe does not import, in the imported one's folder, is not an input.
+    std::fs::write(lib.join("other.rhai"), "fn unused() { 2 }").unwrap();
+    std::thread::sleep(Duration::from_millis(600));
+    let v = state_when(&w.addr, Duration::from_secs(1), |_| true);
+    assert_eq!(version(&v), before, "saving a file the recipe does not read runs nothing");
+}
+
 /// chromium, or None where it is missing (an error under CI, which installs it).
 fn chromium() -> Option<&'static str> {
     let found = Command::new("chromium").arg("--version").output().is_ok_and(|o| o.status.success());

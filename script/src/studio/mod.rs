@@ -60,7 +60,7 @@ pub fn serve(file: &Path, params: BTreeMap<String, String>, port: u16, open: boo
     };
     let studio = server::Studio::bind(port)?;
     let session = session::Session::start(source, params);
-    let _watcher = watch::watch(&session)?;
+    watch::watch(&session)?;
     let url = studio.url();
     eprintln!("showing {} at {url} (Ctrl-C stops)", file.display());
     if open {

@@ -79,9 +79,21 @@ pub struct Scene {
 /// # Errors
 /// The run's error, formatted as the terminal prints it, or a value that cannot be saved.
 pub fn run_recipe(path: &Path, options: EngineOptions) -> Result<Scene, RunError> {
-    let run = crate::run::run_recipe(path, options).map_err(|f| f.error)?;
-    let params = run.record.params.iter().map(crate::record::ParamSpec::to_json).collect();
-    Ok(Scene { layers: layers(&run.engine, &run.ast, run.value)?, run_time: run.elapsed, params })
+    run_recipe_recorded(path, options).0
+}
+
+/// As [`run_recipe`], also returning the files the run read (the recipe, its imports, loaded
+/// files), which a failed run names too: what a watcher watches.
+pub fn run_recipe_recorded(path: &Path, options: EngineOptions) -> (Result<Scene, RunError>, Vec<PathBuf>) {
+    match crate::run::run_recipe(path, options) {
+        Ok(run) => {
+            let params = run.record.params.iter().map(crate::record::ParamSpec::to_json).collect();
+            let scene =
+                layers(&run.engine, &run.ast, run.value).map(|layers| Scene { layers, run_time: run.elapsed, params });
+            (scene, run.record.inputs)
+        }
+        Err(failure) => (Err(failure.error), failure.record.inputs),
+    }
 }
 
 /// The layers of a value: each element of an array (`[0]`, `[1]`, …) or map (by key), else

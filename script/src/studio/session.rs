@@ -69,12 +69,20 @@ impl Model {
     }
 }
 
+/// Told the files the latest run read, after every run.
+type InputsHook = Box<dyn Fn(&[PathBuf]) + Send>;
+
 #[derive(Default)]
 struct State {
     model: Option<Arc<Model>>,
+    /// The number of the last model shown (0: none yet).
+    version: u64,
     error: Option<String>,
     params: BTreeMap<String, String>,
     pages: Vec<Sender<String>>,
+    /// The files the latest run read (the recipe, its imports, loaded files).
+    inputs: Vec<PathBuf>,
+    inputs_hooks: Vec<InputsHook>,
 }
 
 /// A studio session, shared by the server, the watcher and the runner.
@@ -143,6 +151,16 @@ impl Session {
         self.state().params.clone()
     }
 
+    /// Calls `hook` with the files the latest run read (the recipe, imported modules, loaded
+    /// files), now if a run has finished and after every run.
+    pub fn on_inputs(&self, hook: impl Fn(&[PathBuf]) + Send + 'static) {
+        let mut s = self.state();
+        if !s.inputs.is_empty() {
+            hook(&s.inputs);
+        }
+        s.inputs_hooks.push(Box::new(hook));
+    }
+
     /// The model on show, if a run has succeeded.
     #[must_use]
     pub fn model(&self) -> Option<Arc<Model>> {
@@ -186,7 +204,6 @@ impl Session {
     }
 
     fn run_loop(&self, woken: &Receiver<()>) {
-        let mut version = 0;
         while woken.recv().is_ok() {
             while woken.try_recv().is_ok() {}
             let ticket = self.requested.load(Ordering::SeqCst);
@@ -194,29 +211,26 @@ impl Session {
             self.running.store(true, Ordering::SeqCst);
             let params = self.params();
             Self::broadcast(&mut self.state(), &json!({ "type": "running" }).to_string());
-            let result = self.run_once(params);
+            let (result, inputs) = self.run_once(params);
             self.running.store(false, Ordering::SeqCst);
+            {
+                let mut s = self.state();
+                for hook in &s.inputs_hooks {
+                    hook(&inputs);
+                }
+                s.inputs = inputs;
+            }
             if self.requested.load(Ordering::SeqCst) != ticket {
                 continue; // superseded: a newer request is waiting
             }
-            let mut s = self.state();
             match result {
                 Ok(scene) => {
-                    version += 1;
-                    let model = Model {
-                        version,
-                        layers: scene.layers,
-                        run_ms: scene.run_time.as_secs_f64() * 1000.0,
-                        params: scene.params,
-                    };
+                    let model = self.show(scene);
                     eprintln!("{}: shown ({:.0} ms)", self.source.path().display(), model.run_ms);
-                    let message = model.message();
-                    s.model = Some(Arc::new(model));
-                    s.error = None;
-                    Self::broadcast(&mut s, &message);
                 }
                 Err(e) => {
                     eprintln!("{e}");
+                    let mut s = self.state();
                     Self::broadcast(&mut s, &json!({ "type": "error", "text": e.0 }).to_string());
                     s.error = Some(e.0);
                 }
@@ -224,7 +238,25 @@ impl Session {
         }
     }
 
-    fn run_once(&self, params: BTreeMap<String, String>) -> Result<Scene, crate::run::RunError> {
+    /// Shows `scene` as the next model on every page, clearing any error.
+    pub fn show(&self, scene: Scene) -> Arc<Model> {
+        let mut s = self.state();
+        s.version += 1;
+        let model = Arc::new(Model {
+            version: s.version,
+            layers: scene.layers,
+            run_ms: scene.run_time.as_secs_f64() * 1000.0,
+            params: scene.params,
+        });
+        let message = model.message();
+        s.model = Some(Arc::clone(&model));
+        s.error = None;
+        Self::broadcast(&mut s, &message);
+        model
+    }
+
+    /// One run, and the files it read.
+    fn run_once(&self, params: BTreeMap<String, String>) -> (Result<Scene, crate::run::RunError>, Vec<PathBuf>) {
         match &self.source {
             Source::Recipe(path) => {
                 let options = EngineOptions {
@@ -232,9 +264,12 @@ impl Session {
                     interrupt: Some(Arc::clone(&self.interrupt)),
                     ..EngineOptions::default()
                 };
-                scene::run_recipe(path, options)
+                scene::run_recipe_recorded(path, options)
             }
-            Source::File(path) => scene::load_file(path),
+            Source::File(path) => {
+                let read = std::fs::canonicalize(path).unwrap_or_else(|_| path.clone());
+                (scene::load_file(path), vec![read])
+            }
         }
     }
 }
