@@ -1,6 +1,7 @@
 //! What a running script knows of its surroundings: `--set` parameters, where it lives and
 //! where relative output paths go. Carried as the engine's default tag.
 
+use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::path::{Component, Path, PathBuf};
 use std::rc::Rc;
@@ -21,6 +22,26 @@ pub struct RunContext {
     pub output_dir: Option<PathBuf>,
     /// What the run declares and reads (parameters, input files), filled in as it goes.
     pub record: Recorder,
+    /// Where `show(value)` puts its values: the studio (`blocksmith watch`, the REPL) shows
+    /// them; `None` elsewhere, where `show` does nothing.
+    pub shown: Option<Shown>,
+}
+
+/// The values a script passed to `show`, in order. Cloning shares them.
+#[derive(Clone, Debug, Default)]
+pub struct Shown(Rc<RefCell<Vec<Dynamic>>>);
+
+impl Shown {
+    /// Adds a value.
+    pub fn push(&self, value: Dynamic) {
+        self.0.borrow_mut().push(value);
+    }
+
+    /// The values so far, leaving none.
+    #[must_use]
+    pub fn take(&self) -> Vec<Dynamic> {
+        std::mem::take(&mut *self.0.borrow_mut())
+    }
 }
 
 impl RunContext {

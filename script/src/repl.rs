@@ -13,9 +13,10 @@ use rustyline::history::DefaultHistory;
 use rustyline::validate::{ValidationContext, ValidationResult, Validator};
 use rustyline::{Context, Editor, Helper, Highlighter, Hinter};
 
-use crate::context::RunContext;
+use crate::context::{RunContext, Shown};
 use crate::diagnostics::{format_error, format_parse_error};
 use crate::run::{compile_file, describe, save_value};
+use crate::studio::{self, scene::Scene};
 use crate::{doc, new_engine, EngineOptions};
 
 const HELP: &str = "\
@@ -25,6 +26,8 @@ Commands:
   :doc NAME      the reference of a function (`:doc` alone lists everything)
   :load FILE     run a script in this session (its functions and variables stay)
   :save PATH     write the last value (a mesh...) to PATH by extension
+  :show [EXPR]   show EXPR (or the last value) in the studio page, started on first use;
+                 show(value) in code does the same
   :quit          leave (Ctrl-D too)
 Ctrl-C stops a running evaluation; Tab completes function names.";
 
@@ -114,6 +117,12 @@ pub struct Session {
     functions: AST,
     last: Dynamic,
     interrupt: Arc<AtomicBool>,
+    /// Values passed to `show` by the entry being evaluated.
+    shown: Shown,
+    /// The studio page, once something was shown: its session and address.
+    studio: Option<(Arc<studio::session::Session>, String)>,
+    /// Whether the first show opens the page in the browser (an interactive session).
+    pub open_page: bool,
 }
 
 impl Session {
@@ -121,9 +130,19 @@ impl Session {
     #[must_use]
     pub fn new(interrupt: Arc<AtomicBool>) -> Session {
         let cwd = std::env::current_dir().ok();
-        let context = RunContext { script_dir: cwd, ..RunContext::default() };
+        let shown = Shown::default();
+        let context = RunContext { script_dir: cwd, shown: Some(shown.clone()), ..RunContext::default() };
         let engine = new_engine(EngineOptions { context, max_operations: None, interrupt: Some(interrupt.clone()) });
-        Session { engine, scope: Scope::new(), functions: AST::empty(), last: Dynamic::UNIT, interrupt }
+        Session {
+            engine,
+            scope: Scope::new(),
+            functions: AST::empty(),
+            last: Dynamic::UNIT,
+            interrupt,
+            shown,
+            studio: None,
+            open_page: false,
+        }
     }
 
     /// Names for completion: functions, types and the session's variables.
@@ -160,21 +179,103 @@ impl Session {
                     })
                 }
                 "load" | "save" => Some(format!(":{name} needs a path")),
+                "show" => Some(self.show_command(arg)),
                 _ => Some(format!("unknown command :{name} (try :help)")),
             };
         }
-        Some(self.eval(entry, "<repl>"))
+        let out = self.eval(entry, "<repl>");
+        Some(self.with_shown(out))
+    }
+
+    /// `out`, followed by what showing the values passed to `show` says, if there were any.
+    fn with_shown(&mut self, out: String) -> String {
+        let values = self.shown.take();
+        if values.is_empty() {
+            return out;
+        }
+        let said = self.show_values(values);
+        if out.is_empty() {
+            said
+        } else {
+            format!("{out}\n{said}")
+        }
+    }
+
+    /// `:show [EXPR]`: the value of `EXPR`, or the last value, on the studio page.
+    fn show_command(&mut self, arg: &str) -> String {
+        if arg.is_empty() {
+            return self.show_values(vec![self.last.clone()]);
+        }
+        match self.eval_value(arg, "<repl>") {
+            Ok(v) => {
+                // Values passed to `show` inside the expression are shown with it.
+                let mut values = self.shown.take();
+                values.push(v);
+                self.show_values(values)
+            }
+            Err(e) => {
+                drop(self.shown.take());
+                e
+            }
+        }
+    }
+
+    /// Shows `values` (one: as it is; several: as layers `[0]`, `[1]`, ...) on the studio
+    /// page, starting it on first use.
+    fn show_values(&mut self, mut values: Vec<Dynamic>) -> String {
+        let value = if values.len() == 1 { values.pop().unwrap_or_default() } else { Dynamic::from_array(values) };
+        if value.is_unit() {
+            return "nothing to show: give an expression (`:show cube(1)`) or evaluate a value first".into();
+        }
+        let layers = match studio::scene::layers(&self.engine, &self.functions, value) {
+            Ok(l) => l,
+            Err(e) => return e.0,
+        };
+        let (session, url) = match self.studio() {
+            Ok(s) => s,
+            Err(e) => return e,
+        };
+        let count = layers.len();
+        let triangles: usize = layers.iter().map(|l| l.mesh.triangle_count()).sum();
+        session.show(Scene { layers, run_time: std::time::Duration::ZERO, params: Vec::new() });
+        let layers = if count == 1 { String::new() } else { format!("{count} layers, ") };
+        format!("shown at {url} ({layers}{triangles} triangles)")
+    }
+
+    /// The studio's session and address, starting its server (127.0.0.1, any free port) on
+    /// first use.
+    fn studio(&mut self) -> Result<(Arc<studio::session::Session>, String), String> {
+        if let Some(s) = &self.studio {
+            return Ok(s.clone());
+        }
+        let session = studio::session::Session::for_values("repl");
+        let server = studio::server::Studio::bind(0)?;
+        let url = server.url();
+        let served = Arc::clone(&session);
+        std::thread::spawn(move || server.serve(&served));
+        if self.open_page {
+            studio::open_browser(&url);
+        }
+        self.studio = Some((Arc::clone(&session), url.clone()));
+        Ok((session, url))
     }
 
     fn eval(&mut self, source: &str, name: &str) -> String {
-        let ast = match self.engine.compile_with_scope(&self.scope, source) {
-            Ok(a) => a,
-            Err(e) => return format_parse_error(name, source, &e),
-        };
+        match self.eval_value(source, name) {
+            Ok(v) if v.is_unit() => String::new(),
+            Ok(v) => format!("=> {}", describe(&self.engine, &v)),
+            Err(e) => e,
+        }
+    }
+
+    /// Evaluates `source` in the session; a value that is not nothing becomes the last value.
+    fn eval_value(&mut self, source: &str, name: &str) -> Result<Dynamic, String> {
+        let ast =
+            self.engine.compile_with_scope(&self.scope, source).map_err(|e| format_parse_error(name, source, &e))?;
         self.run_ast(ast, source, name)
     }
 
-    fn run_ast(&mut self, ast: AST, source: &str, name: &str) -> String {
+    fn run_ast(&mut self, ast: AST, source: &str, name: &str) -> Result<Dynamic, String> {
         let merged = self.functions.merge(&ast);
         self.interrupt.store(false, Ordering::SeqCst);
         let result = self.engine.eval_ast_with_scope::<Dynamic>(&mut self.scope, &merged);
@@ -183,13 +284,12 @@ impl Session {
         match result {
             Ok(v) => {
                 self.keep_imports(source);
-                let shown = if v.is_unit() { String::new() } else { format!("=> {}", describe(&self.engine, &v)) };
                 if !v.is_unit() {
-                    self.last = v;
+                    self.last = v.clone();
                 }
-                shown
+                Ok(v)
             }
-            Err(e) => format_error(name, source, &e),
+            Err(e) => Err(format_error(name, source, &e)),
         }
     }
 
@@ -204,10 +304,15 @@ impl Session {
     }
 
     fn load(&mut self, path: &str) -> String {
-        match compile_file(&self.engine, &PathBuf::from(path)) {
-            Ok((source, ast)) => self.run_ast(ast, &source, path),
+        let out = match compile_file(&self.engine, &PathBuf::from(path)) {
+            Ok((source, ast)) => match self.run_ast(ast, &source, path) {
+                Ok(v) if v.is_unit() => String::new(),
+                Ok(v) => format!("=> {}", describe(&self.engine, &v)),
+                Err(e) => e,
+            },
             Err(e) => e.0,
-        }
+        };
+        self.with_shown(out)
     }
 }
 
@@ -228,6 +333,7 @@ pub fn run() -> Result<(), String> {
     // terminal is in raw mode and Ctrl-C reaches rustyline as a key instead.)
     let _ = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst));
     let mut session = Session::new(interrupt);
+    session.open_page = std::io::IsTerminal::is_terminal(&std::io::stdin());
     let mut editor: Editor<ReplHelper, DefaultHistory> = Editor::new().map_err(|e| format!("repl: {e}"))?;
     editor.set_helper(Some(ReplHelper { names: session.names() }));
     let history = history_path();

@@ -156,6 +156,74 @@ fn watch_runs_again_when_an_imported_module_or_a_loaded_file_is_saved() {
     assert_eq!(version(&v), before, "saving a file the recipe does not read runs nothing");
 }
 
+/// Sends `line` to the REPL and returns the next output line that contains `want`.
+fn repl_says(
+    stdin: &mut std::process::ChildStdin,
+    out: &mut impl Iterator<Item = String>,
+    line: &str,
+    want: &str,
+) -> String {
+    writeln!(stdin, "{line}").unwrap();
+    stdin.flush().unwrap();
+    out.find(|l| l.contains(want)).unwrap_or_else(|| panic!("no line with `{want}` after `{line}`"))
+}
+
+#[test]
+fn the_repl_shows_values_on_one_studio_page_started_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_blocksmith"))
+        .arg("repl")
+        .current_dir(dir.path())
+        .env("BLOCKSMITH_HISTORY", dir.path().join("history"))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut stdin = child.stdin.take().unwrap();
+    let mut out = BufReader::new(child.stdout.take().unwrap()).lines().map_while(Result::ok);
+    let said = repl_says(&mut stdin, &mut out, ":show", "nothing to show");
+    assert!(said.contains(":show cube(1)"), "{said}");
+    let said = repl_says(&mut stdin, &mut out, ":show cube(2)", "shown at");
+    assert!(said.ends_with("(12 triangles)"), "{said}");
+    let addr = said.split("http://").nth(1).unwrap().split('/').next().unwrap().to_string();
+    assert!(addr.starts_with("127.0.0.1:"), "{addr}");
+    let v = state_when(&addr, Duration::from_secs(5), |v| version(v) == 1);
+    assert!((v["model"]["layers"][0]["facts"]["volume"].as_f64().unwrap() - 8.0).abs() < 1e-9, "{v}");
+    // show() in code updates the same page; the last value stays the entry's own.
+    let said = repl_says(&mut stdin, &mut out, "let b = show(icosphere(1, 1)); 5", "shown at");
+    assert!(said.contains(&addr) && said.ends_with("(80 triangles)"), "{said}");
+    state_when(&addr, Duration::from_secs(5), |v| version(v) == 2 && triangles(v) == Some(80));
+    // `:show` alone shows the last value; an array is layers; an error shows nothing.
+    let said = repl_says(&mut stdin, &mut out, "[b, cube(1)]", "=>");
+    assert!(said.contains("=>"), "{said}");
+    let said = repl_says(&mut stdin, &mut out, ":show", "shown at");
+    assert!(said.ends_with("(2 layers, 92 triangles)"), "{said}");
+    let said = repl_says(&mut stdin, &mut out, ":show 5", "cannot be saved");
+    assert!(said.contains("cannot"), "{said}");
+    let v = state_when(&addr, Duration::from_secs(5), |v| version(v) == 3);
+    assert_eq!(v["model"]["layers"].as_array().unwrap().len(), 2);
+    drop(stdin);
+    assert!(child.wait().unwrap().success());
+}
+
+#[test]
+fn show_outside_the_studio_does_nothing_and_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let recipe = dir.path().join("r.rhai");
+    std::fs::write(&recipe, "let c = show(cube(1)); show(c); c").unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_blocksmith"))
+        .arg("run")
+        .arg(&recipe)
+        .arg("-o")
+        .arg(dir.path().join("r.stl"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert_eq!(err.matches("show(...)").count(), 1, "said once: {err}");
+}
+
 /// chromium, or None where it is missing (an error under CI, which installs it).
 fn chromium() -> Option<&'static str> {
     let found = Command::new("chromium").arg("--version").output().is_ok_and(|o| o.status.success());

@@ -8,7 +8,7 @@ use crate::context::RunContext;
 use crate::convert::{fail, number, type_name, vec3, ScriptResult};
 use crate::param::Declared;
 
-fn show(ctx: &NativeCallContext, v: &Dynamic) -> String {
+fn debug_text(ctx: &NativeCallContext, v: &Dynamic) -> String {
     ctx.call_native_fn::<String>("to_debug", (v.clone(),)).unwrap_or_else(|_| v.to_string())
 }
 
@@ -53,7 +53,10 @@ pub mod runtime_api {
         if equal {
             Ok(())
         } else {
-            fail("assert_eq", format!("left != right\n  left:  {}\n  right: {}", show(&ctx, &a), show(&ctx, &b)))
+            fail(
+                "assert_eq",
+                format!("left != right\n  left:  {}\n  right: {}", debug_text(&ctx, &a), debug_text(&ctx, &b)),
+            )
         }
     }
 
@@ -85,6 +88,29 @@ pub mod runtime_api {
         } else {
             fail("assert_near", format!("values differ by {diff:e} > {eps:e}\n  left:  {sa}\n  right: {sb}"))
         }
+    }
+
+    /// Shows `value` (a mesh, an animation, an array or map of them...) in the studio and
+    /// returns it: under `blocksmith watch` it is drawn beside the recipe's model as a layer of
+    /// its own (`show 1`, `show 2`, ... in call order), in the REPL it opens or updates the
+    /// studio page as `:show` does. Elsewhere (`run`, `test`, `render`) it does nothing and says
+    /// so once on standard error. For looking at a step of a recipe while writing it.
+    ///
+    /// ```rhai
+    /// let base = show(cube(2));
+    /// assert_eq(base.face_count, 6);
+    /// ```
+    pub fn show(ctx: NativeCallContext, value: Dynamic) -> Dynamic {
+        static SAID: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+        match &RunContext::of(&ctx).shown {
+            Some(shown) => shown.push(value.clone()),
+            None => {
+                if !SAID.swap(true, std::sync::atomic::Ordering::Relaxed) {
+                    eprintln!("note: show(...) draws values in `blocksmith watch` and the REPL; here it does nothing");
+                }
+            }
+        }
+        value
     }
 
     /// The value given on the command line with `--set name=value`, parsed by the type of

@@ -71,7 +71,7 @@ pub fn serve(file: &Path, params: BTreeMap<String, String>, port: u16, open: boo
 }
 
 /// Opens `url` with the desktop's opener; says so when there is none.
-fn open_browser(url: &str) {
+pub fn open_browser(url: &str) {
     let opener = if cfg!(target_os = "macos") {
         "open"
     } else if cfg!(windows) {

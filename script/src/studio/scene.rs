@@ -84,12 +84,28 @@ pub fn run_recipe(path: &Path, options: EngineOptions) -> Result<Scene, RunError
 
 /// As [`run_recipe`], also returning the files the run read (the recipe, its imports, loaded
 /// files), which a failed run names too: what a watcher watches.
+///
+/// When `options.context.shown` is set, the values the recipe passed to `show` follow the
+/// model as layers `show 1`, `show 2`, ... (an array or map shown as `show 2 [0]`, `show 2 key`).
 pub fn run_recipe_recorded(path: &Path, options: EngineOptions) -> (Result<Scene, RunError>, Vec<PathBuf>) {
+    let shown = options.context.shown.clone();
     match crate::run::run_recipe(path, options) {
         Ok(run) => {
             let params = run.record.params.iter().map(crate::record::ParamSpec::to_json).collect();
-            let scene =
-                layers(&run.engine, &run.ast, run.value).map(|layers| Scene { layers, run_time: run.elapsed, params });
+            let scene = layers(&run.engine, &run.ast, run.value).and_then(|mut layers| {
+                let values = shown.map(|s| s.take()).unwrap_or_default();
+                for (i, v) in values.into_iter().enumerate() {
+                    for mut l in self::layers(&run.engine, &run.ast, v)? {
+                        l.name = if l.name == "model" {
+                            format!("show {}", i + 1)
+                        } else {
+                            format!("show {} {}", i + 1, l.name)
+                        };
+                        layers.push(l);
+                    }
+                }
+                Ok(Scene { layers, run_time: run.elapsed, params })
+            });
             (scene, run.record.inputs)
         }
         Err(failure) => (Err(failure.error), failure.record.inputs),
@@ -112,22 +128,25 @@ pub fn layers(engine: &Engine, functions: &AST, value: Dynamic) -> Result<Vec<La
     if named.is_empty() {
         return Err(RunError("error: nothing to show: the script's last value is an empty array or map".into()));
     }
-    named
-        .into_iter()
-        .map(|(name, v)| {
-            let glb = glb_of(engine, functions, v).map_err(|e| {
-                if name == "model" {
-                    e
-                } else {
-                    RunError(format!("layer {name}: {e}"))
-                }
-            })?;
-            // Unwelded: the file's own vertices, colour seams included, as the page shows them.
-            let mesh = io::gltf::read_gltf_with(&glb, None, Path::new(&format!("{name}.glb")), io::Weld::Off)
-                .map_err(|e| RunError(format!("error: layer {name}: {e}")))?;
-            Ok(Layer { name, glb, mesh })
-        })
-        .collect()
+    named.into_iter().map(|(name, v)| layer(engine, functions, name, v)).collect()
+}
+
+/// The layer `name` showing `value`.
+///
+/// # Errors
+/// A value that cannot be saved, named unless it is the `model`.
+pub fn layer(engine: &Engine, functions: &AST, name: String, value: Dynamic) -> Result<Layer, RunError> {
+    let glb = glb_of(engine, functions, value).map_err(|e| {
+        if name == "model" {
+            e
+        } else {
+            RunError(format!("layer {name}: {e}"))
+        }
+    })?;
+    // Unwelded: the file's own vertices, colour seams included, as the page shows them.
+    let mesh = io::gltf::read_gltf_with(&glb, None, Path::new(&format!("{name}.glb")), io::Weld::Off)
+        .map_err(|e| RunError(format!("error: layer {name}: {e}")))?;
+    Ok(Layer { name, glb, mesh })
 }
 
 /// The `.glb` that `save` writes for `value`, through a temporary file.

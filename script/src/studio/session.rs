@@ -26,6 +26,9 @@ pub enum Source {
     Recipe(PathBuf),
     /// A mesh file, read again on every request.
     File(PathBuf),
+    /// Values shown from outside ([`Session::show`], the REPL); nothing to run. The path is
+    /// the name downloads are given.
+    Values(PathBuf),
 }
 
 impl Source {
@@ -33,7 +36,7 @@ impl Source {
     #[must_use]
     pub fn path(&self) -> &std::path::Path {
         match self {
-            Source::Recipe(p) | Source::File(p) => p,
+            Source::Recipe(p) | Source::File(p) | Source::Values(p) => p,
         }
     }
 }
@@ -114,6 +117,21 @@ impl Session {
         std::thread::spawn(move || runner.run_loop(&woken));
         session.request_run();
         session
+    }
+
+    /// A session showing only what is given to [`Session::show`] (the REPL's `:show`), named
+    /// `name`; it runs nothing.
+    #[must_use]
+    pub fn for_values(name: &str) -> Arc<Session> {
+        let (wake, _) = mpsc::channel();
+        Arc::new(Session {
+            source: Source::Values(PathBuf::from(name)),
+            state: Mutex::new(State::default()),
+            requested: AtomicU64::new(0),
+            interrupt: Arc::new(AtomicBool::new(false)),
+            running: AtomicBool::new(false),
+            wake: Mutex::new(wake),
+        })
     }
 
     fn state(&self) -> MutexGuard<'_, State> {
@@ -259,8 +277,9 @@ impl Session {
     fn run_once(&self, params: BTreeMap<String, String>) -> (Result<Scene, crate::run::RunError>, Vec<PathBuf>) {
         match &self.source {
             Source::Recipe(path) => {
+                let shown = Some(crate::context::Shown::default());
                 let options = EngineOptions {
-                    context: RunContext { params, ..RunContext::default() },
+                    context: RunContext { params, shown, ..RunContext::default() },
                     interrupt: Some(Arc::clone(&self.interrupt)),
                     ..EngineOptions::default()
                 };
@@ -270,6 +289,7 @@ impl Session {
                 let read = std::fs::canonicalize(path).unwrap_or_else(|_| path.clone());
                 (scene::load_file(path), vec![read])
             }
+            Source::Values(_) => (Err(crate::run::RunError("error: nothing to run".into())), Vec::new()),
         }
     }
 }
@@ -310,6 +330,22 @@ mod tests {
         let m = next(&rx, "model");
         assert_eq!((m["version"].as_u64(), m["layers"][0]["facts"]["triangles"].as_u64()), (Some(2), Some(80)));
         assert!(session.snapshot()["error"].is_null());
+    }
+
+    #[test]
+    fn values_shown_by_the_recipe_follow_its_model_as_layers() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("r.rhai");
+        std::fs::write(&p, "show(cube(1));\nshow([cube(2)]);\nicosphere(1, 1)").unwrap();
+        let session = Session::start(Source::Recipe(p), BTreeMap::new());
+        let m = next(&session.follow(), "model");
+        let layers: Vec<(&str, u64)> = m["layers"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|l| (l["name"].as_str().unwrap(), l["facts"]["triangles"].as_u64().unwrap()))
+            .collect();
+        assert_eq!(layers, [("model", 80), ("show 1", 12), ("show 2 [0]", 12)]);
     }
 
     #[test]
