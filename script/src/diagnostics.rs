@@ -58,11 +58,21 @@ pub fn format_parse_error(name: &str, source: &str, err: &ParseError) -> String 
     format_at(name, source, err.position(), strip_position(&err.to_string()))
 }
 
+/// Formats a warning at `pos` like [`format_error`] (`file:line:col: warning: ...`).
+#[must_use]
+pub fn format_warning(name: &str, source: &str, pos: Position, message: &str) -> String {
+    format_kind(name, source, pos, "warning", message)
+}
+
 fn format_at(name: &str, source: &str, pos: Position, message: &str) -> String {
+    format_kind(name, source, pos, "error", message)
+}
+
+fn format_kind(name: &str, source: &str, pos: Position, kind: &str, message: &str) -> String {
     let (Some(line), col) = (pos.line(), pos.position().unwrap_or(1)) else {
-        return format!("{name}: error: {message}");
+        return format!("{name}: {kind}: {message}");
     };
-    let mut out = format!("{name}:{line}:{col}: error: {message}");
+    let mut out = format!("{name}:{line}:{col}: {kind}: {message}");
     if let Some(text) = source.lines().nth(line - 1) {
         let gutter = line.to_string().len() + 4;
         out.push_str(&format!(

@@ -10,6 +10,7 @@ pub mod context;
 pub mod convert;
 pub mod diagnostics;
 pub mod doc;
+pub mod lint;
 pub mod manifest;
 pub mod param;
 pub mod params_list;

@@ -171,6 +171,9 @@ fn main() -> ExitCode {
         Command::Run { file, output, set, max_operations, stats, manifest } => {
             let cmd = RunCommand { file, output, params: set, max_operations, stats: stats.is_some(), manifest };
             report(execute_with_outcome(&cmd).map(|o| {
+                for w in &o.warnings {
+                    eprintln!("{w}");
+                }
                 if let Some(stats) = o.stats {
                     println!("{stats:#}");
                 }

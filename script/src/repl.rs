@@ -123,6 +123,8 @@ pub struct Session {
     studio: Option<(Arc<studio::session::Session>, String)>,
     /// Whether the first show opens the page in the browser (an interactive session).
     pub open_page: bool,
+    /// The dropped results of the entry being evaluated, as warnings.
+    warnings: Vec<String>,
 }
 
 impl Session {
@@ -142,6 +144,7 @@ impl Session {
             shown,
             studio: None,
             open_page: false,
+            warnings: Vec::new(),
         }
     }
 
@@ -261,11 +264,38 @@ impl Session {
     }
 
     fn eval(&mut self, source: &str, name: &str) -> String {
-        match self.eval_value(source, name) {
+        let out = match self.eval_value(source, name) {
             Ok(v) if v.is_unit() => String::new(),
             Ok(v) => format!("=> {}", describe(&self.engine, &v)),
             Err(e) => e,
+        };
+        self.with_warnings(out)
+    }
+
+    /// The entry's dropped results ([`crate::lint`]) as warnings; the session's variables
+    /// give their receivers' types. An entry ending in `;` only shows its last value, so that
+    /// one counts as dropped too.
+    fn dropped_results(&self, ast: &AST, source: &str, name: &str) -> Vec<String> {
+        let known: Vec<(String, String)> =
+            self.scope.iter().map(|(n, _, v)| (n.to_string(), v.type_name().to_string())).collect();
+        crate::lint::dropped_results_knowing(
+            ast,
+            source,
+            known.iter().map(|(n, t)| (n.as_str(), t.as_str())),
+            !source.trim_end().ends_with(';'),
+        )
+        .iter()
+        .map(|d| crate::diagnostics::format_warning(name, source, d.position, &d.message))
+        .collect()
+    }
+
+    /// The last entry's warnings, then `out`.
+    fn with_warnings(&mut self, out: String) -> String {
+        let mut lines = std::mem::take(&mut self.warnings);
+        if !out.is_empty() {
+            lines.push(out);
         }
+        lines.join("\n")
     }
 
     /// Evaluates `source` in the session; a value that is not nothing becomes the last value.
@@ -276,6 +306,7 @@ impl Session {
     }
 
     fn run_ast(&mut self, ast: AST, source: &str, name: &str) -> Result<Dynamic, String> {
+        self.warnings = self.dropped_results(&ast, source, name);
         let merged = self.functions.merge(&ast);
         self.interrupt.store(false, Ordering::SeqCst);
         let result = self.engine.eval_ast_with_scope::<Dynamic>(&mut self.scope, &merged);
@@ -312,6 +343,7 @@ impl Session {
             },
             Err(e) => e.0,
         };
+        let out = self.with_warnings(out);
         self.with_shown(out)
     }
 }
@@ -384,6 +416,11 @@ mod tests {
         assert_eq!(s.handle("let a = double(21);").unwrap(), "");
         assert_eq!(s.handle("a").unwrap(), "=> 42");
         assert!(s.handle("cube(2)").unwrap().contains("Mesh(8 vertices"));
+        // A dropped result is a warning, and the entry still runs.
+        s.handle("let c = cube(2);").unwrap();
+        let w = s.handle("c.translate([1, 0, 0]);").unwrap();
+        assert!(w.starts_with("<repl>:1:3: warning: the result of `translate` is dropped"), "{w}");
+        assert_eq!(s.handle("c = c.translate([1, 0, 0]);").unwrap(), "");
         let err = s.handle("a.nope()").unwrap();
         assert!(err.starts_with("<repl>:1:"), "{err}");
         assert_eq!(s.handle("a + 1").unwrap(), "=> 43");

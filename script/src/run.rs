@@ -68,6 +68,9 @@ pub struct RecipeRun {
     pub record: RunRecord,
     /// The wall-clock time of compiling and evaluating the recipe.
     pub elapsed: Duration,
+    /// Calls whose result the recipe drops while their receiver stays as it was, found before
+    /// it ran ([`crate::lint`]), formatted as warnings.
+    pub warnings: Vec<String>,
 }
 
 /// A failed run of a recipe: the formatted error and what the run had declared and read up
@@ -123,15 +126,23 @@ pub fn run_recipe(path: &Path, mut options: EngineOptions) -> Result<RecipeRun, 
     let engine = new_engine(options);
     let fail = |error: RunError| RecipeFailure { error, record: record.snapshot() };
     let (source, ast) = compile_file(&engine, path).map_err(fail)?;
-    let value = engine
-        .eval_ast_with_scope::<Dynamic>(&mut Scope::new(), &ast)
-        .map_err(|e| fail(RunError(format_error(&path.display().to_string(), &source, &e))))?;
+    let name = path.display().to_string();
+    let warnings: Vec<String> = crate::lint::dropped_results(&ast, &source)
+        .iter()
+        .map(|d| crate::diagnostics::format_warning(&name, &source, d.position, &d.message))
+        .collect();
+    let value = engine.eval_ast_with_scope::<Dynamic>(&mut Scope::new(), &ast).map_err(|e| {
+        // A dropped result is often why a later line fails: show it first.
+        let mut text: Vec<String> = warnings.clone();
+        text.push(format_error(&name, &source, &e));
+        fail(RunError(text.join("\n")))
+    })?;
     let elapsed = start.elapsed();
     let record = record.snapshot();
     if let Some(error) = unknown_set_names(path, &set_names, &record) {
         return Err(RecipeFailure { error, record });
     }
-    Ok(RecipeRun { engine, value, ast, record, elapsed })
+    Ok(RecipeRun { engine, value, ast, record, elapsed, warnings })
 }
 
 /// The error for `--set` names no `param` call read, listing the recipe's parameters.
@@ -216,6 +227,8 @@ pub struct RunCommand {
 #[derive(Debug, Clone)]
 pub struct RunOutcome {
     pub summary: String,
+    /// The recipe's warnings (dropped results), for standard error before the summary.
+    pub warnings: Vec<String>,
     pub stats: Option<serde_json::Value>,
 }
 
@@ -238,7 +251,7 @@ pub fn execute_with_outcome(cmd: &RunCommand) -> Result<RunOutcome, RunError> {
     }
     let context = RunContext { params: cmd.params.iter().cloned().collect(), ..RunContext::default() };
     let options = EngineOptions { context, max_operations: cmd.max_operations, interrupt: None };
-    let RecipeRun { engine, value, ast, record, elapsed } = run_recipe(&cmd.file, options)?;
+    let RecipeRun { engine, value, ast, record, elapsed, warnings } = run_recipe(&cmd.file, options)?;
     let summary = describe(&engine, &value);
     let summary = match &cmd.output {
         Some(out) => {
@@ -255,7 +268,7 @@ pub fn execute_with_outcome(cmd: &RunCommand) -> Result<RunOutcome, RunError> {
         let manifest = crate::manifest::build(&cmd.file, &record, cmd.output.as_deref())?;
         crate::manifest::write(&manifest, path)?;
     }
-    Ok(RunOutcome { summary, stats })
+    Ok(RunOutcome { summary, warnings, stats })
 }
 
 #[cfg(test)]

@@ -1,15 +1,17 @@
 //! `blocksmith test`: runs `.rhai` test scripts, each in a fresh engine, one line per script,
 //! then `N passed, N failed`.
 //!
-//! A test passes when it runs to the end without an error. Files whose name starts with `_` are
-//! helpers for `import`, not tests.
+//! A test passes when it runs to the end without an error and drops no result (a call whose
+//! result is thrown away while its receiver stays as it was, [`crate::lint`]: the test may
+//! pass for the wrong reason). Files whose name starts with `_` are helpers for `import`, not
+//! tests.
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 use crate::context::RunContext;
-use crate::run::run_file;
+use crate::run::run_recipe;
 use crate::EngineOptions;
 
 /// The outcome of one test script.
@@ -82,7 +84,14 @@ pub fn run_all(files: &[PathBuf], output_dir: &Path) -> Vec<TestOutcome> {
 fn run_one(path: &Path, output_dir: &Path) -> TestOutcome {
     let start = Instant::now();
     let context = RunContext { output_dir: Some(output_dir.to_path_buf()), ..RunContext::default() };
-    let error = run_file(path, EngineOptions { context, ..EngineOptions::default() }).err().map(|e| e.0);
+    let error = match run_recipe(path, EngineOptions { context, ..EngineOptions::default() }) {
+        Err(e) => Some(e.error.0),
+        // In a test a dropped result is an error: the test may pass for the wrong reason.
+        Ok(run) if !run.warnings.is_empty() => {
+            Some(run.warnings.iter().map(|w| w.replacen(": warning: ", ": error: ", 1)).collect::<Vec<_>>().join("\n"))
+        }
+        Ok(_) => None,
+    };
     TestOutcome { path: path.to_path_buf(), elapsed: start.elapsed(), error }
 }
 

@@ -8,6 +8,7 @@ pub mod files;
 pub mod lsystem;
 pub mod mesh;
 pub mod polar;
+pub mod registry;
 pub mod runtime;
 pub mod solve;
 pub mod subdiv;

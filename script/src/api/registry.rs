@@ -1,0 +1,85 @@
+//! The script API's functions as their `#[export_module]` declarations state them, tabulated at
+//! build time (`build.rs`): what Rhai's metadata does not carry — whether a method leaves its
+//! receiver unchanged (`pure`) and the Rust type it works on. The dropped-result lint
+//! ([`crate::lint`]) reads it, so adding or changing a function keeps the lint right without a
+//! list to maintain by hand.
+
+/// One registered function under one script name.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Declared {
+    /// The script name.
+    pub name: &'static str,
+    /// The Rust type of the receiver when the first parameter is `&mut` (a method that may
+    /// change the value it is called on), e.g. `SharedMesh`, `Block`.
+    pub receiver: Option<&'static str>,
+    /// The number of script arguments, the receiver included.
+    pub arity: usize,
+    /// Declared `pure`: the receiver is left unchanged.
+    pub pure: bool,
+    /// The Rust type returned (`()` for nothing), e.g. `SharedMesh`.
+    pub returns: &'static str,
+}
+
+impl Declared {
+    /// A method that leaves its receiver as it was and returns something: calling it only
+    /// for its effect does nothing.
+    #[must_use]
+    pub fn returns_new_value(&self) -> bool {
+        self.receiver.is_some() && self.pure && self.returns != "()"
+    }
+}
+
+include!(concat!(env!("OUT_DIR"), "/registry.rs"));
+
+/// The declarations named `name` taking `arity` arguments whose receiver, when `receiver` is
+/// known, is of that type.
+pub fn candidates<'a>(
+    name: &'a str,
+    arity: usize,
+    receiver: Option<&'a str>,
+) -> impl Iterator<Item = &'static Declared> + 'a {
+    REGISTRY.iter().filter(move |d| {
+        d.name == name && d.arity == arity && receiver.is_none_or(|r| d.receiver.is_none_or(|dr| dr == r))
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn one(name: &str, receiver: &str) -> Declared {
+        *candidates(name, 1, Some(receiver)).next().unwrap_or_else(|| panic!("{name} on {receiver}"))
+    }
+
+    #[test]
+    fn the_table_knows_which_methods_keep_their_receiver() {
+        // Mesh transforms return a new mesh; Block edits change the block (and return a copy).
+        let t = *candidates("translate", 2, Some("SharedMesh")).next().unwrap();
+        assert!(t.returns_new_value() && t.returns == "SharedMesh", "{t:?}");
+        let b = *candidates("translate", 2, Some("Block")).next().unwrap();
+        assert!(!b.pure && b.returns == "Block", "{b:?}");
+        assert!(!one("crease_all", "SharedMesh").returns_new_value());
+        assert!(one("volume", "SharedMesh").returns_new_value());
+        // Getters are properties, not calls.
+        assert_eq!(candidates("vertex_count", 1, None).count(), 0);
+        // Several script names on one function; a context parameter is not an argument.
+        assert!(candidates("to_debug", 1, Some("SharedMesh")).next().is_some());
+        assert_eq!(candidates("grow", 2, Some("LSystem")).next().map(|d| d.returns), Some("PolarMesh"));
+        // A multi-line signature.
+        assert_eq!(candidates("rotate", 5, Some("PolarMesh")).next().map(|d| d.returns), Some("()"));
+    }
+
+    #[test]
+    fn every_declared_function_is_registered_with_that_arity() {
+        let engine = crate::new_engine(crate::EngineOptions::default());
+        let mut registered = std::collections::HashSet::new();
+        let meta: serde_json::Value = serde_json::from_str(&engine.gen_fn_metadata_to_json(false).unwrap()).unwrap();
+        for f in meta["functions"].as_array().unwrap() {
+            registered.insert((f["name"].as_str().unwrap().to_string(), f["numParams"].as_u64().unwrap() as usize));
+        }
+        for d in REGISTRY {
+            assert!(registered.contains(&(d.name.to_string(), d.arity)), "{d:?} is not registered");
+        }
+        assert!(REGISTRY.len() > 200, "{}", REGISTRY.len());
+    }
+}

@@ -1,0 +1,443 @@
+//! The dropped-result lint: before a script runs, find the calls whose result is thrown away
+//! while their receiver is left as it was — `c.translate([5, 0, 0]);` as a statement moves
+//! nothing, since a mesh's transforms return a new mesh — and the chains whose later edits reach
+//! only a dropped copy (`b.subdivide("+z", 2, 2).sharp_all();` leaves `b` not sharp).
+//!
+//! Which functions keep their receiver comes from their declarations ([`crate::api::registry`]).
+//! Receivers' types are followed through `let` and assignments from the functions' declared
+//! return types; a method whose overloads disagree (a Block's `translate` edits the block) is
+//! judged only when the receiver's type is known. Script-defined functions and Rhai's own are
+//! never judged.
+
+use std::collections::HashMap;
+
+use rhai::{Engine, Expr, FnCallExpr, Position, Stmt, AST};
+
+use crate::api::registry::{candidates, Declared};
+
+/// One dropped result: where the dropped call is and what to write instead.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Dropped {
+    /// The position of the call whose result is dropped.
+    pub position: Position,
+    /// The message: what is lost and the fix.
+    pub message: String,
+}
+
+/// The dropped results of the script compiled as `ast` from `source`, in source order.
+/// Function bodies and closures are checked too (their last statement is their value, not a
+/// dropped one).
+#[must_use]
+pub fn dropped_results(ast: &AST, source: &str) -> Vec<Dropped> {
+    dropped_results_knowing(ast, source, std::iter::empty(), true)
+}
+
+/// As [`dropped_results`], knowing the values of some variables already (a REPL session's):
+/// `(name, type name)` pairs, the type name as Rhai reports it (`blocksmith::api::mesh::SharedMesh`).
+/// `last_used`: whether the last statement's value is kept (a script's is its model; a REPL
+/// entry ending in `;` only shows it).
+#[must_use]
+pub fn dropped_results_knowing<'a>(
+    ast: &AST,
+    source: &str,
+    known: impl IntoIterator<Item = (&'a str, &'a str)>,
+    last_used: bool,
+) -> Vec<Dropped> {
+    let mut lint = Lint::default();
+    for (name, type_name) in known {
+        let short = type_name.rsplit("::").next().unwrap_or(type_name);
+        let declared = crate::api::registry::REGISTRY.iter().find_map(|d| match d.receiver {
+            Some(r) if r == short => Some(r),
+            _ => None,
+        });
+        if let Some(t) = declared {
+            lint.types.insert(name.to_string(), t);
+        }
+    }
+    lint.block(ast.statements(), last_used);
+    let engine = Engine::new_raw();
+    for f in ast.iter_fn_def() {
+        let (start, end) = (f.body.start_position(), f.body.end_position());
+        let Some(body) = only_between(source, start, end) else { continue };
+        // The body compiled alone, everything else blanked, keeps its positions.
+        let Ok(body_ast) = engine.compile(&body) else { continue };
+        let mut inner = Lint { types: HashMap::new(), found: Vec::new() };
+        inner.block(body_ast.statements(), true);
+        lint.found.append(&mut inner.found);
+    }
+    lint.found.sort_by_key(|d| (d.position.line(), d.position.position()));
+    lint.found.dedup();
+    lint.found
+}
+
+/// `source` with every character outside `start..=end` replaced by a space (lines kept).
+fn only_between(source: &str, start: Position, end: Position) -> Option<String> {
+    let (sl, sc) = (start.line()?, start.position().unwrap_or(1));
+    let (el, ec) = (end.line()?, end.position().unwrap_or(usize::MAX));
+    let mut out = String::with_capacity(source.len());
+    for (i, line) in source.split('\n').enumerate() {
+        if i > 0 {
+            out.push('\n');
+        }
+        let l = i + 1;
+        for (j, ch) in line.chars().enumerate() {
+            let c = j + 1;
+            let inside = (l > sl || (l == sl && c >= sc)) && (l < el || (l == el && c <= ec));
+            out.push(if inside || ch == '\r' { ch } else { ' ' });
+        }
+    }
+    Some(out)
+}
+
+#[derive(Default)]
+struct Lint {
+    /// The Rust type of each variable whose value's type is known (`SharedMesh`, `Block`, ...).
+    types: HashMap<String, &'static str>,
+    found: Vec<Dropped>,
+}
+
+/// One call of a method chain, in order: `name(args)` on the previous link's value.
+struct Link<'a> {
+    call: &'a FnCallExpr,
+    pos: Position,
+}
+
+impl Lint {
+    fn block(&mut self, stmts: &[Stmt], value_used: bool) {
+        for (i, s) in stmts.iter().enumerate() {
+            self.stmt(s, value_used && i + 1 == stmts.len());
+        }
+    }
+
+    fn stmt(&mut self, s: &Stmt, used: bool) {
+        match s {
+            Stmt::Var(x, ..) => {
+                let (ident, expr, _) = &**x;
+                self.expr(expr);
+                self.set_type(ident.name.as_str(), expr);
+            }
+            Stmt::Assignment(x) => {
+                let (op, bin) = &**x;
+                self.expr(&bin.rhs);
+                if let Expr::Variable(v, ..) = &bin.lhs {
+                    if op.is_op_assignment() {
+                        self.types.remove(v.1.as_str());
+                    } else {
+                        self.set_type(v.1.as_str(), &bin.rhs);
+                    }
+                }
+            }
+            Stmt::FnCall(call, pos) => {
+                self.args(call);
+                if !used {
+                    self.dropped_call(call, *pos);
+                }
+            }
+            Stmt::Expr(e) => {
+                self.expr(e);
+                if !used {
+                    self.dropped_expr(e);
+                }
+            }
+            Stmt::If(fc, _) | Stmt::TryCatch(fc, _) => {
+                self.expr(&fc.expr);
+                self.block(fc.body.statements(), used);
+                self.block(fc.branch.statements(), used);
+            }
+            Stmt::While(fc, _) | Stmt::Do(fc, ..) => {
+                self.expr(&fc.expr);
+                self.block(fc.body.statements(), false);
+            }
+            Stmt::For(x, _) => {
+                let (var, counter, fc) = &**x;
+                self.expr(&fc.expr);
+                self.types.remove(var.name.as_str());
+                if let Some(c) = counter {
+                    self.types.remove(c.name.as_str());
+                }
+                self.block(fc.body.statements(), false);
+            }
+            Stmt::Block(b) => self.block(b.statements(), used),
+            Stmt::Switch(x, _) => {
+                let (e, cases) = &**x;
+                self.expr(e);
+                for case in &cases.expressions {
+                    self.expr(&case.lhs);
+                    match &case.rhs {
+                        Expr::Stmt(b) => self.block(b.statements(), used),
+                        other => {
+                            self.expr(other);
+                            if !used {
+                                self.dropped_expr(other);
+                            }
+                        }
+                    }
+                }
+            }
+            Stmt::Return(Some(e), ..) | Stmt::BreakLoop(Some(e), ..) => self.expr(e),
+            _ => {}
+        }
+    }
+
+    /// Visits the statement blocks nested in an expression (whose values are used).
+    fn expr(&mut self, e: &Expr) {
+        match e {
+            Expr::Stmt(b) => self.block(b.statements(), true),
+            Expr::FnCall(call, _) | Expr::MethodCall(call, _) => self.args(call),
+            Expr::Dot(bin, ..) | Expr::Index(bin, ..) => {
+                self.expr(&bin.lhs);
+                self.expr(&bin.rhs);
+            }
+            Expr::Array(items, _) | Expr::InterpolatedString(items, _) => items.iter().for_each(|x| self.expr(x)),
+            Expr::And(items, _) | Expr::Or(items, _) | Expr::Coalesce(items, _) => {
+                items.iter().for_each(|x| self.expr(x));
+            }
+            Expr::Map(m, _) => m.0.iter().for_each(|(_, x)| self.expr(x)),
+            _ => {}
+        }
+    }
+
+    fn args(&mut self, call: &FnCallExpr) {
+        call.args.iter().for_each(|a| self.expr(a));
+    }
+
+    fn set_type(&mut self, name: &str, value: &Expr) {
+        match self.type_of(value) {
+            Some(t) => self.types.insert(name.to_string(), t),
+            None => self.types.remove(name),
+        };
+    }
+
+    /// The Rust type of `e`'s value when the declarations settle it.
+    fn type_of(&self, e: &Expr) -> Option<&'static str> {
+        match e {
+            Expr::Variable(v, ..) => self.types.get(v.1.as_str()).copied(),
+            Expr::FnCall(call, _) if call.namespace.is_empty() => {
+                let receiver = call.args.first().and_then(|a| self.type_of(a));
+                unique_return(call.name.as_str(), call.args.len(), receiver)
+            }
+            Expr::Dot(..) => {
+                let (root, links) = chain(e)?;
+                let mut t = self.type_of(root);
+                for l in &links {
+                    t = unique_return(l.call.name.as_str(), l.call.args.len() + 1, t);
+                }
+                t
+            }
+            _ => None,
+        }
+    }
+
+    /// `f(x, ...)` as a statement: the method-style function called function-style.
+    fn dropped_call(&mut self, call: &FnCallExpr, pos: Position) {
+        if !call.namespace.is_empty() || call.args.is_empty() {
+            return;
+        }
+        let receiver = self.type_of(&call.args[0]);
+        let decls: Vec<&Declared> = candidates(call.name.as_str(), call.args.len(), receiver).collect();
+        if decls.is_empty() || !decls.iter().all(|d| d.returns_new_value()) {
+            return;
+        }
+        let name = call.name.as_str();
+        let message = match &call.args[0] {
+            Expr::Variable(v, ..) => {
+                let x = v.1.as_str();
+                format!(
+                    "the result of `{name}` is dropped and `{x}` is unchanged (`{name}` returns a new value); \
+                     write `{x} = {name}({x}, …);`"
+                )
+            }
+            _ => format!("the result of `{name}` is dropped (`{name}` returns a new value and changes nothing)"),
+        };
+        self.found.push(Dropped { position: pos, message });
+    }
+
+    /// `x.f(...).g(...);` as a statement.
+    fn dropped_expr(&mut self, e: &Expr) {
+        let Some((root, links)) = chain(e) else { return };
+        let Some(last) = links.last() else { return };
+        let mut t = self.type_of(root);
+        for l in &links[..links.len() - 1] {
+            t = unique_return(l.call.name.as_str(), l.call.args.len() + 1, t);
+        }
+        let name = last.call.name.as_str();
+        let decls: Vec<&Declared> = candidates(name, last.call.args.len() + 1, t).collect();
+        if decls.is_empty() {
+            return;
+        }
+        let var = match root {
+            Expr::Variable(v, ..) => Some(v.1.as_str()),
+            _ => None,
+        };
+        let calls = links.iter().map(|l| shown(l.call)).collect::<Vec<_>>().join(".");
+        if decls.iter().all(|d| d.returns_new_value()) {
+            let message = match var {
+                Some(x) if links.len() == 1 => format!(
+                    "the result of `{name}` is dropped and `{x}` is unchanged (`{name}` returns a new value); \
+                     write `{x} = {x}.{calls};`"
+                ),
+                Some(x) => format!(
+                    "the result of `{name}` is dropped, so it changes nothing (`{name}` returns a new value); \
+                     to keep it, write `{x} = {x}.{calls};`"
+                ),
+                None => format!(
+                    "the result of `{name}` is dropped (`{name}` returns a new value and changes nothing); \
+                     keep it with `let x = …;`"
+                ),
+            };
+            self.found.push(Dropped { position: last.pos, message });
+        } else if links.len() >= 2 && decls.iter().all(|d| !d.pure && d.returns != "()") {
+            // An edit that returns a copy: on a copy made earlier in the chain, it is lost.
+            let prev = links[links.len() - 2].call.name.as_str();
+            let target = var.map_or_else(|| "the value".to_string(), |x| format!("`{x}`"));
+            let split = var.map_or_else(String::new, |x| {
+                let stmts: Vec<String> = links.iter().map(|l| format!("{x}.{};", shown(l.call))).collect();
+                format!("; write one change per statement: `{}`", stmts.join(" "))
+            });
+            let message = format!(
+                "`{name}` changes the copy that `{prev}` returned, and that copy is dropped: {target} does not \
+                 get it{split}"
+            );
+            self.found.push(Dropped { position: last.pos, message });
+        }
+    }
+}
+
+/// A call as a fix shows it: `name(…)`, or `name()` without arguments.
+fn shown(call: &FnCallExpr) -> String {
+    let args = if call.args.is_empty() { "" } else { "…" };
+    format!("{}({args})", call.name)
+}
+
+/// The single return type of the declarations of `name`, if they agree.
+fn unique_return(name: &str, arity: usize, receiver: Option<&'static str>) -> Option<&'static str> {
+    let mut types = candidates(name, arity, receiver).map(|d| d.returns);
+    let first = types.next()?;
+    (types.all(|t| t == first) && first != "()" && first != "Dynamic").then_some(first)
+}
+
+/// A method chain `root.f(..).g(..)`: its root and its calls in order; `None` when a link is a
+/// property or an index (not judged).
+fn chain(e: &Expr) -> Option<(&Expr, Vec<Link<'_>>)> {
+    let Expr::Dot(bin, ..) = e else { return None };
+    let mut links = Vec::new();
+    flatten(&bin.rhs, &mut links)?;
+    Some((&bin.lhs, links))
+}
+
+fn flatten<'a>(e: &'a Expr, out: &mut Vec<Link<'a>>) -> Option<()> {
+    match e {
+        Expr::MethodCall(call, pos) => {
+            out.push(Link { call, pos: *pos });
+            Some(())
+        }
+        Expr::Dot(bin, ..) => {
+            flatten(&bin.lhs, out)?;
+            flatten(&bin.rhs, out)
+        }
+        _ => None,
+    }
+}
+
+/// The lint's findings as warnings (`file:line:col: warning: ...`, source line, caret), one
+/// after another.
+#[must_use]
+pub fn format_warnings(name: &str, source: &str, found: &[Dropped]) -> String {
+    found
+        .iter()
+        .map(|d| crate::diagnostics::format_warning(name, source, d.position, &d.message))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn lint(src: &str) -> Vec<String> {
+        let engine = crate::new_engine(crate::EngineOptions::default());
+        let ast = engine.compile(src).unwrap();
+        dropped_results(&ast, src)
+            .into_iter()
+            .map(|d| format!("{}:{} {}", d.position.line().unwrap(), d.position.position().unwrap(), d.message))
+            .collect()
+    }
+
+    #[test]
+    fn a_dropped_mesh_transform_is_found_with_its_fix() {
+        let found = lint("let c = cube(2);\nc.translate([5, 0, 0]);\nc\n");
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert!(found[0].starts_with("2:3 the result of `translate` is dropped and `c` is unchanged"), "{found:?}");
+        assert!(found[0].ends_with("write `c = c.translate(…);`"), "{found:?}");
+    }
+
+    #[test]
+    fn a_kept_result_an_edit_and_the_script_value_pass() {
+        // Assigned, used as an argument, edited in place (crease_all), the script's last value,
+        // a function's last value: nothing is dropped.
+        let src = "let c = cube(2);\nc = c.translate([5, 0, 0]);\nc.crease_all();\nlet v = c.volume();\n\
+                   fn moved(m) { m.translate([1, 0, 0]) }\nlet b = block([0, 0, 0], [1, 1, 1]);\n\
+                   b.translate([1, 0, 0]);\nb.sharp_all();\nc.rotate([0, 0, 1], 30)\n";
+        assert_eq!(lint(src), Vec::<String>::new());
+    }
+
+    #[test]
+    fn dropped_results_inside_blocks_loops_and_functions_are_found() {
+        let src = "let c = cube(1);\nfor i in 0..2 {\n    c.scale(2);\n}\nif true { c.mirror([1, 0, 0]); }\n\
+                   fn f(m) {\n    m.triangulate();\n    m\n}\nlet g = |m| { m.catmull_clark(1); m };\nc\n";
+        let found = lint(src);
+        let lines: Vec<&str> = found.iter().map(|f| f.split(' ').next().unwrap()).collect();
+        assert_eq!(lines, ["3:7", "5:13", "7:7", "10:17"], "{found:?}");
+    }
+
+    #[test]
+    fn an_unknown_receiver_is_judged_only_when_every_overload_agrees() {
+        // `m` is a parameter: translate could be a Block's (an edit), so nothing is said; a
+        // name only Mesh has (catmull_clark) returns a new value whatever the receiver.
+        let found = lint("fn f(m) {\n    m.translate([1, 0, 0]);\n    m.loop_subdivide(1);\n    m\n}\n1\n");
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert!(found[0].starts_with("3:7 the result of `loop_subdivide`"), "{found:?}");
+    }
+
+    #[test]
+    fn a_chain_whose_edit_reaches_only_a_copy_is_found() {
+        let src = "let b = block([0, 0, 0], [1, 1, 1]);\nb.subdivide(\"+z\", 2, 2).sharp_all();\nb\n";
+        let found = lint(src);
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert!(
+            found[0].starts_with("2:25 `sharp_all` changes the copy that `subdivide` returned")
+                && found[0].contains("`b.subdivide(…); b.sharp_all();`"),
+            "{found:?}"
+        );
+        // A chain ending in a save is its effect, not a dropped result.
+        assert_eq!(lint("let c = cube(1);\nc.translate([1, 0, 0]).save(\"x.obj\");\n1\n"), Vec::<String>::new());
+    }
+
+    #[test]
+    fn function_style_calls_and_chains_from_constructors() {
+        let found = lint("let c = cube(1);\ntranslate(c, [1, 0, 0]);\ncube(2).scale(3);\nc\n");
+        assert_eq!(found.len(), 2, "{found:?}");
+        assert!(found[0].contains("write `c = translate(c, …);`"), "{found:?}");
+        assert!(found[1].starts_with("3:9 the result of `scale` is dropped"), "{found:?}");
+    }
+
+    #[test]
+    fn the_repository_s_scripts_drop_no_result() {
+        // Examples, the standard library and the script tests are what users copy from.
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let engine = crate::new_engine(crate::EngineOptions::default());
+        let mut checked = 0;
+        for dir in ["examples", "stdlib", "tests"] {
+            let mut files: Vec<_> = std::fs::read_dir(root.join(dir)).unwrap().map(|e| e.unwrap().path()).collect();
+            files.retain(|p| p.extension().is_some_and(|e| e == "rhai"));
+            for p in files {
+                let src = std::fs::read_to_string(&p).unwrap();
+                let ast = engine.compile(&src).unwrap();
+                let found = dropped_results(&ast, &src);
+                assert!(found.is_empty(), "{}: {}", p.display(), format_warnings("", &src, &found));
+                checked += 1;
+            }
+        }
+        assert!(checked > 40, "{checked}");
+    }
+}

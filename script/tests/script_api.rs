@@ -1,0 +1,83 @@
+//! The script API as a newcomer meets it through the `blocksmith` binary: dropped results are
+//! reported before the script runs, errors show what exists, values describe themselves.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn blocksmith() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_blocksmith"))
+}
+
+fn script(dir: &tempfile::TempDir, name: &str, text: &str) -> PathBuf {
+    let p = dir.path().join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+#[test]
+fn run_warns_of_a_dropped_transform_and_test_refuses_it() {
+    let d = tempfile::tempdir().unwrap();
+    let dropped = script(&d, "dropped.rhai", "let c = cube(2);\nc.translate([5, 0, 0]);\nc\n");
+    let o = blocksmith().arg("run").arg(&dropped).output().unwrap();
+    let err = stderr(&o);
+    // A warning: the run still succeeds.
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains("dropped.rhai:2:3: warning: the result of `translate` is dropped and `c` is unchanged")
+            && err.contains("write `c = c.translate(…);`")
+            && err.contains("2 | c.translate([5, 0, 0]);"),
+        "{err}"
+    );
+    let kept = script(&d, "kept.rhai", "let c = cube(2);\nc = c.translate([5, 0, 0]);\nc\n");
+    let o = blocksmith().arg("run").arg(&kept).output().unwrap();
+    assert!(o.status.success() && !stderr(&o).contains("warning"), "{}", stderr(&o));
+    // In a test, the same line is an error.
+    let o = blocksmith().arg("test").arg(&dropped).arg(&kept).output().unwrap();
+    let out = stdout(&o);
+    assert!(!o.status.success(), "{out}");
+    assert!(out.contains("FAIL") && out.contains("dropped.rhai:2:3: error: the result of `translate`"), "{out}");
+    assert!(out.contains("1 passed, 1 failed"), "{out}");
+}
+
+#[test]
+fn a_block_chain_whose_edit_reaches_a_copy_is_reported() {
+    let d = tempfile::tempdir().unwrap();
+    let p = script(
+        &d,
+        "chain.rhai",
+        "let b = block([0, 0, 0], [1, 1, 1]);\nb.subdivide(\"+z\", 2, 2).sharp_all();\nassert(b.is_sharp(\"+x+y\"), \"b is sharp\");\n",
+    );
+    let o = blocksmith().arg("run").arg(&p).output().unwrap();
+    let err = stderr(&o);
+    // The run fails at the assert, and the warning shown first says why.
+    assert!(!o.status.success());
+    let warning = err.find("chain.rhai:2:25: warning: `sharp_all` changes the copy that `subdivide` returned");
+    let failure = err.find("chain.rhai:3:");
+    assert!(warning.is_some() && failure.is_some() && warning < failure, "{err}");
+    assert!(err.contains("`b.subdivide(…); b.sharp_all();`"), "{err}");
+}
+
+#[test]
+fn the_repl_warns_of_a_dropped_result() {
+    use std::io::Write;
+    let mut child = blocksmith()
+        .arg("repl")
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .env("BLOCKSMITH_HISTORY", "/dev/null")
+        .spawn()
+        .unwrap();
+    child.stdin.take().unwrap().write_all(b"let c = cube(2);\nc.scale(2);\nc = c.scale(2);\n").unwrap();
+    let o = child.wait_with_output().unwrap();
+    let out = stdout(&o);
+    assert_eq!(out.matches("warning: the result of `scale` is dropped").count(), 1, "{out}");
+}
