@@ -3,7 +3,7 @@
 
 Usage: python check_meshes.py DIR
 
-Every .glb, .gltf, .obj and .stl under DIR is loaded with trimesh (a peer the field trusts, not our own
+Every .glb, .gltf, .obj, .stl and .ply under DIR is loaded with trimesh (a peer the field trusts, not our own
 reader), its vertices merged by position (normals and texture coordinates ignored, so a writer that
 splits vertices for attributes still counts as one surface), and must be
 
@@ -22,7 +22,7 @@ import urllib.parse
 import trimesh
 from trimesh.resolvers import FilePathResolver
 
-SUFFIXES = {".glb", ".gltf", ".obj", ".stl"}
+SUFFIXES = {".glb", ".gltf", ".obj", ".stl", ".ply"}
 
 
 class UriResolver(FilePathResolver):

@@ -2,10 +2,12 @@
 //! each file loads with trimesh's counts, Euler characteristic, area (1e-9 relative) and volume,
 //! and shows the behaviour named in expected.json (`closed`: a closed manifold mesh;
 //! `triangulates`: a valid triangulation, written to STL and GLB and read back closed).
+//! Every closed one is also written to PLY (binary and ASCII) and read back bit for bit, and
+//! the written files are left for CI's independent trimesh check.
 
 use std::path::{Path, PathBuf};
 
-use blocksmith_kernel::io::{load, save};
+use blocksmith_kernel::io::{load, save, save_with, PlyEncoding, SaveOptions};
 
 fn corpus() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/files")
@@ -30,6 +32,9 @@ fn every_corpus_file_matches_trimesh_and_its_behaviour() {
         if let Some(p) = e.get("polygons") {
             assert_eq!(m.face_count(), p.as_u64().unwrap() as usize, "{name}: polygons");
         }
+        if e.get("colors").is_some() {
+            assert!(m.vertex_colors().is_some(), "{name}: colours");
+        }
         if let Some(c) = e.get("components") {
             assert_eq!(m.component_count(), c.as_u64().unwrap() as usize, "{name}: components");
         }
@@ -43,7 +48,16 @@ fn every_corpus_file_matches_trimesh_and_its_behaviour() {
         assert_rel(name, "volume", volume, e["volume"].as_f64().unwrap());
         assert!(t.is_closed() && t.is_manifold(), "{name}: not closed");
         match e["must"].as_str().unwrap() {
-            "closed" => assert!(m.is_closed() && m.is_manifold(), "{name}"),
+            "closed" => {
+                assert!(m.is_closed() && m.is_manifold(), "{name}");
+                for (enc, suffix) in [(PlyEncoding::BinaryLittleEndian, "bin"), (PlyEncoding::Ascii, "ascii")] {
+                    let path = out.join(format!("{name}.{suffix}.ply"));
+                    save_with(&m, &path, &SaveOptions::DEFAULT.with_ply(enc)).unwrap();
+                    let back = load(&path).unwrap_or_else(|err| panic!("{name}: {err}"));
+                    assert_eq!(back.positions(), m.positions(), "{name}.{suffix}.ply");
+                    assert_eq!(back.to_polygons(), m.to_polygons(), "{name}.{suffix}.ply");
+                }
+            }
             "triangulates" => {
                 for ext in ["stl", "glb"] {
                     let path = out.join(format!("{name}.{ext}"));

@@ -7,7 +7,7 @@
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
 
-use blocksmith_kernel::io::{gltf, obj, stl};
+use blocksmith_kernel::io::{gltf, obj, ply, stl, PlyEncoding};
 use blocksmith_kernel::{Mesh, Vec3};
 
 /// xorshift64*: small, deterministic, good enough to make junk.
@@ -107,6 +107,18 @@ fn stl_reader_never_panics() {
     never_panics("stl", &valid, false, |b| stl::read_stl(b, p).is_ok());
     let ascii = b"solid t\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid\n";
     never_panics("ascii stl", ascii, true, |b| stl::read_stl(b, p).is_ok());
+}
+
+#[test]
+fn ply_reader_never_panics() {
+    let p = Path::new("fuzz.ply");
+    for (enc, text_like) in
+        [(PlyEncoding::Ascii, true), (PlyEncoding::BinaryLittleEndian, false), (PlyEncoding::BinaryBigEndian, false)]
+    {
+        let mut valid = Vec::new();
+        ply::write_ply(&sample(), &mut valid, enc, p).unwrap();
+        never_panics("ply", &valid, text_like, |b| ply::read_ply(b, p).is_ok());
+    }
 }
 
 #[test]

@@ -8,7 +8,7 @@ use crate::mesh::MeshError;
 
 /// The file extensions [`load`](super::load) and [`save`](super::save) know, as listed in
 /// error messages.
-pub const KNOWN_EXTENSIONS: &str = ".obj, .glb, .gltf, .stl";
+pub const KNOWN_EXTENSIONS: &str = ".obj, .glb, .gltf, .stl, .ply";
 
 /// Why a mesh file could not be read or written.
 ///
@@ -37,6 +37,10 @@ pub enum IoError {
     /// A malformed STL file: truncated, or an ASCII file that does not follow the grammar.
     #[error("{}: malformed STL: {reason}", path.display())]
     Stl { path: PathBuf, reason: String },
+    /// A malformed PLY file: no `ply` line, an unknown format or type, element counts the file
+    /// cannot hold, data ending early, a word that is not a number.
+    #[error("{}: malformed PLY: {reason}", path.display())]
+    Ply { path: PathBuf, reason: String },
     /// A malformed glTF file: not glTF at all, truncated, invalid JSON, a failed schema check,
     /// an accessor of the wrong type or reaching past its buffer, a missing buffer.
     #[error("{}: malformed glTF: {reason}", path.display())]
@@ -58,6 +62,14 @@ pub enum IoError {
     /// degenerate face, a face that cannot be triangulated for writing).
     #[error("{}: {source}", path.display())]
     Mesh { path: PathBuf, source: MeshError },
+    /// The file's faces make a valid mesh only with their vertices apart: welding joined
+    /// vertices that lie within the tolerance of each other (two sheets touching, a model
+    /// thinner than the tolerance) into a non-manifold mesh.
+    #[error(
+        "{}: {source} after welding vertices that lie within the weld tolerance of each other; load with `weld: false` to keep the file's vertices apart",
+        path.display()
+    )]
+    Welded { path: PathBuf, source: MeshError },
     /// A broken internal invariant: a bug in blocksmith, please file an issue.
     #[error("{}: internal error (please file an issue): {reason}", path.display())]
     Internal { path: PathBuf, reason: String },
@@ -82,11 +94,13 @@ impl IoError {
             | IoError::UnknownExtension { path, .. }
             | IoError::Obj { path, .. }
             | IoError::Stl { path, .. }
+            | IoError::Ply { path, .. }
             | IoError::Gltf { path, .. }
             | IoError::Unsupported { path, .. }
             | IoError::IndexOutOfRange { path, .. }
             | IoError::NonFinite { path, .. }
             | IoError::Mesh { path, .. }
+            | IoError::Welded { path, .. }
             | IoError::Internal { path, .. } => path,
         }
     }
@@ -98,6 +112,19 @@ impl IoError {
         match source {
             MeshError::NonFinite { vertex, x, y, z } => IoError::NonFinite { path: path.into(), vertex, x, y, z },
             source => IoError::Mesh { path: path.into(), source },
+        }
+    }
+
+    /// Wraps a [`MeshError`] raised while building a mesh whose vertices were welded: when
+    /// welding `merged` some and the mesh is not manifold, [`IoError::Welded`], which says how
+    /// to keep them apart; otherwise as [`IoError::from_mesh`].
+    #[must_use]
+    pub fn from_welded(path: &std::path::Path, source: MeshError, merged: bool) -> IoError {
+        match source {
+            MeshError::NonManifoldEdge { .. } | MeshError::NonManifoldVertex { .. } if merged => {
+                IoError::Welded { path: path.into(), source }
+            }
+            source => IoError::from_mesh(path, source),
         }
     }
 
@@ -133,7 +160,7 @@ mod tests {
             assert!(msg.starts_with("dir/some file.obj"), "{msg}");
             assert_eq!(e.path(), p.as_path());
         }
-        assert!(errors[1].to_string().contains(".obj, .glb, .gltf, .stl"));
+        assert!(errors[1].to_string().contains(".obj, .glb, .gltf, .stl, .ply"));
         assert!(errors[2].to_string().starts_with("dir/some file.obj:3: malformed OBJ"));
         assert!(matches!(errors[5], IoError::NonFinite { vertex: 0, .. }));
     }

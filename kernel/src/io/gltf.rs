@@ -793,7 +793,8 @@ impl Soup {
     fn build(self, rule: Weld, path: &Path) -> Result<Mesh, IoError> {
         let (map, kept) = super::weld::weld(&self.positions, rule);
         let Soup { mut positions, mut colors, any_color, mut indices, mut arities, mut creases, mut corners } = self;
-        if kept.len() < positions.len() {
+        let merged = kept.len() < positions.len();
+        if merged {
             positions = kept.iter().map(|&i| positions[i as usize]).collect();
             if any_color {
                 colors.resize(map.len(), [1.0; 4]);
@@ -809,7 +810,8 @@ impl Soup {
                 *v = map[*v as usize];
             }
         }
-        let mut mesh = Mesh::from_indexed(positions, &indices, &arities).map_err(|e| IoError::from_mesh(path, e))?;
+        let mut mesh =
+            Mesh::from_indexed(positions, &indices, &arities).map_err(|e| IoError::from_welded(path, e, merged))?;
         if any_color {
             colors.resize(mesh.vertex_count(), [1.0; 4]);
             mesh.set_vertex_colors(Some(colors)).map_err(|e| IoError::from_mesh(path, e))?;

@@ -1,5 +1,6 @@
 //! Mesh files: OBJ (read and write), binary STL (write; binary and ASCII read), glTF 2.0 (`.glb`
-//! and `.gltf` with a separate `.bin` buffer, read and write).
+//! and `.gltf` with a separate `.bin` buffer, read and write), PLY (ASCII and binary, read and
+//! write).
 //!
 //! [`load`] and [`save`] pick the format by the extension (case-insensitive). Each format also
 //! has functions that read from bytes and write to any [`std::io::Write`], so that they can be
@@ -10,8 +11,8 @@
 //! convention and are written and read as they are, unless [`SaveOptions::up`] /
 //! [`LoadOptions::up`] say the file is Y-up.
 //!
-//! Welding: STL stores each triangle's corners apart and glTF splits vertices at normal and UV
-//! seams; both are welded by position on reading, within a tolerance relative to the model's
+//! Welding: STL stores each triangle's corners apart and glTF (and PLY from many exporters)
+//! splits vertices at normal and UV seams; they are welded by position on reading, within a tolerance relative to the model's
 //! size ([`Weld`], default 1e-8 of the bounding box's diagonal), so that they read as the closed
 //! surfaces they draw. OBJ names its shared vertices and is read as it is.
 //!
@@ -22,12 +23,14 @@
 //! | OBJ | exact (f64) | yes | yes | yes (`t` tags) | RGB |
 //! | glTF | f32 | yes (mesh `extras`) | yes | yes (mesh `extras`) | RGBA |
 //! | STL | f32 | triangles | no (welded by position) | no | no |
+//! | PLY | exact (f64) | yes | yes (unless welded) | no | RGB(A), 8 bits |
 
 mod atomic;
 mod error;
 pub mod gltf;
 pub mod obj;
 mod options;
+pub mod ply;
 mod source_colors;
 pub mod stl;
 mod uri;
@@ -39,6 +42,7 @@ use std::path::Path;
 pub use atomic::write_atomic;
 pub use error::{IoError, KNOWN_EXTENSIONS};
 pub use options::{LoadOptions, SaveOptions, UpAxis, Weld};
+pub use ply::PlyEncoding;
 pub use source_colors::source_color;
 
 use crate::mesh::{Mesh, MeshError};
@@ -54,6 +58,8 @@ pub enum Format {
     Gltf,
     /// Stereolithography `.stl` (written binary).
     Stl,
+    /// Polygon File Format `.ply` (written binary little-endian unless asked otherwise).
+    Ply,
 }
 
 impl Format {
@@ -68,6 +74,7 @@ impl Format {
             "glb" => Ok(Format::Glb),
             "gltf" => Ok(Format::Gltf),
             "stl" => Ok(Format::Stl),
+            "ply" => Ok(Format::Ply),
             _ => Err(IoError::UnknownExtension {
                 path: path.into(),
                 ext: path.extension().map(|e| e.to_string_lossy().into_owned()).unwrap_or_default(),
@@ -84,14 +91,14 @@ pub fn load(path: impl AsRef<Path>) -> Result<Mesh, IoError> {
     load_with(path, &LoadOptions::DEFAULT)
 }
 
-/// Reads the mesh in the file at `path`, by extension: `.obj`, `.glb`, `.gltf`, `.stl`, in
-/// kernel (Z-up) axes. `options.up` is the file's up axis (OBJ and STL only; glTF is Y-up by
-/// specification), `options.weld` how STL and glTF corners are welded.
+/// Reads the mesh in the file at `path`, by extension: `.obj`, `.glb`, `.gltf`, `.stl`, `.ply`,
+/// in kernel (Z-up) axes. `options.up` is the file's up axis (OBJ, STL and PLY only; glTF is
+/// Y-up by specification), `options.weld` how STL, glTF and PLY vertices are welded.
 ///
 /// # Errors
 /// [`IoError::UnknownExtension`] first, then [`IoError::Unsupported`] for an up axis given to
 /// glTF, then [`IoError::NotFound`] / [`IoError::Read`], then the format's own errors
-/// ([`obj::read_obj`], [`gltf::read_gltf_with`], [`stl::read_stl_with`]).
+/// ([`obj::read_obj`], [`gltf::read_gltf_with`], [`stl::read_stl_with`], [`ply::read_ply_with`]).
 ///
 /// See also [`save_with`].
 pub fn load_with(path: impl AsRef<Path>, options: &LoadOptions) -> Result<Mesh, IoError> {
@@ -103,6 +110,7 @@ pub fn load_with(path: impl AsRef<Path>, options: &LoadOptions) -> Result<Mesh, 
         Format::Obj => obj::read_obj(&bytes, path)?,
         Format::Glb | Format::Gltf => gltf::read_gltf_with(&bytes, path.parent(), path, options.weld)?,
         Format::Stl => stl::read_stl_with(&bytes, path, options.weld)?,
+        Format::Ply => ply::read_ply_with(&bytes, path, options.weld)?,
     };
     Ok(match up {
         UpAxis::Z => mesh,
@@ -132,8 +140,9 @@ pub fn save(mesh: &Mesh, path: impl AsRef<Path>) -> Result<(), IoError> {
 }
 
 /// Writes `mesh` to the file at `path`, by extension: `.obj`, `.glb`, `.gltf` (which also
-/// writes the buffer to the same path with the extension `.bin`), `.stl`. glTF is written Y-up
-/// (converted exactly); OBJ and STL Z-up unless `options.up` says otherwise. Each file is
+/// writes the buffer to the same path with the extension `.bin`), `.stl`, `.ply` (in
+/// `options.ply`'s encoding). glTF is written Y-up (converted exactly); OBJ, STL and PLY Z-up
+/// unless `options.up` says otherwise. Each file is
 /// written atomically ([`write_atomic`]): a failing save leaves the old file as it was.
 ///
 /// # Errors
@@ -159,6 +168,7 @@ pub fn save_with(mesh: &Mesh, path: impl AsRef<Path>, options: &SaveOptions) -> 
         }
         Format::Glb => write_atomic(path, |w| gltf::write_glb(mesh, w, path)),
         Format::Stl => write_atomic(path, |w| stl::write_stl(mesh, w, path)),
+        Format::Ply => write_atomic(path, |w| ply::write_ply(mesh, w, options.ply, path)),
         Format::Gltf => {
             let bin_path = path.with_extension("bin");
             let bin_name = bin_path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
@@ -189,18 +199,23 @@ mod tests {
 
     #[test]
     fn unknown_extension_lists_the_known_ones() {
-        for name in ["mesh.ply", "mesh", "dir.obj/mesh.fbx"] {
+        for name in ["mesh.3ds", "mesh", "dir.obj/mesh.fbx"] {
             let e = load(name).unwrap_err();
             assert!(matches!(e, IoError::UnknownExtension { .. }), "{e}");
-            assert!(e.to_string().starts_with(name) && e.to_string().contains(".obj, .glb, .gltf, .stl"), "{e}");
+            assert!(e.to_string().starts_with(name) && e.to_string().contains(".obj, .glb, .gltf, .stl, .ply"), "{e}");
             assert!(matches!(save(&Mesh::cube(1.0), name), Err(IoError::UnknownExtension { .. })));
         }
     }
 
     #[test]
     fn missing_file_is_not_found_naming_the_path() {
-        for name in ["/nonexistent/dir/mesh.obj", "/nonexistent/mesh.GLB", "/nonexistent/m.gltf", "/nonexistent/m.stl"]
-        {
+        for name in [
+            "/nonexistent/dir/mesh.obj",
+            "/nonexistent/mesh.GLB",
+            "/nonexistent/m.gltf",
+            "/nonexistent/m.stl",
+            "/n/m.ply",
+        ] {
             let e = load(name).unwrap_err();
             assert!(matches!(e, IoError::NotFound { .. }), "{e}");
             assert_eq!(e.to_string(), format!("{name}: file not found"));

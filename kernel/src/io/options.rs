@@ -8,6 +8,7 @@
 //! bit. OBJ, STL and PLY have no convention: they are written and read as they are unless the
 //! `up` option says the file is Y-up.
 
+use super::ply::PlyEncoding;
 use crate::math::{Quat, Vec3};
 
 /// The axis that points up in a file's coordinates.
@@ -123,11 +124,20 @@ pub struct SaveOptions {
     /// The file's up axis; `None` takes the format's convention (glTF Y, 3MF Z, others Z).
     /// Only OBJ, STL and PLY accept another axis. Default value: `None`.
     pub up: Option<UpAxis>,
+    /// How a PLY file stores its data. Default value: binary little-endian.
+    pub ply: PlyEncoding,
 }
 
 impl SaveOptions {
     /// The defaults (see each field).
-    pub const DEFAULT: SaveOptions = SaveOptions { up: None };
+    pub const DEFAULT: SaveOptions = SaveOptions { up: None, ply: PlyEncoding::BinaryLittleEndian };
+
+    /// With a PLY encoding.
+    #[must_use]
+    pub fn with_ply(mut self, ply: PlyEncoding) -> Self {
+        self.ply = ply;
+        self
+    }
 
     /// With the file's up axis.
     #[must_use]

@@ -1,9 +1,9 @@
-//! `load` and `save`: mesh files by extension (`.obj`, `.glb`, `.gltf`, `.stl`).
+//! `load` and `save`: mesh files by extension (`.obj`, `.glb`, `.gltf`, `.stl`, `.ply`).
 
 use std::fs;
 use std::path::PathBuf;
 
-use blocksmith_kernel::io::{LoadOptions, SaveOptions, UpAxis, Weld};
+use blocksmith_kernel::io::{LoadOptions, PlyEncoding, SaveOptions, UpAxis, Weld};
 use blocksmith_kernel::{io, Mesh};
 use rhai::plugin::*;
 use rhai::Map;
@@ -89,14 +89,16 @@ fn weld_option(o: &Options) -> ScriptResult<Weld> {
 pub mod files_api {
     use super::*;
 
-    /// Reads a mesh file: OBJ (polygons kept), glTF (`.gltf` with its buffers) or GLB, or
-    /// STL. A relative path is tried from the working directory, then next to the script. A
+    /// Reads a mesh file by extension: `.obj` (polygons kept), `.gltf` (with its buffers) or
+    /// `.glb`, `.stl` (binary or ASCII), `.ply` (ASCII or binary, polygons and vertex colours
+    /// kept). A relative path is tried from the working directory, then next to the script. A
     /// missing file, an unknown extension or a malformed file is an error naming the path and
     /// the reason.
     ///
     /// Axes: blocksmith is Z-up. glTF is Y-up by specification (glTF 2.0 §3.4) and is turned
-    /// to Z-up exactly; OBJ and STL are read as they are (see `load(path, #{up})`). STL corners
-    /// and glTF vertices split at seams are welded by position (see `load(path, #{weld})`).
+    /// to Z-up exactly; OBJ, STL and PLY are read as they are (see `load(path, #{up})`). STL
+    /// corners and glTF and PLY vertices split at seams are welded by position (see
+    /// `load(path, #{weld})`).
     ///
     /// ```rhai
     /// let c = cube(2);
@@ -109,12 +111,13 @@ pub mod files_api {
         load_with_options(ctx, path, Map::new())
     }
 
-    /// Reads a mesh file with options: `up` (`"z"` or `"y"`: the file's up axis, for OBJ and
-    /// STL, which have no convention; default `"z"`, read as it is; glTF is always Y-up and
-    /// takes no other), `weld` (STL and glTF: corners closer than this fraction of the model's
+    /// Reads a mesh file with options: `up` (`"z"` or `"y"`: the file's up axis, for OBJ, STL
+    /// and PLY, which have no convention; default `"z"`, read as it is; glTF is always Y-up and
+    /// takes no other), `weld` (STL, glTF and PLY: corners closer than this fraction of the model's
     /// bounding-box diagonal in every coordinate become one vertex — default `true`, 1e-8;
     /// `0` joins equal coordinates only; `false` keeps every vertex of the file, so a glTF
-    /// split at normal or UV seams stays split).
+    /// split at normal or UV seams stays split; when welding joins two sheets that touch into a
+    /// non-manifold mesh, the error says so).
     ///
     /// ```rhai
     /// let c = box(vec3(0, 0, 0), vec3(1, 1, 3));
@@ -141,14 +144,15 @@ pub mod files_api {
         }
     }
 
-    /// Writes a mesh by extension: `.obj` (polygons), `.glb`, `.gltf` (+ `.bin`), `.stl`
-    /// (binary, triangulated). A relative path goes under the output directory (the working
+    /// Writes a mesh by extension: `.obj` (polygons, exact positions), `.glb`, `.gltf`
+    /// (+ `.bin`), `.stl` (binary, triangulated, f32), `.ply` (binary little-endian unless
+    /// `#{ply}` says otherwise; polygons, exact positions, 8-bit vertex colours). A relative path goes under the output directory (the working
     /// directory, or the test output directory under `blocksmith test`). Parent directories are
     /// created. Also callable as `mesh.save(path)`.
     ///
     /// Axes: blocksmith is Z-up; glTF is written Y-up as its specification says (glTF 2.0
     /// §3.4), converted exactly, so models stand upright in glTF viewers and read back to the
-    /// same positions. OBJ and STL are written as they are (see `save(mesh, path, #{up})`).
+    /// same positions. OBJ, STL and PLY are written as they are (see `save(mesh, path, #{up})`).
     ///
     /// ```rhai
     /// save(icosphere(1, 1), "doc_example_ico.glb");
@@ -159,13 +163,16 @@ pub mod files_api {
     }
 
     /// Writes a mesh by extension with options: `up` (`"z"` or `"y"`: the up axis to write
-    /// OBJ and STL in, for tools that expect Y-up; default `"z"`, as it is; glTF is always
-    /// written Y-up and takes no other).
+    /// OBJ, STL and PLY in, for tools that expect Y-up; default `"z"`, as it is; glTF is always
+    /// written Y-up and takes no other), `ply` (`"binary"` — little-endian, the default —,
+    /// `"binary_big_endian"` or `"ascii"`: how a `.ply` stores its data).
     ///
     /// ```rhai
     /// let c = box(vec3(0, 0, 0), vec3(1, 1, 3));
     /// c.save("doc_example_tall_y.obj", #{ up: "y" });
     /// assert_eq(load("doc_example_tall_y.obj").bounds().max, vec3(1, 3, 0));
+    /// c.save("doc_example_tall.ply", #{ ply: "ascii" });
+    /// assert_eq(load("doc_example_tall.ply").bounds().max, vec3(1, 1, 3));
     /// ```
     #[rhai_fn(name = "save", return_raw)]
     pub fn save_with_options(
@@ -174,10 +181,22 @@ pub mod files_api {
         path: &str,
         options: Map,
     ) -> ScriptResult<()> {
-        let o = Options::new("save", options, &["up"])?;
+        let o = Options::new("save", options, &["up", "ply"])?;
         let mut opts = SaveOptions::DEFAULT;
         if let Some(up) = up_option(&o, "save")? {
             opts = opts.with_up(up);
+        }
+        if o.has("ply") {
+            let name = o.string("ply", "binary")?;
+            match PlyEncoding::from_name(&name) {
+                Some(enc) => opts = opts.with_ply(enc),
+                None => {
+                    return fail(
+                        "save",
+                        format!("option `ply` must be \"binary\", \"binary_big_endian\" or \"ascii\", got \"{name}\""),
+                    )
+                }
+            }
         }
         write_mesh_with(&ctx, "save", &mesh.0, path, &opts)
     }

@@ -16,6 +16,12 @@ Files (all made here, no third-party data):
   instanced.glb        one cube mesh used by two nodes, the second moved: both instances read
   val2_pillow.obj      two skew quads glued along all four edges (valence-2 vertices): must
                        triangulate to a closed manifold mesh and save to STL and GLB
+  split_colored.ply    trimesh's binary little-endian PLY of the cube with every triangle's
+                       corners apart and a colour per corner: must weld closed, colours read
+  quads_big_endian.ply a cube of six quads, binary big-endian, float coordinates, normals
+                       (ignored), uchar colours and an extra `material` element: quads kept
+  quads_ascii.ply      the same cube as ASCII text, int16 coordinates, a `vertex_index`
+                       list with uint indices: quads kept
 """
 import json
 from pathlib import Path
@@ -91,6 +97,35 @@ def main():
     # the only closed triangulation there is.
     pillow = trimesh.Trimesh(p, [[2, 1, 0], [3, 2, 0], [3, 1, 2], [3, 0, 1]], process=False)
     expected["val2_pillow.obj"] = dict(peer(pillow), must="triangulates", polygons=2)
+
+    colors = np.array([[255, 0, 0, 255], [0, 255, 0, 255], [0, 0, 255, 255]] * 12, dtype=np.uint8)
+    split_c = trimesh.Trimesh(corners, np.arange(len(corners)).reshape(-1, 3), vertex_colors=colors, process=False)
+    (HERE / "split_colored.ply").write_bytes(split_c.export(file_type="ply", encoding="binary"))
+    expected["split_colored.ply"] = dict(peer(trimesh.load(HERE / "split_colored.ply", process=False)), must="closed", colors=True)
+
+    normals = CUBE_V - 0.5
+    rgb = (CUBE_V * 255).astype(np.uint8)
+    head = ["ply", "format binary_big_endian 1.0", "comment a cube of quads", "element vertex 8",
+            "property float x", "property float y", "property float z",
+            "property float nx", "property float ny", "property float nz",
+            "property uchar red", "property uchar green", "property uchar blue",
+            "element face 6", "property list uchar int vertex_indices",
+            "element material 1", "property uchar ambient_red", "property list uchar float tags", "end_header"]
+    data = b""
+    for p_, n_, c_ in zip(CUBE_V, normals, rgb):
+        data += np.array(list(p_) + list(n_), dtype=">f4").tobytes() + c_.tobytes()
+    for q in quads:
+        data += bytes([4]) + np.array([v - 1 for v in q[::-1]], dtype=">i4").tobytes()
+    data += bytes([200, 2]) + np.array([0.5, 0.25], dtype=">f4").tobytes()
+    (HERE / "quads_big_endian.ply").write_bytes(("\n".join(head) + "\n").encode() + data)
+    expected["quads_big_endian.ply"] = dict(peer(trimesh.load(HERE / "quads_big_endian.ply", process=False)), must="closed", polygons=6, colors=True)
+
+    head = ["ply", "format ascii 1.0", "element vertex 8", "property short x", "property short y",
+            "property short z", "element face 6", "property list uchar uint vertex_index", "end_header"]
+    body = ["{} {} {}".format(*map(int, p_)) for p_ in CUBE_V]
+    body += ["4 " + " ".join(str(v - 1) for v in q[::-1]) for q in quads]
+    (HERE / "quads_ascii.ply").write_text("\n".join(head + body) + "\n")
+    expected["quads_ascii.ply"] = dict(peer(trimesh.load(HERE / "quads_ascii.ply", process=False)), must="closed", polygons=6)
 
     (HERE / "expected.json").write_text(json.dumps(expected, indent=1, sort_keys=True) + "\n")
 
