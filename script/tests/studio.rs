@@ -23,8 +23,17 @@ impl Drop for Watch {
 }
 
 fn watch(recipe: &Path) -> Watch {
-    let mut child =
-        Command::new(env!("CARGO_BIN_EXE_blocksmith")).arg("watch").arg(recipe).stderr(Stdio::piped()).spawn().unwrap();
+    watch_with(recipe, &[])
+}
+
+fn watch_with(recipe: &Path, args: &[&str]) -> Watch {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_blocksmith"))
+        .arg("watch")
+        .arg(recipe)
+        .args(args)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
     let mut lines = BufReader::new(child.stderr.take().unwrap()).lines();
     let first = lines.next().unwrap().unwrap();
     let addr = first.split("http://").nth(1).unwrap().trim_end_matches(|c| c != '/').trim_end_matches('/');
@@ -263,4 +272,187 @@ fn the_page_shows_the_model_in_a_real_browser() {
         (0..shot.height()).flat_map(|y| (0..480).map(move |x| (x, y))).map(|(x, y)| shot.get_pixel(x, y).0).collect();
     let share = view.iter().filter(|&&p| far(p)).count() as f64 / view.len() as f64;
     assert!(share > 0.05, "only {:.1} % of the view differs from the background", share * 100.0);
+}
+
+/// A headless chromium driven over the DevTools protocol: one WebSocket to the browser, the
+/// page attached as a flat session, `Runtime.evaluate` for everything. Stopped when dropped.
+struct Browser {
+    child: Child,
+    socket: tungstenite::WebSocket<TcpStream>,
+    session: String,
+    next: u64,
+    _profile: tempfile::TempDir,
+}
+
+impl Drop for Browser {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+impl Browser {
+    /// chromium showing `url`, or None where chromium is missing (see [`chromium`]).
+    fn open(url: &str) -> Option<Browser> {
+        let browser = chromium()?;
+        let profile = tempfile::tempdir().unwrap();
+        let mut child = Command::new(browser)
+            .args(["--headless", "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader"])
+            .args(["--window-size=800,600", "--remote-debugging-port=0", "--no-first-run"])
+            .arg(format!("--user-data-dir={}", profile.path().display()))
+            .arg(url)
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut lines = BufReader::new(child.stderr.take().unwrap()).lines().map_while(Result::ok);
+        let ws = lines
+            .find_map(|l| l.split_once("DevTools listening on ").map(|(_, u)| u.trim().to_string()))
+            .expect("chromium prints its DevTools address");
+        std::thread::spawn(move || lines.for_each(drop));
+        let host = ws.trim_start_matches("ws://").split('/').next().unwrap().to_string();
+        let (socket, _) = tungstenite::client(ws.as_str(), TcpStream::connect(&host).unwrap()).unwrap();
+        let mut b = Browser { child, socket, session: String::new(), next: 0, _profile: profile };
+        let start = Instant::now();
+        let target = loop {
+            let targets = b.call("Target.getTargets", serde_json::json!({}));
+            let page = targets["targetInfos"].as_array().unwrap().iter().find(|t| t["type"] == "page").cloned();
+            if let Some(p) = page {
+                break p["targetId"].as_str().unwrap().to_string();
+            }
+            assert!(start.elapsed() < Duration::from_secs(10), "no page target");
+            std::thread::sleep(Duration::from_millis(50));
+        };
+        let attached = b.call("Target.attachToTarget", serde_json::json!({ "targetId": target, "flatten": true }));
+        b.session = attached["sessionId"].as_str().unwrap().to_string();
+        Some(b)
+    }
+
+    /// Sends a command (to the page once attached) and returns its result.
+    fn call(&mut self, method: &str, params: serde_json::Value) -> serde_json::Value {
+        self.next += 1;
+        let mut message = serde_json::json!({ "id": self.next, "method": method, "params": params });
+        if !self.session.is_empty() {
+            message["sessionId"] = serde_json::json!(self.session);
+        }
+        self.socket.send(tungstenite::Message::text(message.to_string())).unwrap();
+        loop {
+            let reply = self.socket.read().unwrap();
+            let Ok(text) = reply.to_text() else { continue };
+            let v: serde_json::Value = serde_json::from_str(text).unwrap();
+            if v["id"] == self.next {
+                assert!(v["error"].is_null(), "{method}: {v}");
+                return v["result"].clone();
+            }
+        }
+    }
+
+    /// The value of a JavaScript expression in the page (promises awaited).
+    fn eval(&mut self, expression: &str) -> serde_json::Value {
+        let params = serde_json::json!({ "expression": expression, "returnByValue": true, "awaitPromise": true });
+        let r = self.call("Runtime.evaluate", params);
+        assert!(r["exceptionDetails"].is_null(), "{expression}: {r}");
+        r["result"]["value"].clone()
+    }
+
+    /// Waits until `expression` is true in the page; returns how long that took.
+    fn wait(&mut self, expression: &str, limit: Duration) -> Duration {
+        let start = Instant::now();
+        while self.eval(&format!("!!({expression})")) != serde_json::json!(true) {
+            let page = self
+                .eval("JSON.stringify({ ...window.studio, status: document.getElementById('status')?.textContent })");
+            assert!(start.elapsed() < limit, "not `{expression}` after {limit:?}: {page}");
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        start.elapsed()
+    }
+}
+
+#[test]
+fn the_page_follows_saves_errors_parameters_and_shows_control_meshes_without_reloading() {
+    let dir = tempfile::tempdir().unwrap();
+    let recipe = dir.path().join("part.rhai");
+    let size = "let s = param(\"size\", 1, #{ min: 0.5, max: 4, step: 0.5 });";
+    std::fs::write(&recipe, format!("{size}\ncube(s)")).unwrap();
+    let w = watch(&recipe);
+    state_when(&w.addr, Duration::from_secs(30), |v| triangles(v).is_some());
+    let Some(mut b) = Browser::open(&format!("http://{}/", w.addr)) else { return };
+    b.wait("window.studio && studio.triangles === 12", Duration::from_secs(20));
+    b.eval("window.loadedOnce = 'this page'");
+    // A save shows the new model within 2 s, in the same page.
+    let start = Instant::now();
+    std::fs::write(&recipe, format!("{size}\nicosphere(s, 1)")).unwrap();
+    b.wait("studio.triangles === 80", Duration::from_secs(10));
+    let took = start.elapsed();
+    assert!(took < Duration::from_secs(2), "the new model took {took:?}");
+    assert_eq!(b.eval("window.loadedOnce"), "this page", "the page was not reloaded");
+    // A syntax error shows its place and line in the page; the model stays.
+    std::fs::write(&recipe, format!("{size}\nlet broken = ;\nicosphere(s, 1)")).unwrap();
+    b.wait("studio.error", Duration::from_secs(10));
+    let shown = b.eval("document.getElementById('error').textContent").as_str().unwrap().to_string();
+    assert!(shown.contains("part.rhai:2:") && shown.contains("let broken = ;") && shown.contains('^'), "{shown}");
+    assert_eq!(b.eval("studio.triangles"), 80, "the last model stays");
+    assert_eq!(b.eval("document.getElementById('error').hidden"), false);
+    // Fixed: the error goes. A parameter control changed in the page runs the recipe with it.
+    std::fs::write(&recipe, format!("{size}\ncube(s)")).unwrap();
+    b.wait("studio.triangles === 12 && !studio.error", Duration::from_secs(10));
+    b.eval(
+        "(() => { const i = document.querySelector('#params input[name=size]'); i.value = '2'; \
+         i.dispatchEvent(new Event('change')); })()",
+    );
+    b.wait("document.getElementById('fact-volume')?.textContent === '8'", Duration::from_secs(10));
+    assert!(b.eval("location.search").as_str().unwrap().contains("size=2"));
+    assert_eq!(b.eval("window.loadedOnce"), "this page");
+    // A subdivision surface brings its control mesh; the toggle draws it over the surface.
+    std::fs::write(&recipe, format!("{size}\ncube(s).catmull_clark(2)")).unwrap();
+    b.wait("studio.triangles === 192", Duration::from_secs(10));
+    assert_eq!(b.eval("document.getElementById('control-label').hidden"), false);
+    assert_eq!(b.eval("studio.controlEdges"), 0, "off until asked for");
+    b.eval("document.getElementById('control').click()");
+    assert_eq!(b.eval("studio.controlEdges"), 12, "the cube's edges over the surface");
+}
+
+#[test]
+fn an_animation_plays_in_the_page() {
+    let dir = tempfile::tempdir().unwrap();
+    let recipe = dir.path().join("grow.rhai");
+    std::fs::write(&recipe, "let a = animation(polar_sphere(0.5, 8, 6));\na.add(growth());\na").unwrap();
+    let w = watch(&recipe);
+    state_when(&w.addr, Duration::from_secs(30), |v| triangles(v).is_some());
+    let Some(mut b) = Browser::open(&format!("http://{}/", w.addr)) else { return };
+    b.wait("window.studio && studio.version === 1 && studio.time > 0", Duration::from_secs(20));
+    assert_eq!(b.eval("document.getElementById('animation').hidden"), false);
+    let (t0, box0) = (b.eval("studio.time").as_f64().unwrap(), b.eval("studio.bounds()"));
+    b.wait(&format!("studio.time > {t0} + 0.5"), Duration::from_secs(10));
+    let box1 = b.eval("studio.bounds()");
+    assert_ne!(box0, box1, "the vertices moved between {t0} s and later");
+    // Pause stops the clock; scrubbing sets it.
+    b.eval("document.getElementById('play').click()");
+    let paused = b.eval("studio.time").as_f64().unwrap();
+    std::thread::sleep(Duration::from_millis(300));
+    assert!((b.eval("studio.time").as_f64().unwrap() - paused).abs() < 1e-9, "paused");
+    b.eval("(() => { const t = document.getElementById('timeline'); t.value = '0.25'; t.dispatchEvent(new Event('input')); })()");
+    b.wait("Math.abs(studio.time - 0.25) < 1e-6", Duration::from_secs(2));
+}
+
+#[test]
+fn a_page_left_open_reconnects_after_the_server_restarts() {
+    let dir = tempfile::tempdir().unwrap();
+    let recipe = dir.path().join("part.rhai");
+    std::fs::write(&recipe, "cube(1)").unwrap();
+    let w = watch(&recipe);
+    state_when(&w.addr, Duration::from_secs(30), |v| triangles(v).is_some());
+    let Some(mut b) = Browser::open(&format!("http://{}/", w.addr)) else { return };
+    b.wait("window.studio && studio.triangles === 12", Duration::from_secs(20));
+    b.eval("window.loadedOnce = 'this page'");
+    let port = w.addr.split(':').nth(1).unwrap().to_string();
+    drop(w);
+    b.wait("document.getElementById('status').textContent === 'offline'", Duration::from_secs(5));
+    // The server comes back on the same port with a changed recipe: its model 1 is news.
+    std::fs::write(&recipe, "icosphere(1, 1)").unwrap();
+    let w = watch_with(&recipe, &["--port", &port]);
+    state_when(&w.addr, Duration::from_secs(30), |v| triangles(v).is_some());
+    b.wait("studio.triangles === 80 && studio.connections === 2", Duration::from_secs(10));
+    assert_eq!(b.eval("window.loadedOnce"), "this page");
+    assert_eq!(b.eval("document.getElementById('status').textContent"), "live");
 }

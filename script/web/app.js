@@ -47,7 +47,13 @@ function showLayers(layers, objects) {
     const li = document.createElement('li');
     const box = document.createElement('input');
     box.type = 'checkbox'; box.checked = true;
-    box.onchange = () => { objects[l.name].visible = box.checked; studio.triangles = viewer.triangles(); };
+    box.onchange = () => {
+      objects[l.name].visible = box.checked;
+      const lines = viewer.overlay.getObjectByName(l.name);
+      if (lines) lines.visible = box.checked;
+      studio.triangles = viewer.triangles();
+      studio.controlEdges = viewer.controlEdges();
+    };
     const name = document.createElement('span'); name.className = 'layer-name'; name.textContent = ` ${l.name}`;
     li.append(box, name, ` (${l.facts.triangles} triangles)`);
     return li;
@@ -67,8 +73,11 @@ async function showModel(message) {
   showFacts(message.layers, message.run_ms);
   showLayers(message.layers, objects);
   $('animation').hidden = !viewer.duration;
+  $('control-label').hidden = !message.layers.some((l) => l.control);
   $('timeline').max = viewer.duration || 1;
-  Object.assign(studio, { version: message.version, triangles: viewer.triangles(), loads: studio.loads + 1 });
+  Object.assign(studio, {
+    version: message.version, triangles: viewer.triangles(), controlEdges: viewer.controlEdges(), loads: studio.loads + 1,
+  });
   document.title = `blocksmith: ${studio.triangles} triangles`;
 }
 
@@ -80,6 +89,11 @@ function onMessage(message) {
 
 async function handle(message) {
   switch (message.type) {
+    case 'hello':
+      // A new connection: whatever model it sends is news, even with a number already seen.
+      shown = 0;
+      studio.connections = (studio.connections ?? 0) + 1;
+      break;
     case 'model':
       await showModel(message);
       specs = message.params ?? [];
@@ -122,6 +136,10 @@ function setStatus(state) {
 $('colours').onchange = (e) => viewer.setColours(e.target.checked);
 $('wireframe').onchange = (e) => viewer.setWireframe(e.target.checked);
 $('grid').onchange = (e) => viewer.setHelpers(e.target.checked);
+$('control').onchange = (e) => {
+  viewer.setControl(e.target.checked);
+  studio.controlEdges = viewer.controlEdges();
+};
 $('fit').onclick = () => viewer.fit();
 $('play').onclick = () => {
   viewer.playing = !viewer.playing;
@@ -140,4 +158,5 @@ viewer.onFrame = () => {
   $('time').textContent = `${t.toFixed(2)} s`;
 };
 
+studio.bounds = () => viewer.bounds();
 connect(onMessage, setStatus);

@@ -1,6 +1,7 @@
 // The 3D view: three.js with the kernel's +Z up, a grid on the XY plane and axes, orbit / pan /
 // zoom, fit to view on the first model (later models keep the camera), feature colours or a
-// plain material, wireframe, and the playback of a model's animation.
+// plain material, wireframe, the control mesh a surface was made from (lines over it), and the
+// playback of a model's animation.
 
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
@@ -31,6 +32,11 @@ export class Viewer {
     this.controls = new OrbitControls(this.camera, this.renderer.domElement);
     this.models = new THREE.Group();
     this.scene.add(this.models);
+    // Control meshes arrive in the kernel's frame (Z up), so they are not turned like the glTF.
+    this.overlay = new THREE.Group();
+    this.overlay.visible = false;
+    this.scene.add(this.overlay);
+    this.overlayMaterial = new THREE.LineBasicMaterial({ color: 0x1a1a80, depthTest: false, transparent: true, opacity: 0.85 });
     this.plain = new THREE.MeshStandardMaterial({ roughness: 0.6, metalness: 0.05, side: THREE.DoubleSide });
     this.plain.color.setRGB(...PLAIN, THREE.LinearSRGBColorSpace);
     this.colours = true;
@@ -60,11 +66,28 @@ export class Viewer {
     this.onFrame?.();
   }
 
-  // Loads the layers ({name, url}) and swaps them in whole when all have loaded; resolves to
-  // the three.js objects by layer name.
+  // Loads the layers ({name, url, control?}) and swaps them in whole when all have loaded;
+  // resolves to the three.js objects by layer name.
   async show(layers) {
+    const controls = Promise.all(layers.map(async (l) => {
+      if (!l.control) return null;
+      const response = await fetch(l.control);
+      if (!response.ok) throw new Error(`${l.control}: ${response.status}`);
+      return new Float32Array(await response.arrayBuffer());
+    }));
     const loaded = await Promise.all(layers.map((l) => this.loader.loadAsync(l.url)));
+    const ends = await controls;
     this.models.clear();
+    this.overlay.clear();
+    ends.forEach((e, i) => {
+      if (!e) return;
+      const geometry = new THREE.BufferGeometry();
+      geometry.setAttribute('position', new THREE.BufferAttribute(e, 3));
+      const lines = new THREE.LineSegments(geometry, this.overlayMaterial);
+      lines.name = layers[i].name;
+      lines.renderOrder = 1;
+      this.overlay.add(lines);
+    });
     this.mixers = [];
     this.duration = 0;
     const objects = {};
@@ -119,6 +142,20 @@ export class Viewer {
   setColours(on) { this.colours = on; this.applyMaterials(); }
   setWireframe(on) { this.wireframe = on; this.plain.wireframe = on; this.applyMaterials(); }
   setHelpers(on) { this.helpers.visible = on; }
+  setControl(on) { this.overlay.visible = on; }
+
+  // The models' bounds as drawn now (animated vertices where they are at this frame):
+  // [min x, y, z, max x, y, z] in the view's frame.
+  bounds() {
+    const box = new THREE.Box3().setFromObject(this.models, true);
+    return [...box.min.toArray(), ...box.max.toArray()];
+  }
+
+  // The control-mesh edges on show (0 when the overlay is off).
+  controlEdges() {
+    if (!this.overlay.visible) return 0;
+    return this.overlay.children.reduce((n, l) => n + (l.visible ? l.geometry.attributes.position.count / 2 : 0), 0);
+  }
 
   // A grid on the XY plane under the model, sized to it, and axes at the origin.
   placeHelpers() {

@@ -237,7 +237,9 @@ fn mesh_model(ctx: &NativeCallContext, m: &mut BlockModel, options: Map) -> Scri
     bar.finish();
     let t = kernel("mesh", result)?;
     m.stats = Some(t.stats);
-    Ok(SharedMesh::new(t.mesh))
+    // The control mesh goes with the surface, for the studio to draw over it.
+    let control = kernel("mesh", m.model.control_mesh())?;
+    Ok(SharedMesh::with_control(t.mesh, std::rc::Rc::new(control.mesh)))
 }
 
 #[export_module]

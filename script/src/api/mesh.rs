@@ -9,15 +9,29 @@ use rhai::{Array, Map, INT};
 use crate::convert::{count, factor3, fail, id_pairs, ids, kernel, number, type_name, vec3, Options, ScriptResult};
 
 /// A mesh as scripts hold it: shared and copied on write, so passing a mesh around is cheap
-/// and no script ever sees another variable's mesh change.
+/// and no script ever sees another variable's mesh change. A subdivision surface also holds
+/// the control mesh it was made from (the subdivision input, a block model's control mesh),
+/// which the studio draws over it; operations that make a new mesh from it drop it.
 #[derive(Clone, Debug)]
-pub struct SharedMesh(pub Rc<Mesh>);
+pub struct SharedMesh(pub Rc<Mesh>, pub Option<Rc<Mesh>>);
 
 impl SharedMesh {
     /// Wraps a kernel mesh.
     #[must_use]
     pub fn new(mesh: Mesh) -> SharedMesh {
-        SharedMesh(Rc::new(mesh))
+        SharedMesh(Rc::new(mesh), None)
+    }
+
+    /// Wraps `mesh`, a surface made from the control mesh `control`.
+    #[must_use]
+    pub fn with_control(mesh: Mesh, control: Rc<Mesh>) -> SharedMesh {
+        SharedMesh(Rc::new(mesh), Some(control))
+    }
+
+    /// The control mesh of a surface made from this mesh: this mesh's own, else this mesh.
+    #[must_use]
+    pub fn control_for_derived(&self) -> Rc<Mesh> {
+        self.1.clone().unwrap_or_else(|| self.0.clone())
     }
 }
 

@@ -91,7 +91,7 @@ pub mod subdiv_api {
     #[rhai_fn(pure, return_raw)]
     pub fn catmull_clark(m: &mut SharedMesh, levels: INT) -> ScriptResult<SharedMesh> {
         let l = super::levels("catmull_clark", levels)?;
-        kernel("catmull_clark", m.0.catmull_clark(l)).map(SharedMesh::new)
+        kernel("catmull_clark", m.0.catmull_clark(l)).map(|r| SharedMesh::with_control(r, m.control_for_derived()))
     }
 
     /// The mesh after `levels` Loop steps with Loop's original weights (triangles only). Crease
@@ -105,7 +105,7 @@ pub mod subdiv_api {
     #[rhai_fn(pure, return_raw)]
     pub fn loop_subdivide(m: &mut SharedMesh, levels: INT) -> ScriptResult<SharedMesh> {
         let l = super::levels("loop_subdivide", levels)?;
-        kernel("loop_subdivide", m.0.loop_subdivide(l)).map(SharedMesh::new)
+        kernel("loop_subdivide", m.0.loop_subdivide(l)).map(|r| SharedMesh::with_control(r, m.control_for_derived()))
     }
 
     /// A copy with every vertex moved to its Catmull–Clark limit position (vertex ids, creases
@@ -117,7 +117,8 @@ pub mod subdiv_api {
     /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn catmull_clark_limit(m: &mut SharedMesh) -> ScriptResult<SharedMesh> {
-        kernel("catmull_clark_limit", m.0.catmull_clark_limit()).map(SharedMesh::new)
+        kernel("catmull_clark_limit", m.0.catmull_clark_limit())
+            .map(|r| SharedMesh::with_control(r, m.control_for_derived()))
     }
 
     /// A copy with every vertex moved to its Loop limit position (triangles only; vertex ids,
@@ -129,7 +130,7 @@ pub mod subdiv_api {
     /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn loop_limit(m: &mut SharedMesh) -> ScriptResult<SharedMesh> {
-        kernel("loop_limit", m.0.loop_limit()).map(SharedMesh::new)
+        kernel("loop_limit", m.0.loop_limit()).map(|r| SharedMesh::with_control(r, m.control_for_derived()))
     }
 
     /// The unit Catmull–Clark limit normal of every vertex (indexed by vertex id). At creases

@@ -3,6 +3,7 @@
 //! animation included) and the mesh read back from it, for its facts and for `render`.
 
 use std::path::{Path, PathBuf};
+use std::rc::Rc;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
@@ -10,6 +11,7 @@ use blocksmith_kernel::io::{self, gltf::write_glb};
 use blocksmith_kernel::Mesh;
 use rhai::{Dynamic, Engine, AST};
 
+use crate::api::{mesh::SharedMesh, polar::PolarMesh};
 use crate::run::{save_value, RunError};
 use crate::EngineOptions;
 
@@ -22,6 +24,8 @@ pub struct Layer {
     pub glb: Vec<u8>,
     /// The mesh of the file (its rest pose for an animation).
     pub mesh: Mesh,
+    /// The edges of the control mesh the value was made from, if any (see [`control_lines`]).
+    pub control: Option<Vec<f32>>,
 }
 
 /// A mesh's facts as the page lists them.
@@ -136,6 +140,7 @@ pub fn layers(engine: &Engine, functions: &AST, value: Dynamic) -> Result<Vec<La
 /// # Errors
 /// A value that cannot be saved, named unless it is the `model`.
 pub fn layer(engine: &Engine, functions: &AST, name: String, value: Dynamic) -> Result<Layer, RunError> {
+    let control = control_lines(&value);
     let glb = glb_of(engine, functions, value).map_err(|e| {
         if name == "model" {
             e
@@ -146,7 +151,24 @@ pub fn layer(engine: &Engine, functions: &AST, name: String, value: Dynamic) -> 
     // Unwelded: the file's own vertices, colour seams included, as the page shows them.
     let mesh = io::gltf::read_gltf_with(&glb, None, Path::new(&format!("{name}.glb")), io::Weld::Off)
         .map_err(|e| RunError(format!("error: layer {name}: {e}")))?;
-    Ok(Layer { name, glb, mesh })
+    Ok(Layer { name, glb, mesh, control })
+}
+
+/// The edges of the control mesh `value` was made from, as segment end points (x, y, z of
+/// each end, in the kernel's Z-up frame): a subdivision surface's input mesh or a block model's
+/// control mesh (a `Mesh` that holds one), a polar mesh's polygons (`PolarMesh`); `None` for
+/// any other value.
+#[must_use]
+pub fn control_lines(value: &Dynamic) -> Option<Vec<f32>> {
+    let control: Rc<Mesh> = if let Some(m) = value.read_lock::<SharedMesh>() {
+        m.1.clone()?
+    } else if let Some(p) = value.read_lock::<PolarMesh>() {
+        Rc::new(p.0.to_mesh())
+    } else {
+        return None;
+    };
+    let ends = control.edges().flat_map(|h| [control.position(control.origin(h)), control.position(control.target(h))]);
+    Some(ends.flat_map(|p| [p.x as f32, p.y as f32, p.z as f32]).collect())
 }
 
 /// The `.glb` that `save` writes for `value`, through a temporary file.
@@ -176,7 +198,11 @@ pub fn load_file(path: &Path) -> Result<Scene, RunError> {
         write_glb(&mesh, &mut bytes, path).map_err(|e| RunError(format!("error: {e}")))?;
         bytes
     };
-    Ok(Scene { layers: vec![Layer { name: "model".into(), glb, mesh }], run_time: start.elapsed(), params: Vec::new() })
+    Ok(Scene {
+        layers: vec![Layer { name: "model".into(), glb, mesh, control: None }],
+        run_time: start.elapsed(),
+        params: Vec::new(),
+    })
 }
 
 /// A recipe (`.rhai`) is run, any other file is read as a mesh.
@@ -227,6 +253,23 @@ mod tests {
         assert!(e.0.contains("layer b") && e.0.contains("cannot be saved"), "{e}");
         let e = run_recipe(&recipe(dir.path(), "[]"), EngineOptions::default()).unwrap_err();
         assert!(e.0.contains("nothing to show"), "{e}");
+    }
+
+    #[test]
+    fn subdivision_surfaces_and_block_models_carry_their_control_mesh_and_plain_meshes_none() {
+        let dir = tempfile::tempdir().unwrap();
+        let text = "#{ plain: cube(2), smooth: cube(2).catmull_clark(2), twice: cube(2).catmull_clark(1).catmull_clark(1), \
+                    blocks: { let m = blocks(); m.add(block([0, 0, 0], [1, 1, 1])); m.mesh() }, polar: polar_octahedron() }";
+        let s = run_recipe(&recipe(dir.path(), text), EngineOptions::default()).unwrap();
+        let edges =
+            |name: &str| s.layers.iter().find(|l| l.name == name).unwrap().control.as_ref().map(|c| c.len() / 6);
+        assert_eq!(edges("plain"), None);
+        assert_eq!(edges("smooth"), Some(12), "the cube's 12 edges");
+        assert_eq!(edges("twice"), Some(12), "the first input, not the intermediate surface");
+        assert_eq!(edges("blocks"), Some(48), "the block's control mesh: 24 quads");
+        assert_eq!(edges("polar"), Some(12), "the octahedron's edges");
+        let smooth = s.layers.iter().find(|l| l.name == "smooth").unwrap().control.clone().unwrap();
+        assert!(smooth.iter().all(|c| c.abs() == 1.0), "the cube's corners: {smooth:?}");
     }
 
     #[test]

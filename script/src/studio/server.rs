@@ -7,6 +7,7 @@
 //! |---|---|
 //! | `GET /`, `GET /app.js`, `GET /vendor/three/...` | the page's files |
 //! | `GET /model/V/I.glb` | layer `I` of model version `V` (404 once a newer model is shown) |
+//! | `GET /model/V/I.control` | its control mesh's edges: little-endian `f32` x, y, z of each end |
 //! | `GET /download/I.glb`, `.obj`, `.stl` | layer `I` of the model on show, as a file |
 //! | `GET /api/state` | the session as JSON: model (layers, facts), error, parameters |
 //! | `POST /api/params` (form body `name=value&...`) | sets the parameters; runs again if they changed |
@@ -95,11 +96,19 @@ fn handle(mut request: Request, session: &Session) {
         }
         (Method::Get, ["", "model", version, file]) => {
             let found = session.model().filter(|m| version.parse() == Ok(m.version)).and_then(|m| {
-                let i: usize = file.strip_suffix(".glb")?.parse().ok()?;
-                m.layers.get(i).map(|l| l.glb.clone())
+                let (i, ext) = file.split_once('.')?;
+                let layer = m.layers.get(i.parse::<usize>().ok()?)?;
+                match ext {
+                    "glb" => Some(("model/gltf-binary", layer.glb.clone())),
+                    "control" => {
+                        let ends = layer.control.as_ref()?;
+                        Some(("application/octet-stream", ends.iter().flat_map(|x| x.to_le_bytes()).collect()))
+                    }
+                    _ => None,
+                }
             });
             match found {
-                Some(glb) => respond(request, 200, "model/gltf-binary", glb),
+                Some((media, body)) => respond(request, 200, media, body),
                 None => not_found(request),
             }
         }

@@ -60,11 +60,16 @@ impl Model {
             .iter()
             .enumerate()
             .map(|(i, l)| {
-                json!({
+                let mut layer = json!({
                     "name": l.name,
                     "url": format!("/model/{}/{i}.glb", self.version),
                     "facts": Facts::of(&l.mesh).json(),
-                })
+                });
+                if let Some(c) = &l.control {
+                    layer["control"] = json!(format!("/model/{}/{i}.control", self.version));
+                    layer["control_edges"] = json!(c.len() / 6);
+                }
+                layer
             })
             .collect();
         json!({ "type": "model", "version": self.version, "run_ms": self.run_ms, "layers": layers, "params": self.params })
