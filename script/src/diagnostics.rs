@@ -2,7 +2,8 @@
 
 use rhai::{EvalAltResult, ParseError, Position};
 
-/// The message of an error without Rhai's trailing `(line L, position P)`.
+/// The message of an error without Rhai's trailing `(line L, position P)`; a function or
+/// property not found is explained from what exists ([`crate::explain`]).
 #[must_use]
 pub fn message(err: &EvalAltResult) -> String {
     let text = match err {
@@ -10,7 +11,7 @@ pub fn message(err: &EvalAltResult) -> String {
         EvalAltResult::ErrorRuntime(value, _) => value.to_string(),
         _ => err.to_string(),
     };
-    strip_position(&text).to_string()
+    crate::explain::explain(strip_position(&text))
 }
 
 fn strip_position(text: &str) -> &str {
@@ -72,7 +73,9 @@ fn format_kind(name: &str, source: &str, pos: Position, kind: &str, message: &st
     let (Some(line), col) = (pos.line(), pos.position().unwrap_or(1)) else {
         return format!("{name}: {kind}: {message}");
     };
-    let mut out = format!("{name}:{line}:{col}: {kind}: {message}");
+    // A message's first line goes before the source line, its other lines after the caret.
+    let (first, more) = message.split_once('\n').map_or((message, None), |(a, b)| (a, Some(b)));
+    let mut out = format!("{name}:{line}:{col}: {kind}: {first}");
     if let Some(text) = source.lines().nth(line - 1) {
         let gutter = line.to_string().len() + 4;
         out.push_str(&format!(
@@ -81,6 +84,10 @@ fn format_kind(name: &str, source: &str, pos: Position, kind: &str, message: &st
             " ".repeat(col.saturating_sub(1)),
             w = gutter
         ));
+    }
+    if let Some(more) = more {
+        out.push('\n');
+        out.push_str(more);
     }
     out
 }

@@ -6,10 +6,12 @@
 //! [`repl`] and [`doc`] are the subcommands.
 
 pub mod api;
+pub mod catalogue;
 pub mod context;
 pub mod convert;
 pub mod diagnostics;
 pub mod doc;
+pub mod explain;
 pub mod lint;
 pub mod manifest;
 pub mod param;

@@ -186,17 +186,35 @@ pub fn save_value(engine: &Engine, functions: &AST, value: Dynamic, out: &Path) 
     scope.push("__path", out.display().to_string());
     let call = engine.compile("save(__value, __path)").map_err(|e| RunError(format!("error: {e}")))?;
     let call = functions.clone_functions_only().merge(&call);
-    engine.run_ast_with_scope(&mut scope, &call).map_err(|e| {
-        let msg = crate::diagnostics::message(&e);
-        if msg.contains("Function not found: save") {
-            RunError(format!(
-                "error: cannot write a {type_name} to {}: values of that type cannot be saved",
-                out.display()
-            ))
-        } else {
-            RunError(format!("error: {msg}"))
-        }
+    engine.run_ast_with_scope(&mut scope, &call).map_err(|e| match *e {
+        rhai::EvalAltResult::ErrorFunctionNotFound(ref sig, _) if sig.starts_with("save ") => RunError(format!(
+            "error: cannot write {} to {}: values of that type cannot be saved{}",
+            crate::catalogue::a(&type_name),
+            out.display(),
+            savable_from(&type_name)
+        )),
+        _ => RunError(format!("error: {}", crate::diagnostics::message(&e))),
     })
+}
+
+/// How to get a value that can be saved from a `type_name`: its methods without arguments
+/// that return a type with a `save` (`model.mesh()`, `vx.to_mesh()`), as advice.
+fn savable_from(type_name: &str) -> String {
+    let all = crate::catalogue::standard();
+    let savable: Vec<&str> = all.iter().filter(|o| o.name == "save" && o.ours).filter_map(|o| o.receiver()).collect();
+    let mut ways: Vec<String> = all
+        .iter()
+        .filter(|o| o.ours && o.property.is_none() && o.receiver() == Some(type_name) && o.params.len() == 1)
+        .filter(|o| savable.contains(&o.returns.as_str()))
+        .map(|o| format!("`.{}()`", o.name))
+        .collect();
+    ways.sort_by_key(String::len);
+    ways.dedup();
+    if ways.is_empty() {
+        format!(" (a script's last value is saved: end it with one of {})", savable.join(", "))
+    } else {
+        format!("; end the script with {}", ways.iter().map(|w| format!("its {w}")).collect::<Vec<_>>().join(" or "))
+    }
 }
 
 /// A one-line description of `value` through its type's `to_string`.

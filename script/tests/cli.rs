@@ -46,7 +46,7 @@ fn unknown_function_is_named() {
     let d = tempfile::tempdir().unwrap();
     let p = script(&d, "f.rhai", "let m = cube(1);\nm.smooth_please(3)\n");
     let o = blocksmith().arg("run").arg(&p).output().unwrap();
-    assert_fails_with(&o, "f.rhai:2:3: error: Function not found: smooth_please (Mesh, i64)");
+    assert_fails_with(&o, "f.rhai:2:3: error: Mesh has no method `smooth_please` (see `blocksmith doc Mesh`)");
 }
 
 #[test]
@@ -202,7 +202,7 @@ fn repl_reads_piped_input_and_keeps_definitions() {
     let out = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success(), "{out}{}", stderr(&o));
     assert!(out.contains("=> 8.0"), "{out}");
-    assert!(out.contains("<repl>:1:3: error: Function not found: oops (Mesh)"), "{out}");
+    assert!(out.contains("<repl>:1:3: error: Mesh has no method `oops` (`loops` is a method of PolarMesh)"), "{out}");
     assert!(out.contains("wrote c.obj"), "{out}");
     assert!(out.contains("The total surface area."), "{out}");
     assert!(d.path().join("c.obj").exists());

@@ -81,3 +81,61 @@ fn the_repl_warns_of_a_dropped_result() {
     let out = stdout(&o);
     assert_eq!(out.matches("warning: the result of `scale` is dropped").count(), 1, "{out}");
 }
+
+#[test]
+fn a_call_that_fits_no_signature_shows_the_signatures_and_the_misfit() {
+    let d = tempfile::tempdir().unwrap();
+    let p = script(&d, "cyl.rhai", "let c = cylinder(1, 2, 16.5);\nc\n");
+    let o = blocksmith().arg("run").arg(&p).output().unwrap();
+    let err = stderr(&o);
+    assert!(!o.status.success());
+    assert!(
+        err.contains("cyl.rhai:1:9: error: cylinder(int, int, float) matches no signature of `cylinder`: argument 3 `segments` must be an integer, got a float"),
+        "{err}"
+    );
+    // The caret under the call, then the signatures.
+    let caret = err.find('^').unwrap();
+    let sigs =
+        err.find("signatures of `cylinder`:\n  cylinder(radius: any, height: any, segments: int) -> Mesh").unwrap();
+    assert!(caret < sigs, "{err}");
+}
+
+#[test]
+fn unknown_names_are_suggested_in_run_test_and_the_repl() {
+    let d = tempfile::tempdir().unwrap();
+    let p = script(&d, "typo.rhai", "let t = tours(2, 0.5, 24, 12);\nt\n");
+    let o = blocksmith().arg("run").arg(&p).output().unwrap();
+    assert!(
+        stderr(&o).contains("typo.rhai:1:9: error: unknown function `tours` (did you mean `torus`?)"),
+        "{}",
+        stderr(&o)
+    );
+    let o = blocksmith().arg("test").arg(&p).output().unwrap();
+    assert!(stdout(&o).contains("unknown function `tours` (did you mean `torus`?)"), "{}", stdout(&o));
+    let mut child = blocksmith()
+        .arg("repl")
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .env("BLOCKSMITH_HISTORY", "/dev/null")
+        .spawn()
+        .unwrap();
+    use std::io::Write;
+    child.stdin.take().unwrap().write_all(b"let m = cube(1);\nm.volum\nm.subdivide(\"+z\", 2, 2)\n").unwrap();
+    let out = stdout(&child.wait_with_output().unwrap());
+    assert!(out.contains("Mesh has no property `volum` (did you mean the method `.volume()`?)"), "{out}");
+    assert!(out.contains("`subdivide` is a method of Block, not of Mesh; for a Mesh see `loop_subdivide`"), "{out}");
+}
+
+#[test]
+fn ending_with_a_value_that_cannot_be_saved_says_how_to_get_one() {
+    let d = tempfile::tempdir().unwrap();
+    let p = script(&d, "vx.rhai", "let vx = voxels(8);\nvx.fill_sphere([4, 4, 4], 3);\nvx\n");
+    let o = blocksmith().arg("run").arg(&p).arg("-o").arg(d.path().join("vx.glb")).output().unwrap();
+    let err = stderr(&o);
+    assert!(err.contains("cannot write a Voxels to") && err.contains("end the script with its `.to_mesh()`"), "{err}");
+    let p = script(&d, "bm.rhai", "let m = blocks();\nm.add(block([0, 0, 0], [1, 1, 1]));\nm\n");
+    let o = blocksmith().arg("run").arg(&p).arg("-o").arg(d.path().join("bm.glb")).output().unwrap();
+    let err = stderr(&o);
+    assert!(err.contains("cannot write a BlockModel") && err.contains("its `.mesh()`"), "{err}");
+}

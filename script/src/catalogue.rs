@@ -1,0 +1,198 @@
+//! Every function scripts can call, as scripts see it: name, parameters with their script
+//! types, return type and doc comment, from the engine's own metadata. The reference
+//! (`blocksmith doc`), error explanations and completion read it.
+
+use std::sync::OnceLock;
+
+use rhai::Engine;
+use serde_json::Value;
+
+/// One overload of a function.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Overload {
+    /// The script name (a property `x` for the getter `get$x`).
+    pub name: String,
+    /// `Some("get")` / `Some("set")` for a property's getter or setter.
+    pub property: Option<&'static str>,
+    /// Parameters: name and script type (`int`, `float`, `Mesh`, `any`...).
+    pub params: Vec<(String, String)>,
+    /// The script type returned (`nothing` for none).
+    pub returns: String,
+    /// The doc comment, without the `///` markers.
+    pub doc: String,
+    /// Registered by blocksmith (not one of Rhai's built-ins).
+    pub ours: bool,
+}
+
+impl Overload {
+    /// `name(a: int, b: float) -> Mesh`; a method shows its receiver as the first parameter.
+    #[must_use]
+    pub fn signature(&self) -> String {
+        let params: Vec<String> = self.params.iter().map(|(n, t)| format!("{n}: {t}")).collect();
+        let ret = if self.returns == "nothing" { String::new() } else { format!(" -> {}", self.returns) };
+        match self.property {
+            Some(kind) => format!("{kind} {}({}){ret}", self.name, params.join(", ")),
+            None => format!("{}({}){ret}", self.name, params.join(", ")),
+        }
+    }
+
+    /// The type of the receiver when the overload can be called as a method on a value of a
+    /// script API type (`Mesh`, `Block`...).
+    #[must_use]
+    pub fn receiver(&self) -> Option<&str> {
+        let t = self.params.first()?.1.as_str();
+        is_api_type(t).then_some(t)
+    }
+}
+
+/// Whether `t` is one of the script API's own types (capitalised: `Mesh`, `Vec3`...).
+#[must_use]
+pub fn is_api_type(t: &str) -> bool {
+    t.chars().next().is_some_and(char::is_uppercase)
+}
+
+/// A Rust type as the metadata writes it, as scripts see it: `&mut SharedMesh` → `Mesh`,
+/// `INT` → `int`, `Dynamic` → `any`...
+#[must_use]
+pub fn script_type(rust: &str) -> String {
+    let t = rust.trim().trim_start_matches("&mut ").trim_start_matches('&').trim();
+    let t = t.strip_prefix("ScriptResult<").and_then(|s| s.strip_suffix('>')).unwrap_or(t);
+    let t = t.strip_prefix("RhaiResultOf<").and_then(|s| s.strip_suffix('>')).unwrap_or(t);
+    let t = t.rsplit("::").next().unwrap_or(t);
+    match t {
+        "SharedMesh" => "Mesh",
+        "ImmutableString" | "str" | "String" | "string" | "&str | ImmutableString | String" => "string",
+        "i64" | "INT" | "i32" | "u64" | "usize" => "int",
+        "f64" | "FLOAT" | "f32" => "float",
+        "Dynamic" | "?" | "" => "any",
+        "Array" | "array" | "Vec<Dynamic>" => "array",
+        "Map" | "map" => "map",
+        "FnPtr" | "Fn" => "closure",
+        "()" => "nothing",
+        "char" => "char",
+        "bool" => "bool",
+        other => other,
+    }
+    .to_string()
+}
+
+/// A script type with its article, for sentences: `an integer`, `a float`, `an array`, `a Mesh`.
+#[must_use]
+pub fn a(script_type: &str) -> String {
+    match script_type {
+        "int" => "an integer".into(),
+        "float" => "a float".into(),
+        "string" => "a string".into(),
+        "array" => "an array".into(),
+        "map" => "an object map".into(),
+        "closure" => "a closure".into(),
+        "nothing" => "nothing".into(),
+        "any" => "any value".into(),
+        "bool" => "a bool".into(),
+        "char" => "a character".into(),
+        t if t.starts_with(['A', 'E', 'I', 'O', 'U', 'a', 'e', 'i', 'o', 'u']) => format!("an {t}"),
+        t => format!("a {t}"),
+    }
+}
+
+fn overloads_of(engine: &Engine, include_builtins: bool) -> Vec<Overload> {
+    let json = engine.gen_fn_metadata_to_json(include_builtins).unwrap_or_default();
+    let root: Value = serde_json::from_str(&json).unwrap_or(Value::Null);
+    let mut out = Vec::new();
+    for f in root.get("functions").and_then(Value::as_array).into_iter().flatten() {
+        let raw = f.get("name").and_then(Value::as_str).unwrap_or_default();
+        let (name, property) = match (raw.strip_prefix("get$"), raw.strip_prefix("set$")) {
+            (Some(n), _) => (n, Some("get")),
+            (_, Some(n)) => (n, Some("set")),
+            _ => (raw, None),
+        };
+        if f.get("isAnonymous").and_then(Value::as_bool) == Some(true) {
+            continue;
+        }
+        let params: Vec<(String, String)> = f
+            .get("params")
+            .and_then(Value::as_array)
+            .into_iter()
+            .flatten()
+            .filter(|p| p.get("type").and_then(Value::as_str) != Some("NativeCallContext"))
+            .enumerate()
+            .map(|(i, p)| {
+                let n = p.get("name").and_then(Value::as_str).map_or_else(|| format!("arg{}", i + 1), str::to_string);
+                // A name that clashes with a Rust keyword or a helper keeps a trailing `_`.
+                (n.trim_end_matches('_').to_string(), script_type(p.get("type").and_then(Value::as_str).unwrap_or("")))
+            })
+            .collect();
+        let returns = script_type(f.get("returnType").and_then(Value::as_str).unwrap_or("()"));
+        let comments: Vec<&str> =
+            f.get("docComments").and_then(Value::as_array).into_iter().flatten().filter_map(Value::as_str).collect();
+        out.push(Overload {
+            name: name.to_string(),
+            property,
+            params,
+            returns,
+            doc: clean_comments(&comments),
+            ours: false,
+        });
+    }
+    out
+}
+
+/// The functions of `engine`: blocksmith's (documented, `ours`) and, when `include_builtins`,
+/// Rhai's own too; sorted by name, then signature.
+#[must_use]
+pub fn overloads(engine: &Engine, include_builtins: bool) -> Vec<Overload> {
+    let mut ours = overloads_of(engine, false);
+    for o in &mut ours {
+        o.ours = !o.doc.is_empty();
+    }
+    if include_builtins {
+        let known: std::collections::HashSet<String> = ours.iter().map(Overload::signature).collect();
+        ours.extend(overloads_of(engine, true).into_iter().filter(|o| !known.contains(&o.signature())));
+    }
+    ours.sort_by_key(|o| (o.name.clone(), o.signature()));
+    ours.dedup();
+    ours
+}
+
+/// The catalogue of a default engine (every registered function and Rhai's built-ins), made
+/// once: what error explanations look names up in.
+pub fn standard() -> &'static [Overload] {
+    static CATALOGUE: OnceLock<Vec<Overload>> = OnceLock::new();
+    CATALOGUE.get_or_init(|| overloads(&crate::new_engine(crate::EngineOptions::default()), true))
+}
+
+fn clean_comments(comments: &[&str]) -> String {
+    let mut lines = Vec::new();
+    for c in comments {
+        for line in c.lines() {
+            let l = line.trim_start();
+            let l = l.strip_prefix("///").or_else(|| l.strip_prefix("//!")).unwrap_or(l);
+            lines.push(l.strip_prefix(' ').unwrap_or(l).to_string());
+        }
+    }
+    lines.join("\n").trim().to_string()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn signatures_read_as_scripts_see_them() {
+        let all = standard();
+        let sig = |name: &str| -> Vec<String> {
+            all.iter().filter(|o| o.name == name && o.ours).map(Overload::signature).collect()
+        };
+        // No leaked Rust names: a context parameter, `segments_`, `SharedMesh`, `()`.
+        assert_eq!(sig("cylinder"), ["cylinder(radius: any, height: any, segments: int) -> Mesh"]);
+        assert_eq!(sig("blocks"), ["blocks() -> BlockModel"]);
+        assert_eq!(sig("vertex_count").first().map(String::as_str), Some("get vertex_count(m: Mesh) -> int"));
+        assert!(sig("crease_all").iter().all(|s| !s.contains("->")), "{:?}", sig("crease_all"));
+        // Rhai's built-ins are there too (for suggestions), not marked as ours.
+        assert!(all.iter().any(|o| o.name == "len" && !o.ours));
+        assert_eq!(a("int"), "an integer");
+        assert_eq!(a("array"), "an array");
+        assert_eq!(a("Animation"), "an Animation");
+        assert_eq!(script_type("ScriptResult<SharedMesh>"), "Mesh");
+    }
+}
