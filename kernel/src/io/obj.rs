@@ -4,16 +4,17 @@
 //! colours on every vertex), `f` faces of any arity by position index (texture and normal indices
 //! are ignored; negative indices count back from the last vertex), and the subdivision tags of
 //! OpenSubdiv's shape files: `t crease 2/1/0 a b s` tags the edge between the 0-based vertices
-//! `a` and `b` as a crease when its sharpness `s` is positive, `t corner 1/1/0 v s` marks vertex
-//! `v` as a corner. Objects and groups (`o`, `g`), materials, smoothing groups, normals and
+//! `a` and `b` as a crease of sharpness `s` (semi-sharp below 10), `t corner 1/1/0 v s` gives
+//! vertex `v` a corner sharpness, and `t interpolateboundary`, `t creasemethod` and
+//! `t smoothtriangles` set the mesh's subdivision options. Objects and groups (`o`, `g`), materials, smoothing groups, normals and
 //! texture coordinates are accepted and ignored: every face goes into one mesh whose vertex `i`
 //! is the file's `i`-th `v` line (OBJ indices are global, so faces of different objects that
 //! share a vertex stay joined). A line ending in `\` continues on the next (OBJ's line
 //! continuation). A line whose keyword OBJ does not define is an error.
 //!
 //! What is written: the same subset, every coordinate with enough digits to read back the very
-//! same `f64`, crease and corner tags as `t` lines (sharpness 10, OpenSubdiv's "infinitely
-//! sharp").
+//! same `f64`, crease and corner tags as `t` lines with their sharpness (10, OpenSubdiv's
+//! "infinitely sharp", for infinite), and the subdivision options that differ from the default.
 //!
 //! How tobj is used: tobj numbers a model's vertices in the order faces first use them, drops
 //! unused ones, and starts a new model (with its own vertex copies) at every `o`, `g` or
@@ -28,6 +29,7 @@ use std::path::Path;
 use super::error::IoError;
 use crate::math::Vec3;
 use crate::mesh::Mesh;
+use crate::subdiv::{BoundaryInterpolation, CreaseMethod, SubdivOptions, TriangleSubdivision};
 
 /// Keywords of the OBJ specification that the reader accepts and ignores (besides `v`, `f`
 /// and `t`, which it reads, and comments).
@@ -74,10 +76,13 @@ const IGNORED_KEYWORDS: &[&str] = &[
 /// OpenSubdiv's sharpness for an infinitely sharp crease or corner, written on `t` lines.
 const INFINITE_SHARPNESS: &str = "10";
 
-/// A crease or corner tag read from a `t` line.
+/// A subdivision tag read from a `t` line.
 enum Tag {
-    Crease { line: usize, a: u32, b: u32 },
-    Corner { line: usize, v: u32 },
+    Crease { line: usize, a: u32, b: u32, sharpness: f64 },
+    Corner { line: usize, v: u32, sharpness: f64 },
+    Boundary(BoundaryInterpolation),
+    Creasing(CreaseMethod),
+    Triangles(TriangleSubdivision),
 }
 
 /// What the first pass over the text found.
@@ -245,37 +250,89 @@ impl std::io::BufRead for TobjInput<'_> {
     }
 }
 
-/// Parses the words after `t`: crease or corner tags (a crease tag with `k` vertices tags the
-/// `k - 1` edges of the chain they form), none for other tags (holes, boundary interpolation,
-/// crease method) or for zero sharpness, which are ignored.
+/// Parses the words after `t` (OpenSubdiv's shape-file tags, `t name ints/floats/strings ...`):
+/// crease tags (a crease tag with `k` vertices sets the `k - 1` edges of the chain they form, to
+/// one sharpness or one each), corner tags, `interpolateboundary` (0 none, 1 edge and corner,
+/// 2 edge only), `creasemethod` (`normal` or `chaikin`) and `smoothtriangles` (`catmark` or
+/// `smooth`); other tags (holes, face-varying options) are ignored, and so are zero or negative
+/// sharpness values (smooth, as OpenSubdiv clamps them to 0).
 fn parse_tag<'a>(mut words: impl Iterator<Item = &'a str>, line: usize, path: &Path) -> Result<Vec<Tag>, IoError> {
     let name = words.next().unwrap_or("");
-    let min_ints = match name {
-        "crease" => 2,
-        "corner" => 1,
+    let (min_ints, floats_needed, strings_needed, form) = match name {
+        "crease" => (2, 1, 0, "2/1/0 a b sharpness"),
+        "corner" => (1, 1, 0, "1/1/0 v sharpness"),
+        "interpolateboundary" => (1, 0, 0, "1/0/0 mode"),
+        "creasemethod" => (0, 0, 1, "0/0/1 normal|chaikin"),
+        "smoothtriangles" => (0, 0, 1, "0/0/1 catmark|smooth"),
         _ => return Ok(Vec::new()),
     };
-    let bad = || obj_error(path, line, format!("malformed `t {name}` tag (expected `t {name} {min_ints}/1/0 ...`)"));
+    let bad = || obj_error(path, line, format!("malformed `t {name}` tag (expected `t {name} {form}`)"));
     let counts: Vec<usize> =
         words.next().unwrap_or("").split('/').map(str::parse).collect::<Result<_, _>>().map_err(|_| bad())?;
-    let (ni, nf) = match counts.as_slice() {
-        [ni, nf, 0] | [ni, nf] if *ni >= min_ints && *nf >= 1 => (*ni, *nf),
+    let (ni, nf, ns) = match counts.as_slice() {
+        [ni, nf, ns] => (*ni, *nf, *ns),
+        [ni, nf] => (*ni, *nf, 0),
         _ => return Err(bad()),
     };
+    if ni < min_ints || nf < floats_needed || ns < strings_needed {
+        return Err(bad());
+    }
     let ints: Vec<u32> =
         (0..ni).map(|_| words.next().and_then(|w| w.parse().ok())).collect::<Option<_>>().ok_or_else(bad)?;
     let floats: Vec<f64> =
         (0..nf).map(|_| words.next().and_then(|w| w.parse().ok())).collect::<Option<_>>().ok_or_else(bad)?;
-    if words.next().is_some() {
+    let strings: Vec<&str> = (0..ns).map(|_| words.next()).collect::<Option<_>>().ok_or_else(bad)?;
+    if words.next().is_some() || floats.iter().any(|s| s.is_nan()) {
         return Err(bad());
     }
-    // blocksmith's creases are on or off: a tag counts when its sharpness is positive.
-    if !floats.iter().all(|&s| s > 0.0) {
-        return Ok(Vec::new());
-    }
     Ok(match name {
-        "crease" => ints.windows(2).map(|w| Tag::Crease { line, a: w[0], b: w[1] }).collect(),
-        _ => ints.iter().map(|&v| Tag::Corner { line, v }).collect(),
+        "crease" => {
+            let edges = ni - 1;
+            if nf != 1 && nf != edges {
+                return Err(obj_error(
+                    path,
+                    line,
+                    format!("`t crease` with {edges} edges needs 1 sharpness or {edges}, it has {nf}"),
+                ));
+            }
+            ints.windows(2)
+                .enumerate()
+                .map(|(i, w)| (w, floats[if nf == 1 { 0 } else { i }]))
+                .filter(|&(_, s)| s > 0.0)
+                .map(|(w, sharpness)| Tag::Crease { line, a: w[0], b: w[1], sharpness })
+                .collect()
+        }
+        "corner" => {
+            if nf != 1 && nf != ni {
+                return Err(obj_error(
+                    path,
+                    line,
+                    format!("`t corner` with {ni} vertices needs 1 sharpness or {ni}, it has {nf}"),
+                ));
+            }
+            ints.iter()
+                .enumerate()
+                .map(|(i, &v)| (v, floats[if nf == 1 { 0 } else { i }]))
+                .filter(|&(_, s)| s > 0.0)
+                .map(|(v, sharpness)| Tag::Corner { line, v, sharpness })
+                .collect()
+        }
+        "interpolateboundary" => vec![Tag::Boundary(match ints[0] {
+            0 => BoundaryInterpolation::None,
+            1 => BoundaryInterpolation::EdgeAndCorner,
+            2 => BoundaryInterpolation::EdgeOnly,
+            m => return Err(obj_error(path, line, format!("`t interpolateboundary` mode {m} is not 0, 1 or 2"))),
+        })],
+        "creasemethod" => vec![Tag::Creasing(match strings[0] {
+            "normal" | "uniform" => CreaseMethod::Uniform,
+            "chaikin" => CreaseMethod::Chaikin,
+            m => return Err(obj_error(path, line, format!("`t creasemethod` {m:?} is not normal or chaikin"))),
+        })],
+        _ => vec![Tag::Triangles(match strings[0] {
+            "catmark" => TriangleSubdivision::CatmullClark,
+            "smooth" => TriangleSubdivision::Smooth,
+            m => return Err(obj_error(path, line, format!("`t smoothtriangles` {m:?} is not catmark or smooth"))),
+        })],
     })
 }
 
@@ -386,10 +443,14 @@ pub fn read_obj(bytes: &[u8], path: &Path) -> Result<Mesh, IoError> {
         let colors = m.vertex_color.chunks_exact(3).map(|c| [c[0] as f32, c[1] as f32, c[2] as f32, 1.0]).collect();
         mesh.set_vertex_colors(Some(colors)).map_err(|e| IoError::from_mesh(path, e))?;
     }
+    let mut options = SubdivOptions::default();
     for tag in &scan.tags {
         match *tag {
-            Tag::Crease { line, a, b } => {
-                mesh.crease_edges(&[[a, b]]).map_err(|_| {
+            Tag::Boundary(b) => options.boundary = b,
+            Tag::Creasing(c) => options.crease = c,
+            Tag::Triangles(t) => options.triangles = t,
+            Tag::Crease { line, a, b, sharpness } => {
+                mesh.crease_edges_sharpness(&[[a, b]], sharpness).map_err(|_| {
                     obj_error(
                         path,
                         line,
@@ -397,7 +458,7 @@ pub fn read_obj(bytes: &[u8], path: &Path) -> Result<Mesh, IoError> {
                     )
                 })?;
             }
-            Tag::Corner { line, v } => {
+            Tag::Corner { line, v, sharpness } => {
                 if v as usize >= mesh.vertex_count() {
                     return Err(obj_error(
                         path,
@@ -408,10 +469,11 @@ pub fn read_obj(bytes: &[u8], path: &Path) -> Result<Mesh, IoError> {
                         ),
                     ));
                 }
-                mesh.set_corner(v, true);
+                mesh.set_corner_sharpness(v, sharpness);
             }
         }
     }
+    mesh.set_subdiv_options(options);
     Ok(mesh)
 }
 
@@ -469,11 +531,25 @@ pub fn write_obj<W: Write>(mesh: &Mesh, out: &mut W) -> std::io::Result<()> {
             buf.clear();
         }
     }
-    for [a, b] in mesh.crease_pairs() {
-        writeln!(buf, "t crease 2/1/0 {a} {b} {INFINITE_SHARPNESS}")?;
+    let mut sharpness =
+        |s: f64| if s.is_finite() { fbuf.format(s).to_string() } else { INFINITE_SHARPNESS.to_string() };
+    for ([a, b], s) in mesh.crease_sharpnesses() {
+        writeln!(buf, "t crease 2/1/0 {a} {b} {}", sharpness(s))?;
     }
     for v in (0..mesh.vertex_count() as u32).filter(|&v| mesh.is_corner(v)) {
-        writeln!(buf, "t corner 1/1/0 {v} {INFINITE_SHARPNESS}")?;
+        writeln!(buf, "t corner 1/1/0 {v} {}", sharpness(mesh.corner_sharpness(v)))?;
+    }
+    let o = mesh.subdiv_options();
+    match o.boundary {
+        BoundaryInterpolation::EdgeOnly => {}
+        BoundaryInterpolation::None => writeln!(buf, "t interpolateboundary 1/0/0 0")?,
+        BoundaryInterpolation::EdgeAndCorner => writeln!(buf, "t interpolateboundary 1/0/0 1")?,
+    }
+    if o.crease == CreaseMethod::Chaikin {
+        writeln!(buf, "t creasemethod 0/0/1 chaikin")?;
+    }
+    if o.triangles == TriangleSubdivision::Smooth {
+        writeln!(buf, "t smoothtriangles 0/0/1 smooth")?;
     }
     out.write_all(&buf)
 }

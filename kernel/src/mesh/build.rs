@@ -205,8 +205,9 @@ impl Mesh {
             he_twin,
             he_face,
             face_he,
-            he_crease: vec![false; nh],
-            vertex_corner: vec![false; nv],
+            he_sharpness: vec![0.0; nh],
+            vertex_sharpness: vec![0.0; nv],
+            subdiv_options: crate::subdiv::SubdivOptions::default(),
             vertex_colors: None,
             face_sources: None,
         })

@@ -35,8 +35,8 @@ impl Mesh {
             let (idx, ar) = m.to_indexed();
             indices.extend(idx.iter().map(|&v| v + offset));
             arities.extend(ar);
-            creases.extend(m.crease_pairs().into_iter().map(|[a, b]| [a + offset, b + offset]));
-            corners.extend(m.vertex_corner.iter().copied());
+            creases.extend(m.crease_sharpnesses().into_iter().map(|([a, b], s)| ([a + offset, b + offset], s)));
+            corners.extend(m.vertex_sharpness.iter().copied());
             if any_colors {
                 match &m.vertex_colors {
                     Some(c) => colors.extend_from_slice(c),
@@ -46,8 +46,12 @@ impl Mesh {
             positions.extend_from_slice(&m.positions);
         }
         let mut out = Mesh::from_indexed(positions, &indices, &arities)?;
-        out.crease_edges(&creases)?;
-        out.vertex_corner = corners;
+        for ([a, b], s) in creases {
+            let h = out.find_halfedge(a, b).ok_or(MeshError::NotAnEdge { a, b })?;
+            out.set_edge_sharpness_halfedge(h, s);
+        }
+        out.vertex_sharpness = corners;
+        out.subdiv_options = parts.first().map(|m| m.subdiv_options).unwrap_or_default();
         if any_colors {
             out.vertex_colors = Some(colors);
         }

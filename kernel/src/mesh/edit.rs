@@ -555,7 +555,7 @@ impl Mesh {
             } else {
                 self.positions.push(Vec3::ZERO);
                 self.vertex_out.push(NONE);
-                self.vertex_corner.push(false);
+                self.vertex_sharpness.push(0.0);
                 if let Some(c) = &mut self.vertex_colors {
                     c.push([1.0; 4]);
                 }
@@ -563,7 +563,7 @@ impl Mesh {
             };
             self.positions[id as usize] = new_positions[i];
             self.vertex_out[id as usize] = NONE;
-            self.vertex_corner[id as usize] = false;
+            self.vertex_sharpness[id as usize] = 0.0;
             if let Some(c) = &mut self.vertex_colors {
                 c[id as usize] = [1.0; 4];
             }
@@ -580,7 +580,7 @@ impl Mesh {
         self.he_prev.reserve(fresh);
         self.he_twin.reserve(fresh);
         self.he_face.reserve(fresh);
-        self.he_crease.reserve(fresh);
+        self.he_sharpness.reserve(fresh);
         let mut free_he = dead_he.iter().copied();
         for plan in &plans {
             he_id.push(match *plan {
@@ -593,7 +593,7 @@ impl Mesh {
                         self.he_prev.push(NONE);
                         self.he_twin.push(NONE);
                         self.he_face.push(NONE);
-                        self.he_crease.push(false);
+                        self.he_sharpness.push(0.0);
                         (self.he_origin.len() - 1) as u32
                     }
                 },
@@ -629,7 +629,7 @@ impl Mesh {
                 self.he_next[h] = he_id[c0 + (k + 1) % n];
                 self.he_prev[h] = he_id[c0 + (k + n - 1) % n];
                 if let Plan::New(t) = plans[c] {
-                    self.he_crease[h] = false;
+                    self.he_sharpness[h] = 0.0;
                     self.he_twin[h] = he_id[t];
                 }
             }
@@ -661,7 +661,7 @@ impl Mesh {
             self.he_prev.pop();
             self.he_twin.pop();
             self.he_face.pop();
-            self.he_crease.pop();
+            self.he_sharpness.pop();
         }
         leftover_v.sort_unstable_by(|a, b| b.cmp(a));
         for x in leftover_v {
@@ -672,7 +672,7 @@ impl Mesh {
             }
             self.positions.pop();
             self.vertex_out.pop();
-            self.vertex_corner.pop();
+            self.vertex_sharpness.pop();
             if let Some(c) = &mut self.vertex_colors {
                 c.pop();
             }
@@ -726,7 +726,7 @@ impl Mesh {
         self.he_prev[t] = prev;
         self.he_twin[t] = twin;
         self.he_face[t] = face;
-        self.he_crease[t] = self.he_crease[f];
+        self.he_sharpness[t] = self.he_sharpness[f];
     }
 
     /// Moves vertex `from` into the dead slot `to`, fixing the origins of its half-edges.
@@ -738,7 +738,7 @@ impl Mesh {
         let (f, t) = (from as usize, to as usize);
         self.positions[t] = self.positions[f];
         self.vertex_out[t] = self.vertex_out[f];
-        self.vertex_corner[t] = self.vertex_corner[f];
+        self.vertex_sharpness[t] = self.vertex_sharpness[f];
         if let Some(c) = &mut self.vertex_colors {
             c[t] = c[f];
         }

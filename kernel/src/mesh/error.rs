@@ -34,6 +34,9 @@ pub enum MeshError {
     /// Two vertex ids that are not joined by an edge.
     #[error("vertices {a} and {b} are not joined by an edge")]
     NotAnEdge { a: u32, b: u32 },
+    /// A crease or corner sharpness that is NaN or negative.
+    #[error("sharpness {sharpness} is not valid: it must be 0 (smooth) or more, up to infinity")]
+    BadSharpness { sharpness: f64 },
     /// A face that cannot be triangulated in its plane.
     #[error("face {face} cannot be triangulated: {reason}")]
     Triangulation { face: usize, reason: String },

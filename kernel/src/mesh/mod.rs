@@ -19,7 +19,7 @@ mod primitives;
 mod transform;
 mod triangulate;
 
-pub use attributes::FaceSource;
+pub use attributes::{check_sharpness, FaceSource};
 pub use error::MeshError;
 pub use measure::Measures;
 
@@ -28,6 +28,8 @@ use crate::math::Vec3;
 /// The id that stands for "none" (the face of a boundary half-edge, the outgoing half-edge of an
 /// isolated vertex).
 pub const NONE: u32 = u32::MAX;
+
+use crate::subdiv::SubdivOptions;
 
 /// A closed or bounded 2-manifold polygon mesh with faces of any arity.
 ///
@@ -43,10 +45,13 @@ pub struct Mesh {
     he_twin: Vec<u32>,
     he_face: Vec<u32>,
     face_he: Vec<u32>,
-    /// Crease tag per half-edge, kept equal on both halves of an edge.
-    he_crease: Vec<bool>,
-    /// Vertices marked as corners (sharp points) for subdivision.
-    vertex_corner: Vec<bool>,
+    /// Crease sharpness per half-edge (0 smooth, `f64::INFINITY` infinitely sharp), kept equal on
+    /// both halves of an edge.
+    he_sharpness: Vec<f64>,
+    /// Corner sharpness per vertex (0 none, `f64::INFINITY` a corner that stays put).
+    vertex_sharpness: Vec<f64>,
+    /// The subdivision options this mesh is refined with (boundary mode, creasing, triangles).
+    subdiv_options: SubdivOptions,
     /// Optional RGBA colour per vertex, components in 0..=1.
     vertex_colors: Option<Vec<[f32; 4]>>,
     /// Optional provenance per face: the input each face of a boolean result came from.

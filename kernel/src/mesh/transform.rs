@@ -60,15 +60,16 @@ impl Mesh {
         m
     }
 
-    /// Copies crease tags (by vertex pair), corner marks and colours from `other`, a mesh with
+    /// Copies crease sharpness (by vertex pair), corner sharpness and colours from `other`, a mesh with
     /// the same vertices, and its face sources when it has as many faces (face ids kept).
     pub(crate) fn copy_attributes_from(&mut self, other: &Mesh) {
-        for [a, b] in other.crease_pairs() {
+        for ([a, b], s) in other.crease_sharpnesses() {
             if let Some(h) = self.find_halfedge(a, b) {
-                self.set_crease_halfedge(h, true);
+                self.set_edge_sharpness_halfedge(h, s);
             }
         }
-        self.vertex_corner.clone_from(&other.vertex_corner);
+        self.vertex_sharpness.clone_from(&other.vertex_sharpness);
+        self.subdiv_options = other.subdiv_options;
         self.vertex_colors.clone_from(&other.vertex_colors);
         if other.face_count() == self.face_count() {
             self.face_sources.clone_from(&other.face_sources);

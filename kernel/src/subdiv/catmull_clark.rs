@@ -4,6 +4,7 @@ use crate::mesh::Mesh;
 
 use super::refiner::{Refiner, Scheme};
 use super::SubdivError;
+use super::SubdivOptions;
 
 impl Mesh {
     /// The mesh after `levels` Catmull–Clark steps (0 returns a copy).
@@ -25,7 +26,26 @@ impl Mesh {
     /// [`Mesh::catmull_clark_limit`], [`super::LimitEvaluator`]. Catmull & Clark 1978; sharp rules
     /// of Hoppe et al. 1994 and DeRose et al. 1998 as in OpenSubdiv; seed 000 §2.3.
     pub fn catmull_clark(&self, levels: u32) -> Result<Mesh, SubdivError> {
-        let r = Refiner::new(self, Scheme::CatmullClark, levels)?;
+        self.catmull_clark_with(levels, &self.subdiv_options())
+    }
+
+    /// [`Mesh::catmull_clark`] with other options than the mesh's own ([`Mesh::subdiv_options`]):
+    /// boundary interpolation, the creasing method and the smooth-triangle weights. The result
+    /// carries the options it was made with.
+    ///
+    /// Semi-sharp creases (an edge sharpness s between 0 and 10) follow DeRose, Kass & Truong
+    /// 1998 §3 as OpenSubdiv's `Sdc` implements them: the sharp rules for ⌊s⌋ levels, the sharp
+    /// and smooth rules blended by the fractional part in the level where the sharpness runs out,
+    /// the smooth rules after; corner sharpness likewise. Sharpness is held as OpenSubdiv holds it
+    /// (`f32`, 10 and above infinitely sharp), so results agree with it bit for bit in the weights.
+    ///
+    /// # Errors
+    /// As [`Mesh::catmull_clark`].
+    pub fn catmull_clark_with(&self, levels: u32, options: &SubdivOptions) -> Result<Mesh, SubdivError> {
+        if levels == 0 {
+            return Ok(self.clone());
+        }
+        let r = Refiner::with_options(self, Scheme::CatmullClark, levels, options)?;
         let p = r.refine_positions(self.positions());
         r.to_mesh(p)
     }

@@ -18,6 +18,12 @@ pub enum SubdivError {
          (apply one Catmull-Clark step first)"
     )]
     NotQuads { face: usize, arity: usize },
+    /// The limit evaluator was given a mesh with semi-sharp creases or corners.
+    #[error(
+        "limit evaluation needs creases and corners that are smooth or infinitely sharp; this mesh has \
+         semi-sharp ones (apply {levels} Catmull-Clark steps first, after which they are smooth)"
+    )]
+    SemiSharp { levels: u32 },
     /// The requested number of levels would make a mesh too large to hold.
     #[error("{levels} subdivision levels would make {faces} faces, more than the limit of {limit}")]
     TooLarge { levels: u32, faces: u64, limit: u64 },

@@ -327,10 +327,21 @@ impl LimitEvaluator {
     ///
     /// # Errors
     /// [`SubdivError::NotQuads`] naming the first face that is not a quad (apply one
-    /// [`Mesh::catmull_clark`] step first).
+    /// [`Mesh::catmull_clark`] step first); [`SubdivError::SemiSharp`] for a mesh with semi-sharp
+    /// creases or corners, whose patches change from level to level (refine until the sharpness
+    /// runs out first, as OpenSubdiv's adaptive refinement does).
     pub fn new(mesh: &Mesh) -> Result<LimitEvaluator, SubdivError> {
         if let Some(f) = (0..mesh.face_count() as u32).find(|&f| mesh.face_arity(f) != 4) {
             return Err(SubdivError::NotQuads { face: f as usize, arity: mesh.face_arity(f) });
+        }
+        if mesh.has_semi_sharp() {
+            let most = mesh
+                .edges()
+                .map(|h| mesh.edge_sharpness(h))
+                .chain((0..mesh.vertex_count() as u32).map(|v| mesh.corner_sharpness(v)))
+                .filter(|s| s.is_finite())
+                .fold(0.0, f64::max);
+            return Err(SubdivError::SemiSharp { levels: most.min(10.0).ceil() as u32 });
         }
         let p = mesh.positions();
         // Each vertex's ring once; a face's corner fan is its vertex's ring turned to the face.

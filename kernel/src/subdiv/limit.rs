@@ -3,6 +3,12 @@
 //! Catmull–Clark masks need quads around the vertex; a mesh with other faces is refined once first
 //! (vertex points keep their ids, see [`super::refiner`]), and the masks are applied there — the
 //! limit of a vertex point is the limit of its parent vertex. Loop masks need triangles.
+//!
+//! Semi-sharp creases and corners: as OpenSubdiv, the mesh is first refined until every
+//! sharpness is either 0 or infinite (⌈s⌉ levels for the largest semi-sharp s; the rules no longer
+//! change after that), and the infinitely sharp masks are applied there. OpenSubdiv's
+//! `PrimvarRefiner::Limit` at a level where sharpness remains treats it as infinite; refined far
+//! enough, both give the exact limit.
 //! The masks and the crease, corner and boundary conventions are described in
 //! [`super::masks`]; boundary edges are sharp (OpenSubdiv's "edge only", Blender's default).
 
@@ -15,17 +21,40 @@ use super::masks::{limit_normal, position_mask, Mask, MaskScheme};
 use super::refiner::{Refiner, Scheme};
 use super::ring::{mesh_ring, MeshRing};
 use super::stencil::{RowBuilder, StencilTable};
+use super::BoundaryInterpolation;
 use super::SubdivError;
 
-/// An all-quad mesh whose vertices `0..V` have the same limits as the input's, and the stencils
-/// that made it (None when the input was already all quads).
-fn quad_level(mesh: &Mesh) -> Result<(Cow<'_, Mesh>, Option<StencilTable>), SubdivError> {
-    if mesh.is_quad_mesh() {
+/// The levels to refine before the limit masks apply: until no sharpness is semi-sharp (as
+/// OpenSubdiv refines semi-sharp features before it takes limits: ⌈s⌉ levels for the largest
+/// semi-sharp value s below 10, which also bounds Chaikin's decay), at least one for a
+/// Catmull–Clark mesh with other faces than quads (the masks need quads) or when the boundary
+/// mode sharpens corners (the refined mesh carries them as corner marks).
+fn limit_levels(mesh: &Mesh, scheme: Scheme) -> u32 {
+    let semi = |s: f64| if s > 0.0 && s < 10.0 { s.ceil() as u32 } else { 0 };
+    let edges = mesh.edges().map(|h| semi(mesh.edge_sharpness(h))).max().unwrap_or(0);
+    let corners = (0..mesh.vertex_count() as u32).map(|v| semi(mesh.corner_sharpness(v))).max().unwrap_or(0);
+    let mut levels = edges.max(corners);
+    let sharpened_corners = mesh.subdiv_options().boundary == BoundaryInterpolation::EdgeAndCorner;
+    if (scheme == Scheme::CatmullClark && !mesh.is_quad_mesh()) || (sharpened_corners && !mesh.is_closed()) {
+        levels = levels.max(1);
+    }
+    levels
+}
+
+/// A mesh whose vertices `0..V` have the same limits as the input's and to which the limit masks
+/// apply (see [`limit_levels`]), and the stencils that made it (None when that is the input).
+fn limit_level(mesh: &Mesh, scheme: Scheme) -> Result<(Cow<'_, Mesh>, Option<StencilTable>), SubdivError> {
+    let levels = limit_levels(mesh, scheme);
+    if levels == 0 {
         return Ok((Cow::Borrowed(mesh), None));
     }
-    let r = Refiner::new(mesh, Scheme::CatmullClark, 1)?;
+    let r = Refiner::new(mesh, scheme, levels)?;
     let p = r.refine_positions(mesh.positions());
-    Ok((Cow::Owned(r.to_mesh(p)?), Some(r.stencils(1))))
+    Ok((Cow::Owned(r.to_mesh(p)?), Some(r.composed_stencils())))
+}
+
+fn quad_level(mesh: &Mesh) -> Result<(Cow<'_, Mesh>, Option<StencilTable>), SubdivError> {
+    limit_level(mesh, Scheme::CatmullClark)
 }
 
 fn check_triangles(mesh: &Mesh) -> Result<(), SubdivError> {
@@ -93,7 +122,12 @@ pub fn catmull_clark_limit_stencils(mesh: &Mesh) -> Result<StencilTable, SubdivE
 /// See also [`Mesh::loop_limit`].
 pub fn loop_limit_stencils(mesh: &Mesh) -> Result<StencilTable, SubdivError> {
     check_triangles(mesh)?;
-    Ok(limit_rows(mesh, mesh.vertex_count(), MaskScheme::Loop))
+    let (q, st) = limit_level(mesh, Scheme::Loop)?;
+    let rows = limit_rows(&q, mesh.vertex_count(), MaskScheme::Loop);
+    Ok(match st {
+        Some(st) => st.then(&rows),
+        None => rows,
+    })
 }
 
 fn limit_positions(mesh: &Mesh, count: usize, scheme: MaskScheme) -> Vec<Vec3> {
@@ -166,7 +200,8 @@ impl Mesh {
     /// See also [`Mesh::loop_limit_normals`], [`loop_limit_stencils`]. Loop 1987 §3.3; seed 002 §5.
     pub fn loop_limit(&self) -> Result<Mesh, SubdivError> {
         check_triangles(self)?;
-        let p = limit_positions(self, self.vertex_count(), MaskScheme::Loop);
+        let (q, _) = limit_level(self, Scheme::Loop)?;
+        let p = limit_positions(&q, self.vertex_count(), MaskScheme::Loop);
         let mut out = self.clone();
         out.set_positions(p).map_err(|e| SubdivError::Internal(e.to_string()))?;
         Ok(out)
@@ -179,7 +214,8 @@ impl Mesh {
     /// whose limit tangents are parallel or zero.
     pub fn loop_limit_normals(&self) -> Result<Vec<Vec3>, SubdivError> {
         check_triangles(self)?;
-        limit_normals(self, self.vertex_count(), MaskScheme::Loop)
+        let (q, _) = limit_level(self, Scheme::Loop)?;
+        limit_normals(&q, self.vertex_count(), MaskScheme::Loop)
     }
 }
 

@@ -4,6 +4,7 @@ use crate::mesh::Mesh;
 
 use super::refiner::{Refiner, Scheme};
 use super::SubdivError;
+use super::SubdivOptions;
 
 impl Mesh {
     /// The mesh after `levels` Loop steps with Loop's original weights (0 returns a copy).
@@ -21,7 +22,20 @@ impl Mesh {
     /// See also [`Mesh::loop_limit`], [`super::Refiner`]. Loop 1987 (§3); seed 002 §2.2 (which
     /// uses these original weights; libigl and open3d use Warren's 3/(8n) instead).
     pub fn loop_subdivide(&self, levels: u32) -> Result<Mesh, SubdivError> {
-        let r = Refiner::new(self, Scheme::Loop, levels)?;
+        self.loop_subdivide_with(levels, &self.subdiv_options())
+    }
+
+    /// [`Mesh::loop_subdivide`] with OpenSubdiv's options (boundary interpolation and creasing
+    /// method; the triangle option is Catmull–Clark's only). Semi-sharp creases and corners as in
+    /// [`Mesh::catmull_clark_with`].
+    ///
+    /// # Errors
+    /// As [`Mesh::loop_subdivide`].
+    pub fn loop_subdivide_with(&self, levels: u32, options: &SubdivOptions) -> Result<Mesh, SubdivError> {
+        let r = Refiner::with_options(self, Scheme::Loop, levels, options)?;
+        if levels == 0 {
+            return Ok(self.clone());
+        }
         let p = r.refine_positions(self.positions());
         r.to_mesh(p)
     }

@@ -1,6 +1,7 @@
-//! Subdivision surfaces: Catmull–Clark and Loop refinement with infinitely sharp creases and
-//! corners, limit positions and normals, and evaluation of the Catmull–Clark limit surface
-//! anywhere.
+//! Subdivision surfaces: Catmull–Clark and Loop refinement with semi-sharp and infinitely sharp
+//! creases and corners (OpenSubdiv's `Sdc` rules, its boundary modes, creasing methods and
+//! triangle option, [`SubdivOptions`]), limit positions and normals, and evaluation of the
+//! Catmull–Clark limit surface anywhere.
 //!
 //! Layout (as OpenSubdiv separates `Sdc`, `Vtr`, `Far` and `Osd`):
 //! - `topology`: one level of connectivity as flat arrays, vertex rules (smooth, crease, corner);
@@ -12,9 +13,14 @@
 //! - `patch`, `evaluator`: [`LimitEvaluator`], the Catmull–Clark limit surface at any
 //!   (face, u, v) of an all-quad mesh.
 //!
-//! Boundaries follow OpenSubdiv's default "edge only" interpolation, which Blender's subdivision
-//! modifier uses: boundary edges are sharp, and a boundary vertex with two edges (the corner of an
-//! open grid) follows the crease rule and moves; mark it with [`Mesh::set_corner`] to pin it.
+//! Boundaries follow the mesh's [`BoundaryInterpolation`], by default "edge only", which Blender's
+//! subdivision modifier uses: boundary edges are sharp, and a boundary vertex with two edges (the
+//! corner of an open grid) follows the crease rule and moves; "edge and corner" pins it, as does
+//! [`Mesh::set_corner`].
+//!
+//! Sharpness is held as OpenSubdiv holds it during refinement (`f32`, 10 and above infinite), and
+//! the rule blends use its values, so refined positions agree with OpenSubdiv's to rounding
+//! (`kernel/tests/subdiv_opensubdiv.rs`).
 
 mod catmull_clark;
 mod error;
@@ -22,11 +28,14 @@ mod evaluator;
 mod limit;
 mod loop_scheme;
 mod masks;
+mod options;
 mod patch;
 #[cfg(test)]
 mod reference_tests;
 pub mod refiner;
 mod ring;
+#[cfg(test)]
+mod sharpness_tests;
 mod stencil;
 #[cfg(test)]
 mod test_meshes;
@@ -35,5 +44,6 @@ mod topology;
 pub use error::SubdivError;
 pub use evaluator::{LimitEvaluator, LimitSample};
 pub use limit::{catmull_clark_limit_stencils, loop_limit_stencils};
+pub use options::{BoundaryInterpolation, CreaseMethod, SubdivOptions, TriangleSubdivision};
 pub use refiner::{loop_beta, Refiner, Scheme, MAX_FACES};
 pub use stencil::StencilTable;

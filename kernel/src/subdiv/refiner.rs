@@ -34,8 +34,9 @@
 use crate::math::Vec3;
 use crate::mesh::Mesh;
 
+use super::options::SubdivOptions;
 use super::stencil::{RowBuilder, StencilTable};
-use super::topology::{check_size, Level, Rule, NONE};
+use super::topology::{check_size, Blend, Level, Rule};
 use super::SubdivError;
 
 /// The most faces a refinement may produce (about 5 GB of output mesh).
@@ -57,6 +58,7 @@ pub enum Scheme {
 #[derive(Clone, Debug)]
 pub struct Refiner {
     scheme: Scheme,
+    options: SubdivOptions,
     levels: Vec<Level>,
     depth: u32,
 }
@@ -70,14 +72,34 @@ pub fn loop_beta(n: usize) -> f64 {
 }
 
 impl Refiner {
-    /// Refines the topology of `mesh` `levels` times with `scheme`.
+    /// Refines the topology of `mesh` `levels` times with `scheme` and the mesh's own options
+    /// ([`Mesh::subdiv_options`]).
     ///
     /// # Errors
     /// - [`SubdivError::NotTriangles`] for [`Scheme::Loop`] on a mesh with a non-triangle face;
     /// - [`SubdivError::TooLarge`] when the last level would have more than [`MAX_FACES`] faces.
     pub fn new(mesh: &Mesh, scheme: Scheme, levels: u32) -> Result<Refiner, SubdivError> {
-        let base = Level::from_mesh(mesh);
-        Refiner::from_level(base, scheme, levels, MAX_FACES)
+        Refiner::with_options(mesh, scheme, levels, &mesh.subdiv_options())
+    }
+
+    /// [`Refiner::new`] with other options than the mesh's own.
+    ///
+    /// # Errors
+    /// As [`Refiner::new`].
+    pub fn with_options(
+        mesh: &Mesh,
+        scheme: Scheme,
+        levels: u32,
+        options: &SubdivOptions,
+    ) -> Result<Refiner, SubdivError> {
+        let mut opts = *options;
+        if scheme == Scheme::Loop {
+            opts.triangles = super::TriangleSubdivision::CatmullClark;
+        }
+        let base = Level::from_mesh(mesh, &opts);
+        let mut r = Refiner::from_level(base, scheme, levels, MAX_FACES)?;
+        r.options = *options;
+        Ok(r)
     }
 
     pub(crate) fn from_level(base: Level, scheme: Scheme, depth: u32, limit: u64) -> Result<Refiner, SubdivError> {
@@ -94,7 +116,7 @@ impl Refiner {
             let next = if is_loop { last.refine_loop() } else { last.refine_catmull_clark() };
             levels.push(next);
         }
-        Ok(Refiner { scheme, levels, depth })
+        Ok(Refiner { scheme, options: SubdivOptions::default(), levels, depth })
     }
 
     /// The scheme this refiner applies.
@@ -205,27 +227,28 @@ impl Refiner {
     }
 
     /// The mesh of the last level with the given positions (from [`Refiner::refine_positions`]),
-    /// carrying the crease tags and corner marks down.
+    /// carrying the crease and corner sharpness down (semi-sharp values less one per level, or as
+    /// the Chaikin option decays them; a corner the boundary mode sharpens is marked as one).
     ///
     /// # Errors
     /// [`SubdivError::Internal`] if the refined faces do not form a valid mesh (a bug).
     pub fn to_mesh(&self, positions: Vec<Vec3>) -> Result<Mesh, SubdivError> {
         let (idx, ar) = self.faces();
         let last = self.levels.last().expect("base level");
-        let (creases, corners): (Vec<[u32; 2]>, &[bool]) = if self.depth == 0 {
-            let pairs = (0..last.edge_count()).filter(|&e| last.edge_crease[e]).map(|e| last.edge_verts[e]).collect();
-            (pairs, &last.vertex_corner)
-        } else {
-            (last.child_crease_pairs(), &last.vertex_corner)
-        };
+        let (creases, corners) = if self.depth == 0 { last.tags() } else { last.child_tags() };
         let mut mesh = Mesh::from_indexed(positions, &idx, &ar)
             .map_err(|e| SubdivError::Internal(format!("refined faces do not form a mesh: {e}")))?;
-        mesh.crease_edges(&creases).map_err(|e| SubdivError::Internal(format!("crease tags lost: {e}")))?;
+        for ([a, b], s) in creases {
+            let h =
+                mesh.find_halfedge(a, b).ok_or_else(|| SubdivError::Internal(format!("crease tag ({a}, {b}) lost")))?;
+            mesh.set_edge_sharpness_halfedge(h, s);
+        }
         for (v, &c) in corners.iter().enumerate() {
-            if c {
-                mesh.set_corner(v as u32, true);
+            if c > 0.0 {
+                mesh.set_corner_sharpness(v as u32, c);
             }
         }
+        mesh.set_subdiv_options(self.options);
         Ok(mesh)
     }
 }
@@ -261,13 +284,25 @@ fn interpolate_catmull_clark(lv: &Level, p: &[Vec3]) -> Vec<Vec3> {
         let [a, b] = lv.edge_verts[e];
         let [f0, f1] = lv.edge_faces[e];
         let (pa, pb) = (p[a as usize], p[b as usize]);
-        *ep = if lv.edge_crease[e] || f1 == NONE {
+        let w = lv.edge_weight(e);
+        *ep = if w == 1.0 {
             pa + (pb - pa) * 0.5
-        } else {
+        } else if w == 0.0 && !lv.tri_smooth {
             pa + ((pb - pa) + (fout[f0 as usize] - pa) + (fout[f1 as usize] - pa)) * 0.25
+        } else {
+            let mut sink = PointSink { p, faces: fout, base: pa, acc: Vec3::ZERO };
+            cc_edge_mask(lv, e, &mut sink);
+            sink.point()
         };
     }
+    let (fout, blends) = (&*fout, &lv.trans.vertex);
     for (v, vp) in vout.iter_mut().enumerate() {
+        if let Some(Some(blend)) = blends.get(v) {
+            let mut sink = PointSink { p, faces: fout, base: p[v], acc: Vec3::ZERO };
+            blended_vertex_mask(lv, v, blend, &mut sink, cc_rule_mask);
+            *vp = sink.point();
+            continue;
+        }
         *vp = match lv.vertex_rule[v] {
             Rule::Corner => p[v],
             Rule::Crease => crease_point(p, v, lv.crease_ends[v]),
@@ -306,16 +341,27 @@ fn interpolate_loop(lv: &Level, p: &[Vec3]) -> Vec<Vec3> {
         let [a, b] = lv.edge_verts[e];
         let [f0, f1] = lv.edge_faces[e];
         let (pa, pb) = (p[a as usize], p[b as usize]);
-        *ep = if lv.edge_crease[e] || f1 == NONE {
+        let w = lv.edge_weight(e);
+        *ep = if w == 1.0 {
             pa + (pb - pa) * 0.5
-        } else {
+        } else if w == 0.0 {
             let c = p[opposite_in_triangle(lv, f0, e) as usize];
             let d = p[opposite_in_triangle(lv, f1, e) as usize];
             pa + (pb - pa) * 0.375 + ((c - pa) + (d - pa)) * 0.125
+        } else {
+            let mut sink = PointSink { p, faces: &[], base: pa, acc: Vec3::ZERO };
+            loop_edge_mask(lv, e, &mut sink);
+            sink.point()
         };
     }
     let mut beta_cache: Vec<f64> = Vec::new();
     for (v, vp) in vout.iter_mut().enumerate() {
+        if let Some(Some(blend)) = lv.trans.vertex.get(v) {
+            let mut sink = PointSink { p, faces: &[], base: p[v], acc: Vec3::ZERO };
+            blended_vertex_mask(lv, v, blend, &mut sink, loop_rule_mask);
+            *vp = sink.point();
+            continue;
+        }
         *vp = match lv.vertex_rule[v] {
             Rule::Corner => p[v],
             Rule::Crease => crease_point(p, v, lv.crease_ends[v]),
@@ -338,99 +384,218 @@ fn interpolate_loop(lv: &Level, p: &[Vec3]) -> Vec<Vec3> {
     out
 }
 
+/// Where the weights of one child point go: control vertices of the parent level, and (for
+/// Catmull–Clark) the face points of the same step.
+trait Sink {
+    fn vert(&mut self, v: u32, w: f64);
+    fn face(&mut self, f: u32, w: f64);
+}
+
+/// Sums weighted points relative to `base` (one of the inputs), as the fast paths do.
+struct PointSink<'a> {
+    p: &'a [Vec3],
+    faces: &'a [Vec3],
+    base: Vec3,
+    acc: Vec3,
+}
+
+impl PointSink<'_> {
+    fn point(&self) -> Vec3 {
+        self.base + self.acc
+    }
+}
+
+impl Sink for PointSink<'_> {
+    #[inline]
+    fn vert(&mut self, v: u32, w: f64) {
+        self.acc += (self.p[v as usize] - self.base) * w;
+    }
+    #[inline]
+    fn face(&mut self, f: u32, w: f64) {
+        self.acc += (self.faces[f as usize] - self.base) * w;
+    }
+}
+
+/// Writes weights into a stencil row; a face point becomes its face's vertices.
+struct RowSink<'a> {
+    lv: &'a Level,
+    b: RowBuilder,
+}
+
+impl Sink for RowSink<'_> {
+    #[inline]
+    fn vert(&mut self, v: u32, w: f64) {
+        self.b.add(v, w);
+    }
+    fn face(&mut self, f: u32, w: f64) {
+        let r = self.lv.face_range(f as usize);
+        let wf = w / r.len() as f64;
+        for &v in &self.lv.face_verts[r] {
+            self.b.add(v, wf);
+        }
+    }
+}
+
+/// The smooth Catmull–Clark edge-point weights (vertex, face): ¼ and ¼, or with OpenSubdiv's
+/// smooth-triangle option 0.47 for a triangle's face point (`Scheme<CATMARK>::assignSmoothMaskForEdge`).
+fn cc_smooth_edge_weights(lv: &Level, [f0, f1]: [u32; 2]) -> (f64, f64) {
+    if lv.tri_smooth {
+        let tri = |f: u32| lv.face_range(f as usize).len() == 3;
+        let (t0, t1) = (tri(f0), tri(f1));
+        if t0 || t1 {
+            const TRI: f64 = 0.470;
+            let fw = 0.5 * (if t0 { TRI } else { 0.25 } + if t1 { TRI } else { 0.25 });
+            return (0.5 * (1.0 - 2.0 * fw), fw);
+        }
+    }
+    (0.25, 0.25)
+}
+
+/// A Catmull–Clark edge point: the midpoint for a sharp edge, the smooth rule for a smooth one,
+/// and for a semi-sharp edge decaying to smooth the two blended by its sharpness w:
+/// w · midpoint + (1 − w) · smooth (`Sdc::Scheme::ComputeEdgeVertexMask`).
+fn cc_edge_mask(lv: &Level, e: usize, sink: &mut impl Sink) {
+    let [a, b] = lv.edge_verts[e];
+    let w = lv.edge_weight(e);
+    if w == 1.0 {
+        sink.vert(a, 0.5);
+        sink.vert(b, 0.5);
+        return;
+    }
+    let faces = lv.edge_faces[e];
+    let (vw, fw) = cc_smooth_edge_weights(lv, faces);
+    let c = 1.0 - w;
+    sink.vert(a, w * 0.5 + c * vw);
+    sink.vert(b, w * 0.5 + c * vw);
+    sink.face(faces[0], c * fw);
+    sink.face(faces[1], c * fw);
+}
+
+/// A Loop edge point, blended as [`cc_edge_mask`] (the opposite vertices are Loop's face weights).
+fn loop_edge_mask(lv: &Level, e: usize, sink: &mut impl Sink) {
+    let [a, b] = lv.edge_verts[e];
+    let w = lv.edge_weight(e);
+    if w == 1.0 {
+        sink.vert(a, 0.5);
+        sink.vert(b, 0.5);
+        return;
+    }
+    let [f0, f1] = lv.edge_faces[e];
+    let c = 1.0 - w;
+    sink.vert(a, w * 0.5 + c * 0.375);
+    sink.vert(b, w * 0.5 + c * 0.375);
+    sink.vert(opposite_in_triangle(lv, f0, e), c * 0.125);
+    sink.vert(opposite_in_triangle(lv, f1, e), c * 0.125);
+}
+
+/// The Catmull–Clark vertex-point weights of `rule`, scaled by `s`.
+fn cc_rule_mask(lv: &Level, v: usize, rule: Rule, ends: [u32; 2], s: f64, sink: &mut dyn FnMut(bool, u32, f64)) {
+    match rule {
+        Rule::Corner => sink(false, v as u32, s),
+        Rule::Crease => {
+            sink(false, v as u32, 0.75 * s);
+            sink(false, ends[0], 0.125 * s);
+            sink(false, ends[1], 0.125 * s);
+        }
+        Rule::Smooth => {
+            let edges = lv.vertex_edges(v);
+            let n = edges.len() as f64;
+            let w = s / (n * n);
+            sink(false, v as u32, s * (n - 2.0) / n);
+            for &e in edges {
+                sink(false, lv.other_end(e as usize, v as u32), w);
+            }
+            for &f in lv.vertex_faces(v) {
+                sink(true, f, w);
+            }
+        }
+    }
+}
+
+/// The Loop vertex-point weights of `rule`, scaled by `s`.
+fn loop_rule_mask(lv: &Level, v: usize, rule: Rule, ends: [u32; 2], s: f64, sink: &mut dyn FnMut(bool, u32, f64)) {
+    match rule {
+        Rule::Corner => sink(false, v as u32, s),
+        Rule::Crease => {
+            sink(false, v as u32, 0.75 * s);
+            sink(false, ends[0], 0.125 * s);
+            sink(false, ends[1], 0.125 * s);
+        }
+        Rule::Smooth => {
+            let edges = lv.vertex_edges(v);
+            let beta = loop_beta(edges.len());
+            sink(false, v as u32, s * (1.0 - edges.len() as f64 * beta));
+            for &e in edges {
+                sink(false, lv.other_end(e as usize, v as u32), s * beta);
+            }
+        }
+    }
+}
+
+type RuleMask = fn(&Level, usize, Rule, [u32; 2], f64, &mut dyn FnMut(bool, u32, f64));
+
+/// A vertex point whose rule changes toward the next level: w · (parent rule) + (1 − w) · (child
+/// rule), w the fractional weight (`Sdc::Scheme::ComputeVertexVertexMask`).
+fn blended_vertex_mask(lv: &Level, v: usize, blend: &Blend, sink: &mut impl Sink, mask: RuleMask) {
+    let mut put = |face: bool, id: u32, w: f64| {
+        if face {
+            sink.face(id, w);
+        } else {
+            sink.vert(id, w);
+        }
+    };
+    mask(lv, v, lv.vertex_rule[v], lv.crease_ends[v], blend.weight, &mut put);
+    mask(lv, v, blend.child_rule, blend.child_ends, 1.0 - blend.weight, &mut put);
+}
+
+/// A vertex point with its level's rules (blended where the rule changes).
+fn vertex_mask(lv: &Level, v: usize, sink: &mut impl Sink, mask: RuleMask) {
+    if let Some(Some(blend)) = lv.trans.vertex.get(v) {
+        blended_vertex_mask(lv, v, blend, sink, mask);
+        return;
+    }
+    let mut put = |face: bool, id: u32, w: f64| {
+        if face {
+            sink.face(id, w);
+        } else {
+            sink.vert(id, w);
+        }
+    };
+    mask(lv, v, lv.vertex_rule[v], lv.crease_ends[v], 1.0, &mut put);
+}
+
 /// Catmull–Clark stencils of one step, rows in child-vertex order.
 fn stencils_catmull_clark(lv: &Level) -> StencilTable {
     let (nv, ne, nf) = (lv.num_vertices, lv.edge_count(), lv.face_count());
-    let mut b = RowBuilder::new(nv, nv + ne + nf, 9 * nv + 6 * ne + lv.face_verts.len());
-    let face_row = |b: &mut RowBuilder, f: usize, w: f64| {
-        let r = lv.face_range(f);
-        let wf = w / r.len() as f64;
-        for &v in &lv.face_verts[r] {
-            b.add(v, wf);
-        }
-    };
+    let b = RowBuilder::new(nv, nv + ne + nf, 9 * nv + 6 * ne + lv.face_verts.len());
+    let mut sink = RowSink { lv, b };
     for v in 0..nv {
-        match lv.vertex_rule[v] {
-            Rule::Corner => b.add(v as u32, 1.0),
-            Rule::Crease => {
-                let [a, c] = lv.crease_ends[v];
-                b.add(v as u32, 0.75);
-                b.add(a, 0.125);
-                b.add(c, 0.125);
-            }
-            Rule::Smooth => {
-                let edges = lv.vertex_edges(v);
-                let n = edges.len() as f64;
-                let w = 1.0 / (n * n);
-                b.add(v as u32, (n - 2.0) / n);
-                for &e in edges {
-                    b.add(lv.other_end(e as usize, v as u32), w);
-                }
-                for &f in lv.vertex_faces(v) {
-                    face_row(&mut b, f as usize, w);
-                }
-            }
-        }
-        b.end_row();
+        vertex_mask(lv, v, &mut sink, cc_rule_mask);
+        sink.b.end_row();
     }
     for e in 0..ne {
-        let [a, c] = lv.edge_verts[e];
-        let [f0, f1] = lv.edge_faces[e];
-        if lv.edge_crease[e] || f1 == NONE {
-            b.add(a, 0.5);
-            b.add(c, 0.5);
-        } else {
-            b.add(a, 0.25);
-            b.add(c, 0.25);
-            face_row(&mut b, f0 as usize, 0.25);
-            face_row(&mut b, f1 as usize, 0.25);
-        }
-        b.end_row();
+        cc_edge_mask(lv, e, &mut sink);
+        sink.b.end_row();
     }
     for f in 0..nf {
-        face_row(&mut b, f, 1.0);
-        b.end_row();
+        sink.face(f as u32, 1.0);
+        sink.b.end_row();
     }
-    b.finish()
+    sink.b.finish()
 }
 
 /// Loop stencils of one step, rows in child-vertex order.
 fn stencils_loop(lv: &Level) -> StencilTable {
     let (nv, ne) = (lv.num_vertices, lv.edge_count());
-    let mut b = RowBuilder::new(nv, nv + ne, 7 * nv + 4 * ne);
+    let b = RowBuilder::new(nv, nv + ne, 7 * nv + 4 * ne);
+    let mut sink = RowSink { lv, b };
     for v in 0..nv {
-        match lv.vertex_rule[v] {
-            Rule::Corner => b.add(v as u32, 1.0),
-            Rule::Crease => {
-                let [a, c] = lv.crease_ends[v];
-                b.add(v as u32, 0.75);
-                b.add(a, 0.125);
-                b.add(c, 0.125);
-            }
-            Rule::Smooth => {
-                let edges = lv.vertex_edges(v);
-                let beta = loop_beta(edges.len());
-                b.add(v as u32, 1.0 - edges.len() as f64 * beta);
-                for &e in edges {
-                    b.add(lv.other_end(e as usize, v as u32), beta);
-                }
-            }
-        }
-        b.end_row();
+        vertex_mask(lv, v, &mut sink, loop_rule_mask);
+        sink.b.end_row();
     }
     for e in 0..ne {
-        let [a, c] = lv.edge_verts[e];
-        let [f0, f1] = lv.edge_faces[e];
-        if lv.edge_crease[e] || f1 == NONE {
-            b.add(a, 0.5);
-            b.add(c, 0.5);
-        } else {
-            b.add(a, 0.375);
-            b.add(c, 0.375);
-            b.add(opposite_in_triangle(lv, f0, e), 0.125);
-            b.add(opposite_in_triangle(lv, f1, e), 0.125);
-        }
-        b.end_row();
+        loop_edge_mask(lv, e, &mut sink);
+        sink.b.end_row();
     }
-    b.finish()
+    sink.b.finish()
 }

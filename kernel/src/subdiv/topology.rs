@@ -8,21 +8,27 @@
 //! building a level is a handful of linear passes over flat arrays (OpenSubdiv's `Vtr::Level`
 //! plays the same part).
 //!
-//! Sharpness: an edge is *sharp* when it is tagged as a crease or lies on a boundary (OpenSubdiv's
-//! boundary interpolation "edge only", Blender's default). A vertex's rule follows from its sharp
-//! edges: a user-marked corner or 3+ sharp edges → [`Rule::Corner`]; exactly 2 → [`Rule::Crease`];
-//! 0 or 1 (a dart) → [`Rule::Smooth`]. A boundary vertex has two boundary edges, so it is a crease
-//! vertex (also with valence 2: the corner of an open grid moves, as in OpenSubdiv and Blender)
-//! unless another sharp edge or a corner mark makes it a corner.
+//! Sharpness follows OpenSubdiv's `Sdc::Crease`, in its `f32` precision and with its value
+//! [`INFINITE`] = 10 for infinitely sharp (10 and above count as infinite): boundary edges are
+//! infinitely sharp in every boundary mode; a vertex's rule follows from its corner sharpness and
+//! its sharp edges (semi-sharp ones included): corner sharpness above 0, 3+ sharp edges or no edge
+//! → [`Rule::Corner`]; exactly 2 → [`Rule::Crease`]; 0 or 1 (a dart) → [`Rule::Smooth`]. A level with
+//! semi-sharp values also holds its [`Transitions`]: the sharpness each edge's two halves get one
+//! level down (uniform or Chaikin decay) and, where a vertex's rule changes from this level to
+//! the next, the fractional weight that blends the two rules (`ComputeFractionalWeightAtVertex`).
 
 use crate::mesh::{Mesh, NONE as MESH_NONE};
 
+use super::options::{BoundaryInterpolation, CreaseMethod, SubdivOptions, TriangleSubdivision};
 use super::SubdivError;
+
+/// OpenSubdiv's infinite sharpness (`Sdc::Crease::SHARPNESS_INFINITE`).
+pub(crate) const INFINITE: f32 = 10.0;
 
 /// The id that stands for "none" (the missing face of a boundary edge).
 pub(crate) const NONE: u32 = u32::MAX;
 
-/// How a vertex is refined and where its limit lies (infinitely sharp rules only).
+/// How a vertex is refined and where its limit lies.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Rule {
     /// No sharp edge, or one (a dart): the scheme's smooth vertex rule.
@@ -42,9 +48,15 @@ pub(crate) struct Level {
     pub(crate) face_edges: Vec<u32>,
     pub(crate) edge_verts: Vec<[u32; 2]>,
     pub(crate) edge_faces: Vec<[u32; 2]>,
-    /// User crease tags (boundary edges are sharp without being tagged).
-    pub(crate) edge_crease: Vec<bool>,
-    pub(crate) vertex_corner: Vec<bool>,
+    /// Edge sharpness (0 smooth, [`INFINITE`] for crease tags of 10 or more and boundary edges).
+    pub(crate) edge_sharpness: Vec<f32>,
+    /// Corner sharpness (with the corners the boundary mode sharpens).
+    pub(crate) vertex_sharpness: Vec<f32>,
+    pub(crate) creasing: CreaseMethod,
+    /// Catmull–Clark's smooth-triangle edge weights apply (the option is on and a face is a triangle).
+    pub(crate) tri_smooth: bool,
+    /// Rule changes toward the next level; empty when no sharpness is semi-sharp.
+    pub(crate) trans: Transitions,
     pub(crate) vert_edge_start: Vec<u32>,
     pub(crate) vert_edges: Vec<u32>,
     pub(crate) vert_face_start: Vec<u32>,
@@ -52,6 +64,83 @@ pub(crate) struct Level {
     pub(crate) vertex_rule: Vec<Rule>,
     /// For a crease vertex, the far ends of its two sharp edges.
     pub(crate) crease_ends: Vec<[u32; 2]>,
+}
+
+/// What changes between a level with semi-sharp values and the next.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Transitions {
+    /// The sharpness of the two halves of each edge one level down (at `edge_verts[e][0]`, then
+    /// `[1]`).
+    pub(crate) child_edge: Vec<[f32; 2]>,
+    /// Per edge, the weight of the midpoint rule in its edge point: 0 smooth, 1 crease, the
+    /// edge's sharpness where it decays to smooth (`ComputeEdgeVertexMask`).
+    pub(crate) edge_weight: Vec<f64>,
+    /// Per vertex, the blend toward the child's rule where the rule changes.
+    pub(crate) vertex: Vec<Option<Blend>>,
+}
+
+/// A vertex point blended between the parent's rule (weight `weight`) and the child's.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Blend {
+    pub(crate) weight: f64,
+    pub(crate) child_rule: Rule,
+    /// The child's crease ends when `child_rule` is [`Rule::Crease`].
+    pub(crate) child_ends: [u32; 2],
+}
+
+/// The sharpness one level down (`Sdc::Crease::decrementSharpness`): 0 and infinite stay, values
+/// above 1 lose 1, the rest become 0.
+#[inline]
+pub(crate) fn decrement(s: f32) -> f32 {
+    if s <= 0.0 {
+        0.0
+    } else if s >= INFINITE {
+        INFINITE
+    } else if s > 1.0 {
+        s - 1.0
+    } else {
+        0.0
+    }
+}
+
+#[inline]
+pub(crate) fn is_semi_sharp(s: f32) -> bool {
+    s > 0.0 && s < INFINITE
+}
+
+/// A mesh sharpness in OpenSubdiv's precision: `f32`, 10 and above infinite.
+#[inline]
+pub(crate) fn to_level_sharpness(s: f64) -> f32 {
+    if s >= f64::from(INFINITE) {
+        INFINITE
+    } else if s > 0.0 {
+        (s as f32).min(INFINITE)
+    } else {
+        0.0
+    }
+}
+
+/// A level sharpness back to a mesh one ([`INFINITE`] is `f64::INFINITY`).
+#[inline]
+pub(crate) fn to_mesh_sharpness(s: f32) -> f64 {
+    if s >= INFINITE {
+        f64::INFINITY
+    } else {
+        f64::from(s)
+    }
+}
+
+/// The rule of a vertex with corner sharpness `vs` and `sharp` sharp edges of `valence`
+/// (`Sdc::Crease::DetermineVertexVertexRule`; an isolated vertex stays put).
+#[inline]
+fn rule_of(vs: f32, sharp: usize, valence: usize) -> Rule {
+    if vs > 0.0 || sharp > 2 || valence == 0 {
+        Rule::Corner
+    } else if sharp == 2 {
+        Rule::Crease
+    } else {
+        Rule::Smooth
+    }
 }
 
 impl Level {
@@ -69,9 +158,29 @@ impl Level {
         self.face_start[f] as usize..self.face_start[f + 1] as usize
     }
 
+    /// The weight of the midpoint (crease) rule in the edge point of `e`: 0 for a smooth edge, 1
+    /// for a sharp one, between for a semi-sharp edge decaying to smooth.
     #[inline]
-    pub(crate) fn is_sharp(&self, e: usize) -> bool {
-        self.edge_crease[e] || self.edge_faces[e][1] == NONE
+    pub(crate) fn edge_weight(&self, e: usize) -> f64 {
+        if self.trans.edge_weight.is_empty() {
+            if self.edge_sharpness[e] > 0.0 {
+                1.0
+            } else {
+                0.0
+            }
+        } else {
+            self.trans.edge_weight[e]
+        }
+    }
+
+    /// The sharpness of the two halves of edge `e` one level down.
+    #[inline]
+    fn child_sharpness(&self, e: usize) -> [f32; 2] {
+        if self.trans.child_edge.is_empty() {
+            [self.edge_sharpness[e]; 2]
+        } else {
+            self.trans.child_edge[e]
+        }
     }
 
     /// The edges at vertex `v` (unordered).
@@ -98,12 +207,12 @@ impl Level {
     }
 
     /// The level-0 topology of a mesh: its faces in id order, its edges in [`Mesh::edges`] order.
-    pub(crate) fn from_mesh(mesh: &Mesh) -> Level {
+    pub(crate) fn from_mesh(mesh: &Mesh, options: &SubdivOptions) -> Level {
         let nh = mesh.halfedge_count();
         let mut he_edge = vec![NONE; nh];
         let mut edge_verts = Vec::with_capacity(nh / 2);
         let mut edge_faces = Vec::with_capacity(nh / 2);
-        let mut edge_crease = Vec::with_capacity(nh / 2);
+        let mut edge_sharpness = Vec::with_capacity(nh / 2);
         for h in mesh.edges() {
             let t = mesh.twin(h);
             let id = edge_verts.len() as u32;
@@ -113,7 +222,8 @@ impl Level {
             let (fa, fb) = (mesh.face(h), mesh.face(t));
             let (fa, fb) = (if fa == MESH_NONE { NONE } else { fa }, if fb == MESH_NONE { NONE } else { fb });
             edge_faces.push(if fa == NONE { [fb, fa] } else { [fa, fb] });
-            edge_crease.push(mesh.is_crease(h));
+            let boundary = fa == NONE || fb == NONE;
+            edge_sharpness.push(if boundary { INFINITE } else { to_level_sharpness(mesh.edge_sharpness(h)) });
         }
         let nf = mesh.face_count();
         let mut face_start = Vec::with_capacity(nf + 1);
@@ -128,7 +238,7 @@ impl Level {
             face_start.push(face_verts.len() as u32);
         }
         let nv = mesh.vertex_count();
-        let vertex_corner = (0..nv as u32).map(|v| mesh.is_corner(v)).collect();
+        let vertex_sharpness = (0..nv as u32).map(|v| to_level_sharpness(mesh.corner_sharpness(v))).collect();
         let mut level = Level {
             num_vertices: nv,
             face_start,
@@ -136,16 +246,34 @@ impl Level {
             face_edges,
             edge_verts,
             edge_faces,
-            edge_crease,
-            vertex_corner,
+            edge_sharpness,
+            vertex_sharpness,
+            creasing: options.crease,
             ..Level::default()
         };
-        level.derive();
+        level.adjacency();
+        if options.boundary == BoundaryInterpolation::EdgeAndCorner {
+            // `VTX_BOUNDARY_EDGE_AND_CORNER` sharpens topological corners: one face, two edges.
+            for v in 0..nv {
+                if level.vertex_faces(v).len() == 1 && level.vertex_edges(v).len() == 2 {
+                    level.vertex_sharpness[v] = INFINITE;
+                }
+            }
+        }
+        level.tri_smooth =
+            options.triangles == TriangleSubdivision::Smooth && level.first_face_not_of_arity(4).is_some();
+        level.classify();
         level
     }
 
-    /// Builds vertex adjacency (counting sorts) and classifies every vertex.
+    /// Builds vertex adjacency and classifies every vertex.
     pub(crate) fn derive(&mut self) {
+        self.adjacency();
+        self.classify();
+    }
+
+    /// Builds vertex → edges and vertex → faces adjacency (counting sorts).
+    fn adjacency(&mut self) {
         let nv = self.num_vertices;
         // Vertex → edges.
         let mut start = vec![0u32; nv + 1];
@@ -185,30 +313,134 @@ impl Level {
         }
         self.vert_face_start = start;
         self.vert_faces = list;
-        // Rules.
+    }
+
+    /// Each vertex's rule and crease ends, and the transitions when any sharpness is semi-sharp.
+    fn classify(&mut self) {
+        let nv = self.num_vertices;
         let mut rules = Vec::with_capacity(nv);
         let mut ends = vec![[NONE; 2]; nv];
         for (v, end) in ends.iter_mut().enumerate() {
             let edges = self.vertex_edges(v);
             let mut sharp = 0usize;
             for &e in edges {
-                if self.is_sharp(e as usize) {
+                if self.edge_sharpness[e as usize] > 0.0 {
                     if sharp < 2 {
                         end[sharp] = self.other_end(e as usize, v as u32);
                     }
                     sharp += 1;
                 }
             }
-            rules.push(if self.vertex_corner[v] || sharp >= 3 || edges.is_empty() {
-                Rule::Corner
-            } else if sharp == 2 {
-                Rule::Crease
-            } else {
-                Rule::Smooth
-            });
+            rules.push(rule_of(self.vertex_sharpness[v], sharp, edges.len()));
         }
         self.vertex_rule = rules;
         self.crease_ends = ends;
+        let semi = self.edge_sharpness.iter().any(|&s| is_semi_sharp(s))
+            || self.vertex_sharpness.iter().any(|&s| is_semi_sharp(s));
+        self.trans = if semi { self.transitions() } else { Transitions::default() };
+    }
+
+    /// The child sharpness of edge `e` at its end vertex `v` (`SubdivideEdgeSharpnessAtVertex`).
+    fn child_edge_sharpness_at(&self, e: usize, v: usize) -> f32 {
+        let s = self.edge_sharpness[e];
+        let edges = self.vertex_edges(v);
+        if self.creasing == CreaseMethod::Uniform || edges.len() < 2 || !is_semi_sharp(s) {
+            return decrement(s);
+        }
+        // Chaikin: ¾ of the edge's sharpness and ¼ of the mean of the other semi-sharp edges here.
+        let (mut sum, mut count) = (0.0f32, 0usize);
+        for &o in edges {
+            let so = self.edge_sharpness[o as usize];
+            if is_semi_sharp(so) {
+                sum += so;
+                count += 1;
+            }
+        }
+        let mut c = s;
+        if count > 1 {
+            let avg = (sum - s) / (count - 1) as f32;
+            c = 0.75 * s + 0.25 * avg;
+        }
+        c -= 1.0;
+        if c > 0.0 {
+            c
+        } else {
+            0.0
+        }
+    }
+
+    /// The transitions toward the next level (OpenSubdiv `Sdc::Scheme::ComputeEdgeVertexMask`,
+    /// `ComputeVertexVertexMask` and `Sdc::Crease::ComputeFractionalWeightAtVertex`).
+    fn transitions(&self) -> Transitions {
+        let child_edge: Vec<[f32; 2]> = self
+            .edge_verts
+            .iter()
+            .enumerate()
+            .map(|(e, &[a, b])| {
+                [self.child_edge_sharpness_at(e, a as usize), self.child_edge_sharpness_at(e, b as usize)]
+            })
+            .collect();
+        // An edge point follows the crease rule when both child halves stay sharp, and otherwise
+        // blends the crease and smooth rules by the edge's sharpness.
+        let edge_weight = self
+            .edge_sharpness
+            .iter()
+            .zip(&child_edge)
+            .map(|(&s, c)| {
+                if s <= 0.0 {
+                    0.0
+                } else if c[0] > 0.0 && c[1] > 0.0 {
+                    1.0
+                } else {
+                    f64::from(s)
+                }
+            })
+            .collect();
+        let uniform = self.creasing == CreaseMethod::Uniform;
+        let vertex = (0..self.num_vertices)
+            .map(|v| {
+                let p_rule = self.vertex_rule[v];
+                if p_rule == Rule::Smooth {
+                    return None;
+                }
+                let edges = self.vertex_edges(v);
+                let pvs = self.vertex_sharpness[v];
+                let cvs = decrement(pvs);
+                let child = |e: u32| {
+                    let [a, _] = self.edge_verts[e as usize];
+                    child_edge[e as usize][usize::from(a != v as u32)]
+                };
+                let sharp = edges.iter().filter(|&&e| child(e) > 0.0).count();
+                let c_rule = rule_of(cvs, sharp, edges.len());
+                if c_rule == p_rule {
+                    return None;
+                }
+                let (mut count, mut sum) = (0usize, 0.0f32);
+                if pvs > 0.0 && cvs <= 0.0 {
+                    count = 1;
+                    sum = pvs;
+                }
+                for &e in edges {
+                    let ps = self.edge_sharpness[e as usize];
+                    let transition = if uniform { ps > 0.0 && ps <= 1.0 } else { ps > 0.0 && child(e) <= 0.0 };
+                    if transition {
+                        sum += ps;
+                        count += 1;
+                    }
+                }
+                let weight = if count == 0 { 0.0 } else { (sum / count as f32).min(1.0) };
+                let mut child_ends = [NONE; 2];
+                let mut k = 0;
+                for &e in edges {
+                    if child(e) > 0.0 && k < 2 {
+                        child_ends[k] = self.other_end(e as usize, v as u32);
+                        k += 1;
+                    }
+                }
+                Some(Blend { weight: f64::from(weight), child_rule: c_rule, child_ends })
+            })
+            .collect();
+        Transitions { child_edge, edge_weight, vertex }
     }
 
     /// Index of the first face whose arity differs from `arity`, with that arity.
@@ -224,13 +456,14 @@ impl Level {
         let child_ne = 2 * ne + ncorner;
         let mut edge_verts = vec![[0u32; 2]; child_ne];
         let mut edge_faces = vec![[NONE; 2]; child_ne];
-        let mut edge_crease = vec![false; child_ne];
+        let mut edge_sharpness = vec![0.0f32; child_ne];
         for (e, &[a, b]) in self.edge_verts.iter().enumerate() {
             let m = (nv + e) as u32;
             edge_verts[2 * e] = [a, m];
             edge_verts[2 * e + 1] = [m, b];
-            edge_crease[2 * e] = self.edge_crease[e];
-            edge_crease[2 * e + 1] = self.edge_crease[e];
+            let [sa, sb] = self.child_sharpness(e);
+            edge_sharpness[2 * e] = sa;
+            edge_sharpness[2 * e + 1] = sb;
         }
         let mut face_start = Vec::with_capacity(ncorner + 1);
         let mut face_verts = Vec::with_capacity(4 * ncorner);
@@ -267,8 +500,10 @@ impl Level {
             }
         }
         face_start.push(face_verts.len() as u32);
-        let mut vertex_corner = vec![false; child_nv];
-        vertex_corner[..nv].copy_from_slice(&self.vertex_corner);
+        let mut vertex_sharpness = vec![0.0f32; child_nv];
+        for (c, &p) in vertex_sharpness.iter_mut().zip(&self.vertex_sharpness) {
+            *c = decrement(p);
+        }
         let mut level = Level {
             num_vertices: child_nv,
             face_start,
@@ -276,8 +511,9 @@ impl Level {
             face_edges,
             edge_verts,
             edge_faces,
-            edge_crease,
-            vertex_corner,
+            edge_sharpness,
+            vertex_sharpness,
+            creasing: self.creasing,
             ..Level::default()
         };
         level.derive();
@@ -291,13 +527,14 @@ impl Level {
         let child_ne = 2 * ne + 3 * nf;
         let mut edge_verts = vec![[0u32; 2]; child_ne];
         let mut edge_faces = vec![[NONE; 2]; child_ne];
-        let mut edge_crease = vec![false; child_ne];
+        let mut edge_sharpness = vec![0.0f32; child_ne];
         for (e, &[a, b]) in self.edge_verts.iter().enumerate() {
             let m = (nv + e) as u32;
             edge_verts[2 * e] = [a, m];
             edge_verts[2 * e + 1] = [m, b];
-            edge_crease[2 * e] = self.edge_crease[e];
-            edge_crease[2 * e + 1] = self.edge_crease[e];
+            let [sa, sb] = self.child_sharpness(e);
+            edge_sharpness[2 * e] = sa;
+            edge_sharpness[2 * e + 1] = sb;
         }
         let mut face_verts = Vec::with_capacity(12 * nf);
         let mut face_edges = Vec::with_capacity(12 * nf);
@@ -326,8 +563,10 @@ impl Level {
             face_edges.extend_from_slice(&[interior(0), interior(1), interior(2)]);
         }
         let face_start = (0..=4 * nf as u32).map(|i| 3 * i).collect();
-        let mut vertex_corner = vec![false; child_nv];
-        vertex_corner[..nv].copy_from_slice(&self.vertex_corner);
+        let mut vertex_sharpness = vec![0.0f32; child_nv];
+        for (c, &p) in vertex_sharpness.iter_mut().zip(&self.vertex_sharpness) {
+            *c = decrement(p);
+        }
         let mut level = Level {
             num_vertices: child_nv,
             face_start,
@@ -335,8 +574,9 @@ impl Level {
             face_edges,
             edge_verts,
             edge_faces,
-            edge_crease,
-            vertex_corner,
+            edge_sharpness,
+            vertex_sharpness,
+            creasing: self.creasing,
             ..Level::default()
         };
         level.derive();
@@ -381,19 +621,35 @@ impl Level {
         }
     }
 
-    /// The crease-tagged edges one step below this level, as vertex pairs (each tagged edge splits
-    /// in two at its edge point).
-    pub(crate) fn child_crease_pairs(&self) -> Vec<[u32; 2]> {
+    /// The crease-tagged edges one step below this level with their sharpness (each edge splits
+    /// in two at its edge point; boundary edges are not tags), and the corner sharpness of this
+    /// level's vertices one step down.
+    pub(crate) fn child_tags(&self) -> (Vec<([u32; 2], f64)>, Vec<f64>) {
         let nv = self.num_vertices as u32;
         let mut pairs = Vec::new();
         for (e, &[a, b]) in self.edge_verts.iter().enumerate() {
-            if self.edge_crease[e] {
+            if self.edge_sharpness[e] > 0.0 && self.edge_faces[e][1] != NONE {
                 let m = nv + e as u32;
-                pairs.push([a, m]);
-                pairs.push([m, b]);
+                let [sa, sb] = self.child_sharpness(e);
+                if sa > 0.0 {
+                    pairs.push(([a, m], to_mesh_sharpness(sa)));
+                }
+                if sb > 0.0 {
+                    pairs.push(([m, b], to_mesh_sharpness(sb)));
+                }
             }
         }
-        pairs
+        let corners = self.vertex_sharpness.iter().map(|&s| to_mesh_sharpness(decrement(s))).collect();
+        (pairs, corners)
+    }
+
+    /// This level's crease tags (boundary edges left out) and corner sharpness.
+    pub(crate) fn tags(&self) -> (Vec<([u32; 2], f64)>, Vec<f64>) {
+        let pairs = (0..self.edge_count())
+            .filter(|&e| self.edge_sharpness[e] > 0.0 && self.edge_faces[e][1] != NONE)
+            .map(|e| (self.edge_verts[e], to_mesh_sharpness(self.edge_sharpness[e])))
+            .collect();
+        (pairs, self.vertex_sharpness.iter().map(|&s| to_mesh_sharpness(s)).collect())
     }
 }
 
