@@ -47,16 +47,95 @@ fn innermost_position(err: &EvalAltResult) -> Position {
 ///     3 | let m = cube(2).translate([1, 2]);
 ///       |         ^
 /// ```
+///
+/// An error inside an imported module (a syntax error, or its top-level code failing) points
+/// into the module's file, followed by a note at the `import`.
 #[must_use]
 pub fn format_error(name: &str, source: &str, err: &EvalAltResult) -> String {
+    if let EvalAltResult::ErrorInModule(path, inner, pos) = err {
+        if let Some(module_source) = module_source(path) {
+            let inner_text = match &**inner {
+                EvalAltResult::ErrorParsing(kind, at) => {
+                    let e = ParseError(Box::new(kind.clone()), *at);
+                    format_parse_error(path, &module_source, &e)
+                }
+                other => format_error(path, &module_source, other),
+            };
+            return format!("{inner_text}\n{}", format_kind(name, source, *pos, "note", "imported here"));
+        }
+    }
     let pos = innermost_position(err);
     format_at(name, source, pos, &message(err))
 }
 
-/// Formats a parse error like [`format_error`].
+/// The text of the module file at `path` (a file, or a standard-library module written
+/// `stdlib/NAME.rhai`).
+fn module_source(path: &str) -> Option<String> {
+    if let Some(name) = path.strip_prefix("stdlib/").and_then(|p| p.strip_suffix(".rhai")) {
+        if let Some(src) = crate::resolver::Resolver::stdlib_source(name) {
+            return Some(src.to_string());
+        }
+    }
+    std::fs::read_to_string(path).ok()
+}
+
+/// Formats a parse error like [`format_error`]. Input that ends while a bracket is still open
+/// is reported at that bracket ("missing `}`"), not at the end of the file.
 #[must_use]
 pub fn format_parse_error(name: &str, source: &str, err: &ParseError) -> String {
+    let at_end = err.position().line().is_none_or(|l| l >= source.lines().count());
+    if let (true, Some((open, line, col))) = (at_end, unclosed_bracket(source)) {
+        let close = match open {
+            '(' => ')',
+            '[' => ']',
+            _ => '}',
+        };
+        let message = format!("missing `{close}`: the `{open}` here is never closed");
+        return format_at(name, source, Position::new(line as u16, col as u16), &message);
+    }
     format_at(name, source, err.position(), strip_position(&err.to_string()))
+}
+
+/// The innermost bracket still open at the end of `text` (strings and comments skipped):
+/// the bracket, its line and column (from 1).
+#[must_use]
+pub fn unclosed_bracket(text: &str) -> Option<(char, usize, usize)> {
+    let mut open: Vec<(char, usize, usize)> = Vec::new();
+    let (mut line, mut col) = (1usize, 0usize);
+    let mut chars = text.chars().peekable();
+    let mut quote: Option<char> = None;
+    let mut comment = false;
+    while let Some(c) = chars.next() {
+        if c == '\n' {
+            line += 1;
+            col = 0;
+            comment = false;
+            continue;
+        }
+        col += 1;
+        if comment {
+            continue;
+        }
+        if let Some(q) = quote {
+            if c == '\\' {
+                chars.next();
+                col += 1;
+            } else if c == q {
+                quote = None;
+            }
+            continue;
+        }
+        match c {
+            '"' | '`' | '\'' => quote = Some(c),
+            '/' if chars.peek() == Some(&'/') => comment = true,
+            '(' | '[' | '{' => open.push((c, line, col)),
+            ')' | ']' | '}' => {
+                open.pop();
+            }
+            _ => {}
+        }
+    }
+    open.pop()
 }
 
 /// Formats a warning at `pos` like [`format_error`] (`file:line:col: warning: ...`).
@@ -95,6 +174,16 @@ fn format_kind(name: &str, source: &str, pos: Position, kind: &str, message: &st
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_missing_brace_is_reported_at_the_brace_left_open() {
+        let src = "let m = cube(1);\nif true {\n  m = m.scale(2);\n\nm\n";
+        let err = rhai::Engine::new().compile(src).unwrap_err();
+        let text = format_parse_error("x.rhai", src, &err);
+        assert!(text.starts_with("x.rhai:2:9: error: missing `}`: the `{` here is never closed"), "{text}");
+        assert_eq!(unclosed_bracket("let s = \"{\"; // (\nf([1, 2]"), Some(('(', 2, 2)));
+        assert_eq!(unclosed_bracket("fn f() { 1 }"), None);
+    }
 
     #[test]
     fn error_shows_file_line_col_source_and_caret() {

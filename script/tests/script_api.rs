@@ -139,3 +139,22 @@ fn ending_with_a_value_that_cannot_be_saved_says_how_to_get_one() {
     let err = stderr(&o);
     assert!(err.contains("cannot write a BlockModel") && err.contains("its `.mesh()`"), "{err}");
 }
+
+#[test]
+fn a_syntax_error_in_an_imported_module_points_into_the_module() {
+    let d = tempfile::tempdir().unwrap();
+    script(&d, "legs.rhai", "fn leg(h) {\n    let x = h +;\n    x\n}\n");
+    let p = script(&d, "table.rhai", "let top = cube(1);\nimport \"legs\" as legs;\ntop\n");
+    let o = blocksmith().arg("run").arg(&p).output().unwrap();
+    let err = stderr(&o);
+    assert!(!o.status.success());
+    assert!(err.contains("legs.rhai:2:16: error: Unexpected ';'"), "{err}");
+    assert!(err.contains("2 |     let x = h +;"), "{err}");
+    assert!(err.contains("table.rhai:2:8: note: imported here"), "{err}");
+    // A module whose `{` is never closed says so, at the brace.
+    script(&d, "open.rhai", "fn g(x) {\n    x * 2\n");
+    let p = script(&d, "uses_open.rhai", "import \"open\" as o;\no::g(1)\n");
+    let o = blocksmith().arg("run").arg(&p).output().unwrap();
+    let err = stderr(&o);
+    assert!(err.contains("open.rhai:1:9: error: missing `}`: the `{` here is never closed"), "{err}");
+}
