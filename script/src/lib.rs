@@ -12,6 +12,8 @@ pub mod convert;
 pub mod diagnostics;
 pub mod doc;
 pub mod explain;
+pub mod facts;
+pub mod gltf_buffers;
 pub mod lint;
 pub mod manifest;
 pub mod param;

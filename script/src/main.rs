@@ -43,6 +43,11 @@ enum Command {
         /// the tool version) to this JSON file.
         #[arg(long, value_name = "FILE.json")]
         manifest: Option<PathBuf>,
+        /// List the recipe's parameters instead of writing a model, as `blocksmith params`
+        /// does: `--params` (a table) or `--params json`.
+        #[arg(long, value_name = "FORMAT", num_args = 0..=1, default_missing_value = "text",
+              value_parser = ["text", "json"], conflicts_with_all = ["output", "stats", "manifest", "max_operations"])]
+        params: Option<String>,
     },
     /// List a recipe's parameters (found by running it): name, type, default, range, doc.
     Params {
@@ -165,10 +170,26 @@ fn served(result: Result<(), String>) -> ExitCode {
     }
 }
 
+/// `blocksmith params` and `run --params`: the recipe's parameters as `format` (text or json).
+fn list_params(file: &std::path::Path, set: &[(String, String)], format: &str) -> ExitCode {
+    let format = if format == "json" { ListFormat::Json } else { ListFormat::Text };
+    match params_list::execute(file, set, format) {
+        Ok(listing) => {
+            print!("{listing}");
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("{e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
-        Command::Run { file, output, set, max_operations, stats, manifest } => {
+        Command::Run { file, set, params: Some(format), .. } => list_params(&file, &set, &format),
+        Command::Run { file, output, set, max_operations, stats, manifest, params: None } => {
             let cmd = RunCommand { file, output, params: set, max_operations, stats: stats.is_some(), manifest };
             report(execute_with_outcome(&cmd).map(|o| {
                 for w in &o.warnings {
@@ -180,19 +201,7 @@ fn main() -> ExitCode {
                 o.summary
             }))
         }
-        Command::Params { file, format, set } => {
-            let format = if format == "json" { ListFormat::Json } else { ListFormat::Text };
-            match params_list::execute(&file, &set, format) {
-                Ok(listing) => {
-                    print!("{listing}");
-                    ExitCode::SUCCESS
-                }
-                Err(e) => {
-                    eprintln!("{e}");
-                    ExitCode::FAILURE
-                }
-            }
-        }
+        Command::Params { file, format, set } => list_params(&file, &set, &format),
         Command::Repl => match repl::run() {
             Ok(()) => ExitCode::SUCCESS,
             Err(e) => {

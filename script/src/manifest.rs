@@ -60,7 +60,16 @@ pub fn build(recipe: &Path, record: &RunRecord, output: Option<&Path>) -> Result
         Some(out) => {
             rebuild.push(json!("-o"));
             rebuild.push(json!(out.display().to_string()));
-            json!({ "path": out.display().to_string(), "sha256": hash_file(out)? })
+            // A .gltf's model is also in its buffer files (the .bin beside it).
+            let buffers: Vec<Value> = crate::gltf_buffers::buffer_files(out)
+                .iter()
+                .map(|b| Ok(json!({ "path": b.display().to_string(), "sha256": hash_file(b)? })))
+                .collect::<Result<_, RunError>>()?;
+            let mut o = json!({ "path": out.display().to_string(), "sha256": hash_file(out)? });
+            if !buffers.is_empty() {
+                o["buffers"] = Value::Array(buffers);
+            }
+            o
         }
         None => Value::Null,
     };

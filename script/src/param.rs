@@ -161,11 +161,22 @@ impl Declared {
             return Err(format!("must be one of {}", self.choice_list()));
         }
         let xs = numbers(v);
+        let each = if xs.len() > 1 || v.is_array() { "each " } else { "" };
         if xs.iter().any(|&x| self.spec.min.is_some_and(|lo| x < lo) || self.spec.max.is_some_and(|hi| x > hi)) {
-            let each = if xs.len() > 1 || v.is_array() { "each " } else { "" };
             return Err(format!("must be {each}{}", self.range()));
         }
+        if let Some(step) = self.spec.step {
+            let base = self.spec.min.unwrap_or(0.0);
+            if xs.iter().any(|&x| !on_step(x, base, step)) {
+                return Err(format!("must be {each}{}", self.steps().trim_start_matches(", ")));
+            }
+        }
         Ok(())
+    }
+
+    /// The steps a value must be on, in words (`, in steps of 0.5 from 1`), or nothing.
+    fn steps(&self) -> String {
+        self.spec.step.map_or_else(String::new, |s| format!(", in steps of {s} from {}", self.spec.min.unwrap_or(0.0)))
     }
 
     /// What a `--set` value must be, in words: "an integer from 1 to 12", "one of a, b".
@@ -181,12 +192,15 @@ impl Declared {
             ParamKind::Other => "a value".to_string(),
         };
         let range = self.range();
-        if range.is_empty() {
+        let steps = self.steps();
+        if range.is_empty() && steps.is_empty() {
             what
         } else if matches!(self.spec.kind, ParamKind::Vec3 | ParamKind::Array) {
-            format!("{what}, each {range}")
+            format!("{what}, each {range}{steps}").replace("each , ", "each ")
+        } else if range.is_empty() {
+            format!("{what}{steps}")
         } else {
-            format!("{what} {range}")
+            format!("{what} {range}{steps}")
         }
     }
 
@@ -260,6 +274,16 @@ fn equal(a: &Dynamic, b: &Dynamic) -> bool {
     }
 }
 
+/// How far, in steps, a value may be from a step (`base + k × step`): floating-point
+/// arithmetic leaves 0.1 + 0.2 a hair away from the third step of 0.1.
+const STEP_TOLERANCE: f64 = 1e-6;
+
+/// Whether `x` is `base + k × step` for a whole `k`, within [`STEP_TOLERANCE`] of a step.
+fn on_step(x: f64, base: f64, step: f64) -> bool {
+    let k = (x - base) / step;
+    (k - k.round()).abs() <= STEP_TOLERANCE
+}
+
 /// The numbers in a value a range applies to: a number, a vector's coordinates, an array's
 /// numeric elements.
 fn numbers(v: &Dynamic) -> Vec<f64> {
@@ -319,6 +343,28 @@ mod tests {
             Ok(_) => panic!("expected an error"),
             Err(e) => crate::diagnostics::message(&e),
         }
+    }
+
+    #[test]
+    fn a_value_must_be_on_its_step_counted_from_min_or_zero() {
+        let opts = map(&[("min", Dynamic::from(0.5)), ("max", Dynamic::from(4.0)), ("step", Dynamic::from(0.5))]);
+        let size = || Declared::new("size", Dynamic::from(1.0), opts.clone()).unwrap();
+        assert_eq!(size().resolve(Some("2.5")).unwrap().0.as_float().unwrap(), 2.5);
+        assert_eq!(
+            msg(size().resolve(Some("1.2"))),
+            "param: `size` must be a number from 0.5 to 4, in steps of 0.5 from 0.5 (default 1.0), got `1.2`"
+        );
+        // Tenths add up with rounding errors and still count as on the step.
+        let tenth = map(&[("step", Dynamic::from(0.1))]);
+        let t = Declared::new("t", Dynamic::from(0.3), tenth.clone()).unwrap();
+        assert!(t.resolve(Some("0.7")).is_ok());
+        let t = Declared::new("t", Dynamic::from(0.3), tenth.clone()).unwrap();
+        assert!(msg(t.resolve(Some("0.75"))).contains("in steps of 0.1 from 0"));
+        // A default off its own step is a declaration error; vectors are checked per coordinate.
+        let e = msg(Declared::new("t", Dynamic::from(0.25), tenth));
+        assert_eq!(e, "param: `t`: the default 0.25 must be in steps of 0.1 from 0");
+        let v = Declared::new("at", Dynamic::from(Vec3::ZERO), map(&[("step", Dynamic::from(2_i64))])).unwrap();
+        assert!(msg(v.resolve(Some("2,4,5"))).contains("each in steps of 2 from 0"));
     }
 
     #[test]

@@ -90,7 +90,7 @@ pub struct ParamSpec {
     pub min: Option<f64>,
     /// See `min`.
     pub max: Option<f64>,
-    /// The increment a control should use (not checked).
+    /// The increment a control uses; a value must be `min` (else 0) plus a whole number of steps.
     pub step: Option<f64>,
     /// The allowed values, when declared (kind [`ParamKind::Choice`]); empty otherwise.
     pub choices: Vec<Value>,

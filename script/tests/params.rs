@@ -57,6 +57,15 @@ fn params_lists_type_default_range_and_doc_as_text_and_json() {
     assert_eq!(params[0]["step"], 0.5);
     assert_eq!(params[1]["choices"], serde_json::json!(["oak", "pine"]));
     assert_eq!(params[3]["default"], serde_json::json!([0.0, 0.0, 1.0]));
+    // `run --params` is the same listing.
+    let o = blocksmith().arg("run").arg(&p).arg("--params").output().unwrap();
+    assert_eq!((o.status.success(), stdout(&o)), (true, expected.to_string()), "{}", stderr(&o));
+    let o = blocksmith().arg("run").arg(&p).args(["--params", "json"]).output().unwrap();
+    assert_eq!(serde_json::from_str::<serde_json::Value>(&stdout(&o)).unwrap(), v);
+    assert_fails_with(
+        &blocksmith().arg("run").arg(&p).arg("--params").args(["-o", "x.stl"]).output().unwrap(),
+        "--output",
+    );
 }
 
 #[test]
@@ -67,7 +76,10 @@ fn set_values_are_typed_and_checked_at_the_param_call() {
     assert_fails_with(&run("legs=2.5"), "table.rhai:3:");
     assert_fails_with(&run("legs=2.5"), "param: `legs` must be an integer from 3 to 8 (default 4), got `2.5`");
     assert_fails_with(&run("legs=9"), "must be an integer from 3 to 8 (default 4), got `9`");
-    assert_fails_with(&run("size=abc"), "param: `size` must be a number from 0.5 to 10 (default 2.0), got `abc`");
+    let size = "param: `size` must be a number from 0.5 to 10, in steps of 0.5 from 0.5 (default 2.0)";
+    assert_fails_with(&run("size=abc"), &format!("{size}, got `abc`"));
+    assert_fails_with(&run("size=2.2"), &format!("{size}, got `2.2`"));
+    assert!(run("size=9.5").status.success());
     assert_fails_with(&run("wood=elm"), "param: `wood` must be one of oak, pine (default \"oak\"), got `elm`");
     assert_fails_with(&run("at=1,2"), "param: `at` must be three numbers x,y,z (default [0.0,0.0,1.0]), got `1,2`");
     let o = run("at=1,2,3");
@@ -168,4 +180,38 @@ fn a_manifest_changes_when_an_imported_or_loaded_file_changes_and_only_then() {
     let k: serde_json::Value = serde_json::from_str(&manifest(&recipe, &out, &["k=2"])).unwrap();
     assert_ne!(k["output"]["sha256"], l["output"]["sha256"]);
     assert_eq!(k["params"][0]["value"], 2.0);
+}
+
+#[test]
+fn a_gltf_is_hashed_with_its_buffer_files_written_or_loaded() {
+    let d = tempfile::tempdir().unwrap();
+    let dir = d.path();
+    // Written: the manifest's output is the .gltf and the .bin beside it.
+    let recipe = script(dir, "r.rhai", "cube(param(\"k\", 1.0))");
+    let out = dir.join("r.gltf");
+    let v: serde_json::Value = serde_json::from_str(&manifest(&recipe, &out, &[])).unwrap();
+    let buffers = v["output"]["buffers"].as_array().unwrap();
+    assert_eq!(buffers.len(), 1, "{v}");
+    let bin = std::path::PathBuf::from(buffers[0]["path"].as_str().unwrap());
+    assert_eq!(bin.extension().and_then(|e| e.to_str()), Some("bin"));
+    let bytes = std::fs::read(&bin).unwrap();
+    assert_eq!(buffers[0]["sha256"].as_str().unwrap(), sha256_hex(&bytes));
+    // Loaded: the .bin is a file the run read; a change to it alone changes the manifest.
+    let loader = script(dir, "l.rhai", "load(\"r.gltf\")");
+    let lout = dir.join("l.stl");
+    let first: serde_json::Value = serde_json::from_str(&manifest(&loader, &lout, &[])).unwrap();
+    let paths: Vec<&str> = first["inputs"].as_array().unwrap().iter().map(|i| i["path"].as_str().unwrap()).collect();
+    assert_eq!(paths, ["r.gltf", bin.file_name().unwrap().to_str().unwrap()]);
+    let moved = blocksmith().arg("run").arg(&recipe).args(["--set", "k=2", "-o"]).arg(dir.join("k2.gltf")).output();
+    assert!(moved.unwrap().status.success());
+    let k2_bin = std::fs::read(dir.join("k2.bin")).unwrap();
+    assert_eq!(k2_bin.len(), bytes.len(), "same layout, other positions");
+    std::fs::write(&bin, k2_bin).unwrap();
+    let second: serde_json::Value = serde_json::from_str(&manifest(&loader, &lout, &[])).unwrap();
+    assert_eq!(second["inputs"][0], first["inputs"][0], "the .gltf itself is unchanged");
+    assert_ne!(second["inputs"][1]["sha256"], first["inputs"][1]["sha256"]);
+}
+
+fn sha256_hex(bytes: &[u8]) -> String {
+    blocksmith::manifest::sha256(bytes)
 }

@@ -26,8 +26,8 @@ const fmt = (x) => (Number.isInteger(x) ? String(x) : x.toPrecision(6).replace(/
 function showFacts(layers, runMs) {
   const sum = (key) => layers.reduce((s, l) => s + l.facts[key], 0);
   const f = layers.map((l) => l.facts);
-  const min = [0, 1, 2].map((k) => Math.min(...f.map((x) => x.min[k])));
-  const max = [0, 1, 2].map((k) => Math.max(...f.map((x) => x.max[k])));
+  const min = [0, 1, 2].map((k) => Math.min(...f.map((x) => x.bounds.min[k])));
+  const max = [0, 1, 2].map((k) => Math.max(...f.map((x) => x.bounds.max[k])));
   const rows = [
     ['vertices', sum('vertices')], ['triangles', sum('triangles')],
     ['closed', f.every((x) => x.closed) ? 'yes' : 'no'], ['manifold', f.every((x) => x.manifold) ? 'yes' : 'no'],
@@ -79,6 +79,11 @@ async function showModel(message) {
     version: message.version, triangles: viewer.triangles(), controlEdges: viewer.controlEdges(), loads: studio.loads + 1,
   });
   document.title = `blocksmith: ${studio.triangles} triangles`;
+  // When the model reached the screen: after the next frame is drawn (for latency scripts).
+  const version = message.version;
+  requestAnimationFrame(() => requestAnimationFrame(() => {
+    studio.shown = { version, at: Date.now(), sincePageStart: performance.now() };
+  }));
 }
 
 // Messages are handled one after the other, a model only once it has loaded, so an error that

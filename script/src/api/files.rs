@@ -137,6 +137,12 @@ pub mod files_api {
         let p = run.input_path(path);
         if p.exists() {
             run.record.input(&p);
+            // A .gltf's model is also in its buffer files.
+            for buffer in crate::gltf_buffers::buffer_files(&p) {
+                if buffer.exists() {
+                    run.record.input(&buffer);
+                }
+            }
         }
         match io::load_with(&p, &opts) {
             Ok(m) => Ok(SharedMesh::new(m)),

@@ -130,7 +130,8 @@ pub mod runtime_api {
 
     /// `param(name, default, #{min, max, step, choices, doc})`: a parameter with a range
     /// (`min`, `max`: inclusive, of a number or of each coordinate or element), the increment a
-    /// control should use (`step`), the allowed values (`choices`, of the default's type) and a
+    /// control uses (`step`: a value must be `min`, else 0, plus a whole number of steps, within
+    /// a millionth of a step), the allowed values (`choices`, of the default's type) and a
     /// one-line description (`doc`), after OpenSCAD's customizer. The default must pass the
     /// checks; a `--set` value outside them is an error naming the parameter, what it must be
     /// and its default, before the recipe runs further.

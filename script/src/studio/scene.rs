@@ -28,47 +28,6 @@ pub struct Layer {
     pub control: Option<Vec<f32>>,
 }
 
-/// A mesh's facts as the page lists them.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Facts {
-    pub vertices: usize,
-    pub triangles: usize,
-    pub closed: bool,
-    pub manifold: bool,
-    pub genus: i64,
-    pub volume: f64,
-    pub min: [f64; 3],
-    pub max: [f64; 3],
-}
-
-impl Facts {
-    /// The facts of `mesh`.
-    #[must_use]
-    pub fn of(mesh: &Mesh) -> Facts {
-        let b = mesh.bounds();
-        Facts {
-            vertices: mesh.vertex_count(),
-            triangles: mesh.triangle_count(),
-            closed: mesh.is_closed(),
-            manifold: mesh.is_manifold(),
-            genus: mesh.genus(),
-            volume: mesh.volume(),
-            min: b.min.to_array(),
-            max: b.max.to_array(),
-        }
-    }
-
-    /// The facts as a JSON object.
-    #[must_use]
-    pub fn json(&self) -> serde_json::Value {
-        serde_json::json!({
-            "vertices": self.vertices, "triangles": self.triangles, "closed": self.closed,
-            "manifold": self.manifold, "genus": self.genus, "volume": self.volume,
-            "min": self.min, "max": self.max,
-        })
-    }
-}
-
 /// A recipe's run: its layers and how long the run took (the script, not the conversion).
 #[derive(Clone, Debug)]
 pub struct Scene {
@@ -234,7 +193,7 @@ mod tests {
         assert_eq!(scene.layers.len(), 1);
         assert_eq!(scene.layers[0].name, "model");
         assert_eq!(&scene.layers[0].glb[..4], b"glTF");
-        let f = Facts::of(&scene.layers[0].mesh);
+        let f = crate::facts::Facts::of(&scene.layers[0].mesh);
         assert_eq!((f.vertices, f.triangles, f.closed, f.manifold, f.genus), (8, 12, true, true, 0));
         assert!((f.volume - 8.0).abs() < 1e-6, "{}", f.volume);
     }

@@ -15,8 +15,9 @@ use std::sync::{Arc, Mutex, MutexGuard};
 
 use serde_json::json;
 
-use super::scene::{self, Facts, Layer, Scene};
+use super::scene::{self, Layer, Scene};
 use crate::context::RunContext;
+use crate::facts::Facts;
 use crate::EngineOptions;
 
 /// What a session shows.

@@ -1,0 +1,67 @@
+//! The files a `.gltf` refers to: its buffers that are not embedded (`data:` URIs) and so live
+//! beside it, usually one `.bin`. A manifest hashes them with the `.gltf` (the model is both),
+//! and a run that loads a `.gltf` records them as files it read.
+
+use std::path::{Component, Path, PathBuf};
+
+/// The buffer files of the `.gltf` at `path`, in the order its `buffers` list them: each URI
+/// percent-decoded and taken relative to the file's folder. URIs that leave the folder
+/// (absolute, `..`) are skipped, as the reader refuses them. Empty when the file cannot be
+/// read or is not glTF JSON.
+#[must_use]
+pub fn buffer_files(path: &Path) -> Vec<PathBuf> {
+    let Ok(text) = std::fs::read(path) else { return Vec::new() };
+    let Ok(doc) = serde_json::from_slice::<serde_json::Value>(&text) else { return Vec::new() };
+    let dir = path.parent().unwrap_or(Path::new(""));
+    let buffers = doc["buffers"].as_array().cloned().unwrap_or_default();
+    buffers
+        .iter()
+        .filter_map(|b| b["uri"].as_str())
+        .filter(|uri| !uri.starts_with("data:"))
+        .map(percent_decode)
+        .map(PathBuf::from)
+        .filter(|p| p.components().all(|c| matches!(c, Component::Normal(_) | Component::CurDir)))
+        .map(|p| dir.join(p))
+        .collect()
+}
+
+/// `%XX` sequences decoded (RFC 3986 §2.1); anything else as it is.
+fn percent_decode(uri: &str) -> String {
+    let bytes = uri.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        let hex = bytes
+            .get(i + 1..i + 3)
+            .and_then(|h| std::str::from_utf8(h).ok())
+            .and_then(|h| u8::from_str_radix(h, 16).ok());
+        match (bytes[i], hex) {
+            (b'%', Some(b)) => {
+                out.push(b);
+                i += 3;
+            }
+            (b, _) => {
+                out.push(b);
+                i += 1;
+            }
+        }
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn buffers_beside_the_file_are_listed_and_embedded_or_escaping_ones_are_not() {
+        let dir = tempfile::tempdir().unwrap();
+        let gltf = dir.path().join("m.gltf");
+        let doc = r#"{"buffers": [{"uri": "m%20data.bin"}, {"uri": "data:application/octet-stream;base64,AAAA"},
+                     {"uri": "../outside.bin"}, {"uri": "/etc/passwd"}, {"uri": "sub/b.bin"}]}"#;
+        std::fs::write(&gltf, doc).unwrap();
+        assert_eq!(buffer_files(&gltf), [dir.path().join("m data.bin"), dir.path().join("sub/b.bin")]);
+        std::fs::write(&gltf, "not json").unwrap();
+        assert!(buffer_files(&gltf).is_empty());
+    }
+}
