@@ -3,7 +3,7 @@
 
 Usage: python check_meshes.py DIR
 
-Every .glb, .gltf, .obj, .stl and .ply under DIR is loaded with trimesh (a peer the field trusts, not our own
+Every .glb, .gltf, .obj, .stl, .ply and .3mf under DIR is loaded with trimesh (a peer the field trusts, not our own
 reader), its vertices merged by position (normals and texture coordinates ignored, so a writer that
 splits vertices for attributes still counts as one surface), and must be
 
@@ -13,7 +13,7 @@ splits vertices for attributes still counts as one surface), and must be
 
 A file under a directory named `open/` is a mesh that is open on purpose (a test of open input): it is
 loaded and counted, not checked. One line per failure, then `meshes: N passed, N failed, N open`; exit 1
-on any failure.
+on any failure. A .3mf is also read by lib3mf in strict mode, and any warning it gives is a failure.
 """
 import pathlib
 import sys
@@ -22,7 +22,7 @@ import urllib.parse
 import trimesh
 from trimesh.resolvers import FilePathResolver
 
-SUFFIXES = {".glb", ".gltf", ".obj", ".stl", ".ply"}
+SUFFIXES = {".glb", ".gltf", ".obj", ".stl", ".ply", ".3mf"}
 
 
 class UriResolver(FilePathResolver):
@@ -38,6 +38,18 @@ def meshes_of(path):
     if isinstance(loaded, trimesh.Scene):
         return [loaded.to_geometry()] if loaded.geometry else []
     return [loaded]
+
+
+def strict_3mf_problems(path):
+    """What lib3mf (the 3MF Consortium's reference library) finds in a 3MF file read in strict mode:
+    any warning is a departure from the core or materials specification."""
+    import lib3mf
+
+    model = lib3mf.get_wrapper().CreateModel()
+    reader = model.QueryReader("3mf")
+    reader.SetStrictModeActive(True)
+    reader.ReadFromFile(str(path))
+    return [f"lib3mf: {reader.GetWarning(i)[1]}" for i in range(reader.GetWarningCount())]
 
 
 def problems_of(mesh):
@@ -71,6 +83,8 @@ def main(root):
             problems = [] if meshes else ["no mesh in the file"]
             for mesh in meshes:
                 problems += problems_of(mesh)
+            if path.suffix.lower() == ".3mf":
+                problems += strict_3mf_problems(path)
         except Exception as error:  # a file trimesh cannot read is a failure, with its reason
             problems = [f"unreadable: {error}"]
         if problems:

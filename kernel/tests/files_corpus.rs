@@ -2,7 +2,7 @@
 //! each file loads with trimesh's counts, Euler characteristic, area (1e-9 relative) and volume,
 //! and shows the behaviour named in expected.json (`closed`: a closed manifold mesh;
 //! `triangulates`: a valid triangulation, written to STL and GLB and read back closed).
-//! Every closed one is also written to PLY (binary and ASCII) and read back bit for bit, and
+//! Every closed one is also written to PLY (binary and ASCII) and 3MF and read back bit for bit, and
 //! the written files are left for CI's independent trimesh check.
 
 use std::path::{Path, PathBuf};
@@ -57,6 +57,12 @@ fn every_corpus_file_matches_trimesh_and_its_behaviour() {
                     assert_eq!(back.positions(), m.positions(), "{name}.{suffix}.ply");
                     assert_eq!(back.to_polygons(), m.to_polygons(), "{name}.{suffix}.ply");
                 }
+                // 3MF keeps triangles: the triangulated mesh comes back bit for bit.
+                let path = out.join(format!("{name}.3mf"));
+                save(&m, &path).unwrap_or_else(|err| panic!("{name}: {err}"));
+                let back = load(&path).unwrap_or_else(|err| panic!("{name}: {err}"));
+                assert_eq!(back.positions(), t.positions(), "{name}.3mf");
+                assert_eq!(back.to_polygons(), t.to_polygons(), "{name}.3mf");
             }
             "triangulates" => {
                 for ext in ["stl", "glb"] {

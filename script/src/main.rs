@@ -22,7 +22,7 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Run a recipe; write its last value to OUT (by extension: .glb .gltf .obj .stl .ply).
+    /// Run a recipe; write its last value to OUT (by extension: .glb .gltf .obj .stl .ply .3mf).
     Run {
         /// The recipe (.rhai).
         file: PathBuf,
@@ -72,7 +72,7 @@ enum Command {
     },
     /// Draw a recipe's value (or a mesh file) to a PNG on the CPU: no GPU, no browser.
     Render {
-        /// The recipe (.rhai) or mesh file (.glb .gltf .obj .stl .ply).
+        /// The recipe (.rhai) or mesh file (.glb .gltf .obj .stl .ply .3mf).
         file: PathBuf,
         /// The PNG to write.
         #[arg(short, long)]
@@ -101,7 +101,7 @@ enum Command {
         #[arg(long)]
         open: bool,
     },
-    /// Show a mesh file (.glb .gltf .obj .stl .ply) in the browser, read again on every save.
+    /// Show a mesh file (.glb .gltf .obj .stl .ply .3mf) in the browser, read again on every save.
     View {
         /// The mesh file.
         file: PathBuf,

@@ -8,7 +8,7 @@ use crate::mesh::MeshError;
 
 /// The file extensions [`load`](super::load) and [`save`](super::save) know, as listed in
 /// error messages.
-pub const KNOWN_EXTENSIONS: &str = ".obj, .glb, .gltf, .stl, .ply";
+pub const KNOWN_EXTENSIONS: &str = ".obj, .glb, .gltf, .stl, .ply, .3mf";
 
 /// Why a mesh file could not be read or written.
 ///
@@ -41,6 +41,10 @@ pub enum IoError {
     /// cannot hold, data ending early, a word that is not a number.
     #[error("{}: malformed PLY: {reason}", path.display())]
     Ply { path: PathBuf, reason: String },
+    /// A malformed 3MF package: not a zip archive, no model part, a part over the memory
+    /// budget, invalid XML, a missing attribute, a build item naming no object.
+    #[error("{}: malformed 3MF: {reason}", path.display())]
+    ThreeMf { path: PathBuf, reason: String },
     /// A malformed glTF file: not glTF at all, truncated, invalid JSON, a failed schema check,
     /// an accessor of the wrong type or reaching past its buffer, a missing buffer.
     #[error("{}: malformed glTF: {reason}", path.display())]
@@ -95,6 +99,7 @@ impl IoError {
             | IoError::Obj { path, .. }
             | IoError::Stl { path, .. }
             | IoError::Ply { path, .. }
+            | IoError::ThreeMf { path, .. }
             | IoError::Gltf { path, .. }
             | IoError::Unsupported { path, .. }
             | IoError::IndexOutOfRange { path, .. }

@@ -1,6 +1,6 @@
 //! Mesh files: OBJ (read and write), binary STL (write; binary and ASCII read), glTF 2.0 (`.glb`
 //! and `.gltf` with a separate `.bin` buffer, read and write), PLY (ASCII and binary, read and
-//! write).
+//! write), 3MF (read and write).
 //!
 //! [`load`] and [`save`] pick the format by the extension (case-insensitive). Each format also
 //! has functions that read from bytes and write to any [`std::io::Write`], so that they can be
@@ -24,6 +24,7 @@
 //! | glTF | f32 | yes (mesh `extras`) | yes | yes (mesh `extras`) | RGBA |
 //! | STL | f32 | triangles | no (welded by position) | no | no |
 //! | PLY | exact (f64) | yes | yes (unless welded) | no | RGB(A), 8 bits |
+//! | 3MF | exact (shortest decimal) | triangles | yes | no | RGBA, 8 bits (colour group); sources as base materials |
 
 mod atomic;
 mod error;
@@ -33,6 +34,7 @@ mod options;
 pub mod ply;
 mod source_colors;
 pub mod stl;
+pub mod threemf;
 mod uri;
 mod weld;
 
@@ -60,6 +62,8 @@ pub enum Format {
     Stl,
     /// Polygon File Format `.ply` (written binary little-endian unless asked otherwise).
     Ply,
+    /// 3D Manufacturing Format `.3mf` (a zip package of XML; Z-up, millimetres).
+    ThreeMf,
 }
 
 impl Format {
@@ -75,6 +79,7 @@ impl Format {
             "gltf" => Ok(Format::Gltf),
             "stl" => Ok(Format::Stl),
             "ply" => Ok(Format::Ply),
+            "3mf" => Ok(Format::ThreeMf),
             _ => Err(IoError::UnknownExtension {
                 path: path.into(),
                 ext: path.extension().map(|e| e.to_string_lossy().into_owned()).unwrap_or_default(),
@@ -92,7 +97,7 @@ pub fn load(path: impl AsRef<Path>) -> Result<Mesh, IoError> {
 }
 
 /// Reads the mesh in the file at `path`, by extension: `.obj`, `.glb`, `.gltf`, `.stl`, `.ply`,
-/// in kernel (Z-up) axes. `options.up` is the file's up axis (OBJ, STL and PLY only; glTF is
+/// `.3mf`, in kernel (Z-up) axes. `options.up` is the file's up axis (OBJ, STL and PLY only; glTF is
 /// Y-up by specification), `options.weld` how STL, glTF and PLY vertices are welded.
 ///
 /// # Errors
@@ -111,6 +116,7 @@ pub fn load_with(path: impl AsRef<Path>, options: &LoadOptions) -> Result<Mesh, 
         Format::Glb | Format::Gltf => gltf::read_gltf_with(&bytes, path.parent(), path, options.weld)?,
         Format::Stl => stl::read_stl_with(&bytes, path, options.weld)?,
         Format::Ply => ply::read_ply_with(&bytes, path, options.weld)?,
+        Format::ThreeMf => threemf::read_3mf(&bytes, path)?,
     };
     Ok(match up {
         UpAxis::Z => mesh,
@@ -127,6 +133,10 @@ fn file_up(format: Format, up: Option<UpAxis>, path: &Path) -> Result<UpAxis, Io
             reason: "glTF is Y-up by specification and always converted to and from Z-up: it takes no up axis".into(),
         }),
         (Format::Glb | Format::Gltf, _) => Ok(UpAxis::Z),
+        (Format::ThreeMf, Some(UpAxis::Y)) => Err(IoError::Unsupported {
+            path: path.into(),
+            reason: "3MF is Z-up by specification: it takes no other up axis".into(),
+        }),
         (_, up) => Ok(up.unwrap_or_default()),
     }
 }
@@ -141,7 +151,7 @@ pub fn save(mesh: &Mesh, path: impl AsRef<Path>) -> Result<(), IoError> {
 
 /// Writes `mesh` to the file at `path`, by extension: `.obj`, `.glb`, `.gltf` (which also
 /// writes the buffer to the same path with the extension `.bin`), `.stl`, `.ply` (in
-/// `options.ply`'s encoding). glTF is written Y-up (converted exactly); OBJ, STL and PLY Z-up
+/// `options.ply`'s encoding), `.3mf`. glTF is written Y-up (converted exactly); OBJ, STL and PLY Z-up
 /// unless `options.up` says otherwise. Each file is
 /// written atomically ([`write_atomic`]): a failing save leaves the old file as it was.
 ///
@@ -169,6 +179,7 @@ pub fn save_with(mesh: &Mesh, path: impl AsRef<Path>, options: &SaveOptions) -> 
         Format::Glb => write_atomic(path, |w| gltf::write_glb(mesh, w, path)),
         Format::Stl => write_atomic(path, |w| stl::write_stl(mesh, w, path)),
         Format::Ply => write_atomic(path, |w| ply::write_ply(mesh, w, options.ply, path)),
+        Format::ThreeMf => write_atomic(path, |w| threemf::write_3mf(mesh, w, path)),
         Format::Gltf => {
             let bin_path = path.with_extension("bin");
             let bin_name = bin_path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
@@ -202,7 +213,10 @@ mod tests {
         for name in ["mesh.3ds", "mesh", "dir.obj/mesh.fbx"] {
             let e = load(name).unwrap_err();
             assert!(matches!(e, IoError::UnknownExtension { .. }), "{e}");
-            assert!(e.to_string().starts_with(name) && e.to_string().contains(".obj, .glb, .gltf, .stl, .ply"), "{e}");
+            assert!(
+                e.to_string().starts_with(name) && e.to_string().contains(".obj, .glb, .gltf, .stl, .ply, .3mf"),
+                "{e}"
+            );
             assert!(matches!(save(&Mesh::cube(1.0), name), Err(IoError::UnknownExtension { .. })));
         }
     }

@@ -1,4 +1,4 @@
-//! `load` and `save`: mesh files by extension (`.obj`, `.glb`, `.gltf`, `.stl`, `.ply`).
+//! `load` and `save`: mesh files by extension (`.obj`, `.glb`, `.gltf`, `.stl`, `.ply`, `.3mf`).
 
 use std::fs;
 use std::path::PathBuf;
@@ -91,12 +91,13 @@ pub mod files_api {
 
     /// Reads a mesh file by extension: `.obj` (polygons kept), `.gltf` (with its buffers) or
     /// `.glb`, `.stl` (binary or ASCII), `.ply` (ASCII or binary, polygons and vertex colours
-    /// kept). A relative path is tried from the working directory, then next to the script. A
+    /// kept), `.3mf` (every build item with its transforms; colour groups and base materials as
+    /// vertex colours). A relative path is tried from the working directory, then next to the script. A
     /// missing file, an unknown extension or a malformed file is an error naming the path and
     /// the reason.
     ///
     /// Axes: blocksmith is Z-up. glTF is Y-up by specification (glTF 2.0 §3.4) and is turned
-    /// to Z-up exactly; OBJ, STL and PLY are read as they are (see `load(path, #{up})`). STL
+    /// to Z-up exactly; 3MF is Z-up by specification; OBJ, STL and PLY are read as they are (see `load(path, #{up})`). STL
     /// corners and glTF and PLY vertices split at seams are welded by position (see
     /// `load(path, #{weld})`).
     ///
@@ -152,7 +153,9 @@ pub mod files_api {
 
     /// Writes a mesh by extension: `.obj` (polygons, exact positions), `.glb`, `.gltf`
     /// (+ `.bin`), `.stl` (binary, triangulated, f32), `.ply` (binary little-endian unless
-    /// `#{ply}` says otherwise; polygons, exact positions, 8-bit vertex colours). A relative path goes under the output directory (the working
+    /// `#{ply}` says otherwise; polygons, exact positions, 8-bit vertex colours), `.3mf`
+    /// (triangles, exact positions, vertex colours as a colour group or boolean sources as base
+    /// materials). A relative path goes under the output directory (the working
     /// directory, or the test output directory under `blocksmith test`). Parent directories are
     /// created. Also callable as `mesh.save(path)`.
     ///

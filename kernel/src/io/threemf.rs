@@ -1,0 +1,643 @@
+//! 3MF, the 3D Manufacturing Format (3MF Consortium, "3MF Core Specification" 1.3, and the
+//! "Materials and Properties Extension" 1.2): read and write.
+//!
+//! A 3MF file is a zip package (Open Packaging Conventions): `[Content_Types].xml`,
+//! `_rels/.rels` naming the model part, and the model part (`3D/3dmodel.model`), XML with
+//! `<resources>` (objects with a `<mesh>` of `<vertices>` and `<triangles>`, or `<components>`
+//! that place other objects) and a `<build>` of items, each an object with an optional affine
+//! `transform` (core §3.4.2 and §4.1–4.2).
+//!
+//! Writing gives one object and one build item; positions as the shortest decimal that reads
+//! back to the same `f64` (so a round trip keeps every bit); every face triangulated as
+//! [`super::face_triangles`] does. Vertex colours are written as a `<m:colorgroup>` with one
+//! colour per vertex (materials extension §3.3); without them, faces that carry sources (a
+//! boolean result) get one `<m:basematerials>` entry per source, coloured as glTF colours them
+//! ([`super::source_color`]). 3MF is Z-up and in millimetres by specification: positions are
+//! written as they are.
+//!
+//! Reading places every build item's object (through nested components, with their
+//! transforms) into one mesh, and turns colour groups and base materials into vertex colours
+//! (the first triangle that colours a vertex decides). Shared vertices are named by the file,
+//! so nothing is welded. The package is read with its declared sizes checked against the memory
+//! budget before anything is inflated, and no part is inflated past its declared size, so a
+//! zip bomb is refused, not unpacked.
+
+use std::collections::HashMap;
+use std::io::{Cursor, Read, Write};
+use std::path::Path;
+
+use quick_xml::events::{BytesStart, Event};
+
+use super::error::IoError;
+use crate::math::Vec3;
+use crate::mesh::Mesh;
+
+const CORE_NS: &str = "http://schemas.microsoft.com/3dmanufacturing/core/2015/02";
+const MATERIAL_NS: &str = "http://schemas.microsoft.com/3dmanufacturing/material/2015/02";
+const MODEL_REL: &str = "http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel";
+/// Nesting of components deeper than this is refused (a cycle, or a file built to explode).
+const MAX_DEPTH: usize = 32;
+
+fn tmf_error(path: &Path, reason: impl Into<String>) -> IoError {
+    IoError::ThreeMf { path: path.into(), reason: reason.into() }
+}
+
+/// Writes `mesh` as a 3MF package to `out` (see the module documentation).
+///
+/// # Errors
+/// [`IoError::Mesh`] when a face cannot be triangulated; [`IoError::Write`] for errors of
+/// `out`. `path` is only named in errors.
+///
+/// See also [`read_3mf`], [`super::save`].
+pub fn write_3mf<W: Write>(mesh: &Mesh, out: &mut W, path: &Path) -> Result<(), IoError> {
+    let (tris, arities) = super::face_triangles(mesh).map_err(|e| IoError::from_mesh(path, e))?;
+    let model = model_xml(mesh, &tris, &arities);
+    let write_err = |e: std::io::Error| IoError::Write { path: path.into(), source: e };
+    let zip_err = |e: zip::result::ZipError| IoError::Write { path: path.into(), source: std::io::Error::other(e) };
+    let mut zip = zip::ZipWriter::new(Cursor::new(Vec::new()));
+    // A fixed date (1980-01-01, zip's epoch) so that the same mesh gives the same bytes.
+    let options = zip::write::SimpleFileOptions::default()
+        .compression_method(zip::CompressionMethod::Deflated)
+        .last_modified_time(zip::DateTime::default())
+        .unix_permissions(0o644);
+    let parts: [(&str, &[u8]); 3] = [
+        ("[Content_Types].xml", CONTENT_TYPES.as_bytes()),
+        ("_rels/.rels", RELS.as_bytes()),
+        ("3D/3dmodel.model", model.as_bytes()),
+    ];
+    for (name, data) in parts {
+        zip.start_file(name, options).map_err(zip_err)?;
+        zip.write_all(data).map_err(write_err)?;
+    }
+    let bytes = zip.finish().map_err(zip_err)?.into_inner();
+    out.write_all(&bytes).map_err(write_err)
+}
+
+const CONTENT_TYPES: &str = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n\
+<Types xmlns=\"http://schemas.openxmlformats.org/package/2006/content-types\">\
+<Default Extension=\"rels\" ContentType=\"application/vnd.openxmlformats-package.relationships+xml\"/>\
+<Default Extension=\"model\" ContentType=\"application/vnd.ms-package.3dmanufacturing-3dmodel+xml\"/>\
+</Types>\n";
+
+const RELS: &str = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n\
+<Relationships xmlns=\"http://schemas.openxmlformats.org/package/2006/relationships\">\
+<Relationship Target=\"/3D/3dmodel.model\" Id=\"rel0\" \
+Type=\"http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel\"/>\
+</Relationships>\n";
+
+/// `#RRGGBBAA` of a colour in [0, 1].
+fn hex(c: [f32; 4]) -> String {
+    let b = c.map(|x| (x.clamp(0.0, 1.0) * 255.0).round() as u8);
+    format!("#{:02X}{:02X}{:02X}{:02X}", b[0], b[1], b[2], b[3])
+}
+
+/// The model part's XML.
+fn model_xml(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::with_capacity(64 * mesh.vertex_count() + 48 * tris.len() / 3 + 1024);
+    let _ = write!(
+        s,
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<model unit=\"millimeter\" xml:lang=\"en-US\" \
+         xmlns=\"{CORE_NS}\" xmlns:m=\"{MATERIAL_NS}\">\n\
+         <metadata name=\"Application\">blocksmith {}</metadata>\n<resources>\n",
+        env!("CARGO_PKG_VERSION")
+    );
+    // Property group id 2 (the object is 1): per-vertex colours, or per-face sources.
+    let colors = mesh.vertex_colors();
+    let mut face_material: Option<Vec<u32>> = None;
+    if let Some(colors) = colors {
+        s += "<m:colorgroup id=\"2\">\n";
+        for &c in colors {
+            let _ = writeln!(s, "<m:color color=\"{}\"/>", hex(c));
+        }
+        s += "</m:colorgroup>\n";
+    } else if let Some(sources) = mesh.face_sources() {
+        let mut index: HashMap<String, u32> = HashMap::new();
+        let mut bases = String::new();
+        let per_face = sources
+            .iter()
+            .map(|src| {
+                let h = hex(super::source_color(src));
+                let n = index.len() as u32;
+                *index.entry(h.clone()).or_insert_with(|| {
+                    let _ = writeln!(bases, "<m:base name=\"source {n}\" displaycolor=\"{h}\"/>");
+                    n
+                })
+            })
+            .collect();
+        let _ = write!(s, "<m:basematerials id=\"2\">\n{bases}</m:basematerials>\n");
+        face_material = Some(per_face);
+    }
+    let object_pid = if colors.is_some() || face_material.is_some() { " pid=\"2\" pindex=\"0\"" } else { "" };
+    let _ = write!(s, "<object id=\"1\" type=\"model\"{object_pid}>\n<mesh>\n<vertices>\n");
+    let mut fbuf = zmij::Buffer::new();
+    for p in mesh.positions() {
+        s += "<vertex x=\"";
+        s += fbuf.format(p.x);
+        s += "\" y=\"";
+        s += fbuf.format(p.y);
+        s += "\" z=\"";
+        s += fbuf.format(p.z);
+        s += "\"/>\n";
+    }
+    s += "</vertices>\n<triangles>\n";
+    let mut face = 0usize;
+    let mut left = arities.first().map_or(0, |&a| a - 2);
+    for t in tris.chunks_exact(3) {
+        while left == 0 {
+            face += 1;
+            left = arities[face] - 2;
+        }
+        left -= 1;
+        let _ = write!(s, "<triangle v1=\"{}\" v2=\"{}\" v3=\"{}\"", t[0], t[1], t[2]);
+        if colors.is_some() {
+            let _ = write!(s, " pid=\"2\" p1=\"{}\" p2=\"{}\" p3=\"{}\"", t[0], t[1], t[2]);
+        } else if let Some(m) = &face_material {
+            let _ = write!(s, " pid=\"2\" p1=\"{}\"", m[face]);
+        }
+        s += "/>\n";
+    }
+    s += "</triangles>\n</mesh>\n</object>\n</resources>\n<build>\n<item objectid=\"1\"/>\n</build>\n</model>\n";
+    s
+}
+
+/// An affine map as 3MF writes it: `p' = p · M + t` with row vectors (core §3.4.2).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Affine {
+    m: [[f64; 3]; 3],
+    t: [f64; 3],
+}
+
+impl Affine {
+    const IDENTITY: Affine = Affine { m: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]], t: [0.0; 3] };
+
+    fn parse(text: &str) -> Option<Affine> {
+        let v: Vec<f64> = text.split_ascii_whitespace().map(str::parse).collect::<Result<_, _>>().ok()?;
+        if v.len() != 12 || v.iter().any(|x| !x.is_finite()) {
+            return None;
+        }
+        Some(Affine { m: [[v[0], v[1], v[2]], [v[3], v[4], v[5]], [v[6], v[7], v[8]]], t: [v[9], v[10], v[11]] })
+    }
+
+    fn apply(&self, p: Vec3) -> Vec3 {
+        if *self == Affine::IDENTITY {
+            // Exactly as written (−0 stays −0).
+            return p;
+        }
+        let m = &self.m;
+        Vec3::new(
+            p.x * m[0][0] + p.y * m[1][0] + p.z * m[2][0] + self.t[0],
+            p.x * m[0][1] + p.y * m[1][1] + p.z * m[2][1] + self.t[1],
+            p.x * m[0][2] + p.y * m[1][2] + p.z * m[2][2] + self.t[2],
+        )
+    }
+
+    /// `self` then `outer`.
+    fn then(&self, outer: &Affine) -> Affine {
+        let mut r = Affine { m: [[0.0; 3]; 3], t: [0.0; 3] };
+        for i in 0..3 {
+            for j in 0..3 {
+                r.m[i][j] = (0..3).map(|k| self.m[i][k] * outer.m[k][j]).sum();
+            }
+        }
+        let t = outer.apply(Vec3::from_array(self.t));
+        r.t = if *outer == Affine::IDENTITY { self.t } else { t.to_array() };
+        r
+    }
+
+    fn mirrors(&self) -> bool {
+        let m = &self.m;
+        let det = m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+        det < 0.0
+    }
+}
+
+/// A triangle's properties: the group and the index of each corner (or one for all).
+#[derive(Clone, Copy, Debug, Default)]
+struct TriProps {
+    pid: Option<u32>,
+    p: [Option<u32>; 3],
+}
+
+#[derive(Debug, Default)]
+struct Object {
+    vertices: Vec<Vec3>,
+    triangles: Vec<[u32; 3]>,
+    props: Vec<TriProps>,
+    components: Vec<(u32, Affine)>,
+    default: TriProps,
+}
+
+#[derive(Debug, Default)]
+struct Model {
+    objects: HashMap<u32, Object>,
+    /// Colour groups and base materials alike: the colours of a property group by id.
+    groups: HashMap<u32, Vec<[f32; 4]>>,
+    items: Vec<(u32, Affine)>,
+}
+
+/// Reads a 3MF package into one mesh (see the module documentation). `path` is only named in
+/// errors.
+///
+/// # Errors
+/// - [`IoError::ThreeMf`]: not a zip package, no model part, a part larger than the memory
+///   budget (checked before inflating), invalid XML, a missing or unparsable attribute, a
+///   build item or component naming no object, components nested deeper than 32 or in a
+///   cycle;
+/// - [`IoError::IndexOutOfRange`] for a triangle naming a vertex its object does not have;
+/// - [`IoError::NonFinite`] for a NaN or infinite coordinate;
+/// - [`IoError::Mesh`] when the triangles do not make a manifold mesh.
+///
+/// See also [`write_3mf`], [`super::load`].
+pub fn read_3mf(bytes: &[u8], path: &Path) -> Result<Mesh, IoError> {
+    let mut zip = zip::ZipArchive::new(Cursor::new(bytes))
+        .map_err(|e| tmf_error(path, format!("not a 3MF package (a zip archive): {e}")))?;
+    let model_name = match read_part(&mut zip, "_rels/.rels", path)? {
+        Some(rels) => model_part_name(&rels, path)?,
+        None => "3D/3dmodel.model".to_string(),
+    };
+    let xml = read_part(&mut zip, &model_name, path)?
+        .ok_or_else(|| tmf_error(path, format!("the package has no model part {model_name}")))?;
+    let model = parse_model(&xml, path)?;
+    build_mesh(&model, path)
+}
+
+/// The bytes of the part `name` (without a leading `/`), `None` when there is none. Its
+/// declared size is checked against the memory budget before inflating, and no more than it
+/// is inflated.
+fn read_part<R: Read + std::io::Seek>(
+    zip: &mut zip::ZipArchive<R>,
+    name: &str,
+    path: &Path,
+) -> Result<Option<Vec<u8>>, IoError> {
+    let name = name.trim_start_matches('/');
+    let mut file = match zip.by_name(name) {
+        Ok(f) => f,
+        Err(zip::result::ZipError::FileNotFound) => return Ok(None),
+        Err(e) => return Err(tmf_error(path, format!("part {name}: {e}"))),
+    };
+    let size = file.size();
+    crate::limits::check_memory(|| format!("the 3MF part {name}, which declares {size} bytes"), size as f64)
+        .map_err(|e| tmf_error(path, e.to_string()))?;
+    let mut data = Vec::with_capacity(size as usize);
+    (&mut file).take(size).read_to_end(&mut data).map_err(|e| tmf_error(path, format!("part {name}: {e}")))?;
+    if (data.len() as u64) < size {
+        return Err(tmf_error(path, format!("part {name} holds {} bytes, it declares {size}", data.len())));
+    }
+    Ok(Some(data))
+}
+
+/// The model part named by the package relationships.
+fn model_part_name(rels: &[u8], path: &Path) -> Result<String, IoError> {
+    let mut reader = quick_xml::Reader::from_reader(rels);
+    let mut buf = Vec::new();
+    loop {
+        match reader.read_event_into(&mut buf) {
+            Ok(Event::Start(e) | Event::Empty(e)) if e.local_name().as_ref() == "Relationship" => {
+                let a = attrs(&e, path)?;
+                if a.get("Type").map(String::as_str) == Some(MODEL_REL) {
+                    if let Some(t) = a.get("Target") {
+                        return Ok(t.clone());
+                    }
+                }
+            }
+            Ok(Event::Eof) => return Err(tmf_error(path, "_rels/.rels names no 3D model part")),
+            Err(e) => return Err(tmf_error(path, format!("_rels/.rels: {e}"))),
+            _ => {}
+        }
+        buf.clear();
+    }
+}
+
+/// The attributes of an element by local name (namespace prefixes dropped).
+fn attrs(e: &BytesStart, path: &Path) -> Result<HashMap<String, String>, IoError> {
+    let mut out = HashMap::new();
+    for a in e.attributes() {
+        let a = a.map_err(|err| tmf_error(path, format!("invalid XML attribute: {err}")))?;
+        let key = a.key.local_name().as_ref().to_owned();
+        let value = a.value.into_owned();
+        out.insert(key, value);
+    }
+    Ok(out)
+}
+
+fn number<T: std::str::FromStr>(a: &HashMap<String, String>, key: &str, what: &str, path: &Path) -> Result<T, IoError> {
+    let v = a.get(key).ok_or_else(|| tmf_error(path, format!("{what} has no `{key}`")))?;
+    v.trim().parse().map_err(|_| tmf_error(path, format!("{what}: `{key}` = `{v:.40}` is not a valid number")))
+}
+
+fn optional<T: std::str::FromStr>(
+    a: &HashMap<String, String>,
+    key: &str,
+    what: &str,
+    path: &Path,
+) -> Result<Option<T>, IoError> {
+    if a.contains_key(key) {
+        number(a, key, what, path).map(Some)
+    } else {
+        Ok(None)
+    }
+}
+
+/// `#RRGGBB` or `#RRGGBBAA`.
+fn parse_color(text: &str) -> Option<[f32; 4]> {
+    let h = text.trim().strip_prefix('#')?;
+    if !(h.len() == 6 || h.len() == 8) || !h.is_ascii() {
+        return None;
+    }
+    let byte = |i: usize| u8::from_str_radix(&h[i..i + 2], 16).ok().map(|b| f32::from(b) / 255.0);
+    Some([byte(0)?, byte(2)?, byte(4)?, if h.len() == 8 { byte(6)? } else { 1.0 }])
+}
+
+fn parse_model(xml: &[u8], path: &Path) -> Result<Model, IoError> {
+    let mut reader = quick_xml::Reader::from_reader(xml);
+    let mut buf = Vec::new();
+    let mut model = Model::default();
+    let mut object: Option<(u32, Object)> = None;
+    let mut group: Option<(u32, Vec<[f32; 4]>)> = None;
+    loop {
+        let event = reader.read_event_into(&mut buf).map_err(|e| {
+            tmf_error(path, format!("invalid XML in the model at byte {}: {e}", reader.error_position()))
+        })?;
+        let empty = matches!(event, Event::Empty(_));
+        match event {
+            Event::Start(e) | Event::Empty(e) => {
+                let a = attrs(&e, path)?;
+                match e.local_name().as_ref() {
+                    "object" => {
+                        let id = number(&a, "id", "an object", path)?;
+                        let default = TriProps {
+                            pid: optional(&a, "pid", "an object", path)?,
+                            p: [optional(&a, "pindex", "an object", path)?, None, None],
+                        };
+                        object = Some((id, Object { default, ..Object::default() }));
+                    }
+                    "vertex" => {
+                        let (_, o) = object.as_mut().ok_or_else(|| tmf_error(path, "a vertex outside an object"))?;
+                        let p = Vec3::new(
+                            number(&a, "x", "a vertex", path)?,
+                            number(&a, "y", "a vertex", path)?,
+                            number(&a, "z", "a vertex", path)?,
+                        );
+                        o.vertices.push(p);
+                    }
+                    "triangle" => {
+                        let (_, o) = object.as_mut().ok_or_else(|| tmf_error(path, "a triangle outside an object"))?;
+                        let v = [
+                            number(&a, "v1", "a triangle", path)?,
+                            number(&a, "v2", "a triangle", path)?,
+                            number(&a, "v3", "a triangle", path)?,
+                        ];
+                        o.triangles.push(v);
+                        o.props.push(TriProps {
+                            pid: optional(&a, "pid", "a triangle", path)?,
+                            p: [
+                                optional(&a, "p1", "a triangle", path)?,
+                                optional(&a, "p2", "a triangle", path)?,
+                                optional(&a, "p3", "a triangle", path)?,
+                            ],
+                        });
+                    }
+                    "component" => {
+                        let (_, o) = object.as_mut().ok_or_else(|| tmf_error(path, "a component outside an object"))?;
+                        let t = transform(&a, "a component", path)?;
+                        o.components.push((number(&a, "objectid", "a component", path)?, t));
+                    }
+                    "colorgroup" | "basematerials" => {
+                        group = Some((number(&a, "id", "a property group", path)?, Vec::new()));
+                    }
+                    "color" | "base" => {
+                        let key = if e.local_name().as_ref() == "color" { "color" } else { "displaycolor" };
+                        if let Some((_, g)) = group.as_mut() {
+                            let text = a.get(key).map_or("", String::as_str);
+                            let c = parse_color(text).ok_or_else(|| {
+                                tmf_error(path, format!("`{key}` = `{text:.40}` is not a colour #RRGGBB[AA]"))
+                            })?;
+                            g.push(c);
+                        }
+                    }
+                    "item" => {
+                        let t = transform(&a, "a build item", path)?;
+                        model.items.push((number(&a, "objectid", "a build item", path)?, t));
+                    }
+                    _ => {}
+                }
+                if empty {
+                    close(e.local_name().as_ref(), &mut model, &mut object, &mut group);
+                }
+            }
+            Event::End(e) => close(e.local_name().as_ref(), &mut model, &mut object, &mut group),
+            Event::Eof => break,
+            _ => {}
+        }
+        buf.clear();
+    }
+    Ok(model)
+}
+
+fn close(name: &str, model: &mut Model, object: &mut Option<(u32, Object)>, group: &mut Option<(u32, Vec<[f32; 4]>)>) {
+    match name {
+        "object" => {
+            if let Some((id, o)) = object.take() {
+                model.objects.insert(id, o);
+            }
+        }
+        "colorgroup" | "basematerials" => {
+            if let Some((id, g)) = group.take() {
+                model.groups.insert(id, g);
+            }
+        }
+        _ => {}
+    }
+}
+
+fn transform(a: &HashMap<String, String>, what: &str, path: &Path) -> Result<Affine, IoError> {
+    match a.get("transform") {
+        None => Ok(Affine::IDENTITY),
+        Some(t) => Affine::parse(t)
+            .ok_or_else(|| tmf_error(path, format!("{what}: transform `{t:.80}` is not 12 finite numbers"))),
+    }
+}
+
+/// The triangles each object places (itself and its components), counted before anything is
+/// placed so that a file nesting components to explode is refused first.
+fn triangle_count(model: &Model, id: u32, depth: usize, path: &Path) -> Result<u128, IoError> {
+    if depth > MAX_DEPTH {
+        return Err(tmf_error(
+            path,
+            format!("components nested deeper than {MAX_DEPTH} (or in a cycle) at object {id}"),
+        ));
+    }
+    let o = model.objects.get(&id).ok_or_else(|| tmf_error(path, format!("no object with id {id}")))?;
+    let mut n = o.triangles.len() as u128 + o.vertices.len() as u128;
+    for &(c, _) in &o.components {
+        n += triangle_count(model, c, depth + 1, path)?;
+    }
+    Ok(n)
+}
+
+struct Placed {
+    positions: Vec<Vec3>,
+    indices: Vec<u32>,
+    colors: Vec<Option<[f32; 4]>>,
+}
+
+fn place(model: &Model, id: u32, t: &Affine, out: &mut Placed, path: &Path) -> Result<(), IoError> {
+    let o = &model.objects[&id];
+    let base = out.positions.len();
+    out.positions.extend(o.vertices.iter().map(|&p| t.apply(p)));
+    out.colors.resize(out.positions.len(), None);
+    let flip = t.mirrors();
+    for (k, (tri, props)) in o.triangles.iter().zip(&o.props).enumerate() {
+        for &v in tri {
+            if v as usize >= o.vertices.len() {
+                return Err(IoError::IndexOutOfRange {
+                    path: path.into(),
+                    at: format!("object {id} triangle {k}"),
+                    index: i64::from(v),
+                    vertex_count: o.vertices.len(),
+                });
+            }
+        }
+        let corners = if flip { [tri[0], tri[2], tri[1]] } else { *tri };
+        out.indices.extend(corners.iter().map(|&v| (base + v as usize) as u32));
+        // Triangle properties, or the object's default for all three corners.
+        let (pid, p) = match props.pid {
+            Some(pid) => (Some(pid), props.p),
+            None => (o.default.pid, [o.default.p[0]; 3]),
+        };
+        if let Some(colors) = pid.and_then(|pid| model.groups.get(&pid)) {
+            for (c, &v) in tri.iter().enumerate() {
+                let index = p[c].or(p[0]);
+                let slot = &mut out.colors[base + v as usize];
+                if let (None, Some(&color)) = (*slot, index.and_then(|i| colors.get(i as usize))) {
+                    *slot = Some(color);
+                }
+            }
+        }
+    }
+    for &(c, ct) in &o.components {
+        place(model, c, &ct.then(t), out, path)?;
+    }
+    Ok(())
+}
+
+fn build_mesh(model: &Model, path: &Path) -> Result<Mesh, IoError> {
+    let mut total: u128 = 0;
+    for &(id, _) in &model.items {
+        total += triangle_count(model, id, 0, path)?;
+    }
+    // Each placed vertex or triangle takes at most ~40 bytes here and in the mesh.
+    crate::limits::check_memory(
+        || format!("the 3MF build's {total} placed vertices and triangles"),
+        total as f64 * 160.0,
+    )
+    .map_err(|e| tmf_error(path, e.to_string()))?;
+    let mut out = Placed { positions: Vec::new(), indices: Vec::new(), colors: Vec::new() };
+    for (id, t) in &model.items {
+        place(model, *id, t, &mut out, path)?;
+    }
+    if out.positions.len() > u32::MAX as usize {
+        return Err(tmf_error(path, "more than 2³² − 1 vertices"));
+    }
+    let any_color = out.colors.iter().any(Option::is_some);
+    let arities = vec![3u32; out.indices.len() / 3];
+    let mut mesh =
+        Mesh::from_indexed(out.positions, &out.indices, &arities).map_err(|e| IoError::from_mesh(path, e))?;
+    if any_color {
+        let colors = out.colors.iter().map(|c| c.unwrap_or([1.0; 4])).collect();
+        mesh.set_vertex_colors(Some(colors)).map_err(|e| IoError::from_mesh(path, e))?;
+    }
+    Ok(mesh)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn written(mesh: &Mesh) -> Vec<u8> {
+        let mut bytes = Vec::new();
+        write_3mf(mesh, &mut bytes, Path::new("mem.3mf")).unwrap();
+        bytes
+    }
+
+    /// A package of `model` XML with the standard parts.
+    fn package(model: &str) -> Vec<u8> {
+        let mut zip = zip::ZipWriter::new(Cursor::new(Vec::new()));
+        let o = zip::write::SimpleFileOptions::default();
+        for (name, data) in [("[Content_Types].xml", CONTENT_TYPES), ("_rels/.rels", RELS), ("3D/3dmodel.model", model)]
+        {
+            zip.start_file(name, o).unwrap();
+            zip.write_all(data.as_bytes()).unwrap();
+        }
+        zip.finish().unwrap().into_inner()
+    }
+
+    #[test]
+    fn round_trip_keeps_every_bit_and_the_same_bytes() {
+        let m = Mesh::torus(2.0, 0.5, 12, 8).map_positions(|p| p * 0.1 + Vec3::new(1e5, -3.0, 1.0 / 3.0));
+        let t = m.triangulate().unwrap();
+        let bytes = written(&m);
+        let back = read_3mf(&bytes, Path::new("mem.3mf")).unwrap();
+        assert_eq!(back.positions(), t.positions());
+        assert_eq!(back.to_polygons(), t.to_polygons());
+        assert!(back.is_closed() && back.is_manifold());
+        assert_eq!(written(&back), bytes, "the same mesh gives the same bytes");
+    }
+
+    #[test]
+    fn vertex_colours_round_trip_in_8_bits() {
+        let mut m = Mesh::cube(1.0).triangulate().unwrap();
+        let colors: Vec<[f32; 4]> =
+            (0..8).map(|i| [i as f32 / 255.0, 1.0, 0.0, if i == 3 { 0.0 } else { 1.0 }]).collect();
+        m.set_vertex_colors(Some(colors.clone())).unwrap();
+        let back = read_3mf(&written(&m), Path::new("c.3mf")).unwrap();
+        assert_eq!(back.vertex_colors(), Some(colors.as_slice()));
+    }
+
+    #[test]
+    fn build_items_and_components_are_placed_with_their_transforms() {
+        // One tetrahedron placed twice: by an item moved 5 in x, and by a mirrored component
+        // (x → −x), whose triangles are turned so it stays outward.
+        let model = format!(
+            "<?xml version=\"1.0\"?><model unit=\"millimeter\" xmlns=\"{CORE_NS}\" xmlns:m=\"{MATERIAL_NS}\"><resources>\
+             <m:basematerials id=\"7\"><m:base name=\"red\" displaycolor=\"#FF0000\"/></m:basematerials>\
+             <object id=\"1\" type=\"model\" pid=\"7\" pindex=\"0\"><mesh><vertices>\
+             <vertex x=\"0\" y=\"0\" z=\"0\"/><vertex x=\"1\" y=\"0\" z=\"0\"/><vertex x=\"0\" y=\"1\" z=\"0\"/>\
+             <vertex x=\"0\" y=\"0\" z=\"1\"/></vertices><triangles>\
+             <triangle v1=\"0\" v2=\"2\" v3=\"1\"/><triangle v1=\"0\" v2=\"1\" v3=\"3\"/>\
+             <triangle v1=\"0\" v2=\"3\" v3=\"2\"/><triangle v1=\"1\" v2=\"2\" v3=\"3\"/></triangles></mesh></object>\
+             <object id=\"2\" type=\"model\"><components><component objectid=\"1\" transform=\"-1 0 0 0 1 0 0 0 1 -2 0 0\"/>\
+             </components></object></resources>\
+             <build><item objectid=\"1\" transform=\"1 0 0 0 1 0 0 0 1 5 0 0\"/><item objectid=\"2\"/></build></model>"
+        );
+        let m = read_3mf(&package(&model), Path::new("placed.3mf")).unwrap();
+        assert_eq!((m.vertex_count(), m.face_count(), m.component_count()), (8, 8, 2));
+        assert!(m.is_closed());
+        assert!((m.volume() - 2.0 / 6.0).abs() < 1e-15, "{}", m.volume());
+        assert_eq!(m.position(0), Vec3::new(5.0, 0.0, 0.0));
+        assert_eq!(m.position(5), Vec3::new(-3.0, 0.0, 0.0));
+        assert_eq!(m.vertex_colors().unwrap()[6], [1.0, 0.0, 0.0, 1.0]);
+    }
+
+    #[test]
+    fn malformed_packages_are_3mf_errors_naming_the_path() {
+        let cube = "<model xmlns=\"x\"><resources><object id=\"1\"><mesh><vertices><vertex x=\"0\" y=\"0\"/>\
+                    </vertices></mesh></object></resources><build><item objectid=\"1\"/></build></model>";
+        let cycle = "<model><resources><object id=\"1\"><components><component objectid=\"1\"/></components>\
+                     </object></resources><build><item objectid=\"1\"/></build></model>";
+        let cases: [(Vec<u8>, &str); 5] = [
+            (b"PK not really".to_vec(), "not a 3MF package"),
+            (package("<model><resources></object></model>"), "invalid XML"),
+            (package(cube), "a vertex has no `z`"),
+            (package(cycle), "nested deeper than 32"),
+            (package("<model><build><item objectid=\"9\"/></build></model>"), "no object with id 9"),
+        ];
+        for (bytes, want) in cases {
+            let e = read_3mf(&bytes, Path::new("bad.3mf")).map(|_| ()).expect_err(want);
+            assert!(e.to_string().starts_with("bad.3mf: malformed 3MF: "), "{e}");
+            assert!(e.to_string().contains(want), "{e} (wanted {want})");
+        }
+    }
+}
