@@ -1,9 +1,15 @@
-"""Loading and welding a 1M-triangle STL and a 1M-triangle glTF, trimesh beside blocksmith on
-the same files (issue 19's speed target: at most trimesh's time).
+"""Loading and welding a 1M-triangle STL and a 1M-triangle glTF, and loading a 1M-triangle PLY
+and 3MF, trimesh beside blocksmith on the same files (issue 19's speed target: at most trimesh's
+time).
 
-    python tests/data/files/bench_load.py DIR            # writes DIR/torus_1m.stl, DIR/torus_1m_split.glb
+    python tests/data/files/bench_load.py DIR            # writes DIR/torus_1m.{stl,ply,3mf}, DIR/torus_1m_split.glb
     cargo run --release --example load_weld -- DIR/torus_1m.stl 5
     cargo run --release --example load_weld -- DIR/torus_1m_split.glb 5
+    cargo run --release --example load_weld -- DIR/torus_1m.ply 5
+    cargo run --release --example load_weld -- DIR/torus_1m.3mf 5
+
+The PLY (binary) and the 3MF store the torus indexed, as those formats usually are (3MF needs
+lxml and networkx for trimesh).
 
 The model is a torus grid of 1000 x 500 quads, 1,000,000 triangles. Both files store every
 triangle's corners apart (the STL by its format, the glTF as a file split at every seam would),
@@ -46,7 +52,11 @@ def main():
     stl, glb = out / "torus_1m.stl", out / "torus_1m_split.glb"
     soup.export(stl)
     soup.export(glb)
-    for path in (stl, glb):
+    indexed = trimesh.Trimesh(verts.astype(np.float32).astype(np.float64), faces, process=False)
+    ply, tmf = out / "torus_1m.ply", out / "torus_1m.3mf"
+    indexed.export(ply)
+    indexed.export(tmf)
+    for path in (stl, glb, ply, tmf):
         times = []
         for _ in range(5):
             start = time.perf_counter()
