@@ -463,6 +463,118 @@ pub mod mesh_api {
         m.0 = Rc::new(copy);
         Ok(())
     }
+    /// Sets the crease sharpness of edges for subdivision (semi-sharp creases, DeRose, Kass &
+    /// Truong 1998 §3, OpenSubdiv's rules): `edges` is an array of `[a, b]` vertex-id pairs,
+    /// `sharpness` a number from 0 (smooth again) up; an edge of sharpness s follows the sharp rules
+    /// for ⌊s⌋ levels, a blend by the fraction in the next, the smooth rules after; 10 and more is
+    /// infinitely sharp, as `m.crease(edges)`. All or nothing.
+    ///
+    /// ```rhai
+    /// let m = cube(2);
+    /// m.crease([[0, 1]], 1.5);
+    /// assert_eq(m.crease_sharpness(0, 1), 1.5);
+    /// assert_eq(m.catmull_clark(1).crease_count(), 2);
+    /// ```
+    #[rhai_fn(name = "crease", return_raw)]
+    pub fn crease_with_sharpness(m: &mut SharedMesh, edges: Array, sharpness: Dynamic) -> ScriptResult<()> {
+        let s = number("crease", "sharpness", &sharpness)?;
+        if s < 0.0 {
+            return fail("crease", format!("argument `sharpness` must be 0 or more, got {s}"));
+        }
+        let pairs = id_pairs("crease", "edges", &edges)?;
+        if let Some((i, [a, b])) = pairs.iter().enumerate().find(|(_, &[a, b])| m.0.find_halfedge(a, b).is_none()) {
+            return fail("crease", format!("argument `edges[{i}]`: vertices {a} and {b} are not joined by an edge"));
+        }
+        let mut copy = (*m.0).clone();
+        kernel("crease", copy.crease_edges_sharpness(&pairs, s))?;
+        m.0 = Rc::new(copy);
+        Ok(())
+    }
+    /// The crease sharpness of the edge joining vertices `a` and `b`: 0 for a smooth edge, a
+    /// very large number (infinity) for an infinitely sharp one.
+    ///
+    /// ```rhai
+    /// let m = cube(2);
+    /// assert_eq(m.crease_sharpness(0, 1), 0.0);
+    /// m.crease([[0, 1]], 3);
+    /// assert_eq(m.crease_sharpness(0, 1), 3.0);
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn crease_sharpness(m: &mut SharedMesh, a: INT, b: INT) -> ScriptResult<f64> {
+        let (ua, ub) = (u32::try_from(a).ok(), u32::try_from(b).ok());
+        match ua.zip(ub).and_then(|(a, b)| m.0.find_halfedge(a, b)) {
+            Some(h) => Ok(m.0.edge_sharpness(h)),
+            None => fail("crease_sharpness", format!("vertices {a} and {b} are not joined by an edge")),
+        }
+    }
+    /// Gives vertices a corner sharpness for subdivision: `verts` an array of vertex ids,
+    /// `sharpness` from 0 (none) up; a corner of sharpness s stays put for ⌊s⌋ levels and then
+    /// smooths out; 10 and more stays put at every level.
+    ///
+    /// ```rhai
+    /// let m = cube(2);
+    /// m.corner([0, 6], 2.5);
+    /// let s = m.catmull_clark(1);
+    /// assert_eq(s.positions()[0], m.positions()[0]);
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn corner(m: &mut SharedMesh, verts: Array, sharpness: Dynamic) -> ScriptResult<()> {
+        let s = number("corner", "sharpness", &sharpness)?;
+        if s < 0.0 {
+            return fail("corner", format!("argument `sharpness` must be 0 or more, got {s}"));
+        }
+        let vs = ids("corner", "verts", &verts)?;
+        let n = m.0.vertex_count();
+        if let Some((i, v)) = vs.iter().enumerate().find(|(_, &v)| v as usize >= n) {
+            return fail("corner", format!("argument `verts[{i}]`: vertex {v} does not exist (the mesh has {n})"));
+        }
+        let copy = Rc::make_mut(&mut m.0);
+        for v in vs {
+            copy.set_corner_sharpness(v, s);
+        }
+        Ok(())
+    }
+    /// Sets the subdivision options OpenSubdiv names (`Sdc::Options`), used by `catmull_clark`,
+    /// `loop_subdivide` and the limits: `boundary` "edge_only" (default; boundary corners move
+    /// along the boundary curve), "edge_and_corner" (corners with one face stay put) or "none";
+    /// `crease` "uniform" (default) or "chaikin" (sharpness decays smoothly along a crease);
+    /// `triangles` "catmull_clark" (default) or "smooth" (OpenSubdiv's smooth-triangle weights).
+    ///
+    /// ```rhai
+    /// let g = mesh([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], [[0, 1, 2, 3]]);
+    /// g.subdiv_options(#{ boundary: "edge_and_corner" });
+    /// assert_eq(g.catmull_clark(2).bounds().max, vec3(1, 1, 0));
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn subdiv_options(m: &mut SharedMesh, options: Map) -> ScriptResult<()> {
+        use blocksmith_kernel::subdiv::{BoundaryInterpolation as B, CreaseMethod as C, TriangleSubdivision as T};
+        let f = "subdiv_options";
+        let opts = Options::new(f, options, &["boundary", "crease", "triangles"])?;
+        let mut o = m.0.subdiv_options();
+        o.boundary = match opts.string("boundary", "edge_only")?.as_str() {
+            "edge_only" => B::EdgeOnly,
+            "edge_and_corner" => B::EdgeAndCorner,
+            "none" => B::None,
+            x => {
+                return fail(
+                    f,
+                    format!("option `boundary` must be \"edge_only\", \"edge_and_corner\" or \"none\", got {x:?}"),
+                )
+            }
+        };
+        o.crease = match opts.string("crease", "uniform")?.as_str() {
+            "uniform" => C::Uniform,
+            "chaikin" => C::Chaikin,
+            x => return fail(f, format!("option `crease` must be \"uniform\" or \"chaikin\", got {x:?}")),
+        };
+        o.triangles = match opts.string("triangles", "catmull_clark")?.as_str() {
+            "catmull_clark" => T::CatmullClark,
+            "smooth" => T::Smooth,
+            x => return fail(f, format!("option `triangles` must be \"catmull_clark\" or \"smooth\", got {x:?}")),
+        };
+        Rc::make_mut(&mut m.0).set_subdiv_options(o);
+        Ok(())
+    }
     /// Tags every edge as a crease.
     ///
     /// ```rhai
