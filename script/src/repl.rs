@@ -373,15 +373,26 @@ pub fn run() -> Result<(), String> {
         let _ = editor.load_history(h);
     }
     println!("blocksmith {} — :help for help, Ctrl-D to exit", env!("CARGO_PKG_VERSION"));
+    let interactive = std::io::IsTerminal::is_terminal(&std::io::stdin());
+    // Piped input: errors name their line of the input, and any failed entry fails the run.
+    let (mut first_line, mut failed) = (1usize, 0usize);
     loop {
         match editor.readline("bs> ") {
             Ok(line) => {
                 let _ = editor.add_history_entry(line.as_str());
-                match session.handle(&line) {
+                let out = session.handle(&line);
+                let lines_in = line.split('\n').count();
+                match out {
                     None => break,
                     Some(out) if out.is_empty() => {}
-                    Some(out) => println!("{out}"),
+                    Some(out) if interactive => println!("{out}"),
+                    Some(out) => {
+                        let out = renumbered(&out, first_line);
+                        failed += usize::from(out.contains(": error: "));
+                        println!("{out}");
+                    }
                 }
+                first_line += lines_in;
                 let _ = std::io::stdout().flush();
                 if let Some(h) = editor.helper_mut() {
                     h.names = session.names();
@@ -395,7 +406,26 @@ pub fn run() -> Result<(), String> {
     if let Some(h) = &history {
         let _ = editor.save_history(h);
     }
+    if failed > 0 {
+        return Err(format!("{failed} of the entries failed"));
+    }
     Ok(())
+}
+
+/// `out` with each `<repl>:L:C:` of an entry starting at input line `first` written as
+/// `<stdin>:LINE:C:`, the line counted in the whole input.
+fn renumbered(out: &str, first: usize) -> String {
+    out.lines()
+        .map(|l| {
+            let Some(rest) = l.strip_prefix("<repl>:") else { return l.to_string() };
+            let Some((n, tail)) = rest.split_once(':') else { return l.to_string() };
+            match n.parse::<usize>() {
+                Ok(n) => format!("<stdin>:{}:{tail}", first + n - 1),
+                Err(_) => l.to_string(),
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
 }
 
 #[cfg(test)]

@@ -200,9 +200,10 @@ fn repl_reads_piped_input_and_keeps_definitions() {
     child.stdin.take().unwrap().write_all(input.as_bytes()).unwrap();
     let o = child.wait_with_output().unwrap();
     let out = String::from_utf8_lossy(&o.stdout);
-    assert!(o.status.success(), "{out}{}", stderr(&o));
+    // The failed entry is named by its line of the input, and fails the run.
+    assert!(!o.status.success() && stderr(&o).contains("1 of the entries failed"), "{out}{}", stderr(&o));
     assert!(out.contains("=> 8.0"), "{out}");
-    assert!(out.contains("<repl>:1:3: error: Mesh has no method `oops` (`loops` is a method of PolarMesh)"), "{out}");
+    assert!(out.contains("<stdin>:6:3: error: Mesh has no method `oops` (`loops` is a method of PolarMesh)"), "{out}");
     assert!(out.contains("wrote c.obj"), "{out}");
     assert!(out.contains("The total surface area."), "{out}");
     assert!(d.path().join("c.obj").exists());

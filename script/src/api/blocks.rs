@@ -54,6 +54,11 @@ pub fn register(engine: &mut Engine) {
     engine.register_global_module(exported_module!(blocks_api).into());
 }
 
+/// The bounds of `points`: (min, max).
+fn bounds_of<'a>(points: impl Iterator<Item = &'a Vec3>) -> (Vec3, Vec3) {
+    points.fold((Vec3::splat(f64::INFINITY), Vec3::splat(f64::NEG_INFINITY)), |(lo, hi), p| (lo.min(*p), hi.max(*p)))
+}
+
 fn face(func: &str, arg: &str, name: &str) -> ScriptResult<Face> {
     Face::parse(name).map_err(|e| error(func, format!("argument `{arg}`: {e}")))
 }
@@ -319,6 +324,17 @@ pub mod blocks_api {
         b.volume()
     }
 
+    /// A one-line summary: group and bounds (what the REPL shows).
+    ///
+    /// ```rhai
+    /// assert_eq(block([0, 0, 0], [1, 2, 3]).to_string(), "Block(group 0, bounds [0, 0, 0]..[1, 2, 3])");
+    /// ```
+    #[rhai_fn(name = "to_string", name = "to_debug", pure)]
+    pub fn block_to_string(b: &mut Block) -> String {
+        let (lo, hi) = bounds_of(b.corners().iter());
+        format!("Block(group {}, bounds {lo}..{hi})", b.group())
+    }
+
     /// Divides `face` (`"-x" "+x" "-y" "+y" "-z" "+z"`) into `nu × nv` sub-faces, numbered
     /// `i + nu * j`. On a face of axis a, u runs along the first of the other two axes in x, y, z
     /// order and v along the second (on `"+y"`, u along x and v along z). Changes the block in
@@ -497,6 +513,24 @@ pub mod blocks_api {
     /// ```
     pub fn add(m: &mut BlockModel, b: Block) -> INT {
         INT::from(m.changed().add(b))
+    }
+
+    /// A one-line summary: block count, bounds and threshold (what the REPL shows).
+    ///
+    /// ```rhai
+    /// let m = blocks();
+    /// m.add(block([0, 0, 0], [1, 1, 1]));
+    /// m.add(block([1, 0, 0], [2, 1, 1]));
+    /// assert_eq(m.to_string(), "BlockModel(2 blocks, bounds [0, 0, 0]..[2, 1, 1], threshold 0.05)");
+    /// ```
+    #[rhai_fn(name = "to_string", name = "to_debug", pure)]
+    pub fn model_to_string(m: &mut BlockModel) -> String {
+        let blocks = m.model.blocks();
+        if blocks.is_empty() {
+            return format!("BlockModel(0 blocks, threshold {})", m.model.threshold());
+        }
+        let (lo, hi) = bounds_of(blocks.iter().flat_map(|b| b.corners().to_vec()).collect::<Vec<_>>().iter());
+        format!("BlockModel({} blocks, bounds {lo}..{hi}, threshold {})", blocks.len(), m.model.threshold())
     }
 
     /// Number of blocks.

@@ -175,6 +175,18 @@ pub mod voxel_api {
         vx.0.filled() as INT
     }
 
+    /// A one-line summary: size, filled voxels and volume (what the REPL shows).
+    ///
+    /// ```rhai
+    /// let vx = voxels(8);
+    /// vx.fill_box([0, 0, 0], [2, 2, 2]);
+    /// assert_eq(vx.to_string(), "Voxels(8³, 8 filled, volume 8)");
+    /// ```
+    #[rhai_fn(name = "to_string", name = "to_debug", pure)]
+    pub fn to_string(vx: &mut Voxels) -> String {
+        format!("Voxels({}³, {} filled, volume {})", vx.0.size(), vx.0.filled(), vx.0.volume())
+    }
+
     /// The sum of densities / 255: the filled volume in voxel units.
     #[rhai_fn(pure)]
     pub fn volume(vx: &mut Voxels) -> f64 {
