@@ -210,6 +210,14 @@ fn main() -> ExitCode {
             }
         },
         Command::Test { paths, out } => {
+            if paths.is_empty() && !std::path::Path::new("tests").is_dir() {
+                let here = std::env::current_dir().map(|d| d.display().to_string()).unwrap_or_default();
+                eprintln!(
+                    "error: no tests directory in {here}: without paths, `blocksmith test` runs the .rhai files \
+                     under ./tests (relative to where it is run); give test files or directories"
+                );
+                return ExitCode::FAILURE;
+            }
             let paths = if paths.is_empty() { vec![PathBuf::from("tests")] } else { paths };
             let files = match test_runner::collect(&paths) {
                 Ok(f) => f,

@@ -273,6 +273,11 @@ pub fn execute_with_outcome(cmd: &RunCommand) -> Result<RunOutcome, RunError> {
     let summary = describe(&engine, &value);
     let summary = match &cmd.output {
         Some(out) => {
+            // `-o out/model.glb` on a fresh checkout: the output's folder is made.
+            if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty() && !d.exists()) {
+                std::fs::create_dir_all(dir)
+                    .map_err(|e| RunError(format!("error: cannot make the folder {}: {e}", dir.display())))?;
+            }
             save_value(&engine, &ast, value, out)?;
             format!("wrote {} ({summary})", out.display())
         }

@@ -158,3 +158,16 @@ fn a_syntax_error_in_an_imported_module_points_into_the_module() {
     let err = stderr(&o);
     assert!(err.contains("open.rhai:1:9: error: missing `}`: the `{` here is never closed"), "{err}");
 }
+
+#[test]
+fn run_makes_the_output_folder_and_test_explains_its_default_directory() {
+    let d = tempfile::tempdir().unwrap();
+    let p = script(&d, "c.rhai", "cube(1)\n");
+    let out = d.path().join("out").join("c.glb");
+    let o = blocksmith().arg("run").arg(&p).arg("-o").arg(&out).output().unwrap();
+    assert!(o.status.success() && out.exists(), "{}", stderr(&o));
+    // Outside a checkout, `blocksmith test` says its default is ./tests, relative to here.
+    let o = blocksmith().arg("test").current_dir(d.path()).output().unwrap();
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("runs the .rhai files under ./tests (relative to where it is run)"), "{}", stderr(&o));
+}
