@@ -179,7 +179,42 @@ fn doc_prints_one_function_and_refuses_unknown_names() {
     assert!(out.starts_with("icosphere(radius: any, subdivisions: int) -> Mesh"), "{out}");
     assert!(out.contains("geodesic sphere"), "{out}");
     let o = blocksmith().args(["doc", "icospher"]).output().unwrap();
-    assert_fails_with(&o, "no function named `icospher` (did you mean: icosphere?)");
+    assert_fails_with(&o, "no function or type named `icospher` (did you mean: icosphere?)");
+}
+
+#[test]
+fn doc_signatures_read_as_scripts_write_them() {
+    let o = blocksmith().arg("doc").output().unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success());
+    assert!(out.contains("\nblocks() -> BlockModel\n"), "a function without parameters keeps its ()");
+    assert!(out.contains("\npolar_octahedron() -> PolarMesh\n"));
+    assert!(out.contains("cylinder(radius: any, height: any, segments: int) -> Mesh"), "no Rust-side `segments_`");
+    let signatures: Vec<&str> = out.lines().filter(|l| !l.is_empty() && !l.starts_with(' ')).collect();
+    assert!(signatures.len() > 100, "{}", signatures.len());
+    for s in signatures {
+        assert!(!s.contains("nothing ->") && !s.ends_with("nothing"), "`nothing` glued to a name: {s}");
+        assert!(!s.contains("::"), "a Rust module path: {s}");
+        assert!(!s.contains("-> ()"), "an arrow to nothing: {s}");
+    }
+}
+
+#[test]
+fn doc_of_a_type_lists_its_methods_and_properties() {
+    let o = blocksmith().args(["doc", "Mesh"]).output().unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{out}");
+    assert!(out.starts_with("Mesh: "), "{out}");
+    for method in ["translate(", "catmull_clark(", "volume(", "get vertex_count(", "crease("] {
+        assert!(
+            out.lines().any(|l| l.trim_start().starts_with(method) || l.contains(&format!(" {method}"))),
+            "{method} missing:\n{out}"
+        );
+    }
+    assert!(!out.contains("(pm: PolarMesh"), "only the type's own methods:\n{out}");
+    let o = blocksmith().args(["doc", "PolarMesh"]).output().unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success() && out.contains("to_mesh("), "{out}");
 }
 
 #[test]
