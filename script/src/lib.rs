@@ -26,11 +26,11 @@ pub mod stats;
 pub mod studio;
 pub mod test_runner;
 
-use std::cell::Cell;
-use std::rc::Rc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64};
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
+use blocksmith_kernel::limits::{self, CancelToken, LimitError};
 use rhai::{Dynamic, Engine};
 
 pub use context::RunContext;
@@ -40,16 +40,21 @@ pub use context::RunContext;
 pub struct EngineOptions {
     /// The run's surroundings (parameters, script and output directories).
     pub context: RunContext,
-    /// Stop after this many operations, counted across closures called back from Rust too.
+    /// Stop after this many operations, counted across closures called back from Rust too, and
+    /// across the kernel work the script starts (one per element processed).
     pub max_operations: Option<u64>,
-    /// Set (e.g. by Ctrl-C) to stop the running evaluation.
+    /// Set (e.g. by Ctrl-C) to stop the running evaluation and the kernel work it started.
     pub interrupt: Option<Arc<AtomicBool>>,
+    /// Stop the evaluation, kernel work included, this long after it starts (`--timeout`).
+    pub timeout: Option<Duration>,
 }
 
 /// The message an evaluation stopped by `--max-operations` ends with.
 pub const OPERATION_LIMIT: &str = "operation limit reached";
 /// The message an evaluation stopped by an interrupt ends with.
 pub const INTERRUPTED: &str = "interrupted";
+/// The message an evaluation stopped by `--timeout` ends with.
+pub const TIME_LIMIT: &str = "time limit reached";
 
 /// An engine with the whole script API, the standard library resolver and the given limits.
 ///
@@ -67,25 +72,26 @@ pub fn new_engine(options: EngineOptions) -> Engine {
         resolver::Resolver::new(options.context.script_dir.clone()).recording(options.context.record.clone()),
     );
     engine.set_default_tag(options.context.clone().into_tag());
-    let limit = options.max_operations;
-    let interrupt = options.interrupt;
-    let counter = Rc::new(Cell::new(0u64));
-    if limit.is_some() || interrupt.is_some() {
-        engine.on_progress(move |_| {
-            let n = counter.get() + 1;
-            counter.set(n);
-            if let Some(max) = limit {
-                if n > max {
-                    return Some(Dynamic::from(format!("{OPERATION_LIMIT} (--max-operations {max})")));
-                }
-            }
-            if let Some(flag) = &interrupt {
-                if flag.swap(false, Ordering::SeqCst) {
-                    return Some(Dynamic::from(INTERRUPTED.to_string()));
-                }
-            }
-            None
-        });
-    }
+    set_limits(&mut engine, &options);
     engine
+}
+
+/// (Re)starts the limits of `options` on `engine`: a fresh operation count and deadline.
+///
+/// Every step of the script checks one cancellation token — the interrupt flag, the deadline and
+/// the operation count — and makes it the current token of the thread it runs on, so the kernel
+/// work it calls checks the same token in its long loops ([`limits::check`]) and stops with it.
+/// Without limits the token never stops anything (and still replaces one left by other work).
+pub fn set_limits(engine: &mut Engine, options: &EngineOptions) {
+    let deadline = options.timeout.map(|t| (Instant::now() + t, t.as_secs_f64()));
+    let operations = options.max_operations.map(|max| (Arc::new(AtomicU64::new(0)), max));
+    let token = CancelToken::with(options.interrupt.clone(), deadline, operations);
+    engine.on_progress(move |_| {
+        limits::make_current(&token);
+        match token.charge(1) {
+            Ok(()) => None,
+            Err(LimitError::Stopped(reason)) => Some(Dynamic::from(reason.to_string())),
+            Err(e) => Some(Dynamic::from(e.to_string())),
+        }
+    });
 }

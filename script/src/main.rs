@@ -2,6 +2,9 @@
 
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::time::Duration;
+
+use blocksmith_kernel::limits;
 
 use blocksmith::params_list::{self, ListFormat};
 use blocksmith::run::{execute_with_outcome, RunCommand, RunError};
@@ -32,9 +35,8 @@ enum Command {
         /// A parameter read by `param(name, default)`; repeatable.
         #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_set)]
         set: Vec<(String, String)>,
-        /// Stop the script after this many operations (also inside closures).
-        #[arg(long)]
-        max_operations: Option<u64>,
+        #[command(flatten)]
+        limits: LimitArgs,
         /// Print the written model's facts (counts, closed, manifold, genus, volume, area,
         /// bounds, run time) to standard output as JSON; needs -o.
         #[arg(long, value_parser = ["json"], requires = "output")]
@@ -61,7 +63,10 @@ enum Command {
         set: Vec<(String, String)>,
     },
     /// Interactive session (also reads piped standard input).
-    Repl,
+    Repl {
+        #[command(flatten)]
+        limits: LimitArgs,
+    },
     /// Run .rhai test scripts (default: tests/), each in a fresh engine.
     Test {
         /// Test files or directories.
@@ -69,6 +74,8 @@ enum Command {
         /// Where relative `save` paths of the tests go.
         #[arg(long, default_value = "target/test-output")]
         out: PathBuf,
+        #[command(flatten)]
+        limits: LimitArgs,
     },
     /// Draw a recipe's value (or a mesh file) to a PNG on the CPU: no GPU, no browser.
     Render {
@@ -117,6 +124,65 @@ enum Command {
         /// A function name.
         name: Option<String>,
     },
+}
+
+/// The limits of a run (for the REPL: of each entry; for tests: of each script).
+#[derive(clap::Args)]
+struct LimitArgs {
+    /// Stop after this many operations: script steps, also inside closures, and the elements
+    /// kernel work processes.
+    #[arg(long)]
+    max_operations: Option<u64>,
+    /// Stop after this many seconds (the kernel work in progress included).
+    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
+    timeout: Option<Duration>,
+    /// The memory budget: a request whose result is estimated over it is refused before
+    /// allocating. Bytes, or with a unit: 512M, 8G, 1T. Default: half the physical memory.
+    #[arg(long, value_name = "SIZE", value_parser = parse_memory)]
+    memory_limit: Option<u64>,
+}
+
+impl LimitArgs {
+    /// Sets the process-wide memory budget and returns the options of the other limits.
+    fn apply(&self) -> EngineOptions {
+        if let Some(bytes) = self.memory_limit {
+            limits::set_memory_limit(bytes);
+        }
+        EngineOptions { max_operations: self.max_operations, timeout: self.timeout, ..EngineOptions::default() }
+    }
+}
+
+fn parse_seconds(s: &str) -> Result<Duration, String> {
+    match s.trim().parse::<f64>() {
+        Ok(x) if x > 0.0 && x <= 1e9 => Ok(Duration::from_secs_f64(x)),
+        _ => Err(format!("expected a number of seconds between 0 and 1e9, got `{s}`")),
+    }
+}
+
+/// A size in bytes: a number with an optional unit K, M, G or T (powers of 1024; `B`, `iB`
+/// allowed after it).
+fn parse_memory(s: &str) -> Result<u64, String> {
+    let bad = || format!("expected a size such as 512M, 8G or 1T (at least 1M), got `{s}`");
+    let t = s.trim();
+    let t = t.strip_suffix("iB").or_else(|| t.strip_suffix('B')).unwrap_or(t);
+    let (number, unit) = match t.char_indices().last() {
+        Some((i, c)) if c.is_ascii_alphabetic() => (&t[..i], c.to_ascii_uppercase()),
+        _ => (t, ' '),
+    };
+    let scale = match unit {
+        ' ' => 1.0,
+        'K' => 1024.0,
+        'M' => 1024.0 * 1024.0,
+        'G' => 1024.0 * 1024.0 * 1024.0,
+        'T' => 1024.0 * 1024.0 * 1024.0 * 1024.0,
+        _ => return Err(bad()),
+    };
+    let x = number.trim().parse::<f64>().map_err(|_| bad())? * scale;
+    if x.is_finite() && (1024.0 * 1024.0..1e19).contains(&x) {
+        Ok(x as u64)
+    } else {
+        Err(bad())
+    }
 }
 
 fn parse_set(s: &str) -> Result<(String, String), String> {
@@ -189,8 +255,17 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
         Command::Run { file, set, params: Some(format), .. } => list_params(&file, &set, &format),
-        Command::Run { file, output, set, max_operations, stats, manifest, params: None } => {
-            let cmd = RunCommand { file, output, params: set, max_operations, stats: stats.is_some(), manifest };
+        Command::Run { file, output, set, limits, stats, manifest, params: None } => {
+            let l = limits.apply();
+            let cmd = RunCommand {
+                file,
+                output,
+                params: set,
+                max_operations: l.max_operations,
+                timeout: l.timeout,
+                stats: stats.is_some(),
+                manifest,
+            };
             report(execute_with_outcome(&cmd).map(|o| {
                 for w in &o.warnings {
                     eprintln!("{w}");
@@ -202,14 +277,15 @@ fn main() -> ExitCode {
             }))
         }
         Command::Params { file, format, set } => list_params(&file, &set, &format),
-        Command::Repl => match repl::run() {
+        Command::Repl { limits } => match repl::run(limits.apply().max_operations, limits.timeout) {
             Ok(()) => ExitCode::SUCCESS,
             Err(e) => {
                 eprintln!("{e}");
                 ExitCode::FAILURE
             }
         },
-        Command::Test { paths, out } => {
+        Command::Test { paths, out, limits } => {
+            let limits = limits.apply();
             if paths.is_empty() && !std::path::Path::new("tests").is_dir() {
                 let here = std::env::current_dir().map(|d| d.display().to_string()).unwrap_or_default();
                 eprintln!(
@@ -226,7 +302,7 @@ fn main() -> ExitCode {
                     return ExitCode::FAILURE;
                 }
             };
-            let outcomes = test_runner::run_all(&files, &out);
+            let outcomes = test_runner::run_all_limited(&files, &out, limits.max_operations, limits.timeout);
             print!("{}", test_runner::report(&outcomes));
             if outcomes.iter().any(|o| o.error.is_some()) {
                 ExitCode::FAILURE

@@ -5,6 +5,7 @@ use std::io::Write;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
+use std::time::Duration;
 
 use rhai::{Dynamic, Engine, Position, Scope, AST};
 use rustyline::completion::{Completer, Pair};
@@ -125,16 +126,25 @@ pub struct Session {
     pub open_page: bool,
     /// The dropped results of the entry being evaluated, as warnings.
     warnings: Vec<String>,
+    /// The limits each entry runs under (a fresh count and deadline per entry).
+    limits: EngineOptions,
 }
 
 impl Session {
     /// A new session; `interrupt` stops a running evaluation when set.
     #[must_use]
     pub fn new(interrupt: Arc<AtomicBool>) -> Session {
+        Session::with_limits(interrupt, None, None)
+    }
+
+    /// A new session whose entries each stop after `max_operations` operations or `timeout`.
+    #[must_use]
+    pub fn with_limits(interrupt: Arc<AtomicBool>, max_operations: Option<u64>, timeout: Option<Duration>) -> Session {
         let cwd = std::env::current_dir().ok();
         let shown = Shown::default();
         let context = RunContext { script_dir: cwd, shown: Some(shown.clone()), ..RunContext::default() };
-        let engine = new_engine(EngineOptions { context, max_operations: None, interrupt: Some(interrupt.clone()) });
+        let limits = EngineOptions { context, max_operations, timeout, interrupt: Some(interrupt.clone()) };
+        let engine = new_engine(limits.clone());
         Session {
             engine,
             scope: Scope::new(),
@@ -145,6 +155,7 @@ impl Session {
             studio: None,
             open_page: false,
             warnings: Vec::new(),
+            limits,
         }
     }
 
@@ -176,6 +187,8 @@ impl Session {
                 "doc" => Some(doc::render(&self.engine, (!arg.is_empty()).then_some(arg)).unwrap_or_else(|e| e)),
                 "load" if !arg.is_empty() => Some(self.load(arg)),
                 "save" if !arg.is_empty() => {
+                    self.interrupt.store(false, Ordering::SeqCst);
+                    crate::set_limits(&mut self.engine, &self.limits);
                     Some(match save_value(&self.engine, &self.functions, self.last.clone(), &PathBuf::from(arg)) {
                         Ok(()) => format!("wrote {arg}"),
                         Err(e) => e.0,
@@ -309,6 +322,7 @@ impl Session {
         self.warnings = self.dropped_results(&ast, source, name);
         let merged = self.functions.merge(&ast);
         self.interrupt.store(false, Ordering::SeqCst);
+        crate::set_limits(&mut self.engine, &self.limits);
         let result = self.engine.eval_ast_with_scope::<Dynamic>(&mut self.scope, &merged);
         self.functions = merged;
         self.functions.clear_statements();
@@ -358,13 +372,13 @@ fn history_path() -> Option<PathBuf> {
 ///
 /// # Errors
 /// When the terminal cannot be set up.
-pub fn run() -> Result<(), String> {
+pub fn run(max_operations: Option<u64>, timeout: Option<Duration>) -> Result<(), String> {
     let interrupt = Arc::new(AtomicBool::new(false));
     let flag = interrupt.clone();
     // Ctrl-C while a script runs: stop it, keep the session. (While reading a line the
     // terminal is in raw mode and Ctrl-C reaches rustyline as a key instead.)
     let _ = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst));
-    let mut session = Session::new(interrupt);
+    let mut session = Session::with_limits(interrupt, max_operations, timeout);
     session.open_page = std::io::IsTerminal::is_terminal(&std::io::stdin());
     let mut editor: Editor<ReplHelper, DefaultHistory> = Editor::new().map_err(|e| format!("repl: {e}"))?;
     editor.set_helper(Some(ReplHelper { names: session.names() }));

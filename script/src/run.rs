@@ -234,6 +234,8 @@ pub struct RunCommand {
     pub output: Option<PathBuf>,
     pub params: Vec<(String, String)>,
     pub max_operations: Option<u64>,
+    /// `--timeout SECONDS`: stop the run (kernel work included) after this long.
+    pub timeout: Option<Duration>,
     /// `--stats json`: the written model's facts ([`crate::stats::of_file`]); needs `output`.
     pub stats: bool,
     /// `--manifest FILE.json`: where to write the run's manifest ([`crate::manifest`]).
@@ -268,7 +270,7 @@ pub fn execute_with_outcome(cmd: &RunCommand) -> Result<RunOutcome, RunError> {
         return Err(RunError("error: --stats needs -o OUT: the facts are those of the written model".into()));
     }
     let context = RunContext { params: cmd.params.iter().cloned().collect(), ..RunContext::default() };
-    let options = EngineOptions { context, max_operations: cmd.max_operations, interrupt: None };
+    let options = EngineOptions { context, max_operations: cmd.max_operations, timeout: cmd.timeout, interrupt: None };
     let RecipeRun { engine, value, ast, record, elapsed, warnings } = run_recipe(&cmd.file, options)?;
     let summary = describe(&engine, &value);
     let summary = match &cmd.output {

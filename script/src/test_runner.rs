@@ -62,6 +62,18 @@ fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
 /// `save` paths go under `output_dir`. Outcomes come back in the order of `files`.
 #[must_use]
 pub fn run_all(files: &[PathBuf], output_dir: &Path) -> Vec<TestOutcome> {
+    run_all_limited(files, output_dir, None, None)
+}
+
+/// As [`run_all`], each script stopped after `max_operations` operations or `timeout` (its own
+/// count and deadline).
+#[must_use]
+pub fn run_all_limited(
+    files: &[PathBuf],
+    output_dir: &Path,
+    max_operations: Option<u64>,
+    timeout: Option<Duration>,
+) -> Vec<TestOutcome> {
     let next = AtomicUsize::new(0);
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(files.len().max(1));
     let mut outcomes: Vec<Option<TestOutcome>> = vec![None; files.len()];
@@ -71,7 +83,7 @@ pub fn run_all(files: &[PathBuf], output_dir: &Path) -> Vec<TestOutcome> {
             s.spawn(|| loop {
                 let i = next.fetch_add(1, Ordering::SeqCst);
                 let Some(path) = files.get(i) else { break };
-                let outcome = run_one(path, output_dir);
+                let outcome = run_one(path, output_dir, max_operations, timeout);
                 if let Ok(mut r) = results.lock() {
                     r[i] = Some(outcome);
                 }
@@ -81,10 +93,10 @@ pub fn run_all(files: &[PathBuf], output_dir: &Path) -> Vec<TestOutcome> {
     outcomes.into_iter().flatten().collect()
 }
 
-fn run_one(path: &Path, output_dir: &Path) -> TestOutcome {
+fn run_one(path: &Path, output_dir: &Path, max_operations: Option<u64>, timeout: Option<Duration>) -> TestOutcome {
     let start = Instant::now();
     let context = RunContext { output_dir: Some(output_dir.to_path_buf()), ..RunContext::default() };
-    let error = match run_recipe(path, EngineOptions { context, ..EngineOptions::default() }) {
+    let error = match run_recipe(path, EngineOptions { context, max_operations, timeout, ..EngineOptions::default() }) {
         Err(e) => Some(e.error.0),
         // In a test a dropped result is an error: the test may pass for the wrong reason.
         Ok(run) if !run.warnings.is_empty() => {

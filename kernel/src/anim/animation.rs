@@ -264,10 +264,10 @@ impl Animation {
                 Modifier::Gravity(g) => {
                     let sim = &mut sims[index];
                     if step > 0.0 {
-                        g.apply(&self.tree, step, sim, &mut states);
+                        g.apply(&self.tree, step, sim, &mut states)?;
                     } else {
                         // The first frame: the simulation starts at rest on its input.
-                        g.apply(&self.tree, 0.0, sim, &mut states);
+                        g.apply(&self.tree, 0.0, sim, &mut states)?;
                     }
                 }
                 Modifier::Custom(id) => {

@@ -23,4 +23,7 @@ pub enum AnimError {
     /// The skeleton could not be inferred.
     #[error("the skeleton cannot be inferred: {0}")]
     Skeleton(String),
+    /// Refused over the memory budget, or stopped by the cancellation token.
+    #[error(transparent)]
+    Limit(#[from] crate::limits::LimitError),
 }

@@ -13,7 +13,7 @@
 
 use super::animation::{NodeState, Tree};
 use super::AnimError;
-use crate::math::Vec3;
+use crate::math::{fmt_num, Vec3};
 
 /// The gravity modifier's parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -38,6 +38,9 @@ impl Default for Gravity {
         Gravity { g: 9.81, down: Vec3::NEG_Z, k: 20.0, drag: 0.5, iterations: 10, dt: None }
     }
 }
+
+/// The most simulation steps one frame may take (`frame dt / dt`): more is refused up front.
+pub const MAX_SUBSTEPS: u64 = 100_000;
 
 /// The simulated positions of every node: the current and the previous step's.
 #[derive(Clone, Debug, Default)]
@@ -80,24 +83,50 @@ impl Gravity {
     /// Advances `state` by a frame of length `frame_dt` towards the nominal `states` (the
     /// output of the modifiers before this one), then writes the simulated positions into
     /// `states`. The first call starts at rest on the nominal positions.
-    pub(crate) fn apply(&self, tree: &Tree, frame_dt: f64, state: &mut GravityState, states: &mut [NodeState]) {
+    ///
+    /// # Errors
+    /// [`AnimError::InvalidParameter`] naming `dt` when the frame would take more than
+    /// [`MAX_SUBSTEPS`] steps (refused before stepping); [`AnimError::Limit`] when the
+    /// cancellation token stops the simulation (checked every step).
+    pub(crate) fn apply(
+        &self,
+        tree: &Tree,
+        frame_dt: f64,
+        state: &mut GravityState,
+        states: &mut [NodeState],
+    ) -> Result<(), AnimError> {
+        let steps = match self.dt {
+            Some(dt) => (frame_dt / dt).ceil().max(1.0),
+            None => 1.0,
+        };
+        if steps > MAX_SUBSTEPS as f64 {
+            return Err(AnimError::InvalidParameter {
+                name: "dt",
+                reason: format!(
+                    "{} makes {} simulation steps per frame of {}, over the cap of {MAX_SUBSTEPS}: use a larger `dt`",
+                    fmt_num(self.dt.unwrap_or(frame_dt)),
+                    fmt_num(steps),
+                    fmt_num(frame_dt)
+                ),
+            });
+        }
+        let steps = steps as usize;
         let nominal: Vec<Vec3> = states.iter().map(|s| s.position).collect();
         if state.position.len() != nominal.len() {
             state.position.clone_from(&nominal);
             state.previous.clone_from(&nominal);
         }
-        let steps = match self.dt {
-            Some(dt) => (frame_dt / dt).ceil().max(1.0) as usize,
-            None => 1,
-        };
         let h = frame_dt / steps as f64;
         let down = self.down.normalize();
+        let work = (nominal.len() as u64 + 1) * u64::from(self.iterations.max(1));
         for _ in 0..steps {
+            crate::limits::charge(work)?;
             self.step(tree, &nominal, h, down, state);
         }
         for (s, p) in states.iter_mut().zip(&state.position) {
             s.position = *p;
         }
+        Ok(())
     }
 
     fn step(&self, tree: &Tree, nominal: &[Vec3], h: f64, down: Vec3, state: &mut GravityState) {

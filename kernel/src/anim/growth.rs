@@ -6,6 +6,7 @@
 
 use super::animation::{NodeState, Tree};
 use super::AnimError;
+use crate::math::fmt_num;
 
 /// The interpolation curve of a growth.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -49,6 +50,14 @@ pub struct Growth {
     pub curve: Curve,
 }
 
+/// The slowest growth speed: a node takes at most 1,000 time units to grow, so that the
+/// animation's duration (and the frames that cover it) stays countable.
+pub const MIN_SPEED: f64 = 1e-3;
+/// The fastest growth speed.
+pub const MAX_SPEED: f64 = 1e9;
+/// The longest delay between a node's onset and its children's.
+pub const MAX_DELAY: f64 = 1e3;
+
 impl Default for Growth {
     fn default() -> Self {
         Growth { delay: 1.0, speed: 1.0, thickness_delay: 1.0, thickness_speed: 1.0, curve: Curve::Sigmoid }
@@ -56,24 +65,29 @@ impl Default for Growth {
 }
 
 impl Growth {
-    /// Checks the parameters: delays finite and ≥ 0, speeds finite and > 0.
+    /// Checks the parameters: delays from 0 to [`MAX_DELAY`], speeds from [`MIN_SPEED`] to
+    /// [`MAX_SPEED`].
     ///
     /// # Errors
     /// [`AnimError::InvalidParameter`] naming the parameter.
     pub fn validate(&self) -> Result<(), AnimError> {
         for (name, v) in [("delay", self.delay), ("thickness_delay", self.thickness_delay)] {
-            if !(v.is_finite() && v >= 0.0) {
+            if !(v.is_finite() && (0.0..=MAX_DELAY).contains(&v)) {
                 return Err(AnimError::InvalidParameter {
                     name,
-                    reason: format!("must be a finite number ≥ 0, got {v}"),
+                    reason: format!("must be a number from 0 to {MAX_DELAY}, got {}", fmt_num(v)),
                 });
             }
         }
         for (name, v) in [("speed", self.speed), ("thickness_speed", self.thickness_speed)] {
-            if !(v.is_finite() && v > 0.0) {
+            if !(v.is_finite() && (MIN_SPEED..=MAX_SPEED).contains(&v)) {
                 return Err(AnimError::InvalidParameter {
                     name,
-                    reason: format!("must be a finite number > 0, got {v}"),
+                    reason: format!(
+                        "must be a number from {MIN_SPEED} to {} (growing takes 1 / speed), got {}",
+                        fmt_num(MAX_SPEED),
+                        fmt_num(v)
+                    ),
                 });
             }
         }

@@ -75,4 +75,7 @@ pub enum BlockError {
     /// A broken internal invariant: a bug in blocksmith, please file an issue.
     #[error("internal error in blocks (please file an issue): {0}")]
     Internal(String),
+    /// Refused over the memory budget, or stopped by the cancellation token.
+    #[error(transparent)]
+    Limit(#[from] crate::limits::LimitError),
 }

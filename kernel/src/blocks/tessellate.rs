@@ -38,8 +38,9 @@ use std::collections::HashMap;
 
 use rayon::prelude::*;
 
+use crate::limits::{check_memory, CancelToken, LimitError};
 use crate::math::Vec3;
-use crate::mesh::Mesh;
+use crate::mesh::{mesh_bytes, Mesh};
 use crate::subdiv::LimitEvaluator;
 
 use super::{BlockError, BlockModel, ControlMesh, SubFaceRef};
@@ -321,11 +322,21 @@ fn flatness(s: &Surface<'_>, f: u32, r: Rect, scale: f64, tol: f64) -> Result<(b
 }
 
 /// The leaves of patch `f`'s kd-tree on a grid of `r` × `r` (Fig. 10), sorted.
-fn kd_leaves(s: &Surface<'_>, f: u32, r: u32, tol: f64) -> Result<Vec<Rect>, BlockError> {
+///
+/// Each split charges the cancellation `token` (this runs on worker threads, which have no
+/// current token of their own); every 2^14 leaves, the mesh they would make is checked against
+/// the memory budget.
+fn kd_leaves(s: &Surface<'_>, f: u32, r: u32, tol: f64, token: &CancelToken) -> Result<Vec<Rect>, BlockError> {
     let scale = f64::from(r);
     let mut out = Vec::new();
     let mut stack = vec![[0, 0, r, r]];
+    let mut checked = 0;
     while let Some(rect) = stack.pop() {
+        token.charge(1)?;
+        if out.len() >> 14 != checked {
+            checked = out.len() >> 14;
+            check_leaves(out.len() as f64)?;
+        }
         let [x0, y0, x1, y1] = rect;
         let (can_u, can_v) = (x1 - x0 >= 2, y1 - y0 >= 2);
         let (su, sv) = if can_u || can_v { flatness(s, f, rect, scale, tol)? } else { (false, false) };
@@ -340,6 +351,15 @@ fn kd_leaves(s: &Surface<'_>, f: u32, r: u32, tol: f64) -> Result<Vec<Rect>, Blo
     }
     out.sort_unstable();
     Ok(out)
+}
+
+/// Refuses `leaves` sub-patches when the triangle mesh they make (about two vertices and four
+/// triangles each, with the leaves themselves) is over the memory budget.
+fn check_leaves(leaves: f64) -> Result<(), LimitError> {
+    check_memory(
+        || format!("the tessellation's {} sub-patches", leaves as u64),
+        mesh_bytes(2.0 * leaves, 12.0 * leaves, 4.0 * leaves) + 16.0 * leaves,
+    )
 }
 
 /// Where a vertex of the tessellation lies, so that patches sharing it find the same one.
@@ -392,6 +412,7 @@ pub fn tessellate_control_with_progress(
     let r: u32 = 1 << options.max_depth;
     let scale = f64::from(r);
     let nf = mesh.face_count() as u32;
+    let token = crate::limits::current();
 
     // 1. The kd-tree of every patch: in parallel, chunk by chunk, when no script closure is
     // involved (a closure runs on the caller's thread); the same trees either way.
@@ -402,16 +423,17 @@ pub fn tessellate_control_with_progress(
         let chunk: Vec<Result<Vec<Rect>, BlockError>> = if displacement.is_none() {
             (start..end)
                 .into_par_iter()
-                .map(|f| kd_leaves(&Surface { limit: &limit, displacement: None }, f, r, tol))
+                .map(|f| kd_leaves(&Surface { limit: &limit, displacement: None }, f, r, tol, &token))
                 .collect()
         } else {
-            (start..end).map(|f| kd_leaves(&surface, f, r, tol)).collect()
+            (start..end).map(|f| kd_leaves(&surface, f, r, tol, &token)).collect()
         };
         for l in chunk {
             leaves.push(l?);
         }
         progress(end as usize, total);
     }
+    check_leaves(leaves.iter().map(|l| l.len() as f64).sum())?;
 
     // 2. The points along every control-mesh edge: the union of both sides' sub-patch corners,
     // as parameters along its lower half-edge.
@@ -898,7 +920,7 @@ mod tests {
         let mut oblong = 0;
         let mut total = 0;
         for f in 0..cm.mesh.face_count() as u32 {
-            let leaves = kd_leaves(&s, f, r, 1e-3).unwrap();
+            let leaves = kd_leaves(&s, f, r, 1e-3, &CancelToken::new()).unwrap();
             // The leaves tile the patch.
             let area: u64 = leaves.iter().map(|l| u64::from(l[2] - l[0]) * u64::from(l[3] - l[1])).sum();
             assert_eq!(area, u64::from(r) * u64::from(r));

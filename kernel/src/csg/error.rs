@@ -64,4 +64,7 @@ pub enum CsgError {
     /// The engine's result is not a valid mesh (please file an issue).
     #[error("the boolean engine failed: {reason} (please file an issue)")]
     Engine { reason: String },
+    /// Refused over the memory budget, or stopped by the cancellation token.
+    #[error(transparent)]
+    Limit(#[from] crate::limits::LimitError),
 }

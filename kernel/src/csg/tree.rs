@@ -25,6 +25,7 @@ use rayon::prelude::*;
 use super::engine::{Solid, Triangles};
 use super::{CsgError, CsgOp, Side};
 use crate::blocks::{BlockModel, MeshOptions};
+use crate::limits::{check_memory, CancelToken, LimitError};
 use crate::math::{Aabb, Vec3};
 use crate::mesh::{FaceSource, Mesh};
 
@@ -100,11 +101,13 @@ impl Csg {
         // On a worker of the thread pool: the parallel steps inside then share work with the
         // other workers directly, rather than each handing a job from this thread to the pool
         // and sleeping until it is done.
-        rayon::scope(|_| self.evaluate_here())
+        // The pool's workers have no current cancellation token: hand them the caller's.
+        let token = crate::limits::current();
+        rayon::scope(|_| self.evaluate_here(&token))
     }
 
-    /// [`Csg::evaluate`] on the calling thread.
-    fn evaluate_here(&self) -> Result<Mesh, CsgError> {
+    /// [`Csg::evaluate`] on the calling thread, checking `token` between the engine's steps.
+    fn evaluate_here(&self, token: &CancelToken) -> Result<Mesh, CsgError> {
         let mut leaves = Vec::new();
         collect_leaves(self, Side::Left, &mut leaves);
         let prepared: Vec<Prepared> = leaves
@@ -118,6 +121,7 @@ impl Csg {
         if total >= i32::MAX as usize {
             return Err(CsgError::TooLarge { triangles: total });
         }
+        check_memory(|| format!("a boolean of {total} triangles"), total as f64 * ENGINE_BYTES_PER_TRIANGLE)?;
         let mut offsets = Vec::with_capacity(prepared.len());
         let mut first_leaf = 0u32;
         let mut tag = 0u32;
@@ -138,7 +142,7 @@ impl Csg {
         let bounds: Vec<Vec<Aabb>> = prepared.iter().map(Prepared::component_bounds).collect();
         let mut leaf_no = 0usize;
         let plan = plan(self, &bounds, &mut leaf_no);
-        let solid = run(&plan, &prepared, &leaves, &offsets)?;
+        let solid = run(&plan, &prepared, &leaves, &offsets, token)?;
         drop(prepared);
         let out = without_flat_shells(solid.triangles());
         let flat: Vec<u32> = out.triangles.as_flattened().to_vec();
@@ -170,6 +174,10 @@ impl Csg {
         Ok(mesh)
     }
 }
+
+/// The boolean engine's memory per input triangle (its half-edges, normals, collider and the
+/// intersection's intermediate arrays), for the budget check before importing.
+const ENGINE_BYTES_PER_TRIANGLE: f64 = 1024.0;
 
 /// No vertex yet (in [`run`]'s renumbering).
 const NONE: u32 = u32::MAX;
@@ -337,7 +345,16 @@ fn imports(pieces: Vec<(usize, usize)>, bounds: &[Vec<Aabb>]) -> Vec<Plan> {
 }
 
 /// Carries out `plan`: imports in parallel, both sides of every boolean in parallel.
-fn run(plan: &Plan, prepared: &[Prepared], leaves: &[(&Csg, Side)], offsets: &[u32]) -> Result<Solid, CsgError> {
+fn run(
+    plan: &Plan,
+    prepared: &[Prepared],
+    leaves: &[(&Csg, Side)],
+    offsets: &[u32],
+    token: &CancelToken,
+) -> Result<Solid, CsgError> {
+    if let Some(reason) = token.stopped() {
+        return Err(LimitError::Stopped(reason).into());
+    }
     match plan {
         Plan::Import { pieces, id } => {
             // Each piece brings the vertices its triangles use, numbered in order of first use.
@@ -369,6 +386,7 @@ fn run(plan: &Plan, prepared: &[Prepared], leaves: &[(&Csg, Side)], offsets: &[u
                     number[v as usize] = NONE;
                 }
             }
+            token.charge(triangles.len() as u64)?;
             Solid::with_id(&positions, &triangles, &tags, *id).map_err(|reason| {
                 let (k, _) = pieces[0];
                 CsgError::NonManifold {
@@ -380,11 +398,12 @@ fn run(plan: &Plan, prepared: &[Prepared], leaves: &[(&Csg, Side)], offsets: &[u
         }
         Plan::Union(parts) => {
             let solids: Vec<Solid> =
-                parts.par_iter().map(|p| run(p, prepared, leaves, offsets)).collect::<Result<_, _>>()?;
+                parts.par_iter().map(|p| run(p, prepared, leaves, offsets, token)).collect::<Result<_, _>>()?;
             Solid::union_all(solids).map_err(|reason| CsgError::Engine { reason })
         }
         Plan::Op(op, a, b) => {
-            let (ra, rb) = rayon::join(|| run(a, prepared, leaves, offsets), || run(b, prepared, leaves, offsets));
+            let (ra, rb) =
+                rayon::join(|| run(a, prepared, leaves, offsets, token), || run(b, prepared, leaves, offsets, token));
             ra?.boolean(&rb?, *op).map_err(|reason| CsgError::Engine { reason })
         }
     }

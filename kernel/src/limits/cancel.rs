@@ -141,6 +141,16 @@ impl Drop for InstallGuard {
     }
 }
 
+/// Makes `token` the calling thread's current token for good (until another is installed),
+/// unless it already is: an interpreter calls this on every step, so that kernel work it starts
+/// — on whichever thread it runs — checks its token and never one left by earlier work.
+pub fn make_current(token: &CancelToken) {
+    let already = CURRENT.with(|c| c.borrow().as_ref().is_some_and(|t| t.same(token)));
+    if !already {
+        install(token.clone()).keep();
+    }
+}
+
 /// The calling thread's current token (a never-stopping one when none is installed), to hand
 /// to the workers of a parallel loop.
 #[must_use]

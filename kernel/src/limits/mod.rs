@@ -11,5 +11,5 @@ mod cancel;
 mod error;
 
 pub use budget::{check_memory, memory_limit, set_memory_limit, DEFAULT_MEMORY_SHARE};
-pub use cancel::{charge, check, current, install, CancelToken, InstallGuard};
+pub use cancel::{charge, check, current, install, make_current, CancelToken, InstallGuard};
 pub use error::{human_bytes, LimitError, StopReason};

@@ -16,6 +16,11 @@ use super::LsystemError;
 /// A probability callback: `(choice id, step, predecessor parameters) → probability`.
 pub type ProbabilityFn<'a, E> = dyn FnMut(u32, u32, &[f64]) -> Result<f64, E> + 'a;
 
+/// The memory of one module of a derived string, with its symbol and parameters (an estimate).
+const MODULE_BYTES: f64 = 96.0;
+/// The memory budget and the cancellation token are checked every 2^16 modules.
+const CHECK_SHIFT: u32 = 16;
+
 impl Lsystem {
     /// The string after `steps` derivation steps, for a grammar whose probabilities are all
     /// fixed numbers.
@@ -50,6 +55,7 @@ impl Lsystem {
         for step in 0..steps {
             let (open_of, close_of) = brackets(&cur);
             let mut next = Vec::with_capacity(cur.len() * 2);
+            let mut checked = 0;
             for (i, m) in cur.iter().enumerate() {
                 let Some(rule) = self.matching_rule(&cur, i, &open_of, &close_of) else {
                     next.push(m.clone());
@@ -112,6 +118,18 @@ impl Lsystem {
                 }
                 if next.len() > self.max_modules {
                     return Err(LsystemError::TooManyModules { count: next.len(), step, cap: self.max_modules });
+                }
+                if next.len() >> CHECK_SHIFT != checked {
+                    // Every 65,536 modules: the strings so far against the memory budget (a
+                    // raised max_modules must not run the machine out of memory), and the
+                    // cancellation token.
+                    checked = next.len() >> CHECK_SHIFT;
+                    let n = cur.len() + next.len();
+                    crate::limits::check_memory(
+                        || format!("the derived string ({n} modules at step {step})"),
+                        n as f64 * MODULE_BYTES,
+                    )?;
+                    crate::limits::charge(1 << CHECK_SHIFT)?;
                 }
             }
             cur = next;

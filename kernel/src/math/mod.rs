@@ -3,11 +3,13 @@
 mod aabb;
 mod closest_point;
 mod color;
+mod fmt_num;
 mod lerp;
 
 pub use aabb::Aabb;
 pub use closest_point::closest_on_triangle;
 pub use color::hsv_rgba;
+pub use fmt_num::fmt_num;
 pub use lerp::lerp;
 
 /// A point or direction in 3D, in double precision.

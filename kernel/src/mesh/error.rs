@@ -40,10 +40,17 @@ pub enum MeshError {
     /// A face that cannot be triangulated in its plane.
     #[error("face {face} cannot be triangulated: {reason}")]
     Triangulation { face: usize, reason: String },
+    /// A length or coordinate outside the range the operation takes (`value` and `range` as
+    /// messages show numbers).
+    #[error("argument `{name}` must be between {range}, got {value}")]
+    OutOfRange { name: String, value: String, range: String },
     /// Too many elements for 32-bit ids.
     #[error("the mesh is too large: {what}")]
     TooLarge { what: String },
     /// A broken internal invariant: a bug in blocksmith, please file an issue.
     #[error("internal error (please file an issue): {0}")]
     Internal(String),
+    /// Refused over the memory budget, or stopped by the cancellation token.
+    #[error(transparent)]
+    Limit(#[from] crate::limits::LimitError),
 }

@@ -14,14 +14,18 @@ mod circulate;
 mod combine;
 pub mod edit;
 mod error;
+mod estimate;
 mod measure;
+mod primitive_checks;
 mod primitives;
 mod transform;
 mod triangulate;
 
 pub use attributes::{check_sharpness, FaceSource};
 pub use error::MeshError;
+pub use estimate::{check_mesh_size, mesh_bytes};
 pub use measure::Measures;
+pub use primitive_checks::{check_length, check_point, MAX_LENGTH, MIN_LENGTH};
 
 use crate::math::Vec3;
 

@@ -32,4 +32,7 @@ pub enum SolveError {
     /// The normal matrix is not positive definite.
     #[error("the normal matrix is singular: the constraints leave some vertices free ({0})")]
     Singular(String),
+    /// Refused over the memory budget, or stopped by the cancellation token.
+    #[error(transparent)]
+    Limit(#[from] crate::limits::LimitError),
 }

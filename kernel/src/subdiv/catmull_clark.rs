@@ -46,7 +46,7 @@ impl Mesh {
             return Ok(self.clone());
         }
         let r = Refiner::with_options(self, Scheme::CatmullClark, levels, options)?;
-        let p = r.refine_positions(self.positions());
+        let p = r.try_refine_positions(self.positions())?;
         r.to_mesh(p)
     }
 }
@@ -62,6 +62,23 @@ mod tests {
     fn edge_id(m: &Mesh, a: u32, b: u32) -> usize {
         let h = m.find_halfedge(a, b).unwrap();
         m.edges().position(|e| e == m.edge_key(h)).unwrap()
+    }
+
+    #[test]
+    fn a_set_interrupt_stops_subdivision_with_the_reason() {
+        // The current token is checked before every level: a stopped token stops the work and
+        // says why, and the same call without it succeeds.
+        use crate::limits::{install, CancelToken, LimitError, StopReason};
+        use std::sync::atomic::AtomicBool;
+        use std::sync::Arc;
+        let cube = Mesh::cube(2.0);
+        {
+            let _g = install(CancelToken::with(Some(Arc::new(AtomicBool::new(true))), None, None));
+            let e = cube.catmull_clark(3).unwrap_err();
+            assert_eq!(e, SubdivError::Limit(LimitError::Stopped(StopReason::Interrupted)));
+            assert_eq!(e.to_string(), "interrupted");
+        }
+        assert_eq!(cube.catmull_clark(3).unwrap().face_count(), 6 * 64);
     }
 
     #[test]

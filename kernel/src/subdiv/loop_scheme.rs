@@ -36,7 +36,7 @@ impl Mesh {
         if levels == 0 {
             return Ok(self.clone());
         }
-        let p = r.refine_positions(self.positions());
+        let p = r.try_refine_positions(self.positions())?;
         r.to_mesh(p)
     }
 }

@@ -113,6 +113,7 @@ impl Refiner {
         let mut levels = vec![base];
         for _ in 1..depth {
             let last = levels.last().expect("at least the base level");
+            crate::limits::charge(last.face_verts.len() as u64)?;
             let next = if is_loop { last.refine_loop() } else { last.refine_catmull_clark() };
             levels.push(next);
         }
@@ -159,6 +160,24 @@ impl Refiner {
                 Scheme::Loop => 4 * p.face_count(),
             }
         }
+    }
+
+    /// As [`Refiner::refine_positions`], checking the current cancellation token before each
+    /// level ([`crate::limits::charge`], one unit per parent corner).
+    ///
+    /// # Panics
+    /// When `positions.len()` differs from the base vertex count (a caller bug).
+    ///
+    /// # Errors
+    /// [`SubdivError::Limit`] when the token stops the work.
+    pub fn try_refine_positions(&self, positions: &[Vec3]) -> Result<Vec<Vec3>, SubdivError> {
+        assert_eq!(positions.len(), self.levels[0].num_vertices, "one position per base vertex");
+        let mut p = positions.to_vec();
+        for l in 1..=self.depth {
+            crate::limits::charge(self.levels[l as usize - 1].face_verts.len() as u64)?;
+            p = self.refine_level(l, &p);
+        }
+        Ok(p)
     }
 
     /// Refines positions of the base vertices down to the last level (one position per vertex of

@@ -664,5 +664,15 @@ pub(crate) fn check_size(level: &Level, levels: u32, loop_scheme: bool, limit: u
             return Err(SubdivError::TooLarge { levels, faces: full, limit });
         }
     }
+    // The last level as a mesh (quads, or triangles with half as many vertices as faces), and
+    // the topology of the level above it, which the refiner keeps.
+    let (vertices, corners) = if loop_scheme { (0.5, 3.0) } else { (1.0, 4.0) };
+    let f = faces as f64 * 1.25;
+    crate::mesh::check_mesh_size(
+        || format!("the result of {levels} subdivision levels ({faces} faces)"),
+        f * vertices,
+        f * corners,
+        f,
+    )?;
     Ok(faces)
 }

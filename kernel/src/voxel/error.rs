@@ -33,4 +33,7 @@ pub enum VoxelError {
     /// A broken internal invariant: a bug in blocksmith, please file an issue.
     #[error("internal error (please file an issue): {0}")]
     Internal(String),
+    /// Refused over the memory budget, or stopped by the cancellation token.
+    #[error(transparent)]
+    Limit(#[from] crate::limits::LimitError),
 }

@@ -92,6 +92,9 @@ impl Voxels {
         if scale <= 0.0 {
             return Err(VoxelError::InvalidArgument { what: "grid scale", reason: format!("{scale} is not positive") });
         }
+        // The densities, and the hierarchy and surface caches built on first use: about three
+        // bytes a voxel (as `check_size` reports).
+        crate::limits::check_memory(|| format!("a {n}³ voxel grid"), (n as f64).powi(3) * 3.0)?;
         Ok(Voxels {
             n,
             data: vec![0; n * n * n],

@@ -5,8 +5,8 @@
 
 use super::grid::next_revision;
 use super::haar3d::sums_to_densities;
-use super::marching_cubes::{assemble, block_count, check_iso, mesh_block, Image, BLOCK};
-use super::{map_range, VoxelError, Voxels};
+use super::marching_cubes::{assemble, block_count, check_iso, mesh_block, Image, BLOCK, CELLS_PER_BLOCK};
+use super::{map_range_checked, VoxelError, Voxels};
 use crate::mesh::Mesh;
 
 /// The default iso level: 127.5, where a voxel is half covered, so the surface of a shape filled
@@ -177,10 +177,10 @@ impl Voxels {
         }
         let dirty: Vec<usize> = (0..cache.dirty.len()).filter(|&b| cache.dirty[b]).collect();
         let img = if level == 0 { Image { values: &self.data, m } } else { Image { values: &cache.image, m } };
-        let fresh = map_range(parallel, dirty.len(), |i| {
+        let fresh = map_range_checked(parallel, dirty.len(), CELLS_PER_BLOCK, |i| {
             let bi = dirty[i];
             mesh_block(img, iso, [bi % nb, (bi / nb) % nb, bi / (nb * nb)])
-        });
+        })?;
         cache.last_remeshed = dirty.len();
         for (bi, tris) in dirty.into_iter().zip(fresh) {
             cache.blocks[bi] = tris;

@@ -10,12 +10,14 @@
 //! for why it is closed and manifold).
 
 use super::mc_table::{table, EDGES};
-use super::{map_range, VoxelError};
+use super::{map_range, map_range_checked, VoxelError};
 use crate::math::Vec3;
 use crate::mesh::Mesh;
 
 /// Cells per block side.
 pub(super) const BLOCK: usize = 16;
+/// The work of meshing one block, in cancellation units (its cells).
+pub(super) const CELLS_PER_BLOCK: u64 = (BLOCK * BLOCK * BLOCK) as u64;
 /// Samples per block side (a block's cells reach one sample past the block).
 const BS: usize = BLOCK + 1;
 
@@ -136,6 +138,14 @@ pub(super) fn assemble(
 ) -> Result<Mesh, VoxelError> {
     let nb = block_count(img.m);
     let count = blocks.len();
+    // The mesh to build: three corners per triangle, about half as many vertices as triangles.
+    let triangles = blocks.iter().map(|b| b.len() as f64).sum::<f64>() / 3.0;
+    crate::mesh::check_mesh_size(
+        || format!("the marching-cubes surface ({} triangles)", triangles as u64),
+        triangles / 2.0,
+        3.0 * triangles,
+        triangles,
+    )?;
     // Each corner as (which of the 8 blocks at or above its block owns it, its key there).
     let refs: Vec<Vec<(u8, u16)>> = map_range(parallel, count, |b| {
         blocks[b]
@@ -228,7 +238,9 @@ pub fn marching_cubes(values: &[u8], side: usize, iso: f64) -> Result<Mesh, Voxe
     }
     let img = Image { values, m: side };
     let nb = block_count(side);
-    let blocks = map_range(true, nb * nb * nb, |bi| mesh_block(img, iso, [bi % nb, (bi / nb) % nb, bi / (nb * nb)]));
+    let blocks = map_range_checked(true, nb * nb * nb, CELLS_PER_BLOCK, |bi| {
+        mesh_block(img, iso, [bi % nb, (bi / nb) % nb, bi / (nb * nb)])
+    })?;
     assemble(img, iso, &blocks, |p| p, true)
 }
 

@@ -66,6 +66,23 @@ pub(crate) fn for_each_chunk<T: Send>(
     }
 }
 
+/// As [`map_range`], charging `units` of work per item to the calling thread's cancellation
+/// token (checked on the workers too): once it stops, the remaining items are skipped and the
+/// reason is returned instead of a partial result.
+pub(crate) fn map_range_checked<R: Send + Default>(
+    parallel: bool,
+    count: usize,
+    units: u64,
+    f: impl Fn(usize) -> R + Sync + Send,
+) -> Result<Vec<R>, crate::limits::LimitError> {
+    let token = crate::limits::current();
+    let out = map_range(parallel, count, |i| if token.charge(units).is_ok() { f(i) } else { R::default() });
+    match token.stopped() {
+        Some(reason) => Err(crate::limits::LimitError::Stopped(reason)),
+        None => Ok(out),
+    }
+}
+
 /// `f(i)` for `i` in `0..count`, collected in order, on rayon's pool when `parallel`.
 pub(crate) fn map_range<R: Send>(parallel: bool, count: usize, f: impl Fn(usize) -> R + Sync + Send) -> Vec<R> {
     if parallel {

@@ -14,7 +14,12 @@ use rhai::{exported_module, Array, Engine, FnPtr, Map, INT};
 use super::files::output_file;
 use super::mesh::SharedMesh;
 use super::polar::{PolarMesh, Skeleton};
+use blocksmith_kernel::math::fmt_num;
+
 use crate::convert::{fail, kernel, number, type_name, vec3, Options, ScriptResult};
+
+/// The most frames `frames` and `save` make.
+const MAX_FRAMES: INT = 100_000;
 
 /// An animation as scripts hold it (script type `Animation`): the kernel animation and the
 /// script closures of its `modifier(...)` entries, by number.
@@ -296,8 +301,8 @@ pub mod anim_api {
     /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn frames(ctx: NativeCallContext, anim: &mut Animation, count: INT, dt: Dynamic) -> ScriptResult<Array> {
-        if !(1..=100_000).contains(&count) {
-            return fail("frames", format!("argument `count` must be between 1 and 100000, got {count}"));
+        if !(1..=MAX_FRAMES).contains(&count) {
+            return fail("frames", format!("argument `count` must be between 1 and {MAX_FRAMES}, got {count}"));
         }
         let dt = number("frames", "dt", &dt)?;
         let mut custom = script_modifiers(&ctx, &anim.closures);
@@ -321,12 +326,32 @@ pub mod anim_api {
         if fps <= 0.0 {
             return fail("save", format!("option `fps` must be > 0, got {fps}"));
         }
-        let default_frames =
-            if anim.anim.duration() > 0.0 { (anim.anim.duration() * fps).ceil() as INT + 1 } else { 48 };
-        let count = opts.int("frames", default_frames)?;
-        if !(1..=100_000).contains(&count) {
-            return fail("save", format!("option `frames` must be between 1 and 100000, got {count}"));
-        }
+        let duration = anim.anim.duration();
+        let count = if opts.has("frames") {
+            let count = opts.int("frames", 0)?;
+            if !(1..=MAX_FRAMES).contains(&count) {
+                return fail("save", format!("option `frames` must be between 1 and {MAX_FRAMES}, got {count}"));
+            }
+            count
+        } else if duration > 0.0 {
+            // Frames covering the growth, computed in floats: a long growth must not overflow.
+            let n = (duration * fps).ceil() + 1.0;
+            if n.is_nan() || n > MAX_FRAMES as f64 {
+                return fail(
+                    "save",
+                    format!(
+                        "the growth lasts {} time units: at {} fps that is {} frames, over {MAX_FRAMES}; \
+                         pass option `frames`, a lower `fps`, or grow faster",
+                        fmt_num(duration),
+                        fmt_num(fps),
+                        fmt_num(n)
+                    ),
+                );
+            }
+            n as INT
+        } else {
+            48
+        };
         if !path.to_ascii_lowercase().ends_with(".glb") {
             return fail("save", format!("an Animation is written as .glb, got `{path}`"));
         }

@@ -99,7 +99,7 @@ pub mod mesh_api {
     /// ```
     #[rhai_fn(return_raw)]
     pub fn cube(size: Dynamic) -> ScriptResult<SharedMesh> {
-        Ok(SharedMesh::new(Mesh::cube(positive("cube", "size", &size)?)))
+        kernel("cube", Mesh::try_cube(positive("cube", "size", &size)?)).map(SharedMesh::new)
     }
 
     /// The axis-aligned box from corner `min` to corner `max` (8 vertices, 6 quads).
@@ -114,7 +114,7 @@ pub mod mesh_api {
         if (a - b).abs().min_element() == 0.0 {
             return fail("box", format!("arguments `min` and `max` span no volume: {a} to {b}"));
         }
-        Ok(SharedMesh::new(Mesh::cuboid(a, b)))
+        kernel("box", Mesh::try_cuboid(a, b)).map(SharedMesh::new)
     }
 
     /// A geodesic sphere: the icosahedron split `subdivisions` times (0–9), vertices on the
@@ -127,7 +127,8 @@ pub mod mesh_api {
     #[rhai_fn(return_raw)]
     pub fn icosphere(radius: Dynamic, subdivisions: INT) -> ScriptResult<SharedMesh> {
         let r = positive("icosphere", "radius", &radius)?;
-        Ok(SharedMesh::new(Mesh::icosphere(r, count("icosphere", "subdivisions", subdivisions, MAX_ICO_LEVEL)?)))
+        let s = count("icosphere", "subdivisions", subdivisions, MAX_ICO_LEVEL)?;
+        kernel("icosphere", Mesh::try_icosphere(r, s)).map(SharedMesh::new)
     }
 
     /// A latitude–longitude sphere around z: `segments` (≥ 3) around, `rings` (≥ 2) bands from
@@ -145,7 +146,7 @@ pub mod mesh_api {
             return fail("uv_sphere", format!("argument `rings` must be at least 2, got {rings}"));
         }
         let n = count("uv_sphere", "rings", rings, MAX_SEGMENTS)?;
-        Ok(SharedMesh::new(Mesh::uv_sphere(r, s, n)))
+        kernel("uv_sphere", Mesh::try_uv_sphere(r, s, n)).map(SharedMesh::new)
     }
 
     /// A closed cylinder around z, from −height/2 to +height/2: `segments` quads around and
@@ -159,7 +160,8 @@ pub mod mesh_api {
     pub fn cylinder(radius: Dynamic, height: Dynamic, segments_: INT) -> ScriptResult<SharedMesh> {
         let r = positive("cylinder", "radius", &radius)?;
         let h = positive("cylinder", "height", &height)?;
-        Ok(SharedMesh::new(Mesh::cylinder(r, h, segments("cylinder", "segments", segments_)?)))
+        let s = segments("cylinder", "segments", segments_)?;
+        kernel("cylinder", Mesh::try_cylinder(r, h, s)).map(SharedMesh::new)
     }
 
     /// A torus around z: tube centre at `major` from the axis, tube radius `minor` < `major`,
@@ -177,7 +179,7 @@ pub mod mesh_api {
         }
         let n = segments("torus", "major_segments", major_segments)?;
         let m = segments("torus", "minor_segments", minor_segments)?;
-        Ok(SharedMesh::new(Mesh::torus(a, b, n, m)))
+        kernel("torus", Mesh::try_torus(a, b, n, m)).map(SharedMesh::new)
     }
 
     /// A mesh from indexed polygons: `positions` (an array of points) and `faces` (each an

@@ -113,6 +113,7 @@ pub mod polar_api {
         }
         let s = count("polar_sphere", "segments", segments, 100_000)?;
         let n = count("polar_sphere", "rings", rings, 100_000)?;
+        kernel("polar_sphere", blocksmith_kernel::Mesh::check_uv_sphere(r, s, n))?;
         Ok(PolarMesh(Rc::new(KernelPolar::uv_sphere(r, s, n))))
     }
 
