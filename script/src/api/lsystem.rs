@@ -8,6 +8,7 @@ use blocksmith_kernel::lsystem::{
     grow_with, modules_to_string, ChoiceSpec, GrowOptions, Grown, Lsystem as KernelLsystem, Module, Probability,
     RuleSpec, Size,
 };
+use blocksmith_kernel::math::fmt_num;
 use rhai::plugin::*;
 use rhai::{exported_module, Array, Engine, FnPtr, Map, Scope, AST, INT};
 
@@ -201,7 +202,7 @@ fn grow_all(ctx: &NativeCallContext, ls: &LSystem, steps: INT, options: Map) -> 
     for (key, s) in [("radius", &radius), ("length", &length)] {
         if let SizeOpt::Number(x) = s {
             if *x <= 0.0 {
-                return fail(F, format!("option `{key}` must be positive, got {x}"));
+                return fail(F, format!("option `{key}` must be positive, got {}", fmt_num(*x)));
             }
         }
     }

@@ -2,6 +2,7 @@
 
 use std::rc::Rc;
 
+use blocksmith_kernel::math::fmt_num;
 use blocksmith_kernel::{Mesh, Vec3};
 use rhai::plugin::*;
 use rhai::{Array, Map, INT};
@@ -43,7 +44,7 @@ const MAX_ICO_LEVEL: INT = 9;
 fn positive(func: &str, arg: &str, v: &Dynamic) -> ScriptResult<f64> {
     let x = number(func, arg, v)?;
     if x <= 0.0 {
-        return fail(func, format!("argument `{arg}` must be positive, got {x}"));
+        return fail(func, format!("argument `{arg}` must be positive, got {}", fmt_num(x)));
     }
     Ok(x)
 }
@@ -78,7 +79,7 @@ fn color(func: &str, arg: &str, v: &Dynamic) -> ScriptResult<[f32; 4]> {
     for (i, x) in a.iter().enumerate() {
         let n = number(func, &format!("{arg}[{i}]"), x)?;
         if !(0.0..=1.0).contains(&n) {
-            return fail(func, format!("argument `{arg}[{i}]` must be between 0 and 1, got {n}"));
+            return fail(func, format!("argument `{arg}[{i}]` must be between 0 and 1, got {}", fmt_num(n)));
         }
         c[i] = n as f32;
     }

@@ -3,6 +3,7 @@
 
 use std::rc::Rc;
 
+use blocksmith_kernel::math::fmt_num;
 use blocksmith_kernel::polar::{
     FeatureOptions, Frame, LoopFrame, PolarMesh as KernelPolar, Skeleton as KernelSkeleton,
 };
@@ -106,7 +107,7 @@ pub mod polar_api {
     pub fn polar_sphere(radius: Dynamic, segments: INT, rings: INT) -> ScriptResult<PolarMesh> {
         let r = number("polar_sphere", "radius", &radius)?;
         if r <= 0.0 {
-            return fail("polar_sphere", format!("argument `radius` must be positive, got {r}"));
+            return fail("polar_sphere", format!("argument `radius` must be positive, got {}", fmt_num(r)));
         }
         if segments < 3 || rings < 2 {
             return fail("polar_sphere", format!("needs `segments` ≥ 3 and `rings` ≥ 2, got {segments} and {rings}"));

@@ -3,6 +3,7 @@
 
 use std::rc::Rc;
 
+use blocksmith_kernel::math::fmt_num;
 use blocksmith_kernel::voxel::{
     haar1d as k_haar1d, ihaar1d as k_ihaar1d, SculptMode, SculptOptions, Voxels as KernelVoxels, DEFAULT_ISO,
 };
@@ -113,7 +114,7 @@ pub mod voxel_api {
         let c = vec3("fill_sphere", "center", &center)?;
         let r = number("fill_sphere", "radius", &radius)?;
         if r <= 0.0 {
-            return fail("fill_sphere", format!("argument `radius` must be positive, got {r}"));
+            return fail("fill_sphere", format!("argument `radius` must be positive, got {}", fmt_num(r)));
         }
         kernel("fill_sphere", vx.get_mut().fill_sphere(c, r))
     }
