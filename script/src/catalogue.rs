@@ -130,7 +130,7 @@ fn overloads_of(engine: &Engine, include_builtins: bool) -> Vec<Overload> {
             property,
             params,
             returns,
-            doc: clean_comments(&comments),
+            doc: crate::doc::clean_comments(&comments),
             ours: false,
         });
     }
@@ -159,18 +159,6 @@ pub fn overloads(engine: &Engine, include_builtins: bool) -> Vec<Overload> {
 pub fn standard() -> &'static [Overload] {
     static CATALOGUE: OnceLock<Vec<Overload>> = OnceLock::new();
     CATALOGUE.get_or_init(|| overloads(&crate::new_engine(crate::EngineOptions::default()), true))
-}
-
-fn clean_comments(comments: &[&str]) -> String {
-    let mut lines = Vec::new();
-    for c in comments {
-        for line in c.lines() {
-            let l = line.trim_start();
-            let l = l.strip_prefix("///").or_else(|| l.strip_prefix("//!")).unwrap_or(l);
-            lines.push(l.strip_prefix(' ').unwrap_or(l).to_string());
-        }
-    }
-    lines.join("\n").trim().to_string()
 }
 
 #[cfg(test)]

@@ -106,7 +106,8 @@ fn receiver_type(signature: &str) -> Option<&str> {
     Some(ty.trim())
 }
 
-fn clean_comments(comments: &[&str]) -> String {
+/// A doc comment's lines without their `///` or `//!` markers, trimmed.
+pub(crate) fn clean_comments(comments: &[&str]) -> String {
     let mut lines = Vec::new();
     for c in comments {
         for line in c.lines() {
