@@ -4,106 +4,14 @@
 use std::collections::BTreeMap;
 
 use rhai::Engine;
-use serde_json::Value;
 
-/// One documented function overload.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct FnDoc {
-    /// The script name (`x` for the getter `get$x`).
-    pub name: String,
-    /// The signature as scripts see it.
-    pub signature: String,
-    /// The doc comment, without the `///` markers.
-    pub doc: String,
-}
+use crate::catalogue::{self, Overload};
 
-/// Every function registered by blocksmith (not Rhai's built-ins), sorted by name then signature.
+/// Every documented function registered by blocksmith (not Rhai's built-ins), sorted by name
+/// then signature, as the catalogue shows them to scripts.
 #[must_use]
-pub fn functions(engine: &Engine) -> Vec<FnDoc> {
-    let json = engine.gen_fn_metadata_to_json(false).unwrap_or_default();
-    let root: Value = serde_json::from_str(&json).unwrap_or(Value::Null);
-    let mut out = Vec::new();
-    for f in root.get("functions").and_then(Value::as_array).into_iter().flatten() {
-        let raw_name = f.get("name").and_then(Value::as_str).unwrap_or_default();
-        let comments: Vec<&str> =
-            f.get("docComments").and_then(Value::as_array).into_iter().flatten().filter_map(Value::as_str).collect();
-        if comments.is_empty() {
-            continue;
-        }
-        let name = raw_name.trim_start_matches("get$").trim_start_matches("set$").to_string();
-        let signature = f.get("signature").and_then(Value::as_str).unwrap_or(raw_name).to_string();
-        let signature = script_signature(&signature.replace("get$", "get ").replace("set$", "set "));
-        out.push(FnDoc { name, signature, doc: clean_comments(&comments) });
-    }
-    out.sort_by(|a, b| (&a.name, &a.signature).cmp(&(&b.name, &b.signature)));
-    out
-}
-
-/// A Rust signature as scripts see it: `ScriptResult<SharedMesh>` → `Mesh`, `f64` → `float`,
-/// `blocksmith_kernel::Vec3` → `Vec3`, a parameter `segments_` → `segments`; a function without
-/// parameters keeps its `()` and one that returns nothing shows no arrow.
-fn script_signature(rust: &str) -> String {
-    let mut s = rust.replace("ctx: NativeCallContext, ", "").replace("ctx: NativeCallContext", "").replace("&mut ", "");
-    if let Some(i) = s.find("ScriptResult<") {
-        if s.ends_with('>') {
-            s = format!("{}{}", &s[..i], &s[i + "ScriptResult<".len()..s.len() - 1]);
-        }
-    }
-    if let Some(stripped) = s.strip_suffix(" -> ()") {
-        s = stripped.to_string();
-    }
-    for (from, to) in [
-        ("SharedMesh", "Mesh"),
-        ("ImmutableString", "string"),
-        ("&str", "string"),
-        ("String", "string"),
-        ("i64", "int"),
-        ("INT", "int"),
-        ("f64", "float"),
-        ("Dynamic", "any"),
-        ("Array", "array"),
-        ("Map", "map"),
-        ("FnPtr", "closure"),
-        (": ()", ": nothing"),
-    ] {
-        s = s.replace(from, to);
-    }
-    without_paths(&without_trailing_underscores(&s))
-}
-
-/// `a::b::Vec3` → `Vec3`: scripts never see Rust module paths.
-fn without_paths(s: &str) -> String {
-    let mut out = String::with_capacity(s.len());
-    let mut word = String::new();
-    let mut chars = s.chars().peekable();
-    while let Some(c) = chars.next() {
-        if c.is_alphanumeric() || c == '_' {
-            word.push(c);
-        } else if c == ':' && chars.peek() == Some(&':') {
-            chars.next();
-            word.clear();
-        } else {
-            out.push_str(&word);
-            word.clear();
-            out.push(c);
-        }
-    }
-    out.push_str(&word);
-    out
-}
-
-/// Parameter names written `segments_` in Rust (to avoid a clash) read `segments` in scripts.
-fn without_trailing_underscores(s: &str) -> String {
-    s.replace("_:", ":")
-}
-
-/// The type of a signature's first parameter (the receiver of a method call), if any.
-fn receiver_type(signature: &str) -> Option<&str> {
-    let open = signature.find('(')?;
-    let params = &signature[open + 1..];
-    let first = params.split([',', ')']).next()?.trim();
-    let (_, ty) = first.split_once(": ")?;
-    Some(ty.trim())
+pub fn functions(engine: &Engine) -> Vec<Overload> {
+    catalogue::overloads(engine, false).into_iter().filter(|o| o.ours).collect()
 }
 
 /// A doc comment's lines without their `///` or `//!` markers, trimmed.
@@ -127,7 +35,7 @@ pub(crate) fn clean_comments(comments: &[&str]) -> String {
 /// No function or type of that name; the message lists near names.
 pub fn render(engine: &Engine, name: Option<&str>) -> Result<String, String> {
     let all = functions(engine);
-    let chosen: Vec<&FnDoc> = all.iter().filter(|f| name.is_none_or(|n| f.name == n)).collect();
+    let chosen: Vec<&Overload> = all.iter().filter(|f| name.is_none_or(|n| f.name == n)).collect();
     if chosen.is_empty() {
         let n = name.unwrap_or_default();
         if let Some(text) = render_type(&all, n) {
@@ -142,18 +50,18 @@ pub fn render(engine: &Engine, name: Option<&str>) -> Result<String, String> {
         let hint = if near.is_empty() { String::new() } else { format!(" (did you mean: {}?)", near.join(", ")) };
         return Err(format!("doc: no function or type named `{n}`{hint}"));
     }
-    let mut by_name: BTreeMap<&str, Vec<&FnDoc>> = BTreeMap::new();
+    let mut by_name: BTreeMap<&str, Vec<&Overload>> = BTreeMap::new();
     for f in chosen {
         by_name.entry(f.name.as_str()).or_default().push(f);
     }
     let mut out = String::new();
     for (_, overloads) in by_name {
         // Overloads sharing a text are shown together; each different text follows its own.
-        let mut groups: Vec<(&str, Vec<&str>)> = Vec::new();
+        let mut groups: Vec<(&str, Vec<String>)> = Vec::new();
         for f in &overloads {
             match groups.iter_mut().find(|(d, _)| *d == f.doc) {
-                Some((_, sigs)) => sigs.push(&f.signature),
-                None => groups.push((&f.doc, vec![&f.signature])),
+                Some((_, sigs)) => sigs.push(f.signature()),
+                None => groups.push((&f.doc, vec![f.signature()])),
             }
         }
         for (doc, sigs) in groups {
@@ -170,21 +78,17 @@ pub fn render(engine: &Engine, name: Option<&str>) -> Result<String, String> {
 }
 
 /// `doc Mesh`: the methods and properties whose receiver is the type `name`, one line each.
-fn render_type(all: &[FnDoc], name: &str) -> Option<String> {
-    let methods: Vec<&FnDoc> = all.iter().filter(|f| receiver_type(&f.signature) == Some(name)).collect();
+fn render_type(all: &[Overload], name: &str) -> Option<String> {
+    let methods: Vec<&Overload> = all.iter().filter(|f| f.receiver() == Some(name)).collect();
     if methods.is_empty() {
         return None;
     }
     let mut out =
         format!("{name}: {} methods and properties (`blocksmith doc NAME` for one in full)\n\n", methods.len());
-    let width = methods.iter().map(|f| f.signature.chars().count()).max().unwrap_or(0).min(60);
-    let mut seen = std::collections::BTreeSet::new();
+    let width = methods.iter().map(|f| f.signature().chars().count()).max().unwrap_or(0).min(60);
     for f in methods {
-        if !seen.insert((&f.name, &f.signature)) {
-            continue;
-        }
         let first = f.doc.lines().next().unwrap_or_default();
-        out.push_str(&format!("{:<width$}  {first}\n", f.signature));
+        out.push_str(&format!("{:<width$}  {first}\n", f.signature()));
     }
     Some(out)
 }
