@@ -507,15 +507,22 @@ fn loop_edge_mask(lv: &Level, e: usize, sink: &mut impl Sink) {
     sink.vert(opposite_in_triangle(lv, f1, e), c * 0.125);
 }
 
+/// The corner and crease vertex-point weights, scaled by `s`: the same for Catmull–Clark and
+/// Loop (the crease rule is the cubic B-spline's along the crease, `Sdc::Crease`).
+fn sharp_rule_mask(v: usize, rule: Rule, ends: [u32; 2], s: f64, sink: &mut dyn FnMut(bool, u32, f64)) {
+    if rule == Rule::Corner {
+        sink(false, v as u32, s);
+    } else {
+        sink(false, v as u32, 0.75 * s);
+        sink(false, ends[0], 0.125 * s);
+        sink(false, ends[1], 0.125 * s);
+    }
+}
+
 /// The Catmull–Clark vertex-point weights of `rule`, scaled by `s`.
 fn cc_rule_mask(lv: &Level, v: usize, rule: Rule, ends: [u32; 2], s: f64, sink: &mut dyn FnMut(bool, u32, f64)) {
     match rule {
-        Rule::Corner => sink(false, v as u32, s),
-        Rule::Crease => {
-            sink(false, v as u32, 0.75 * s);
-            sink(false, ends[0], 0.125 * s);
-            sink(false, ends[1], 0.125 * s);
-        }
+        Rule::Corner | Rule::Crease => sharp_rule_mask(v, rule, ends, s, sink),
         Rule::Smooth => {
             let edges = lv.vertex_edges(v);
             let n = edges.len() as f64;
@@ -534,12 +541,7 @@ fn cc_rule_mask(lv: &Level, v: usize, rule: Rule, ends: [u32; 2], s: f64, sink: 
 /// The Loop vertex-point weights of `rule`, scaled by `s`.
 fn loop_rule_mask(lv: &Level, v: usize, rule: Rule, ends: [u32; 2], s: f64, sink: &mut dyn FnMut(bool, u32, f64)) {
     match rule {
-        Rule::Corner => sink(false, v as u32, s),
-        Rule::Crease => {
-            sink(false, v as u32, 0.75 * s);
-            sink(false, ends[0], 0.125 * s);
-            sink(false, ends[1], 0.125 * s);
-        }
+        Rule::Corner | Rule::Crease => sharp_rule_mask(v, rule, ends, s, sink),
         Rule::Smooth => {
             let edges = lv.vertex_edges(v);
             let beta = loop_beta(edges.len());
