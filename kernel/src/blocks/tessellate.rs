@@ -141,6 +141,8 @@ pub struct Tessellation {
     /// For every triangle of `mesh`, in face order, the block sub-face it lies on: the
     /// [`PatchSource::subface`](super::PatchSource) of the patch that emitted it.
     pub triangle_sources: Vec<SubFaceRef>,
+    /// The control mesh the surface was made from ([`BlockModel::control_mesh`]'s polygons).
+    pub control: Mesh,
 }
 
 /// A tessellated control mesh ([`tessellate_control`]).
@@ -190,7 +192,7 @@ impl BlockModel {
             sub_patches,
             triangles: mesh.face_count(),
         };
-        Ok(Tessellation { mesh, stats, triangle_sources })
+        Ok(Tessellation { mesh, stats, triangle_sources, control: cm.mesh })
     }
 }
 

@@ -243,8 +243,7 @@ fn mesh_model(ctx: &NativeCallContext, m: &mut BlockModel, options: Map) -> Scri
     let t = kernel("mesh", result)?;
     m.stats = Some(t.stats);
     // The control mesh goes with the surface, for the studio to draw over it.
-    let control = kernel("mesh", m.model.control_mesh())?;
-    Ok(SharedMesh::with_control(t.mesh, std::rc::Rc::new(control.mesh)))
+    Ok(SharedMesh::with_control(t.mesh, std::rc::Rc::new(t.control)))
 }
 
 #[export_module]
