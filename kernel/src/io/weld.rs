@@ -142,6 +142,8 @@ pub(crate) fn remap_faces(indices: &[u32], arities: &[u32], map: &[u32]) -> (Vec
     let mut out = Vec::with_capacity(indices.len());
     let mut out_arities = Vec::with_capacity(arities.len());
     let mut from = Vec::with_capacity(arities.len());
+    // Reused for the rare long polygon, so that no face allocates.
+    let mut scratch: Vec<u32> = Vec::new();
     let mut start = 0;
     for (f, &a) in arities.iter().enumerate() {
         let face = &indices[start..start + a as usize];
@@ -157,10 +159,7 @@ pub(crate) fn remap_faces(indices: &[u32], arities: &[u32], map: &[u32]) -> (Vec
             out.pop();
         }
         let n = out.len() - begin;
-        let mut poly = out[begin..].to_vec();
-        poly.sort_unstable();
-        poly.dedup();
-        if n < 3 || poly.len() != n {
+        if n < 3 || has_repeat(&out[begin..], &mut scratch) {
             // Fewer than three corners, or a corner repeated further apart (a pinched polygon).
             out.truncate(begin);
             continue;
@@ -169,6 +168,18 @@ pub(crate) fn remap_faces(indices: &[u32], arities: &[u32], map: &[u32]) -> (Vec
         from.push(f as u32);
     }
     (out, out_arities, from)
+}
+
+/// Whether some corner of `poly` appears twice: by comparing pairs for the short polygons
+/// files are made of, by sorting a copy in `scratch` (reused from face to face) for long ones.
+fn has_repeat(poly: &[u32], scratch: &mut Vec<u32>) -> bool {
+    if poly.len() <= 16 {
+        return poly.iter().enumerate().any(|(i, v)| poly[i + 1..].contains(v));
+    }
+    scratch.clear();
+    scratch.extend_from_slice(poly);
+    scratch.sort_unstable();
+    scratch.windows(2).any(|w| w[0] == w[1])
 }
 
 #[cfg(test)]
@@ -244,5 +255,21 @@ mod tests {
         let map = [0, 1, 2, 2, 0, 0];
         let (idx, ar, from) = remap_faces(&[0, 1, 2, 3, 4, 5, 3], &[4, 3], &map);
         assert_eq!((idx, ar, from), (vec![0, 1, 2], vec![3], vec![0]));
+    }
+
+    #[test]
+    fn remap_drops_pinched_polygons_short_and_long() {
+        // A pentagon whose corners 0 and 2 weld (not consecutive: pinched) is dropped, as is a
+        // 20-gon pinched the same way (the sorted path); an unpinched 20-gon is kept whole.
+        let map: Vec<u32> = (0..40).map(|v| if v == 2 { 0 } else { v }).collect();
+        let (idx, ar, from) = remap_faces(&[0, 1, 2, 3, 4], &[5], &map);
+        assert!(idx.is_empty() && ar.is_empty() && from.is_empty());
+        let long: Vec<u32> = (0..20).collect();
+        let (_, ar, _) = remap_faces(&long, &[20], &map);
+        assert!(ar.is_empty());
+        let long: Vec<u32> = (20..40).collect();
+        let (idx, ar, from) = remap_faces(&long, &[20], &map);
+        assert_eq!((idx, ar, from), (long, vec![20], vec![0]));
+        assert!(has_repeat(&[5, 1, 2, 5], &mut Vec::new()) && !has_repeat(&[5, 1, 2], &mut Vec::new()));
     }
 }
