@@ -43,9 +43,16 @@ fn every_corpus_file_matches_trimesh_and_its_behaviour() {
         assert_eq!(t.euler(), e["euler"].as_i64().unwrap(), "{name}: Euler characteristic");
         assert_rel(name, "area", m.area(), e["area"].as_f64().unwrap());
         // The pillow's two skew quads enclose no side of their own: which way its tetrahedron
-        // faces depends on the diagonals taken, so only its volume's size is held.
+        // faces depends on the diagonals taken, so only its volume's size is held (and the K₅
+        // torus crosses itself).
         let volume = if e["must"] == "triangulates" { m.volume().abs() } else { m.volume() };
-        assert_rel(name, "volume", volume, e["volume"].as_f64().unwrap());
+        let want = e["volume"].as_f64().unwrap();
+        if want.abs() < 1e-12 * m.area() {
+            // No volume (the torus's sheets cancel): both sums are rounding noise.
+            assert!(volume.abs() < 1e-12 * m.area(), "{name}: volume {volume}, trimesh {want}");
+        } else {
+            assert_rel(name, "volume", volume, want);
+        }
         assert!(t.is_closed() && t.is_manifold(), "{name}: not closed");
         match e["must"].as_str().unwrap() {
             "closed" => {
@@ -70,7 +77,7 @@ fn every_corpus_file_matches_trimesh_and_its_behaviour() {
                     save(&m, &path).unwrap_or_else(|err| panic!("{name}: {err}"));
                     let back = load(&path).unwrap();
                     assert!(back.is_closed() && back.is_manifold(), "{name}.{ext}");
-                    assert_eq!(back.vertex_count(), m.vertex_count(), "{name}.{ext}");
+                    assert_eq!(back.vertex_count(), int("vertices"), "{name}.{ext}");
                 }
             }
             other => panic!("{name}: unknown behaviour {other}"),

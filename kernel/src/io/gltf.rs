@@ -26,8 +26,10 @@
 //! position ([`Weld::DEFAULT`], so models split at normal or UV seams read closed;
 //! [`Weld::Off`] keeps one vertex per glTF vertex). Triangles with a repeated vertex (strip
 //! restarts, slivers welded shut) are dropped, and so are point and line primitives. A file
-//! that requires an extension blocksmith does not read (such as `KHR_draco_mesh_compression`)
-//! is refused as unsupported, naming the extension.
+//! that requires an extension blocksmith does not read (`EXT_meshopt_compression`,
+//! `KHR_mesh_quantization`) is refused as unsupported, naming the extension. A primitive
+//! compressed with `KHR_draco_mesh_compression` is decoded (see `draco`): its positions and
+//! triangles, welded like any other.
 
 use std::collections::HashSet;
 use std::io::Write;
@@ -280,7 +282,8 @@ pub(crate) fn document(
     if mesh.face_count() == 0 {
         return Ok((root, None));
     }
-    let (tris, arities) = super::face_triangles(mesh).map_err(|e| IoError::from_mesh(path, e))?;
+    let (mesh, tris, arities) = super::face_triangles(mesh).map_err(|e| IoError::from_mesh(path, e))?;
+    let mesh = &*mesh;
     // A boolean result is coloured by source: its vertices split where sources meet.
     let split = super::source_colors::split_by_source(mesh, &tris, &arities);
     let n = split.as_ref().map_or(mesh.vertex_count(), |s| s.from.len());
@@ -396,8 +399,8 @@ pub fn read_gltf(bytes: &[u8], base: Option<&Path>, path: &Path) -> Result<Mesh,
 
 /// glTF extensions that change how geometry is stored: a file that requires one cannot be read
 /// without decoding it.
-const GEOMETRY_EXTENSIONS: &[&str] =
-    &["KHR_draco_mesh_compression", "EXT_meshopt_compression", "KHR_mesh_quantization"];
+/// (`KHR_draco_mesh_compression` is decoded: see `draco`.)
+const GEOMETRY_EXTENSIONS: &[&str] = &["EXT_meshopt_compression", "KHR_mesh_quantization"];
 
 /// Reads a glTF file (binary `.glb`, or `.gltf` JSON) into one mesh, in kernel (Z-up) axes,
 /// its vertices welded by `weld`. `base` is the folder that relative buffer URIs are resolved
@@ -405,9 +408,9 @@ const GEOMETRY_EXTENSIONS: &[&str] =
 ///
 /// # Errors
 /// - [`IoError::Unsupported`] naming a required extension that compresses or quantizes
-///   geometry (`KHR_draco_mesh_compression`, `EXT_meshopt_compression`,
-///   `KHR_mesh_quantization`);
-/// - [`IoError::Gltf`]: not glTF, truncated, invalid JSON or schema, a missing buffer, an
+///   geometry in a form not read (`EXT_meshopt_compression`, `KHR_mesh_quantization`);
+/// - [`IoError::Gltf`]: not glTF, truncated, invalid JSON or schema, a missing buffer, Draco
+///   data that does not decode or lacks the `POSITION` it is said to hold, an
 ///   accessor of an unexpected type or reaching past its buffer, a sparse accessor whose
 ///   indices are not increasing or pass its count, a node hierarchy that is not a tree;
 /// - [`IoError::IndexOutOfRange`] naming the mesh and primitive of an index past its vertices;
@@ -446,12 +449,14 @@ pub fn read_gltf_with(bytes: &[u8], base: Option<&Path>, path: &Path, weld: Weld
             }
         }
     }
+    point_draco_accessors_at_their_data(&mut root, path)?;
     let doc = gltf::Document::from_json(root).map_err(|e| gltf_error(path, e.to_string()))?;
     // Only the file's own folder is read, and only the declared lengths (see `uri`).
     let buffers = super::uri::read_buffers(&doc, base, blob, path)?;
     let instances = mesh_instances(&doc).map_err(|reason| gltf_error(path, reason))?;
 
-    let mut soup = Soup::default();
+    let mut soup =
+        Soup { views: doc.views().map(|v| (v.buffer().index(), v.offset(), v.length())).collect(), ..Soup::default() };
     for (gmesh, world) in instances {
         let extras = blocksmith_extras(&gmesh);
         let single = gmesh.primitives().len() == 1;
@@ -461,6 +466,35 @@ pub fn read_gltf_with(bytes: &[u8], base: Option<&Path>, path: &Path, weld: Weld
         }
     }
     soup.build(weld, path)
+}
+
+/// The accessors of a primitive compressed with `KHR_draco_mesh_compression` have no buffer
+/// view (their data is the Draco stream's), which `gltf`'s validation refuses: each is pointed
+/// at the stream's buffer view, and never read through it (see `Soup::add_primitive`).
+fn point_draco_accessors_at_their_data(root: &mut json::Root, path: &Path) -> Result<(), IoError> {
+    let mut fixes: Vec<(usize, u32)> = Vec::new();
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            let Some(draco) = prim.extensions.as_ref().and_then(|e| e.others.get("KHR_draco_mesh_compression")) else {
+                continue;
+            };
+            let Some(view) = draco.get("bufferView").and_then(serde_json::Value::as_u64) else { continue };
+            let view =
+                u32::try_from(view).ok().filter(|&v| (v as usize) < root.buffer_views.len()).ok_or_else(|| {
+                    gltf_error(path, format!("mesh {m} primitive {p}: its Draco buffer view {view} does not exist"))
+                })?;
+            let ids = prim.attributes.values().map(|a| a.value()).chain(prim.indices.map(|i| i.value()));
+            fixes.extend(ids.map(|id| (id, view)));
+        }
+    }
+    for (id, view) in fixes {
+        if let Some(acc) = root.accessors.get_mut(id) {
+            if acc.buffer_view.is_none() && acc.sparse.is_none() {
+                acc.buffer_view = Some(json::Index::new(view));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Every mesh the scene instances, with its node's world matrix.
@@ -629,6 +663,8 @@ struct Soup {
     /// Crease pairs and corners in merged vertex ids.
     creases: Vec<Vec<[u32; 2]>>,
     corners: Vec<u32>,
+    /// The file's buffer views (buffer, offset, length), for Draco data.
+    views: Vec<(usize, usize, usize)>,
 }
 
 impl Soup {
@@ -648,58 +684,94 @@ impl Soup {
             return Ok(());
         }
         let err = |reason: String| gltf_error(path, format!("{at}: {reason}"));
-        let pos_acc = prim.get(&gltf::Semantic::Positions).ok_or_else(|| err("no POSITION attribute".into()))?;
-        check_accessor(&pos_acc, buffers, &[(D::F32, N::Vec3)], "POSITION").map_err(err)?;
-        let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
-        let nv = pos_acc.count();
-        let offset = self.positions.len();
-        if offset + nv >= u32::MAX as usize {
-            return Err(IoError::from_mesh(path, MeshError::TooLarge { what: format!("{} vertices", offset + nv) }));
-        }
         let identity = world == Mat4::IDENTITY;
-        let local = reader.read_positions().ok_or_else(|| err("POSITION cannot be read".into()))?;
-        self.positions.reserve(nv);
-        self.positions.extend(local.map(|p| {
+        let place = |p: [f32; 3]| {
             let p = Vec3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2]));
             UpAxis::Y.from_file(if identity { p } else { world.transform_point3(p) })
-        }));
+        };
+        let offset = self.positions.len();
+        let draco = match prim.extensions() {
+            Some(others) => super::draco::extension_of(others).map_err(err)?,
+            None => None,
+        };
+        let (nv, local_indices, mode) = if let Some(d) = draco {
+            // KHR_draco_mesh_compression: the Draco bitstream replaces the accessors' data
+            // (their counts and types still describe it); its faces are a triangle list.
+            let &(buffer, start, length) = self
+                .views
+                .get(d.buffer_view)
+                .ok_or_else(|| err(format!("its Draco buffer view {} does not exist", d.buffer_view)))?;
+            let data = buffers.get(buffer).map(|b| &b.0[..]).unwrap_or_default();
+            let bytes = start
+                .checked_add(length)
+                .and_then(|end| data.get(start..end))
+                .ok_or_else(|| err(format!("its Draco buffer view {} does not fit its buffer", d.buffer_view)))?;
+            let decoded = super::draco::decode(bytes, d.position_id).map_err(err)?;
+            let nv = decoded.positions.len();
+            if offset + nv >= u32::MAX as usize {
+                return Err(IoError::from_mesh(
+                    path,
+                    MeshError::TooLarge { what: format!("{} vertices", offset + nv) },
+                ));
+            }
+            self.positions.extend(decoded.positions.iter().map(|&p| place(p)));
+            if self.any_color {
+                self.colors.resize(offset + nv, [1.0; 4]);
+            }
+            (nv, decoded.indices, Mode::Triangles)
+        } else {
+            let pos_acc = prim.get(&gltf::Semantic::Positions).ok_or_else(|| err("no POSITION attribute".into()))?;
+            check_accessor(&pos_acc, buffers, &[(D::F32, N::Vec3)], "POSITION").map_err(err)?;
+            let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+            let nv = pos_acc.count();
+            if offset + nv >= u32::MAX as usize {
+                return Err(IoError::from_mesh(
+                    path,
+                    MeshError::TooLarge { what: format!("{} vertices", offset + nv) },
+                ));
+            }
+            let local = reader.read_positions().ok_or_else(|| err("POSITION cannot be read".into()))?;
+            self.positions.reserve(nv);
+            self.positions.extend(local.map(place));
 
-        match prim.get(&gltf::Semantic::Colors(0)) {
-            Some(acc) => {
-                let allowed = [
-                    (D::F32, N::Vec3),
-                    (D::F32, N::Vec4),
-                    (D::U8, N::Vec3),
-                    (D::U8, N::Vec4),
-                    (D::U16, N::Vec3),
-                    (D::U16, N::Vec4),
-                ];
-                check_accessor(&acc, buffers, &allowed, "COLOR_0").map_err(err)?;
-                if acc.count() != nv {
-                    return Err(err(format!("COLOR_0 has {} elements but POSITION has {nv}", acc.count())));
+            match prim.get(&gltf::Semantic::Colors(0)) {
+                Some(acc) => {
+                    let allowed = [
+                        (D::F32, N::Vec3),
+                        (D::F32, N::Vec4),
+                        (D::U8, N::Vec3),
+                        (D::U8, N::Vec4),
+                        (D::U16, N::Vec3),
+                        (D::U16, N::Vec4),
+                    ];
+                    check_accessor(&acc, buffers, &allowed, "COLOR_0").map_err(err)?;
+                    if acc.count() != nv {
+                        return Err(err(format!("COLOR_0 has {} elements but POSITION has {nv}", acc.count())));
+                    }
+                    let colors = reader.read_colors(0).ok_or_else(|| err("COLOR_0 cannot be read".into()))?;
+                    self.colors.resize(offset, [1.0; 4]);
+                    self.colors.extend(colors.into_rgba_f32());
+                    self.any_color = true;
                 }
-                let colors = reader.read_colors(0).ok_or_else(|| err("COLOR_0 cannot be read".into()))?;
-                self.colors.resize(offset, [1.0; 4]);
-                self.colors.extend(colors.into_rgba_f32());
-                self.any_color = true;
+                // Colours are kept only once some primitive has them (then white for the others).
+                None if self.any_color => self.colors.resize(offset + nv, [1.0; 4]),
+                None => {}
             }
-            // Colours are kept only once some primitive has them (then white for the others).
-            None if self.any_color => self.colors.resize(offset + nv, [1.0; 4]),
-            None => {}
-        }
 
-        let local_indices: Vec<u32> = match prim.indices() {
-            Some(acc) => {
-                check_accessor(
-                    &acc,
-                    buffers,
-                    &[(D::U8, N::Scalar), (D::U16, N::Scalar), (D::U32, N::Scalar)],
-                    "indices",
-                )
-                .map_err(err)?;
-                reader.read_indices().ok_or_else(|| err("the indices cannot be read".into()))?.into_u32().collect()
-            }
-            None => (0..nv as u32).collect(),
+            let local_indices: Vec<u32> = match prim.indices() {
+                Some(acc) => {
+                    check_accessor(
+                        &acc,
+                        buffers,
+                        &[(D::U8, N::Scalar), (D::U16, N::Scalar), (D::U32, N::Scalar)],
+                        "indices",
+                    )
+                    .map_err(err)?;
+                    reader.read_indices().ok_or_else(|| err("the indices cannot be read".into()))?.into_u32().collect()
+                }
+                None => (0..nv as u32).collect(),
+            };
+            (nv, local_indices, mode)
         };
         if let Some(&bad) = local_indices.iter().find(|&&i| i as usize >= nv) {
             return Err(IoError::IndexOutOfRange {
@@ -792,7 +864,8 @@ impl Soup {
     /// vertices.
     fn build(self, rule: Weld, path: &Path) -> Result<Mesh, IoError> {
         let (map, kept) = super::weld::weld(&self.positions, rule);
-        let Soup { mut positions, mut colors, any_color, mut indices, mut arities, mut creases, mut corners } = self;
+        let Soup { mut positions, mut colors, any_color, mut indices, mut arities, mut creases, mut corners, .. } =
+            self;
         let merged = kept.len() < positions.len();
         if merged {
             positions = kept.iter().map(|&i| positions[i as usize]).collect();
@@ -986,7 +1059,7 @@ mod tests {
         let mut faces: Vec<Vec<u32>> = vec![(0..6).rev().collect(), (6..12).collect()];
         faces.extend((0..6u32).map(|i| vec![i, (i + 1) % 6, 6 + (i + 1) % 6, 6 + i]));
         for m in [Mesh::from_polygons(p, &faces).unwrap(), Mesh::torus(2.0, 0.5, 10, 6), Mesh::icosphere(1.0, 1)] {
-            let (tris, arities) = crate::io::face_triangles(&m).unwrap();
+            let (_, tris, arities) = crate::io::face_triangles(&m).unwrap();
             let ours = vertex_normals_f32(&m, &tris, &arities);
             for (a, b) in ours.iter().zip(m.vertex_normals()) {
                 let d = (glam::Vec3::from_array(*a) - b.as_vec3()).length();
@@ -996,15 +1069,15 @@ mod tests {
     }
 
     #[test]
-    fn a_required_draco_extension_is_unsupported_not_malformed() {
+    fn a_required_meshopt_extension_is_unsupported_not_malformed() {
         let (mut root, bin) = document(&Mesh::cube(1.0), None, Path::new("mem.glb")).unwrap();
-        root.extensions_used.push("KHR_draco_mesh_compression".into());
-        root.extensions_required.push("KHR_draco_mesh_compression".into());
+        root.extensions_used.push("EXT_meshopt_compression".into());
+        root.extensions_required.push("EXT_meshopt_compression".into());
         let mut bytes = Vec::new();
         write_glb_document(&root, bin, &mut bytes, Path::new("mem.glb")).unwrap();
-        let e = read_gltf(&bytes, None, Path::new("draco.glb")).unwrap_err();
+        let e = read_gltf(&bytes, None, Path::new("meshopt.glb")).unwrap_err();
         assert!(matches!(e, IoError::Unsupported { .. }), "{e}");
-        assert!(e.to_string().starts_with("draco.glb: unsupported glTF extension KHR_draco_mesh_compression"), "{e}");
+        assert!(e.to_string().starts_with("meshopt.glb: unsupported glTF extension EXT_meshopt_compression"), "{e}");
         // A required extension that does not touch geometry (a material model) is read past.
         let (mut root, bin) = document(&Mesh::cube(1.0), None, Path::new("mem.glb")).unwrap();
         root.extensions_used.push("KHR_materials_unlit".into());

@@ -27,6 +27,7 @@
 //! | 3MF | exact (shortest decimal) | triangles | yes | no | RGBA, 8 bits (colour group); sources as base materials |
 
 mod atomic;
+mod draco;
 mod error;
 pub mod gltf;
 pub mod obj;
@@ -38,6 +39,7 @@ pub mod threemf;
 mod uri;
 mod weld;
 
+use std::borrow::Cow;
 use std::io::Write;
 use std::path::Path;
 
@@ -194,13 +196,26 @@ pub fn save_with(mesh: &Mesh, path: impl AsRef<Path>, options: &SaveOptions) -> 
     }
 }
 
-/// The triangles of every face, each face's consecutively, and each face's arity: see
-/// [`Mesh::triangulate_faces`].
+/// What a triangle format writes: the mesh (the one given, or its triangulation with added
+/// centres), the triangles of every face, each face's arity.
+pub(crate) type WrittenTriangles<'a> = (Cow<'a, Mesh>, Vec<u32>, Vec<u32>);
+
+/// The mesh to write, the triangles of every face, each face's consecutively, and each face's
+/// arity: see [`Mesh::triangulate_faces`]. When some face can only be cut about an added centre,
+/// the mesh to write is [`Mesh::triangulate`]'s (with the added vertices), every face a
+/// triangle.
 ///
 /// # Errors
-/// As [`Mesh::triangulate_faces`].
-pub(crate) fn face_triangles(mesh: &Mesh) -> Result<(Vec<u32>, Vec<u32>), MeshError> {
-    mesh.triangulate_faces()
+/// As [`Mesh::triangulate_with_sources`].
+pub(crate) fn face_triangles(mesh: &Mesh) -> Result<WrittenTriangles<'_>, MeshError> {
+    let plan = mesh.plan_triangles()?;
+    if plan.centres.is_empty() {
+        return Ok((Cow::Borrowed(mesh), plan.tris, plan.arities));
+    }
+    let t = mesh.triangulate()?;
+    let tris: Vec<u32> = (0..t.face_count() as u32).flat_map(|f| t.face_vertices(f)).collect();
+    let arities = vec![3; t.face_count()];
+    Ok((Cow::Owned(t), tris, arities))
 }
 
 #[cfg(test)]
@@ -264,6 +279,29 @@ mod tests {
     }
 
     #[test]
+    fn a_mesh_needing_added_centres_saves_closed_in_every_triangle_format() {
+        // K₅ on a torus as five quads: both diagonals of each quad are edges, so the written
+        // triangles take a vertex at each quad's centre, and read back as the torus they draw.
+        let p: Vec<Vec3> = (0..5)
+            .map(|i| {
+                let a = f64::from(i) * std::f64::consts::TAU / 5.0;
+                Vec3::new(a.cos(), a.sin(), 0.3 * f64::from(i % 2) + 0.1 * f64::from(i))
+            })
+            .collect();
+        let m =
+            Mesh::from_polygons(p, &[[0u32, 1, 2, 3], [0, 2, 4, 1], [0, 4, 3, 2], [0, 3, 1, 4], [1, 3, 4, 2]]).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        for name in ["k5.stl", "k5.glb", "k5.3mf", "k5.gltf"] {
+            let path = dir.path().join(name);
+            save(&m, &path).unwrap();
+            let back = load(&path).unwrap();
+            assert!(back.is_closed() && back.is_manifold(), "{name}");
+            assert_eq!((back.vertex_count(), back.face_count(), back.euler()), (10, 20, 0), "{name}");
+            assert!((back.area() - m.area()).abs() < 1e-6 * m.area(), "{name}");
+        }
+    }
+
+    #[test]
     fn face_triangles_start_with_each_faces_first_edge() {
         // An L-shaped hexagon (not convex: triangulated by spade) and a quad.
         let p = [(0., 0.), (2., 0.), (2., 1.), (1., 1.), (1., 2.), (0., 2.), (3., 0.), (3., 1.)]
@@ -271,7 +309,7 @@ mod tests {
             .map(|&(x, y)| Vec3::new(x, y, 0.0))
             .collect();
         let m = Mesh::from_polygons(p, &[vec![3, 4, 5, 0, 1, 2], vec![1, 6, 7, 2]]).unwrap();
-        let (tris, arities) = face_triangles(&m).unwrap();
+        let (_, tris, arities) = face_triangles(&m).unwrap();
         assert_eq!(arities, vec![6, 4]);
         assert_eq!(tris.len(), 3 * (4 + 2));
         assert_eq!(&tris[..2], &[3, 4]);

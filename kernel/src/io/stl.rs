@@ -28,7 +28,8 @@ const HEADER: &[u8] = b"binary STL written by blocksmith";
 ///
 /// See also [`read_stl`], [`super::save`].
 pub fn write_stl<W: Write>(mesh: &Mesh, out: &mut W, path: &Path) -> Result<(), IoError> {
-    let (tris, _) = super::face_triangles(mesh).map_err(|e| IoError::from_mesh(path, e))?;
+    let (mesh, tris, _) = super::face_triangles(mesh).map_err(|e| IoError::from_mesh(path, e))?;
+    let mesh = &*mesh;
     let count = u32::try_from(tris.len() / 3).map_err(|_| {
         IoError::from_mesh(path, MeshError::TooLarge { what: "more than 2³² − 1 STL triangles".into() })
     })?;

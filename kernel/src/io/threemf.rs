@@ -17,7 +17,11 @@
 //!
 //! Reading places every build item's object (through nested components, with their
 //! transforms) into one mesh, and turns colour groups and base materials into vertex colours
-//! (the first triangle that colours a vertex decides). Shared vertices are named by the file,
+//! (the first triangle that colours a vertex decides). Coordinates are scaled from the model's
+//! `unit` to millimetres (core §3.3). Objects in other model parts, named by the production
+//! extension's `p:path` on items and components (production extension §2–3), are read from
+//! those parts; a model that requires any extension other than materials and production
+//! (`requiredextensions`: beam lattices, slices, ...) is refused as unsupported, naming it. Shared vertices are named by the file,
 //! so nothing is welded. The package is read with its declared sizes checked against the memory
 //! budget before anything is inflated, and no part is inflated past its declared size, so a
 //! zip bomb is refused, not unpacked.
@@ -34,6 +38,7 @@ use crate::mesh::Mesh;
 
 const CORE_NS: &str = "http://schemas.microsoft.com/3dmanufacturing/core/2015/02";
 const MATERIAL_NS: &str = "http://schemas.microsoft.com/3dmanufacturing/material/2015/02";
+const PRODUCTION_NS: &str = "http://schemas.microsoft.com/3dmanufacturing/production/2015/06";
 const MODEL_REL: &str = "http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel";
 /// Nesting of components deeper than this is refused (a cycle, or a file built to explode).
 const MAX_DEPTH: usize = 32;
@@ -50,7 +55,8 @@ fn tmf_error(path: &Path, reason: impl Into<String>) -> IoError {
 ///
 /// See also [`read_3mf`], [`super::save`].
 pub fn write_3mf<W: Write>(mesh: &Mesh, out: &mut W, path: &Path) -> Result<(), IoError> {
-    let (tris, arities) = super::face_triangles(mesh).map_err(|e| IoError::from_mesh(path, e))?;
+    let (mesh, tris, arities) = super::face_triangles(mesh).map_err(|e| IoError::from_mesh(path, e))?;
+    let mesh = &*mesh;
     let model = model_xml(mesh, &tris, &arities);
     let write_err = |e: std::io::Error| IoError::Write { path: path.into(), source: e };
     let zip_err = |e: zip::result::ZipError| IoError::Write { path: path.into(), source: std::io::Error::other(e) };
@@ -225,7 +231,9 @@ struct Object {
     vertices: Vec<Vec3>,
     triangles: Vec<[u32; 3]>,
     props: Vec<TriProps>,
-    components: Vec<(u32, Affine)>,
+    /// Each component: its object, transform, and the model part holding the object when the
+    /// production extension's `p:path` names another part.
+    components: Vec<(u32, Affine, Option<String>)>,
     default: TriProps,
 }
 
@@ -234,14 +242,31 @@ struct Model {
     objects: HashMap<u32, Object>,
     /// Colour groups and base materials alike: the colours of a property group by id.
     groups: HashMap<u32, Vec<[f32; 4]>>,
-    items: Vec<(u32, Affine)>,
+    /// Build items: object, transform, and the part holding the object (`p:path`).
+    items: Vec<(u32, Affine, Option<String>)>,
+    /// Millimetres per unit of the model's coordinates (its `unit`, core §3.3).
+    scale: f64,
 }
+
+/// The model parts of a package by name (without a leading `/`).
+type Parts = HashMap<String, Model>;
+
+/// Millimetres per unit of each `unit` the core specification allows (§3.3, `ST_Unit`).
+const UNITS: [(&str, f64); 6] =
+    [("micron", 0.001), ("millimeter", 1.0), ("centimeter", 10.0), ("inch", 25.4), ("foot", 304.8), ("meter", 1000.0)];
+
+/// The namespaces of the extensions whose content is read (materials: colours; production:
+/// objects in other model parts). A model requiring any other is refused.
+const KNOWN_NS: [&str; 3] = [MATERIAL_NS, PRODUCTION_NS, CORE_NS];
 
 /// Reads a 3MF package into one mesh (see the module documentation). `path` is only named in
 /// errors.
 ///
 /// # Errors
-/// - [`IoError::ThreeMf`]: not a zip package, no model part, a part larger than the memory
+/// - [`IoError::Unsupported`] for a required extension that is not read (see the module
+///   documentation);
+/// - [`IoError::ThreeMf`]: not a zip package, no model part (or no part a `p:path` names), a
+///   unit not in the specification, a part larger than the memory
 ///   budget (checked before inflating), invalid XML, a missing or unparsable attribute, a
 ///   build item or component naming no object, components nested deeper than 32 or in a
 ///   cycle;
@@ -257,10 +282,36 @@ pub fn read_3mf(bytes: &[u8], path: &Path) -> Result<Mesh, IoError> {
         Some(rels) => model_part_name(&rels, path)?,
         None => "3D/3dmodel.model".to_string(),
     };
+    let model_name = model_name.trim_start_matches('/').to_string();
     let xml = read_part(&mut zip, &model_name, path)?
         .ok_or_else(|| tmf_error(path, format!("the package has no model part {model_name}")))?;
-    let model = parse_model(&xml, path)?;
-    build_mesh(&model, path)
+    let root = parse_model(&xml, path)?;
+    // The production extension's other model parts, each read once.
+    let mut parts = Parts::new();
+    let named =
+        root.items.iter().map(|i| &i.2).chain(root.objects.values().flat_map(|o| o.components.iter().map(|c| &c.2)));
+    let mut wanted: Vec<String> = named.flatten().map(|p| p.trim_start_matches('/').to_string()).collect();
+    wanted.sort();
+    wanted.dedup();
+    for name in wanted.into_iter().filter(|n| *n != model_name) {
+        let xml = read_part(&mut zip, &name, path)?
+            .ok_or_else(|| tmf_error(path, format!("the package has no part {name}, which a p:path names")))?;
+        let part = parse_model(&xml, path)?;
+        if part
+            .objects
+            .values()
+            .any(|o| o.components.iter().any(|c| c.2.as_deref().is_some_and(|p| p.trim_start_matches('/') != name)))
+        {
+            return Err(tmf_error(
+                path,
+                format!("part {name}: a component names another part (p:path is allowed only in the root model)"),
+            ));
+        }
+        parts.insert(name, part);
+    }
+    let scale = root.scale;
+    parts.insert(model_name.clone(), root);
+    build_mesh(&parts, &model_name, scale, path)
 }
 
 /// The bytes of the part `name` (without a leading `/`), `None` when there is none. Its
@@ -353,7 +404,7 @@ fn parse_color(text: &str) -> Option<[f32; 4]> {
 fn parse_model(xml: &[u8], path: &Path) -> Result<Model, IoError> {
     let mut reader = quick_xml::Reader::from_reader(xml);
     let mut buf = Vec::new();
-    let mut model = Model::default();
+    let mut model = Model { scale: 1.0, ..Model::default() };
     let mut object: Option<(u32, Object)> = None;
     let mut group: Option<(u32, Vec<[f32; 4]>)> = None;
     loop {
@@ -365,6 +416,7 @@ fn parse_model(xml: &[u8], path: &Path) -> Result<Model, IoError> {
             Event::Start(e) | Event::Empty(e) => {
                 let a = attrs(&e, path)?;
                 match e.local_name().as_ref() {
+                    "model" => model_header(&e, &a, &mut model, path)?,
                     "object" => {
                         let id = number(&a, "id", "an object", path)?;
                         let default = TriProps {
@@ -402,7 +454,7 @@ fn parse_model(xml: &[u8], path: &Path) -> Result<Model, IoError> {
                     "component" => {
                         let (_, o) = object.as_mut().ok_or_else(|| tmf_error(path, "a component outside an object"))?;
                         let t = transform(&a, "a component", path)?;
-                        o.components.push((number(&a, "objectid", "a component", path)?, t));
+                        o.components.push((number(&a, "objectid", "a component", path)?, t, a.get("path").cloned()));
                     }
                     "colorgroup" | "basematerials" => {
                         group = Some((number(&a, "id", "a property group", path)?, Vec::new()));
@@ -419,7 +471,7 @@ fn parse_model(xml: &[u8], path: &Path) -> Result<Model, IoError> {
                     }
                     "item" => {
                         let t = transform(&a, "a build item", path)?;
-                        model.items.push((number(&a, "objectid", "a build item", path)?, t));
+                        model.items.push((number(&a, "objectid", "a build item", path)?, t, a.get("path").cloned()));
                     }
                     _ => {}
                 }
@@ -434,6 +486,38 @@ fn parse_model(xml: &[u8], path: &Path) -> Result<Model, IoError> {
         buf.clear();
     }
     Ok(model)
+}
+
+/// The `<model>` element: its unit (core §3.3) and the extensions it requires
+/// (`requiredextensions`, prefixes declared on it).
+fn model_header(e: &BytesStart, a: &HashMap<String, String>, model: &mut Model, path: &Path) -> Result<(), IoError> {
+    let unit = a.get("unit").map_or("millimeter", String::as_str);
+    model.scale = UNITS.iter().find(|(u, _)| *u == unit).map(|&(_, s)| s).ok_or_else(|| {
+        tmf_error(
+            path,
+            format!("the model's unit `{unit:.40}` is not one of micron, millimeter, centimeter, inch, foot, meter"),
+        )
+    })?;
+    let Some(required) = a.get("requiredextensions") else { return Ok(()) };
+    // Prefix declarations (`xmlns:p`) are attributes of this element.
+    let mut prefixes: HashMap<String, String> = HashMap::new();
+    for attr in e.attributes().flatten() {
+        if let Some(prefix) = attr.key.as_ref().strip_prefix("xmlns:") {
+            prefixes.insert(prefix.to_string(), attr.value.to_string());
+        }
+    }
+    for prefix in required.split_whitespace() {
+        let ns = prefixes.get(prefix).map_or("an undeclared namespace", String::as_str);
+        if !KNOWN_NS.contains(&ns) {
+            return Err(IoError::Unsupported {
+                path: path.into(),
+                reason: format!(
+                    "the 3MF model requires the extension `{prefix}` ({ns}), which blocksmith does not read"
+                ),
+            });
+        }
+    }
+    Ok(())
 }
 
 fn close(name: &str, model: &mut Model, object: &mut Option<(u32, Object)>, group: &mut Option<(u32, Vec<[f32; 4]>)>) {
@@ -462,17 +546,25 @@ fn transform(a: &HashMap<String, String>, what: &str, path: &Path) -> Result<Aff
 
 /// The triangles each object places (itself and its components), counted before anything is
 /// placed so that a file nesting components to explode is refused first.
-fn triangle_count(model: &Model, id: u32, depth: usize, path: &Path) -> Result<u128, IoError> {
+/// The part a component or item of part `part` names: its `p:path`, else its own part.
+fn part_of<'a>(p: &'a Option<String>, part: &'a str) -> &'a str {
+    p.as_deref().map_or(part, |p| p.trim_start_matches('/'))
+}
+
+fn triangle_count(parts: &Parts, part: &str, id: u32, depth: usize, path: &Path) -> Result<u128, IoError> {
     if depth > MAX_DEPTH {
         return Err(tmf_error(
             path,
             format!("components nested deeper than {MAX_DEPTH} (or in a cycle) at object {id}"),
         ));
     }
-    let o = model.objects.get(&id).ok_or_else(|| tmf_error(path, format!("no object with id {id}")))?;
+    let o = parts
+        .get(part)
+        .and_then(|m| m.objects.get(&id))
+        .ok_or_else(|| tmf_error(path, format!("no object with id {id} in part {part}")))?;
     let mut n = o.triangles.len() as u128 + o.vertices.len() as u128;
-    for &(c, _) in &o.components {
-        n += triangle_count(model, c, depth + 1, path)?;
+    for (c, _, p) in &o.components {
+        n += triangle_count(parts, part_of(p, part), *c, depth + 1, path)?;
     }
     Ok(n)
 }
@@ -483,7 +575,8 @@ struct Placed {
     colors: Vec<Option<[f32; 4]>>,
 }
 
-fn place(model: &Model, id: u32, t: &Affine, out: &mut Placed, path: &Path) -> Result<(), IoError> {
+fn place(parts: &Parts, part: &str, id: u32, t: &Affine, out: &mut Placed, path: &Path) -> Result<(), IoError> {
+    let model = &parts[part];
     let o = &model.objects[&id];
     let base = out.positions.len();
     out.positions.extend(o.vertices.iter().map(|&p| t.apply(p)));
@@ -517,16 +610,19 @@ fn place(model: &Model, id: u32, t: &Affine, out: &mut Placed, path: &Path) -> R
             }
         }
     }
-    for &(c, ct) in &o.components {
-        place(model, c, &ct.then(t), out, path)?;
+    for (c, ct, p) in &o.components {
+        place(parts, part_of(p, part), *c, &ct.then(t), out, path)?;
     }
     Ok(())
 }
 
-fn build_mesh(model: &Model, path: &Path) -> Result<Mesh, IoError> {
+/// The mesh of the build of the root part `root`, its positions scaled by `scale` to
+/// millimetres.
+fn build_mesh(parts: &Parts, root: &str, scale: f64, path: &Path) -> Result<Mesh, IoError> {
+    let model = &parts[root];
     let mut total: u128 = 0;
-    for &(id, _) in &model.items {
-        total += triangle_count(model, id, 0, path)?;
+    for (id, _, p) in &model.items {
+        total += triangle_count(parts, part_of(p, root), *id, 0, path)?;
     }
     // Each placed vertex or triangle takes at most ~40 bytes here and in the mesh.
     crate::limits::check_memory(
@@ -535,8 +631,13 @@ fn build_mesh(model: &Model, path: &Path) -> Result<Mesh, IoError> {
     )
     .map_err(|e| tmf_error(path, e.to_string()))?;
     let mut out = Placed { positions: Vec::new(), indices: Vec::new(), colors: Vec::new() };
-    for (id, t) in &model.items {
-        place(model, *id, t, &mut out, path)?;
+    for (id, t, p) in &model.items {
+        place(parts, part_of(p, root), *id, t, &mut out, path)?;
+    }
+    if scale != 1.0 {
+        for p in &mut out.positions {
+            *p *= scale;
+        }
     }
     if out.positions.len() > u32::MAX as usize {
         return Err(tmf_error(path, "more than 2³² − 1 vertices"));
@@ -564,14 +665,93 @@ mod tests {
 
     /// A package of `model` XML with the standard parts.
     fn package(model: &str) -> Vec<u8> {
+        package_with(model, &[])
+    }
+
+    /// A package of the root model `model` and further parts `(name, xml)`.
+    fn package_with(model: &str, more: &[(&str, &str)]) -> Vec<u8> {
         let mut zip = zip::ZipWriter::new(Cursor::new(Vec::new()));
         let o = zip::write::SimpleFileOptions::default();
-        for (name, data) in [("[Content_Types].xml", CONTENT_TYPES), ("_rels/.rels", RELS), ("3D/3dmodel.model", model)]
-        {
-            zip.start_file(name, o).unwrap();
+        let base = [("[Content_Types].xml", CONTENT_TYPES), ("_rels/.rels", RELS), ("3D/3dmodel.model", model)];
+        for (name, data) in base.iter().chain(more) {
+            zip.start_file(*name, o).unwrap();
             zip.write_all(data.as_bytes()).unwrap();
         }
         zip.finish().unwrap().into_inner()
+    }
+
+    /// A unit tetrahedron as object `id`, in a model of `unit` with `head` on its element.
+    fn tetra_model(unit: &str, head: &str, id: u32, build: &str) -> String {
+        format!(
+            "<?xml version=\"1.0\"?><model unit=\"{unit}\" xmlns=\"{CORE_NS}\" {head}><resources>\
+             <object id=\"{id}\" type=\"model\"><mesh><vertices>\
+             <vertex x=\"0\" y=\"0\" z=\"0\"/><vertex x=\"1\" y=\"0\" z=\"0\"/><vertex x=\"0\" y=\"1\" z=\"0\"/>\
+             <vertex x=\"0\" y=\"0\" z=\"1\"/></vertices><triangles>\
+             <triangle v1=\"0\" v2=\"2\" v3=\"1\"/><triangle v1=\"0\" v2=\"1\" v3=\"3\"/>\
+             <triangle v1=\"0\" v2=\"3\" v3=\"2\"/><triangle v1=\"1\" v2=\"2\" v3=\"3\"/></triangles></mesh></object>\
+             </resources><build>{build}</build></model>"
+        )
+    }
+
+    #[test]
+    fn units_are_read_as_millimetres() {
+        for (unit, mm) in [
+            ("micron", 0.001),
+            ("millimeter", 1.0),
+            ("centimeter", 10.0),
+            ("inch", 25.4),
+            ("foot", 304.8),
+            ("meter", 1000.0),
+        ] {
+            let m =
+                read_3mf(&package(&tetra_model(unit, "", 1, "<item objectid=\"1\"/>")), Path::new("u.3mf")).unwrap();
+            assert_eq!(m.position(1), Vec3::new(mm, 0.0, 0.0), "{unit}");
+            assert!((m.volume() - mm * mm * mm / 6.0).abs() < 1e-12 * mm * mm * mm, "{unit}");
+        }
+        let e = read_3mf(&package(&tetra_model("parsec", "", 1, "<item objectid=\"1\"/>")), Path::new("u.3mf"))
+            .unwrap_err();
+        assert!(e.to_string().contains("unit `parsec` is not one of"), "{e}");
+    }
+
+    #[test]
+    fn required_extensions_are_read_or_refused_by_name() {
+        // Beam lattices are not read: refused, naming the extension.
+        let beams =
+            "xmlns:b=\"http://schemas.microsoft.com/3dmanufacturing/beamlattice/2017/02\" requiredextensions=\"b\"";
+        let e = read_3mf(&package(&tetra_model("millimeter", beams, 1, "<item objectid=\"1\"/>")), Path::new("b.3mf"))
+            .unwrap_err();
+        assert!(matches!(e, IoError::Unsupported { .. }), "{e}");
+        assert!(
+            e.to_string().contains(
+                "requires the extension `b` (http://schemas.microsoft.com/3dmanufacturing/beamlattice/2017/02)"
+            ),
+            "{e}"
+        );
+        // Materials and production are read.
+        let ok = format!("xmlns:m=\"{MATERIAL_NS}\" xmlns:p=\"{PRODUCTION_NS}\" requiredextensions=\"m p\"");
+        assert!(read_3mf(&package(&tetra_model("millimeter", &ok, 1, "<item objectid=\"1\"/>")), Path::new("p.3mf"))
+            .is_ok());
+    }
+
+    #[test]
+    fn production_parts_named_by_p_path_are_placed() {
+        // The root model holds no mesh: an item places object 9 of another part (as slicers
+        // write one part per object), and a component of object 2 places it again, moved.
+        let head = format!("xmlns:p=\"{PRODUCTION_NS}\" requiredextensions=\"p\"");
+        let root = format!(
+            "<?xml version=\"1.0\"?><model unit=\"millimeter\" xmlns=\"{CORE_NS}\" {head}><resources>\
+             <object id=\"2\" type=\"model\"><components>\
+             <component p:path=\"/3D/Objects/tetra.model\" objectid=\"9\" transform=\"1 0 0 0 1 0 0 0 1 0 0 4\"/>\
+             </components></object></resources><build>\
+             <item p:path=\"/3D/Objects/tetra.model\" objectid=\"9\"/><item objectid=\"2\"/></build></model>"
+        );
+        let part = tetra_model("millimeter", "", 9, "");
+        let m = read_3mf(&package_with(&root, &[("3D/Objects/tetra.model", &part)]), Path::new("p.3mf")).unwrap();
+        assert_eq!((m.vertex_count(), m.face_count(), m.component_count()), (8, 8, 2));
+        assert_eq!(m.position(7), Vec3::new(0.0, 0.0, 5.0));
+        // A p:path to a part the package lacks.
+        let e = read_3mf(&package(&root), Path::new("p.3mf")).unwrap_err();
+        assert!(e.to_string().contains("no part 3D/Objects/tetra.model, which a p:path names"), "{e}");
     }
 
     #[test]

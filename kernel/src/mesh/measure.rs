@@ -1,4 +1,5 @@
-//! Measures: counts, closedness, manifoldness, Euler characteristic, genus, volume, area, bounds.
+//! Measures: counts, closedness, manifoldness, Euler characteristic, genus, volume, area, centroid,
+//! bounds.
 
 use super::{Mesh, NONE};
 use crate::math::{Aabb, Vec3};
@@ -155,42 +156,57 @@ impl Mesh {
     }
 
     /// Total surface area: the area of the triangles the mesh is written with
-    /// ([`Mesh::triangulate_faces`]; each face's fan when a face cannot be triangulated), which
-    /// is each face's area for planar faces and what a tool reading the written file (trimesh)
-    /// reports for non-planar ones.
+    /// ([`Mesh::triangulate_faces`], or a face's cut about its centre where
+    /// [`Mesh::triangulate`] adds one; each face's fan when a face cannot be triangulated),
+    /// which is each face's area for planar faces and what a tool reading the written file
+    /// (trimesh) reports for non-planar ones. Each triangle's edges are differences of
+    /// positions, so the sum does not depend on where the model lies.
     #[must_use]
     pub fn area(&self) -> f64 {
-        let tris = self.measured_triangles();
-        let p = &self.positions;
+        let (tris, at) = self.measured_triangles();
         tris.chunks_exact(3)
             .map(|t| {
-                let a = p[t[0] as usize];
-                (p[t[1] as usize] - a).cross(p[t[2] as usize] - a).length()
+                let a = at(t[0]);
+                (at(t[1]) - a).cross(at(t[2]) - a).length()
             })
             .sum::<f64>()
             * 0.5
     }
 
-    /// The triangles area and volume are summed over: every face's, as written to files
-    /// ([`Mesh::triangulate_faces`]), or each face's fan from its first corner when some face
-    /// cannot be triangulated.
-    fn measured_triangles(&self) -> std::borrow::Cow<'_, [u32]> {
-        if (0..self.face_count() as u32).all(|f| self.face_arity(f) == 3) {
-            return std::borrow::Cow::Owned(
-                (0..self.face_count() as u32).flat_map(|f| self.face_vertices(f)).collect(),
-            );
-        }
-        if let Ok((tris, _)) = self.triangulate_faces() {
-            return std::borrow::Cow::Owned(tris);
-        }
-        let mut tris = Vec::new();
-        for f in 0..self.face_count() as u32 {
-            let ids: Vec<u32> = self.face_vertices(f).collect();
-            for i in 1..ids.len() - 1 {
-                tris.extend_from_slice(&[ids[0], ids[i], ids[i + 1]]);
+    /// The triangles area, volume and centroid are summed over: every face's, as written to
+    /// files ([`Mesh::plan_triangles`], whose added centres have ids from the vertex count on),
+    /// or each face's fan from its first corner when some face cannot be triangulated; with
+    /// the position of each id.
+    fn measured_triangles(&self) -> (Vec<u32>, impl Fn(u32) -> Vec3 + '_) {
+        let (tris, centres) = if (0..self.face_count() as u32).all(|f| self.face_arity(f) == 3) {
+            ((0..self.face_count() as u32).flat_map(|f| self.face_vertices(f)).collect(), Vec::new())
+        } else if let Ok(plan) = self.plan_triangles() {
+            (plan.tris, plan.centres.into_iter().map(|(_, c)| c).collect())
+        } else {
+            let mut tris = Vec::new();
+            for f in 0..self.face_count() as u32 {
+                let ids: Vec<u32> = self.face_vertices(f).collect();
+                for i in 1..ids.len() - 1 {
+                    tris.extend_from_slice(&[ids[0], ids[i], ids[i + 1]]);
+                }
             }
+            (tris, Vec::new())
+        };
+        let p = &self.positions;
+        let at = move |v: u32| p.get(v as usize).copied().unwrap_or_else(|| centres[v as usize - p.len()]);
+        (tris, at)
+    }
+
+    /// The point every sum about a position is taken about: the centre of the bounds (the
+    /// origin for a mesh without faces), so that a model far from the origin loses no digits to
+    /// cancellation.
+    fn reference_point(&self) -> Vec3 {
+        let r = self.bounds();
+        if r.is_empty() {
+            Vec3::ZERO
+        } else {
+            r.center()
         }
-        std::borrow::Cow::Owned(tris)
     }
 
     /// Area of face `f`: the length of its vector area (its area for a planar face, convex or
@@ -208,18 +224,49 @@ impl Mesh {
     /// (1e6, 1e6, 1e6) came out at −1135 instead of 4.15).
     #[must_use]
     pub fn volume(&self) -> f64 {
-        let r = self.bounds();
-        let r = if r.is_empty() { Vec3::ZERO } else { r.center() };
-        let tris = self.measured_triangles();
-        let p = &self.positions;
+        let r = self.reference_point();
+        let (tris, at) = self.measured_triangles();
         let total: f64 = tris
             .chunks_exact(3)
             .map(|t| {
-                let [a, b, c] = [t[0], t[1], t[2]].map(|v| p[v as usize] - r);
+                let [a, b, c] = [t[0], t[1], t[2]].map(|v| at(v) - r);
                 a.dot(b.cross(c))
             })
             .sum();
         total / 6.0
+    }
+
+    /// The centroid: the centre of mass of the solid the mesh bounds (uniform density; what
+    /// trimesh calls `center_mass`), from the same triangles as [`Mesh::volume`], as the
+    /// volume-weighted mean of the tetrahedra (r, a, b, c) with r the centre of the bounds, so
+    /// that it keeps its digits far from the origin. A mesh enclosing no volume (open, flat or
+    /// inside-out to zero) gives the area-weighted centroid of its surface instead; a mesh
+    /// without faces the origin.
+    #[must_use]
+    pub fn centroid(&self) -> Vec3 {
+        let r = self.reference_point();
+        let (tris, at) = self.measured_triangles();
+        let (mut moment, mut six_volume) = (Vec3::ZERO, 0.0);
+        let (mut surface, mut twice_area) = (Vec3::ZERO, 0.0);
+        // Σ |det|, so that a volume lost in rounding counts as none.
+        let mut scale = 0.0;
+        for t in tris.chunks_exact(3) {
+            let [a, b, c] = [t[0], t[1], t[2]].map(|v| at(v) - r);
+            let det = a.dot(b.cross(c));
+            moment += (a + b + c) * det;
+            six_volume += det;
+            scale += det.abs();
+            let area = (b - a).cross(c - a).length();
+            surface += (a + b + c) * area;
+            twice_area += area;
+        }
+        if six_volume.abs() > 1e-12 * scale && six_volume.is_finite() {
+            r + moment / (4.0 * six_volume)
+        } else if twice_area > 0.0 {
+            r + surface / (3.0 * twice_area)
+        } else {
+            r
+        }
     }
 
     /// The axis-aligned bounds of the vertices used by faces ([`Aabb::EMPTY`] for none).
@@ -268,6 +315,33 @@ mod tests {
             assert_rel(far.volume(), v, 1e-6);
             assert_rel(far.area(), a, 1e-6);
         }
+    }
+
+    #[test]
+    fn centroid_is_the_centre_of_mass_and_keeps_its_digits_far_away() {
+        // A box from (0, 0, 0) to (1, 2, 4) with a unit cube on top of its corner at (0, 0, 4):
+        // volume 8 + 1, centre of mass (8·(0.5, 1, 2) + (0.5, 0.5, 4.5)) / 9.
+        let a = Mesh::cuboid(Vec3::ZERO, Vec3::new(1.0, 2.0, 4.0));
+        let b = Mesh::cuboid(Vec3::new(0.0, 0.0, 4.0), Vec3::new(1.0, 1.0, 5.0));
+        let two = Mesh::combine(&[&a, &b]).unwrap();
+        let want = (Vec3::new(0.5, 1.0, 2.0) * 8.0 + Vec3::new(0.5, 0.5, 4.5)) / 9.0;
+        assert!((two.centroid() - want).length() < 1e-14, "{}", two.centroid());
+        // An open surface (one square) has no volume: the centre of its area.
+        let sq = Mesh::from_polygons(vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y], &[[0u32, 1, 2, 3]])
+            .unwrap();
+        assert!((sq.centroid() - Vec3::new(0.5, 0.5, 0.0)).length() < 1e-15);
+        // Far away: an icosphere moved by d has its centroid moved by d, to within the rounding
+        // of its coordinates (half an ulp of 1e8 is 7.5e-9); summed about the origin the
+        // products of coordinates near 1e8 lose every digit.
+        let m = Mesh::icosphere(1.0, 3);
+        let c0 = m.centroid();
+        assert!(c0.length() < 1e-15, "{c0}");
+        for offset in [1e3, 1e5, 1e6, 1e7, 1e8] {
+            let d = Vec3::new(offset, -offset, 0.5 * offset);
+            let c = m.translate(d).centroid() - d;
+            assert!(c.length() < 1e-7, "at {offset}: {c}");
+        }
+        assert_eq!(Mesh::default().centroid(), Vec3::ZERO);
     }
 
     #[test]

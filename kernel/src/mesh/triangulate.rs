@@ -8,6 +8,12 @@
 //! both cut along the same diagonal. When a face's first choice repeats an edge, or fails (a
 //! non-planar polygon whose projection crosses itself), the fans from each of its corners are
 //! tried, the best-facing first (the one whose worst triangle faces the face's normal most).
+//! When every fan repeats an edge too (a quad both of whose diagonals are already edges, as in
+//! the five quads of K₅ on a torus), or a non-planar face has no usable fan, the face is cut
+//! about a vertex added at the centroid of its corners, one triangle per side: its new edges
+//! all end at the new vertex, so they repeat nothing. Only [`Mesh::triangulate`] and the
+//! measures can add vertices; [`Mesh::triangulate_faces`], which keeps the vertex ids, refuses
+//! such a face.
 
 use spade::handles::FixedVertexHandle;
 use spade::{ConstrainedDelaunayTriangulation, Point2, Triangulation};
@@ -155,6 +161,28 @@ fn fans_best_first(corners: &[Vec3], normal: Vec3) -> Vec<(f64, Triangles)> {
     fans.into_iter().map(|(w, _, t)| (w, t)).collect()
 }
 
+/// A triangulation of every face, planned by [`Mesh::plan_triangles`].
+pub(crate) struct FaceTriangles {
+    /// Vertex-id triples, each face's triangles consecutively; ids from the mesh's vertex
+    /// count on are the added centres, in order.
+    pub tris: Vec<u32>,
+    /// Each face's arity.
+    pub arities: Vec<u32>,
+    /// For each face cut about an added centre, the face and the centre's position.
+    pub centres: Vec<(u32, Vec3)>,
+}
+
+impl FaceTriangles {
+    /// Number of triangles of each face: arity − 2, or the arity for a face cut about a centre.
+    pub fn counts(&self) -> Vec<u32> {
+        let mut counts: Vec<u32> = self.arities.iter().map(|&a| a - 2).collect();
+        for &(f, _) in &self.centres {
+            counts[f as usize] += 2;
+        }
+        counts
+    }
+}
+
 impl Mesh {
     /// The triangles of face `f`, as vertex-id triples oriented like the face.
     ///
@@ -184,6 +212,28 @@ impl Mesh {
     /// face both of whose diagonals are already edges, such as a quad over a tetrahedron's
     /// edge); [`MeshError::TooLarge`] for more than 2³² − 1 triangles.
     pub fn triangulate_faces(&self) -> Result<(Vec<u32>, Vec<u32>), MeshError> {
+        let plan = self.plan_triangles()?;
+        if let Some(&(face, _)) = plan.centres.first() {
+            return Err(MeshError::Triangulation {
+                face: face as usize,
+                reason: "every way to cut it between its corners repeats an edge of the mesh (triangulate() \
+                         cuts it about a vertex added at its centre)"
+                    .into(),
+            });
+        }
+        Ok((plan.tris, plan.arities))
+    }
+
+    /// The triangles of every face as [`Mesh::triangulate_faces`] describes, except that a face
+    /// no cut between its corners fits is cut about an added centre (see the module
+    /// documentation) instead of refused.
+    ///
+    /// # Errors
+    /// [`MeshError::Triangulation`] naming the first planar face that crosses itself (or whose
+    /// centre is not finite); [`MeshError::TooLarge`] for more than 2³² − 1 triangles or
+    /// vertices.
+    pub(crate) fn plan_triangles(&self) -> Result<FaceTriangles, MeshError> {
+        let mut centres: Vec<(u32, Vec3)> = Vec::new();
         let mut tris = Vec::with_capacity(3 * self.face_count() * 2);
         let mut arities = Vec::with_capacity(self.face_count());
         let mut diagonals: std::collections::HashSet<(u32, u32)> = std::collections::HashSet::new();
@@ -224,12 +274,30 @@ impl Mesh {
                         .find(|(worst, t)| worst.is_finite() && (!planar || *worst > 0.0) && fresh(t, &diagonals));
                     match (fan, first) {
                         (Some((_, t)), _) => t,
-                        (None, Err(reason)) => return Err(MeshError::Triangulation { face: f as usize, reason }),
-                        (None, Ok(_)) => {
-                            return Err(MeshError::Triangulation {
-                                face: f as usize,
-                                reason: "every way to cut it repeats an edge of the mesh".into(),
-                            })
+                        (None, Err(reason)) if planar => {
+                            return Err(MeshError::Triangulation { face: f as usize, reason })
+                        }
+                        (None, _) => {
+                            // Cut about a new vertex at the centroid: one triangle per side,
+                            // the side v0 → v1 first.
+                            let c = corners.iter().copied().sum::<Vec3>() / k as f64;
+                            if !c.is_finite() {
+                                return Err(MeshError::Triangulation {
+                                    face: f as usize,
+                                    reason: "its centre is beyond the range of numbers".into(),
+                                });
+                            }
+                            let id = u32::try_from(self.vertex_count() + centres.len())
+                                .ok()
+                                .filter(|&id| id != u32::MAX)
+                                .ok_or_else(|| MeshError::TooLarge {
+                                    what: "vertices with the added centres".into(),
+                                })?;
+                            centres.push((f, c));
+                            for i in 0..k {
+                                tris.extend_from_slice(&[ids[i], ids[(i + 1) % k], id]);
+                            }
+                            continue;
                         }
                     }
                 }
@@ -253,21 +321,39 @@ impl Mesh {
         if tris.len() / 3 > u32::MAX as usize {
             return Err(MeshError::TooLarge { what: format!("{} triangles", tris.len() / 3) });
         }
-        Ok((tris, arities))
+        Ok(FaceTriangles { tris, arities, centres })
     }
 
     /// A triangle mesh of the same surface: same vertices (ids kept), each face split into
-    /// triangles (see [`Mesh::triangulate_faces`]); crease tags, corners, colours and face sources kept.
-    /// Returns also, for each triangle, the face it came from.
+    /// triangles (see [`Mesh::triangulate_faces`]), and a vertex added at the centre of each
+    /// face that no cut between its corners fits (ids from the vertex count on; see the module
+    /// documentation), so that any manifold polygon mesh gives a manifold triangle mesh. Crease
+    /// tags, corners, colours (an added vertex takes the mean of its face's) and face sources
+    /// kept. Returns also, for each triangle, the face it came from.
     ///
     /// # Errors
-    /// [`MeshError::Triangulation`] naming the first face that cannot be triangulated.
+    /// [`MeshError::Triangulation`] naming the first face that cannot be triangulated (a planar
+    /// face that crosses itself).
     pub fn triangulate_with_sources(&self) -> Result<(Mesh, Vec<u32>), MeshError> {
-        let (flat, arities) = self.triangulate_faces()?;
+        let plan = self.plan_triangles()?;
         let sources: Vec<u32> =
-            arities.iter().enumerate().flat_map(|(f, &a)| std::iter::repeat_n(f as u32, a as usize - 2)).collect();
-        let mut m = Mesh::from_indexed(self.positions.clone(), &flat, &vec![3; sources.len()])?;
+            plan.counts().iter().enumerate().flat_map(|(f, &n)| std::iter::repeat_n(f as u32, n as usize)).collect();
+        let mut positions = self.positions.clone();
+        positions.extend(plan.centres.iter().map(|&(_, c)| c));
+        let mut m = Mesh::from_indexed(positions, &plan.tris, &vec![3; sources.len()])?;
         m.copy_attributes_from(self);
+        m.vertex_sharpness.resize(m.vertex_count(), 0.0);
+        if let Some(colors) = &mut m.vertex_colors {
+            for &(f, _) in &plan.centres {
+                let (sum, n) = self.face_vertices(f).fold(([0.0f32; 4], 0.0f32), |(mut s, n), v| {
+                    for (a, b) in s.iter_mut().zip(colors[v as usize]) {
+                        *a += b;
+                    }
+                    (s, n + 1.0)
+                });
+                colors.push(sum.map(|c| c / n));
+            }
+        }
         if let Some(fs) = &self.face_sources {
             m.face_sources = Some(sources.iter().map(|&f| fs[f as usize]).collect());
         }
@@ -363,6 +449,57 @@ mod tests {
         let t = m.triangulate().unwrap();
         assert_closed_sphere(&t);
         assert_eq!(t.face_count(), 6);
+    }
+
+    /// K₅ on a torus as five quads (every pair of the five vertices is an edge, so both
+    /// diagonals of every quad are edges already), on a skew pentagon.
+    fn k5_torus() -> Mesh {
+        let p: Vec<Vec3> = (0..5)
+            .map(|i| {
+                let a = f64::from(i) * std::f64::consts::TAU / 5.0;
+                Vec3::new(a.cos(), a.sin(), 0.3 * f64::from(i % 2) + 0.1 * f64::from(i))
+            })
+            .collect();
+        Mesh::from_polygons(p, &[[0u32, 1, 2, 3], [0, 2, 4, 1], [0, 4, 3, 2], [0, 3, 1, 4], [1, 3, 4, 2]]).unwrap()
+    }
+
+    #[test]
+    fn quads_whose_diagonals_are_both_edges_are_cut_about_their_centres() {
+        let m = k5_torus();
+        assert!(m.is_closed() && m.is_manifold());
+        assert_eq!((m.edge_count(), m.euler()), (10, 0));
+        // Keeping the vertex ids, no quad can be cut.
+        assert!(matches!(m.triangulate_faces(), Err(MeshError::Triangulation { face: 0, .. })));
+        let (t, from) = m.triangulate_with_sources().unwrap();
+        // Each quad: four triangles about a new vertex at the mean of its corners.
+        assert!(t.is_triangle_mesh() && t.is_closed() && t.is_manifold());
+        assert_eq!((t.vertex_count(), t.face_count(), t.euler(), t.genus()), (10, 20, 0, 1));
+        assert_eq!(from, (0..5).flat_map(|f| [f; 4]).collect::<Vec<u32>>());
+        for f in 0..5u32 {
+            assert!((t.position(5 + f) - m.face_centroid(f)).length() < 1e-15);
+            // The first triangle holds the face's first edge.
+            let first: Vec<u32> = t.face_vertices(4 * f).collect();
+            let face: Vec<u32> = m.face_vertices(f).collect();
+            assert_eq!(first, vec![face[0], face[1], 5 + f]);
+        }
+        // The measures use the same triangles.
+        assert!((t.area() - m.area()).abs() < 1e-14 && (t.volume() - m.volume()).abs() < 1e-14);
+        assert!(m.area() > (0..5).map(|f| m.face_area(f)).sum::<f64>() * 0.5);
+    }
+
+    #[test]
+    fn a_cut_about_a_centre_colours_the_centre_by_its_face() {
+        let mut m = k5_torus();
+        let colors: Vec<[f32; 4]> = (0..5).map(|i| [i as f32 / 4.0, 0.5, 1.0, 1.0]).collect();
+        m.set_vertex_colors(Some(colors)).unwrap();
+        m.set_corner_sharpness(2, 3.0);
+        let t = m.triangulate().unwrap();
+        let c = t.vertex_colors().unwrap();
+        assert_eq!(c.len(), 10);
+        // Face 0 has corners 0–3: red (0 + 0.25 + 0.5 + 0.75) / 4.
+        assert_eq!(c[5], [0.375, 0.5, 1.0, 1.0]);
+        assert_eq!(t.corner_sharpness(2), 3.0);
+        assert_eq!(t.corner_sharpness(7), 0.0);
     }
 
     #[test]

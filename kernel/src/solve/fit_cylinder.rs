@@ -47,9 +47,13 @@ pub fn fit_cylinder(points: &[Vec3], rule: RadiusRule) -> Result<Cylinder, Solve
     if points.iter().any(|p| !p.is_finite()) {
         return Err(SolveError::NonFinite { what: "the feature" });
     }
-    let center = points.iter().copied().sum::<Vec3>() / points.len() as f64;
+    // Everything is computed about the centre of the points' bounds, `r`: differences of
+    // nearby coordinates are exact, so a feature far from the origin (1e8) keeps its digits.
+    let r = crate::math::Aabb::from_points(points.iter()).center();
+    let local: Vec<Vec3> = points.iter().map(|p| *p - r).collect();
+    let center = local.iter().copied().sum::<Vec3>() / points.len() as f64;
     let mut c = Mat3::ZERO;
-    for p in points {
+    for p in &local {
         let q = *p - center;
         c += Mat3::from_cols(q * q.x, q * q.y, q * q.z);
     }
@@ -60,12 +64,12 @@ pub fn fit_cylinder(points: &[Vec3], rule: RadiusRule) -> Result<Cylinder, Solve
     };
     let axis = if (spread.y - spread.z).abs() < (spread.x - spread.y).abs() { u.col(0) } else { u.col(2) };
     let axis = axis.normalize();
-    let dists = points.iter().map(|&p| distance(p, axis));
+    let dists = local.iter().map(|&p| distance(p, axis));
     let radius = match rule {
         RadiusRule::Minimum => dists.fold(f64::INFINITY, f64::min),
         RadiusRule::Mean => dists.sum::<f64>() / points.len() as f64,
     };
-    Ok(Cylinder { center, axis, radius })
+    Ok(Cylinder { center: r + center, axis, radius })
 }
 
 #[cfg(test)]
@@ -106,6 +110,27 @@ mod tests {
         let c = fit_cylinder(&tube, RadiusRule::Mean).unwrap();
         assert!(c.axis.dot(axis).abs() > 1.0 - 1e-12);
         assert!((c.radius - 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_feature_far_from_the_origin_fits_as_it_does_near_it() {
+        // The same tube moved by up to 1e8 (moving back is exact: nearby coordinates subtract
+        // without rounding): the same axis and radius, the centre moved by the offset. Summed
+        // about the origin the centre was off by ~1e-7 at 1e8, and the minimum radius with it.
+        let axis = Vec3::new(0.2, 0.3, 1.0).normalize();
+        let mut tube = ring(12, 0.5, -2.0, axis);
+        tube.extend(ring(12, 0.5, 2.0, axis));
+        for offset in [1e4, 1e6, 1e8] {
+            let d = Vec3::new(offset, offset, -offset);
+            let far: Vec<Vec3> = tube.iter().map(|p| *p + d).collect();
+            let near: Vec<Vec3> = far.iter().map(|p| *p - d).collect();
+            for rule in [RadiusRule::Minimum, RadiusRule::Mean] {
+                let (a, b) = (fit_cylinder(&far, rule).unwrap(), fit_cylinder(&near, rule).unwrap());
+                assert!((a.radius - b.radius).abs() < 1e-12, "{offset}: {} vs {}", a.radius, b.radius);
+                assert!(a.axis.dot(b.axis).abs() > 1.0 - 1e-12);
+                assert!(((a.center - d) - b.center).length() < 1e-7, "{offset}");
+            }
+        }
     }
 
     #[test]

@@ -345,6 +345,19 @@ pub mod mesh_api {
     pub fn area(m: &mut SharedMesh) -> f64 {
         m.0.area()
     }
+    /// The centroid: the centre of mass of the enclosed solid (uniform density), or of the
+    /// surface's area for a mesh that encloses no volume. Summed about the centre of the
+    /// bounds, so a model far from the origin keeps its digits.
+    ///
+    /// ```rhai
+    /// let c = box([0, 0, 0], [2, 4, 6]).translate([1e8, 0, 0]).centroid();
+    /// assert_near(c.x, 1e8 + 1, 1e-6);
+    /// assert_near(c.z, 3.0, 1e-9);
+    /// ```
+    #[rhai_fn(pure)]
+    pub fn centroid(m: &mut SharedMesh) -> Vec3 {
+        m.0.centroid()
+    }
     /// The axis-aligned bounds `#{min, max}` of the vertices used by faces.
     ///
     /// ```rhai
