@@ -53,9 +53,10 @@ pub enum LsystemError {
     /// A segment drawn in a branch that a `P` already closed.
     #[error("module {module} (`{symbol}`) draws after `P` ended its branch at module {ended}")]
     DrawAfterPole { module: usize, symbol: String, ended: usize },
-    /// No run of free loop vertices left for another branch.
-    #[error("module {module} (`{symbol}`): the loop of {valence} vertices has no run of 3 free vertices left for another branch (raise `valence`)")]
-    NoRoomForBranch { module: usize, symbol: String, valence: usize },
+    /// No run of free loop vertices left for another branch; `works` is the smallest trunk
+    /// valence found that grows the string (searched when growth refuses, and itself grown).
+    #[error("module {module} (`{symbol}`): the loop of {valence} vertices has no run of 3 free vertices left for another branch; {}", room_advice(*works))]
+    NoRoomForBranch { module: usize, symbol: String, valence: usize, works: Option<u32> },
     /// A bad growth option.
     #[error("{0}")]
     InvalidOption(String),
@@ -68,4 +69,18 @@ pub enum LsystemError {
     /// Refused over the memory budget, or stopped by the cancellation token.
     #[error(transparent)]
     Limit(#[from] crate::limits::LimitError),
+}
+
+/// What to do about [`LsystemError::NoRoomForBranch`]: the valence that grows the string, or
+/// fewer branches per loop when none does.
+fn room_advice(works: Option<u32>) -> String {
+    match works {
+        Some(v) => format!(
+            "each branch takes 3 or more vertices of its loop and its own loops get fewer than its parent's, \
+             so deep branching needs a larger trunk valence: `valence: {v}` grows this string"
+        ),
+        None => "no trunk valence up to 100000 grows this string within the caps: put fewer branches on one \
+                 loop (split a `[..][..][..]` group across two segments) or nest them less deeply"
+            .to_string(),
+    }
 }

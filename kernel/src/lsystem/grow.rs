@@ -508,6 +508,63 @@ pub fn grow_with<E: Display>(
     opts: &GrowOptions,
     size: &mut dyn FnMut(Size, f64) -> Result<f64, E>,
 ) -> Result<Grown, LsystemError> {
+    match grow_once(modules, opts, size) {
+        Err(LsystemError::NoRoomForBranch { module, symbol, valence, works: None }) => {
+            let works = valence_that_works(modules, opts, size);
+            Err(LsystemError::NoRoomForBranch { module, symbol, valence, works })
+        }
+        other => other,
+    }
+}
+
+/// The smallest trunk valence found to grow `modules` (the others options as in `opts`), for
+/// the advice of [`LsystemError::NoRoomForBranch`]. Each branch takes a run of at least 3 free
+/// vertices of its loop and its own loops get 2(run − 1) vertices (§4.3.1), at most 3/8 of
+/// its parent's (or 1/c of it for c siblings on one loop), so the room a deep branching needs
+/// shrinks geometrically with depth and depends on where the branches point: rather than a
+/// bound that is either loose or wrong, the valence is searched (doubling from the refused
+/// one, then halving the interval to within an eighth) and only a valence that grew is named.
+/// `None` when none up to the option's limit grows within the caps.
+fn valence_that_works<E: Display>(
+    modules: &[Module],
+    opts: &GrowOptions,
+    size: &mut dyn FnMut(Size, f64) -> Result<f64, E>,
+) -> Option<u32> {
+    const MAX: u32 = 100_000;
+    let mut grows = |v: u32| -> Result<bool, ()> {
+        match grow_once(modules, &opts.with_valence(v), size) {
+            Ok(_) => Ok(true),
+            Err(LsystemError::NoRoomForBranch { .. }) => Ok(false),
+            // Another refusal (a cap, the memory budget, a cancellation): stop searching.
+            Err(_) => Err(()),
+        }
+    };
+    let (mut lo, mut hi) = (opts.valence, None);
+    while hi.is_none() && lo < MAX {
+        let v = lo.saturating_mul(2).min(MAX);
+        match grows(v) {
+            Ok(true) => hi = Some(v),
+            Ok(false) => lo = v,
+            Err(()) => return None,
+        }
+    }
+    let mut hi = hi?;
+    while hi - lo > (lo / 8).max(1) {
+        let mid = lo + (hi - lo) / 2;
+        match grows(mid) {
+            Ok(true) => hi = mid,
+            Ok(false) => lo = mid,
+            Err(()) => break,
+        }
+    }
+    Some(hi)
+}
+
+fn grow_once<E: Display>(
+    modules: &[Module],
+    opts: &GrowOptions,
+    size: &mut dyn FnMut(Size, f64) -> Result<f64, E>,
+) -> Result<Grown, LsystemError> {
     opts.validate()?;
     super::grammar::check_balance("the string", modules.iter().map(|m| m.symbol.as_str()))?;
     let mut g =
@@ -1063,7 +1120,14 @@ impl Grower {
             Some(x) => x,
             None => match choose(narrow) {
                 Some((s, w)) => (s, w, None),
-                None => return Err(LsystemError::NoRoomForBranch { module: i, symbol: m.to_string(), valence: n }),
+                None => {
+                    return Err(LsystemError::NoRoomForBranch {
+                        module: i,
+                        symbol: m.to_string(),
+                        valence: n,
+                        works: None,
+                    })
+                }
             },
         };
         let run: Vec<u32> = (0..w).map(|j| ring.verts[(s + j) % n]).collect();

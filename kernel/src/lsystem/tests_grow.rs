@@ -150,7 +150,7 @@ fn bad_strings_are_refused() {
     assert!(matches!(e, LsystemError::UnbalancedBrackets { .. }), "{e}");
     // Three branches on one loop of 8 need three runs of at least 3 vertices: 9 > 8.
     let e = grow(&modules("F[+F][-F][&F]"), &GrowOptions::DEFAULT).unwrap_err();
-    assert!(matches!(e, LsystemError::NoRoomForBranch { valence: 8, .. }), "{e}");
+    assert!(matches!(e, LsystemError::NoRoomForBranch { valence: 8, works: Some(_), .. }), "{e}");
     let e = grow(&modules("F"), &GrowOptions::DEFAULT.with_valence(4)).unwrap_err();
     assert!(matches!(e, LsystemError::InvalidOption(_)), "{e}");
     // NaN and huge sizes are refused with what was wrong, never grown into non-finite positions.
@@ -532,5 +532,25 @@ fn the_recipes_cross_themselves_no_more_than_measured() {
         assert_plant(&g);
         let n = super::tests_selfint::self_intersecting_faces(g.mesh.mesh());
         assert!(n <= measured, "{what}: {n} self-intersecting faces of {}, measured {measured}", g.mesh.face_count());
+    }
+}
+
+#[test]
+fn the_refusal_for_want_of_room_names_a_valence_that_grows_the_string() {
+    // Three branches on every node, three deep: at valence 8, 16 and 24 the third level's
+    // loops are too small for three runs of 3 vertices. The valence the error names grows it,
+    // and it is more than the refused one.
+    let s = "F[+F[+F[+F][-F][&F]][-F[+F][-F][&F]][&F[+F][-F][&F]]][-F[+F[+F][-F][&F]][-F][&F]][&F[+F][-F][&F]]";
+    for v in [8, 16, 24] {
+        let Err(LsystemError::NoRoomForBranch { works: Some(named), .. }) =
+            grow(&modules(s), &GrowOptions::DEFAULT.with_valence(v))
+        else {
+            panic!("valence {v} should run out of room");
+        };
+        assert!(named > v, "{named} at {v}");
+        let grown = grow(&modules(s), &GrowOptions::DEFAULT.with_valence(named));
+        assert!(grown.is_ok(), "valence {named}: {:?}", grown.err());
+        let e = grow(&modules(s), &GrowOptions::DEFAULT.with_valence(v)).unwrap_err().to_string();
+        assert!(e.contains(&format!("`valence: {named}` grows this string")), "{e}");
     }
 }
