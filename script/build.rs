@@ -36,13 +36,15 @@ struct Declared {
     receiver: Option<String>,
     arity: usize,
     pure: bool,
+    context: bool,
     returns: String,
 }
 
 /// Reads every `#[export_module]` module of `src/api/*.rs` and writes the table of registered
 /// functions the dropped-result lint works from (`api::registry`): names, the receiver's Rust
 /// type when the first parameter is `&mut`, arity, whether it is declared `pure` (leaves its
-/// receiver unchanged) and the Rust type it returns. Getters and setters are left out.
+/// receiver unchanged), whether it takes the call context (and so may act beyond its
+/// arguments: write a file, declare a parameter) and the Rust type it returns. Getters and setters are left out.
 fn registry() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/api");
     println!("cargo:rerun-if-changed={}", dir.display());
@@ -64,8 +66,8 @@ fn registry() {
         for n in &d.names {
             writeln!(
                 out,
-                "    Declared {{ name: {n:?}, receiver: {:?}, arity: {}, pure: {}, returns: {:?} }},",
-                d.receiver, d.arity, d.pure, d.returns
+                "    Declared {{ name: {n:?}, receiver: {:?}, arity: {}, pure: {}, context: {}, returns: {:?} }},",
+                d.receiver, d.arity, d.pure, d.context, d.returns
             )
             .unwrap();
         }
@@ -154,6 +156,7 @@ fn parse(sig: &str, attrs: &str) -> Option<Declared> {
         }
     }
     params.push(params_text[start..].trim());
+    let context = params.iter().any(|p| p.contains("NativeCallContext"));
     params.retain(|p| !p.is_empty() && !p.contains("NativeCallContext"));
     let ty = |p: &str| p.split_once(':').map(|(_, t)| t.trim().to_string()).unwrap_or_default();
     let receiver = params.first().map(|p| ty(p)).and_then(|t| t.strip_prefix("&mut ").map(str::to_string));
@@ -166,5 +169,5 @@ fn parse(sig: &str, attrs: &str) -> Option<Declared> {
         names.push(ident);
     }
     let pure = attrs.split(|c: char| !c.is_alphanumeric() && c != '_').any(|w| w == "pure");
-    Some(Declared { names, receiver, arity: params.len(), pure, returns: ret.to_string() })
+    Some(Declared { names, receiver, arity: params.len(), pure, context, returns: ret.to_string() })
 }

@@ -58,12 +58,23 @@ pub fn script_type(rust: &str) -> String {
     let t = rust.trim().trim_start_matches("&mut ").trim_start_matches('&').trim();
     let t = t.strip_prefix("ScriptResult<").and_then(|s| s.strip_suffix('>')).unwrap_or(t);
     let t = t.strip_prefix("RhaiResultOf<").and_then(|s| s.strip_suffix('>')).unwrap_or(t);
+    // `core::result::Result<T, Box<EvalAltResult>>` (a closure registered by type): its `T`.
+    let t = match t.find("Result<") {
+        Some(i) if !t[..i].contains('<') => t[i + "Result<".len()..].split(',').next().unwrap_or(t).trim(),
+        _ => t,
+    };
     let t = t.rsplit("::").next().unwrap_or(t);
     match t {
         "SharedMesh" => "Mesh",
         "ImmutableString" | "str" | "String" | "string" | "&str | ImmutableString | String" => "string",
         "i64" | "INT" | "i32" | "u64" | "usize" => "int",
         "f64" | "FLOAT" | "f32" => "float",
+        // The binding's argument kinds (`convert::Number`...), each a `Dynamic` it reads itself.
+        "Number" => "number",
+        "Integer" => "int",
+        "Vector" => "Vec3",
+        "NumberOrVector" => "number|Vec3",
+        "Solid" => "Mesh|BlockModel",
         "Dynamic" | "?" | "" => "any",
         "Array" | "array" | "Vec<Dynamic>" => "array",
         "Map" | "map" => "map",
@@ -87,12 +98,33 @@ pub fn a(script_type: &str) -> String {
         "map" => "an object map".into(),
         "closure" => "a closure".into(),
         "nothing" => "nothing".into(),
+        "number" => "a number".into(),
+        "number|Vec3" => "a number or a Vec3".into(),
+        "Mesh|BlockModel" => "a Mesh or a BlockModel".into(),
         "any" => "any value".into(),
         "bool" => "a bool".into(),
         "char" => "a character".into(),
         t if t.starts_with(['A', 'E', 'I', 'O', 'U', 'a', 'e', 'i', 'o', 'u']) => format!("an {t}"),
         t => format!("a {t}"),
     }
+}
+
+/// The ways to get a `to` from a `from`: its methods returning one, fewest arguments (then
+/// shortest names) first,
+/// as a script writes them (`.to_mesh()`, `.pose(…)`).
+#[must_use]
+pub fn conversions(all: &[Overload], from: &str, to: &str) -> Vec<String> {
+    let mut found: Vec<&Overload> =
+        all.iter().filter(|o| o.property.is_none() && o.receiver() == Some(from) && o.returns == to).collect();
+    found.sort_by_key(|o| (o.params.len(), o.name.len()));
+    let mut out: Vec<String> = Vec::new();
+    for o in found {
+        let shown = format!("`.{}({})`", o.name, if o.params.len() > 1 { "…" } else { "" });
+        if !out.iter().any(|s| s.starts_with(&format!("`.{}(", o.name))) {
+            out.push(shown);
+        }
+    }
+    out
 }
 
 fn overloads_of(engine: &Engine, include_builtins: bool) -> Vec<Overload> {
@@ -172,12 +204,37 @@ mod tests {
             all.iter().filter(|o| o.name == name && o.ours).map(Overload::signature).collect()
         };
         // No leaked Rust names: a context parameter, `segments_`, `SharedMesh`, `()`.
-        assert_eq!(sig("cylinder"), ["cylinder(radius: any, height: any, segments: int) -> Mesh"]);
-        assert_eq!(sig("blocks"), ["blocks() -> BlockModel"]);
-        assert_eq!(sig("vertex_count").first().map(String::as_str), Some("get vertex_count(m: Mesh) -> int"));
-        assert!(sig("crease_all").iter().all(|s| !s.contains("->")), "{:?}", sig("crease_all"));
+        assert_eq!(sig("cylinder"), ["cylinder(radius: number, height: number, segments: int) -> Mesh"]);
+        // Arguments the binding reads itself say what they take, not `any`.
+        assert!(
+            sig("scale").contains(&"scale(m: Mesh, factor: number|Vec3) -> Mesh".to_string()),
+            "{:?}",
+            sig("scale")
+        );
+        assert!(
+            sig("translate").contains(&"translate(m: Mesh, offset: Vec3) -> Mesh".to_string()),
+            "{:?}",
+            sig("translate")
+        );
+        assert_eq!(sig("union")[0], "union(a: Mesh|BlockModel, b: Mesh|BlockModel) -> Mesh");
+        assert_eq!(sig("limit_eval")[0], "limit_eval(m: Mesh, face: int, u: number, v: number) -> map");
+        // Operators registered from closures show the value they return, not `Result<..>`'s tail.
+        assert!(all.iter().any(|o| o.name == "+" && o.signature() == "+(arg1: Mesh, arg2: Mesh) -> Mesh"));
+        // `any` only where any value is taken or given.
+        let any: Vec<String> = all
+            .iter()
+            .filter(|o| o.ours && (o.signature().contains(": any") || o.signature().ends_with("-> any")))
+            .map(Overload::signature)
+            .collect();
+        assert!(
+            any.iter().all(|s| ["assert_eq(", "show(", "param(", "parent("].iter().any(|n| s.starts_with(n))),
+            "{any:?}"
+        );
         // Rhai's built-ins are there too (for suggestions), not marked as ours.
         assert!(all.iter().any(|o| o.name == "len" && !o.ours));
+        assert_eq!(conversions(all, "PolarMesh", "Mesh")[0], "`.to_mesh()`");
+        assert_eq!(conversions(all, "Voxels", "Mesh"), ["`.to_mesh()`"]);
+        assert_eq!(conversions(all, "Animation", "Mesh"), ["`.pose(…)`"]);
         assert_eq!(a("int"), "an integer");
         assert_eq!(a("array"), "an array");
         assert_eq!(a("Animation"), "an Animation");

@@ -11,6 +11,20 @@ use rhai::{Array, Dynamic, EvalAltResult, FnPtr, Map, INT};
 /// The result type of every fallible binding.
 pub type ScriptResult<T> = Result<T, Box<EvalAltResult>>;
 
+/// An argument that takes an integer or a float (`number` in signatures); read it with [`number`].
+pub type Number = Dynamic;
+/// An argument that must be an integer but is checked by the binding, which names it in its
+/// error (`int` in signatures).
+pub type Integer = Dynamic;
+/// An argument that takes a `Vec3` or an array of three numbers (`Vec3` in signatures); read it
+/// with [`vec3`].
+pub type Vector = Dynamic;
+/// An argument that takes a number or a vector (`number|Vec3` in signatures), e.g. a scale
+/// factor; read it with [`factor3`].
+pub type NumberOrVector = Dynamic;
+/// A CSG operand: a `Mesh` or a `BlockModel` (`Mesh|BlockModel` in signatures).
+pub type Solid = Dynamic;
+
 /// A script error `"{func}: {message}"`.
 pub fn fail<T>(func: &str, message: impl Display) -> ScriptResult<T> {
     Err(error(func, message))

@@ -54,7 +54,8 @@ pub fn render(engine: &Engine, name: Option<&str>) -> Result<String, String> {
     for f in chosen {
         by_name.entry(f.name.as_str()).or_default().push(f);
     }
-    let mut out = String::new();
+    // The whole reference opens with how each kind of value changes.
+    let mut out = if name.is_none() { crate::editing::overview() } else { String::new() };
     for (_, overloads) in by_name {
         // Overloads sharing a text are shown together; each different text follows its own.
         let mut groups: Vec<(&str, Vec<String>)> = Vec::new();
@@ -85,6 +86,9 @@ fn render_type(all: &[Overload], name: &str) -> Option<String> {
     }
     let mut out =
         format!("{name}: {} methods and properties (`blocksmith doc NAME` for one in full)\n\n", methods.len());
+    if let Some(k) = crate::editing::kind(name) {
+        out.push_str(&format!("{}\n\n", k.text));
+    }
     let width = methods.iter().map(|f| f.signature().chars().count()).max().unwrap_or(0).min(60);
     for f in methods {
         let first = f.doc.lines().next().unwrap_or_default();

@@ -3,7 +3,7 @@
 //! with the signatures that exist; an unknown name gets a did-you-mean by edit distance; a
 //! method called on the wrong type says which type has it; an unknown property lists near ones.
 
-use crate::catalogue::{a, is_api_type, script_type, standard, Overload};
+use crate::catalogue::{a, conversions, is_api_type, script_type, standard, Overload};
 use crate::param::{did_you_mean, edit_distance};
 
 /// `text` with every lookup failure Rhai reports in it explained (the rest unchanged). A
@@ -53,10 +53,13 @@ fn function_not_found(all: &[Overload], sig: &str) -> String {
     if same.is_empty() {
         return unknown_function(all, name, receiver.as_deref(), &shown);
     }
+    if let Some(msg) = not_a_solid(all, name, &given) {
+        return msg;
+    }
     // The name exists: on another type, or with other arguments.
     if let Some(t) = &receiver {
         let on_type =
-            same.iter().any(|o| o.receiver() == Some(t.as_str()) || o.params.first().is_some_and(|p| p.1 == "any"));
+            same.iter().any(|o| o.receiver() == Some(t.as_str()) || o.params.first().is_some_and(|p| fits(&p.1, t)));
         let owners: Vec<&str> = unique(same.iter().filter_map(|o| o.receiver()));
         if !on_type && !owners.is_empty() {
             return wrong_type(all, name, t, &owners, &same);
@@ -74,10 +77,45 @@ fn function_not_found(all: &[Overload], sig: &str) -> String {
     msg
 }
 
+/// `pm + m` or `m - vx`: CSG's operators on a value that is not a solid, and how to get one.
+fn not_a_solid(all: &[Overload], name: &str, given: &[String]) -> Option<String> {
+    if !matches!(name, "+" | "-") || given.len() != 2 {
+        return None;
+    }
+    let solid = |t: &str| t == "Mesh" || t == "BlockModel";
+    if !given.iter().any(|t| solid(t)) {
+        return None;
+    }
+    let other = given.iter().find(|t| !solid(t) && is_api_type(t))?;
+    Some(format!(
+        "`{name}` (CSG) takes a Mesh or a BlockModel on each side, not {}{}",
+        a(other),
+        solid_hint(all, other)
+    ))
+}
+
+/// How to get a solid (a `Mesh` or a `BlockModel`) from a value of script type `t`, for CSG's
+/// messages: `: get a Mesh with `.to_mesh()``; empty when there is no way.
+#[must_use]
+pub fn solid_hint(all: &[Overload], t: &str) -> String {
+    if let Some(way) = conversions(all, t, "Mesh").first() {
+        return format!(": get a Mesh with {way}");
+    }
+    // A value that goes into a model (a Block) becomes a solid there.
+    let into: Vec<&Overload> = all
+        .iter()
+        .filter(|o| o.receiver() == Some("BlockModel") && o.params.get(1).is_some_and(|p| p.1 == t))
+        .collect();
+    match into.first() {
+        Some(o) => format!(": put it in a model, `let model = blocks(); model.{}(…);`, and use the model", o.name),
+        None => String::new(),
+    }
+}
+
 /// Why `given` does not fit `o`: the first argument whose type differs.
 fn first_misfit(o: &Overload, given: &[String]) -> Option<String> {
     for (i, ((pname, ptype), g)) in o.params.iter().zip(given).enumerate() {
-        if ptype == "any" || ptype == g {
+        if fits(ptype, g) {
             continue;
         }
         let hint = match (ptype.as_str(), g.as_str()) {
@@ -89,6 +127,16 @@ fn first_misfit(o: &Overload, given: &[String]) -> Option<String> {
         return Some(format!("argument {} `{pname}` must be {}, got {}{hint}", i + 1, a(ptype), a(g)));
     }
     None
+}
+
+/// Whether a value of script type `given` fits a parameter of script type `param` (a `number`
+/// takes an int or a float, a `Vec3` an array too).
+fn fits(param: &str, given: &str) -> bool {
+    param == "any"
+        || param == given
+        || param.split('|').any(|p| {
+            p == given || (p == "number" && matches!(given, "int" | "float")) || (p == "Vec3" && given == "array")
+        })
 }
 
 fn unknown_function(all: &[Overload], name: &str, receiver: Option<&str>, shown: &str) -> String {
@@ -120,18 +168,8 @@ fn wrong_type(all: &[Overload], name: &str, t: &str, owners: &[&str], same: &[&O
     let owners_text = owners.join(" or ");
     let mut msg = format!("`{name}` is a method of {owners_text}, not of {t}");
     // A way from this type to the owner's: a method of `t` without arguments returning it.
-    let mut convert: Vec<String> = all
-        .iter()
-        .filter(|o| o.receiver() == Some(t) && o.params.len() == 1 && owners.contains(&o.returns.as_str()))
-        .map(|o| format!("`.{}()`", o.name))
-        .collect();
-    convert.sort_by_key(String::len);
-    if !convert.is_empty() {
-        msg.push_str(&format!(
-            ": get {} with {}",
-            a(owners[0]),
-            unique(convert.iter().map(String::as_str)).join(" or ")
-        ));
+    if let Some((owner, convert)) = owners.iter().map(|o| (o, conversions(all, t, o))).find(|(_, c)| !c.is_empty()) {
+        msg.push_str(&format!(": get {} with {}", a(owner), convert.join(" or ")));
     }
     // This type's methods of a similar name (`subdivide` → `loop_subdivide`).
     let near: Vec<&str> = unique(
@@ -210,7 +248,7 @@ mod tests {
             "{e}"
         );
         assert!(
-            e.ends_with("signatures of `cylinder`:\n  cylinder(radius: any, height: any, segments: int) -> Mesh"),
+            e.ends_with("signatures of `cylinder`:\n  cylinder(radius: number, height: number, segments: int) -> Mesh"),
             "{e}"
         );
         let e = explained("cylinder(1, 2)");
@@ -230,6 +268,24 @@ mod tests {
         assert_eq!(
             explained("let m = cube(1); m.vertex_count = 3;"),
             "the property `vertex_count` of a Mesh is read-only"
+        );
+    }
+
+    #[test]
+    fn csg_of_a_value_that_is_not_a_solid_says_how_to_get_one() {
+        assert_eq!(
+            explained("polar_octahedron() + cube(1)"),
+            "`+` (CSG) takes a Mesh or a BlockModel on each side, not a PolarMesh: get a Mesh with `.to_mesh()`"
+        );
+        assert_eq!(
+            explained("cube(1) - voxels(8)"),
+            "`-` (CSG) takes a Mesh or a BlockModel on each side, not a Voxels: get a Mesh with `.to_mesh()`"
+        );
+        assert!(
+            explained("cube(1) + block([0, 0, 0], [1, 1, 1])")
+                .ends_with("not a Block: put it in a model, `let model = blocks(); model.add(…);`, and use the model"),
+            "{}",
+            explained("cube(1) + block([0, 0, 0], [1, 1, 1])")
         );
     }
 

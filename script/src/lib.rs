@@ -11,6 +11,7 @@ pub mod context;
 pub mod convert;
 pub mod diagnostics;
 pub mod doc;
+pub mod editing;
 pub mod explain;
 pub mod facts;
 pub mod gltf_buffers;

@@ -9,9 +9,10 @@
 //! judged only when the receiver's type is known. Script-defined functions and Rhai's own are
 //! never judged.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
+use std::path::{Path, PathBuf};
 
-use rhai::{Engine, Expr, FnCallExpr, Position, Stmt, AST};
+use rhai::{ASTNode, Engine, Expr, FnCallExpr, Position, Stmt, AST};
 
 use crate::api::registry::{candidates, Declared};
 
@@ -68,6 +69,50 @@ pub fn dropped_results_knowing<'a>(
     lint.found.sort_by_key(|d| (d.position.line(), d.position.position()));
     lint.found.dedup();
     lint.found
+}
+
+/// The dropped results in the modules `ast` imports by name from files next to `dir` (the
+/// importing script's folder), and in the modules those import, as warnings naming each
+/// module's file. A module's last statement is not its value, so it counts as dropped too.
+/// Standard-library modules are checked with the repository, and a module that is missing or
+/// does not compile is left to the run to report.
+#[must_use]
+pub fn imported_warnings(engine: &Engine, ast: &AST, dir: Option<&Path>) -> Vec<String> {
+    let mut seen = HashSet::new();
+    let mut out = Vec::new();
+    lint_imports(engine, ast, dir, &mut seen, &mut out);
+    out
+}
+
+fn lint_imports(engine: &Engine, ast: &AST, dir: Option<&Path>, seen: &mut HashSet<PathBuf>, out: &mut Vec<String>) {
+    for name in import_names(ast) {
+        let file = if name.ends_with(".rhai") { name } else { format!("{name}.rhai") };
+        let path = dir.map_or_else(|| PathBuf::from(&file), |d| d.join(&file));
+        let key = path.canonicalize().unwrap_or_else(|_| path.clone());
+        if !path.is_file() || !seen.insert(key.clone()) {
+            continue;
+        }
+        let Ok(source) = std::fs::read_to_string(&path) else { continue };
+        let Ok(module) = engine.compile(&source) else { continue };
+        let shown = path.display().to_string();
+        let found = dropped_results_knowing(&module, &source, std::iter::empty(), false);
+        out.extend(found.iter().map(|d| crate::diagnostics::format_warning(&shown, &source, d.position, &d.message)));
+        lint_imports(engine, &module, path.parent(), seen, out);
+    }
+}
+
+/// The names of the modules `ast` imports with a literal name (`import "parts" as p;`).
+fn import_names(ast: &AST) -> Vec<String> {
+    let mut names = Vec::new();
+    ast.walk(&mut |path: &[ASTNode]| {
+        if let Some(ASTNode::Stmt(Stmt::Import(x, _))) = path.last() {
+            if let Expr::StringConstant(s, _) = &x.0 {
+                names.push(s.to_string());
+            }
+        }
+        true
+    });
+    names
 }
 
 /// `source` with every character outside `start..=end` replaced by a space (lines kept).
@@ -228,28 +273,43 @@ impl Lint {
         }
     }
 
-    /// `f(x, ...)` as a statement: the method-style function called function-style.
+    /// `f(x, ...)` as a statement: a function whose value is all it gives (`cube(2);`), a
+    /// method called function-style (`translate(c, v);`), or an edit of a temporary value
+    /// (`crease(cube(1), e);`).
     fn dropped_call(&mut self, call: &FnCallExpr, pos: Position) {
-        if !call.namespace.is_empty() || call.args.is_empty() {
-            return;
-        }
-        let receiver = self.type_of(&call.args[0]);
-        let decls: Vec<&Declared> = candidates(call.name.as_str(), call.args.len(), receiver).collect();
-        if decls.is_empty() || !decls.iter().all(|d| d.returns_new_value()) {
+        if !call.namespace.is_empty() {
             return;
         }
         let name = call.name.as_str();
-        let message = match &call.args[0] {
-            Expr::Variable(v, ..) => {
-                let x = v.1.as_str();
-                format!(
-                    "the result of `{name}` is dropped and `{x}` is unchanged (`{name}` returns a new value); \
-                     write `{x} = {name}({x}, …);`"
-                )
-            }
-            _ => format!("the result of `{name}` is dropped (`{name}` returns a new value and changes nothing)"),
-        };
-        self.found.push(Dropped { position: pos, message });
+        let receiver = call.args.first().and_then(|a| self.type_of(a));
+        let decls: Vec<&Declared> = candidates(name, call.args.len(), receiver).collect();
+        if decls.is_empty() {
+            return;
+        }
+        if decls.iter().all(|d| d.returns_new_value()) {
+            let message = match call.args.first() {
+                Some(Expr::Variable(v, ..)) if decls.iter().all(|d| d.receiver.is_some()) => {
+                    let x = v.1.as_str();
+                    format!(
+                        "the result of `{name}` is dropped and `{x}` is unchanged (`{name}` returns a new value); \
+                         write `{x} = {name}({x}, …);`"
+                    )
+                }
+                _ => format!(
+                    "the result of `{name}` is dropped (`{name}` returns a new value and changes nothing); \
+                     keep it with `let x = {}`",
+                    shown(call)
+                ),
+            };
+            self.found.push(Dropped { position: pos, message });
+        } else if decls.iter().all(|d| d.edits_receiver()) && call.args.first().is_some_and(is_temporary) {
+            let made = call.args.first().map_or_else(String::new, describe);
+            let message = format!(
+                "`{name}` changes the value `{made}` returned, and that value is then dropped; keep it first: \
+                 `let x = {made}; {name}(x, …);`"
+            );
+            self.found.push(Dropped { position: pos, message });
+        }
     }
 
     /// `x.f(...).g(...);` as a statement.
@@ -286,20 +346,70 @@ impl Lint {
                 ),
             };
             self.found.push(Dropped { position: last.pos, message });
-        } else if links.len() >= 2 && decls.iter().all(|d| !d.pure && d.returns != "()") {
-            // An edit that returns a copy: on a copy made earlier in the chain, it is lost.
-            let prev = links[links.len() - 2].call.name.as_str();
+        } else if decls.iter().all(|d| d.edits_receiver()) && (links.len() >= 2 || is_temporary(root)) {
+            // An edit of a value the chain made (a copy, a new mesh, a constructor's value):
+            // dropped with it.
+            let Some(prev) = links.len().checked_sub(2).map(|i| links[i].call.name.as_str()) else {
+                let made = describe(root);
+                let message = format!(
+                    "`{name}` changes the value `{made}` returned, and that value is then dropped; keep it first: \
+                     `let x = {made}; x.{};`",
+                    shown(last.call)
+                );
+                self.found.push(Dropped { position: last.pos, message });
+                return;
+            };
             let target = var.map_or_else(|| "the value".to_string(), |x| format!("`{x}`"));
             let split = var.map_or_else(String::new, |x| {
-                let stmts: Vec<String> = links.iter().map(|l| format!("{x}.{};", shown(l.call))).collect();
+                // Each earlier link as a statement of its own: kept by assignment when it
+                // returns a new value, else an edit of `x` itself.
+                let mut t = self.type_of(root);
+                let mut stmts: Vec<String> = Vec::new();
+                for l in &links {
+                    let arity = l.call.args.len() + 1;
+                    let fresh = {
+                        let mut ds = candidates(l.call.name.as_str(), arity, t).peekable();
+                        ds.peek().is_some() && ds.all(Declared::returns_new_value)
+                    };
+                    stmts.push(if fresh {
+                        format!("{x} = {x}.{};", shown(l.call))
+                    } else {
+                        format!("{x}.{};", shown(l.call))
+                    });
+                    t = unique_return(l.call.name.as_str(), arity, t);
+                }
                 format!("; write one change per statement: `{}`", stmts.join(" "))
             });
+            let prev_fresh = {
+                let mut t = self.type_of(root);
+                for l in &links[..links.len() - 2] {
+                    t = unique_return(l.call.name.as_str(), l.call.args.len() + 1, t);
+                }
+                let arity = links[links.len() - 2].call.args.len() + 1;
+                let mut ds = candidates(prev, arity, t).peekable();
+                ds.peek().is_some() && ds.all(Declared::returns_new_value)
+            };
+            let what = if prev_fresh { "new value" } else { "copy" };
             let message = format!(
-                "`{name}` changes the copy that `{prev}` returned, and that copy is dropped: {target} does not \
-                 get it{split}"
+                "`{name}` changes the {what} that `{prev}` returned, and that {what} is dropped: {target} does \
+                 not get it{split}"
             );
             self.found.push(Dropped { position: last.pos, message });
         }
+    }
+}
+
+/// Whether `e` makes a value no variable holds (a call's result, a literal): an edit of it is
+/// lost unless the value is kept.
+fn is_temporary(e: &Expr) -> bool {
+    !matches!(e, Expr::Variable(..) | Expr::Index(..) | Expr::Dot(..) | Expr::Property(..) | Expr::ThisPtr(..))
+}
+
+/// A temporary as a message shows it: `cube(…)`, or `…` for another expression.
+fn describe(e: &Expr) -> String {
+    match e {
+        Expr::FnCall(call, _) => shown(call),
+        _ => "…".to_string(),
     }
 }
 
@@ -419,6 +529,60 @@ mod tests {
         assert_eq!(found.len(), 2, "{found:?}");
         assert!(found[0].contains("write `c = translate(c, …);`"), "{found:?}");
         assert!(found[1].starts_with("3:9 the result of `scale` is dropped"), "{found:?}");
+    }
+
+    #[test]
+    fn a_constructor_s_dropped_value_and_an_edit_of_a_temporary_are_found() {
+        // `cube(2);` makes a mesh nobody keeps; `crease(cube(1), e)` and `cube(1).crease_all()`
+        // edit a mesh that is dropped right after.
+        let src = "cube(2);\nblocks();\ncrease(cube(1), [[0, 1]]);\ncube(1).crease_all();\nlet c = cube(1);\n\
+                   c.translate([1, 0, 0]).crease_all();\nc\n";
+        let found = lint(src);
+        assert_eq!(found.len(), 5, "{found:?}");
+        assert!(
+            found[0].starts_with("1:1 the result of `cube` is dropped") && found[0].ends_with("`let x = cube(…)`"),
+            "{found:?}"
+        );
+        assert!(found[1].starts_with("2:1 the result of `blocks` is dropped"), "{found:?}");
+        assert!(
+            found[2].starts_with("3:1 `crease` changes the value `cube(…)` returned")
+                && found[2].ends_with("`let x = cube(…); crease(x, …);`"),
+            "{found:?}"
+        );
+        assert!(found[3].starts_with("4:9 `crease_all` changes the value `cube(…)` returned"), "{found:?}");
+        assert!(
+            found[4].starts_with("6:24 `crease_all` changes the new value that `translate` returned")
+                && found[4].ends_with("`c = c.translate(…); c.crease_all();`"),
+            "{found:?}"
+        );
+    }
+
+    #[test]
+    fn effects_and_edits_of_variables_are_silent() {
+        // An edit of a variable (function-style too), a save, a parameter, an assertion, a
+        // shown value: each does something though its value is dropped.
+        let src = "let c = cube(1);\ncrease(c, [[0, 1]]);\ncrease_all(c);\ncube(1).save(\"x.obj\");\n\
+                   param(\"size\", 2);\nassert(true, \"yes\");\nshow(c);\nlet parts = [cube(1)];\n\
+                   parts[0].crease_all();\nc\n";
+        assert_eq!(lint(src), Vec::<String>::new());
+    }
+
+    #[test]
+    fn imported_modules_are_linted_with_their_own_file_names() {
+        let d = tempfile::tempdir().unwrap();
+        std::fs::write(
+            d.path().join("parts.rhai"),
+            "fn leg() {\n    let l = cube(1);\n    l.scale(2);\n    l\n}\nimport \"deeper\" as deeper;\n",
+        )
+        .unwrap();
+        std::fs::write(d.path().join("deeper.rhai"), "let x = cube(1);\nx.mirror([1, 0, 0]);\n").unwrap();
+        let engine = crate::new_engine(crate::EngineOptions::default());
+        let ast =
+            engine.compile("import \"parts\" as p;\nimport \"parts\" as q;\nimport \"plants\" as std;\n1\n").unwrap();
+        let found = imported_warnings(&engine, &ast, Some(d.path()));
+        assert_eq!(found.len(), 2, "{found:?}");
+        assert!(found[0].contains("parts.rhai:3:7: warning: the result of `scale` is dropped"), "{found:?}");
+        assert!(found[1].contains("deeper.rhai:2:3: warning: the result of `mirror` is dropped"), "{found:?}");
     }
 
     #[test]

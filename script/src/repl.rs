@@ -299,6 +299,7 @@ impl Session {
         )
         .iter()
         .map(|d| crate::diagnostics::format_warning(name, source, d.position, &d.message))
+        .chain(crate::lint::imported_warnings(&self.engine, ast, None))
         .collect()
     }
 

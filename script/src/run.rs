@@ -68,8 +68,8 @@ pub struct RecipeRun {
     pub record: RunRecord,
     /// The wall-clock time of compiling and evaluating the recipe.
     pub elapsed: Duration,
-    /// Calls whose result the recipe drops while their receiver stays as it was, found before
-    /// it ran ([`crate::lint`]), formatted as warnings.
+    /// Calls whose result the recipe (or a module it imports) drops while their receiver
+    /// stays as it was, found before it ran ([`crate::lint`]), formatted as warnings.
     pub warnings: Vec<String>,
 }
 
@@ -127,10 +127,11 @@ pub fn run_recipe(path: &Path, mut options: EngineOptions) -> Result<RecipeRun, 
     let fail = |error: RunError| RecipeFailure { error, record: record.snapshot() };
     let (source, ast) = compile_file(&engine, path).map_err(fail)?;
     let name = path.display().to_string();
-    let warnings: Vec<String> = crate::lint::dropped_results(&ast, &source)
+    let mut warnings: Vec<String> = crate::lint::dropped_results(&ast, &source)
         .iter()
         .map(|d| crate::diagnostics::format_warning(&name, &source, d.position, &d.message))
         .collect();
+    warnings.extend(crate::lint::imported_warnings(&engine, &ast, path.parent()));
     let value = engine.eval_ast_with_scope::<Dynamic>(&mut Scope::new(), &ast).map_err(|e| {
         // A dropped result is often why a later line fails: show it first.
         let mut text: Vec<String> = warnings.clone();

@@ -176,7 +176,7 @@ fn doc_prints_one_function_and_refuses_unknown_names() {
     let o = blocksmith().args(["doc", "icosphere"]).output().unwrap();
     let out = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success());
-    assert!(out.starts_with("icosphere(radius: any, subdivisions: int) -> Mesh"), "{out}");
+    assert!(out.starts_with("icosphere(radius: number, subdivisions: int) -> Mesh"), "{out}");
     assert!(out.contains("geodesic sphere"), "{out}");
     let o = blocksmith().args(["doc", "icospher"]).output().unwrap();
     assert_fails_with(&o, "no function or type named `icospher` (did you mean: icosphere?)");
@@ -189,7 +189,10 @@ fn doc_signatures_read_as_scripts_write_them() {
     assert!(o.status.success());
     assert!(out.contains("\nblocks() -> BlockModel\n"), "a function without parameters keeps its ()");
     assert!(out.contains("\npolar_octahedron() -> PolarMesh\n"));
-    assert!(out.contains("cylinder(radius: any, height: any, segments: int) -> Mesh"), "no Rust-side `segments_`");
+    assert!(
+        out.contains("cylinder(radius: number, height: number, segments: int) -> Mesh"),
+        "no Rust-side `segments_`"
+    );
     let signatures: Vec<&str> = out.lines().filter(|l| !l.is_empty() && !l.starts_with(' ')).collect();
     assert!(signatures.len() > 100, "{}", signatures.len());
     for s in signatures {

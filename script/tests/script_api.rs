@@ -95,8 +95,9 @@ fn a_call_that_fits_no_signature_shows_the_signatures_and_the_misfit() {
     );
     // The caret under the call, then the signatures.
     let caret = err.find('^').unwrap();
-    let sigs =
-        err.find("signatures of `cylinder`:\n  cylinder(radius: any, height: any, segments: int) -> Mesh").unwrap();
+    let sigs = err
+        .find("signatures of `cylinder`:\n  cylinder(radius: number, height: number, segments: int) -> Mesh")
+        .unwrap();
     assert!(caret < sigs, "{err}");
 }
 
@@ -170,4 +171,84 @@ fn run_makes_the_output_folder_and_test_explains_its_default_directory() {
     let o = blocksmith().arg("test").current_dir(d.path()).output().unwrap();
     assert!(!o.status.success());
     assert!(stderr(&o).contains("runs the .rhai files under ./tests (relative to where it is run)"), "{}", stderr(&o));
+}
+
+#[test]
+fn imported_modules_and_function_style_calls_are_linted_too() {
+    let d = tempfile::tempdir().unwrap();
+    script(
+        &d,
+        "parts.rhai",
+        "fn leg(h) {\n    let l = box([0, 0, 0], [0.2, 0.2, h]);\n    l.translate([1, 0, 0]);\n    l\n}\n",
+    );
+    let main = script(
+        &d,
+        "main.rhai",
+        "import \"parts\" as parts;\ncube(2);\nlet m = cube(1);\ncrease(m, [[0, 1]]);\nparts::leg(1)\n",
+    );
+    let o = blocksmith().arg("run").arg(&main).arg("-o").arg(d.path().join("out.obj")).output().unwrap();
+    let err = stderr(&o);
+    assert!(o.status.success(), "{err}");
+    // The module's dropped transform is reported at its own line; the constructor's dropped
+    // value in the script too; the in-place crease of a variable is not.
+    assert!(
+        err.contains("parts.rhai:3:7: warning: the result of `translate` is dropped and `l` is unchanged"),
+        "{err}"
+    );
+    assert!(err.contains("main.rhai:2:1: warning: the result of `cube` is dropped"), "{err}");
+    assert_eq!(err.matches("warning").count(), 2, "{err}");
+    // In a test, both are errors.
+    let o = blocksmith().arg("test").arg(&main).output().unwrap();
+    let out = stdout(&o);
+    assert!(
+        out.contains("parts.rhai:3:7: error: the result of `translate`") && out.contains("0 passed, 1 failed"),
+        "{out}"
+    );
+}
+
+#[test]
+fn blocks_touching_without_connecting_are_reported_by_mesh() {
+    let d = tempfile::tempdir().unwrap();
+    let table = |top_divisions: i32| {
+        format!(
+            "let m = blocks();\nm.allow(0, 0);\nm.add(block([0, 0, 1], [2, 2, 1.2]).subdivide(\"-z\", {top_divisions}, {top_divisions}));\n\
+             for p in [[0, 0], [1.8, 0], [0, 1.8], [1.8, 1.8]] {{\n    m.add(block([p[0], p[1], 0], [p[0] + 0.2, p[1] + 0.2, 1]));\n}}\n\
+             let s = m.mesh(#{{ tolerance: 0.01 }});\nprint(m.unconnected());\ns\n"
+        )
+    };
+    let loose = script(&d, "loose.rhai", &table(1));
+    let o = blocksmith().arg("run").arg(&loose).arg("-o").arg(d.path().join("loose.obj")).output().unwrap();
+    let err = stderr(&o);
+    assert!(o.status.success(), "{err}");
+    assert!(stdout(&o).contains("[1, 2, 3, 4]"), "{}", stdout(&o));
+    assert_eq!(err.matches("warning: mesh: block").count(), 4, "{err}");
+    assert!(
+        err.contains("loose.rhai:7:11: warning: mesh: block 1 touches block 0 but does not connect to it")
+            && err.contains(
+                "nearest miss: block 1's +z sub-face 0 and block 0's -z sub-face 0, 0 apart along the normal"
+            )
+            && err.contains("subdivide block 0's -z face so that a sub-face centre lies over block 1")
+            && err.contains("`m.connect(1, \"+z\", 0, 0, \"-z\", 0)`"),
+        "{err}"
+    );
+    let fixed = script(&d, "fixed.rhai", &table(10));
+    let o = blocksmith().arg("run").arg(&fixed).arg("-o").arg(d.path().join("fixed.obj")).output().unwrap();
+    assert!(o.status.success() && !stderr(&o).contains("warning"), "{}", stderr(&o));
+    assert!(stdout(&o).contains("[]"), "{}", stdout(&o));
+}
+
+#[test]
+fn the_reference_opens_with_the_editing_rule_and_signatures_show_numbers() {
+    let o = blocksmith().arg("doc").output().unwrap();
+    let out = stdout(&o);
+    assert!(out.starts_with("How values change"), "{}", &out[..out.len().min(300)]);
+    assert!(out.contains("  Mesh: A Mesh is a value"), "no Mesh rule");
+    assert!(out.contains("cylinder(radius: number, height: number, segments: int) -> Mesh"));
+    let o = blocksmith().arg("doc").arg("PolarMesh").output().unwrap();
+    let out = stdout(&o);
+    assert!(
+        out.contains("A PolarMesh is edited in place")
+            && out.contains("scale_vertices(pm: PolarMesh, verts: array, factor: number|Vec3)"),
+        "{out}"
+    );
 }

@@ -6,6 +6,8 @@
 //! - [`model`], `connect`: [`BlockModel`] — blocks, allowed group pairs, a scale-invariant
 //!   threshold, manual connections — and the ray-cast search for connections with vertex pairing
 //!   (§2.2), accelerated by a BVH over sub-faces (`bvh`);
+//! - `unconnected`: blocks that touch a block they may connect with but end up in another
+//!   piece, with their nearest miss ([`Miss`]);
 //! - [`control_mesh`]: exterior sub-faces joined into a watertight, crease-tagged quad mesh (§2.3);
 //! - [`tessellate`]: adaptive, anisotropic, crack-free meshing of the limit surface with optional
 //!   displacement (§2.4.1, §2.4.3).
@@ -26,6 +28,7 @@ pub(crate) mod test_models;
 mod tests_fuzz;
 #[cfg(test)]
 mod tests_random;
+mod unconnected;
 
 pub use block::{Block, Edge, Face, MAX_SUBDIVISIONS};
 pub use control_mesh::{ControlMesh, PatchSource};
@@ -35,3 +38,4 @@ pub use tessellate::{
     tessellate_control, tessellate_control_with_progress, BlockStats, ControlTessellation, Displacement, MeshOptions,
     Progress, Tessellation,
 };
+pub use unconnected::Miss;

@@ -16,7 +16,7 @@ use super::mesh::SharedMesh;
 use super::polar::{PolarMesh, Skeleton};
 use blocksmith_kernel::math::fmt_num;
 
-use crate::convert::{fail, kernel, number, type_name, vec3, Options, ScriptResult};
+use crate::convert::{fail, kernel, number, type_name, vec3, Number, Options, ScriptResult};
 
 /// The most frames `frames` and `save` make.
 const MAX_FRAMES: INT = 100_000;
@@ -284,7 +284,7 @@ pub mod anim_api {
     /// assert(seed.bounds().max.z - seed.bounds().min.z < 1e-9);   // collapsed on the root
     /// ```
     #[rhai_fn(pure, return_raw)]
-    pub fn pose(ctx: NativeCallContext, anim: &mut Animation, t: Dynamic) -> ScriptResult<SharedMesh> {
+    pub fn pose(ctx: NativeCallContext, anim: &mut Animation, t: Number) -> ScriptResult<SharedMesh> {
         let t = number("pose", "t", &t)?;
         let mut custom = script_modifiers(&ctx, &anim.closures);
         kernel("pose", anim.anim.pose(t, &mut custom)).map(SharedMesh::new)
@@ -300,7 +300,7 @@ pub mod anim_api {
     /// assert_eq(frames[4].positions(), polar_sphere(0.2, 8, 6).to_mesh().positions());
     /// ```
     #[rhai_fn(pure, return_raw)]
-    pub fn frames(ctx: NativeCallContext, anim: &mut Animation, count: INT, dt: Dynamic) -> ScriptResult<Array> {
+    pub fn frames(ctx: NativeCallContext, anim: &mut Animation, count: INT, dt: Number) -> ScriptResult<Array> {
         if !(1..=MAX_FRAMES).contains(&count) {
             return fail("frames", format!("argument `count` must be between 1 and {MAX_FRAMES}, got {count}"));
         }

@@ -19,13 +19,16 @@
 //! g2)` across two groups. Manual `connect`ions ignore groups.
 
 use blocksmith_kernel::blocks::tessellate::MAX_DEPTH;
-use blocksmith_kernel::blocks::{Block, BlockModel as KernelModel, BlockStats, Connection, Edge, Face, MeshOptions};
+use blocksmith_kernel::blocks::{
+    Block, BlockModel as KernelModel, BlockStats, Connection, Edge, Face, MeshOptions, Miss,
+};
+use blocksmith_kernel::math::fmt_num;
 use blocksmith_kernel::Vec3;
 use rhai::plugin::*;
 use rhai::{exported_module, Array, Engine, Map, INT};
 
 use super::mesh::SharedMesh;
-use crate::convert::{error, fail, kernel, number, type_name, vec3, Options, ScriptResult};
+use crate::convert::{error, fail, kernel, number, type_name, vec3, Number, Options, ScriptResult, Vector};
 
 /// A block model as scripts hold it (script type `BlockModel`): the kernel model and the counts
 /// of its last meshing (dropped when the model changes).
@@ -93,6 +96,50 @@ fn connection_map(c: &Connection) -> Map {
     m.insert("distance".into(), Dynamic::from(c.distance));
     m.insert("manual".into(), Dynamic::from(c.manual));
     m
+}
+
+/// What a [`Miss`] means and what to change, for the warning of `mesh`.
+fn miss_message(x: &Miss) -> String {
+    let (a, b) = (x.a, x.b);
+    let mut msg = format!(
+        "block {} touches block {} but does not connect to it, so it is a separate piece of the surface; \
+         nearest miss: block {}'s {} sub-face {} and block {}'s {} sub-face {}, {} apart along the normal \
+         with centres {} apart across it",
+        x.block,
+        x.other,
+        x.block,
+        a.face.name(),
+        a.sub,
+        x.other,
+        b.face.name(),
+        b.sub,
+        fmt_num(x.gap),
+        fmt_num(x.offset)
+    );
+    if x.gap.abs() >= x.reach {
+        msg.push_str(&format!(
+            " (sub-faces connect within {} here: raise `m.threshold` or move the blocks closer)",
+            fmt_num(x.reach)
+        ));
+    } else {
+        msg.push_str(&format!(
+            " (sub-faces connect when the rays from their centres hit each other: subdivide block {}'s {} face \
+             so that a sub-face centre lies over block {})",
+            x.other,
+            b.face.name(),
+            x.block
+        ));
+    }
+    msg.push_str(&format!(
+        "; or join them: `m.connect({}, \"{}\", {}, {}, \"{}\", {})`",
+        x.block,
+        a.face.name(),
+        a.sub,
+        x.other,
+        b.face.name(),
+        b.sub
+    ));
+    msg
 }
 
 fn stats_map(s: &BlockStats) -> Map {
@@ -242,6 +289,16 @@ fn mesh_model(ctx: &NativeCallContext, m: &mut BlockModel, options: Map) -> Scri
     bar.finish();
     let t = kernel("mesh", result)?;
     m.stats = Some(t.stats);
+    // Blocks that touch without connecting come out as separate pieces: say so, with the fix.
+    for miss in kernel("mesh", model.unconnected())? {
+        let at = ctx.call_position();
+        let place = match (ctx.call_source(), at.line(), at.position()) {
+            (Some(src), Some(l), Some(c)) => format!("{src}:{l}:{c}: "),
+            (None, Some(l), Some(c)) => format!("{l}:{c}: "),
+            _ => String::new(),
+        };
+        eprintln!("{place}warning: mesh: {}", miss_message(&miss));
+    }
     // The control mesh goes with the surface, for the studio to draw over it.
     Ok(SharedMesh::with_control(t.mesh, std::rc::Rc::new(t.control)))
 }
@@ -269,7 +326,7 @@ pub mod blocks_api {
     /// assert_near(b.volume(), 6.0, 1e-12);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn block(min: Dynamic, max: Dynamic) -> ScriptResult<Block> {
+    pub fn block(min: Vector, max: Vector) -> ScriptResult<Block> {
         let (lo, hi) = (vec3("block", "min", &min)?, vec3("block", "max", &max)?);
         kernel("block", Block::from_bounds(lo, hi))
     }
@@ -468,7 +525,7 @@ pub mod blocks_api {
     /// assert_eq(b.corners()[0], vec3(2, 0, 0));
     /// ```
     #[rhai_fn(name = "translate", return_raw)]
-    pub fn block_translate(b: &mut Block, v: Dynamic) -> ScriptResult<Block> {
+    pub fn block_translate(b: &mut Block, v: Vector) -> ScriptResult<Block> {
         let v = vec3("translate", "v", &v)?;
         kernel("translate", b.translate(v))?;
         Ok(b.clone())
@@ -483,7 +540,7 @@ pub mod blocks_api {
     /// assert_near(b.corners()[1], [0, 1, 0], 1e-12);
     /// ```
     #[rhai_fn(name = "rotate", return_raw)]
-    pub fn block_rotate(b: &mut Block, axis: Dynamic, deg: Dynamic) -> ScriptResult<Block> {
+    pub fn block_rotate(b: &mut Block, axis: Vector, deg: Number) -> ScriptResult<Block> {
         let (a, d) = (vec3("rotate", "axis", &axis)?, number("rotate", "deg", &deg)?);
         kernel("rotate", b.rotate(a, d))?;
         Ok(b.clone())
@@ -583,7 +640,7 @@ pub mod blocks_api {
 
     /// Sets the connection threshold (a number ≥ 0).
     #[rhai_fn(set = "threshold", return_raw)]
-    pub fn set_threshold(m: &mut BlockModel, t: Dynamic) -> ScriptResult<()> {
+    pub fn set_threshold(m: &mut BlockModel, t: Number) -> ScriptResult<()> {
         let t = number("threshold", "threshold", &t)?;
         kernel("threshold", m.model.set_threshold(t))?;
         m.stats = None;
@@ -656,13 +713,14 @@ pub mod blocks_api {
     }
 
     /// The model's surface as a closed, manifold triangle mesh, with default options.
+    /// `model.to_mesh()` is the same, named as `pm.to_mesh()` and `vx.to_mesh()` are.
     ///
     /// ```rhai
     /// let m = blocks();
     /// m.add(block([0, 0, 0], [1, 1, 1]).sharp_all());
     /// assert_near(m.mesh().volume(), 1.0, 1e-9);
     /// ```
-    #[rhai_fn(name = "mesh", return_raw)]
+    #[rhai_fn(name = "mesh", name = "to_mesh", return_raw)]
     pub fn model_mesh(ctx: NativeCallContext, m: &mut BlockModel) -> ScriptResult<SharedMesh> {
         mesh_model(&ctx, m, Map::new())
     }
@@ -687,9 +745,34 @@ pub mod blocks_api {
     /// let raised = m.mesh(#{ displacement: [[0, 0, 0], [0, 0.2, 0], [0, 0, 0]] });
     /// assert_near(raised.bounds().max.z, 1.2, 1e-9);
     /// ```
-    #[rhai_fn(name = "mesh", return_raw)]
+    #[rhai_fn(name = "mesh", name = "to_mesh", return_raw)]
     pub fn model_mesh_with(ctx: NativeCallContext, m: &mut BlockModel, options: Map) -> ScriptResult<SharedMesh> {
         mesh_model(&ctx, m, options)
+    }
+
+    /// The ids of the blocks that touch a block they may connect with (bounds touching or
+    /// overlapping, groups allowed) but end up in another piece of the surface than the
+    /// largest piece of what they touch — a table leg under the corner of a one-sub-face top
+    /// (connections join sub-faces whose centres face each other). `mesh` warns of each with
+    /// its nearest miss and the fix.
+    ///
+    /// ```rhai
+    /// let m = blocks();
+    /// m.allow(0, 0);
+    /// m.add(block([0, 0, 1], [2, 2, 1.2]));
+    /// m.add(block([0, 0, 0], [0.2, 0.2, 1]));
+    /// assert_eq(m.unconnected(), [1]);
+    /// // Under the centre of one of 10 × 10 sub-faces of the top's underside, the leg connects.
+    /// let fixed = blocks();
+    /// fixed.allow(0, 0);
+    /// fixed.add(block([0, 0, 1], [2, 2, 1.2]).subdivide("-z", 10, 10));
+    /// fixed.add(block([0, 0, 0], [0.2, 0.2, 1]));
+    /// assert_eq(fixed.unconnected(), []);
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn unconnected(m: &mut BlockModel) -> ScriptResult<Array> {
+        let misses = kernel("unconnected", m.model.unconnected())?;
+        Ok(misses.iter().map(|x| int(x.block)).collect())
     }
 
     /// Counts of the last `mesh` (meshing with default options first if the model changed since):
@@ -702,7 +785,7 @@ pub mod blocks_api {
     /// assert_eq([s.blocks, s.patches], [1, 24]);
     /// assert(s.triangles >= 2 * s.sub_patches, "two or more triangles per sub-patch");
     /// ```
-    #[rhai_fn(return_raw)]
+    #[rhai_fn(pure, return_raw)]
     pub fn stats(ctx: NativeCallContext, m: &mut BlockModel) -> ScriptResult<Map> {
         if m.stats.is_none() {
             mesh_model(&ctx, m, Map::new())?;

@@ -17,7 +17,7 @@ use rhai::{exported_module, Array, Engine, Map, INT};
 
 use super::blocks::BlockModel;
 use super::mesh::SharedMesh;
-use crate::convert::{error, kernel, type_name, Options, ScriptResult};
+use crate::convert::{error, kernel, type_name, Options, ScriptResult, Solid};
 
 /// Registers the boolean functions and operators and the provenance readers on `engine`.
 pub fn register(engine: &mut Engine) {
@@ -43,7 +43,9 @@ fn operand(func: &str, side: &str, v: Dynamic, options: MeshOptions) -> ScriptRe
     if let Some(b) = v.clone().try_cast::<BlockModel>() {
         return Ok(Csg::blocks(b.kernel_model().clone(), options));
     }
-    Err(error(func, format!("the {side} operand must be a BlockModel or a Mesh, got {}", type_name(&v))))
+    let t = crate::catalogue::script_type(v.type_name());
+    let hint = crate::explain::solid_hint(crate::catalogue::standard(), &t);
+    Err(error(func, format!("the {side} operand must be a BlockModel or a Mesh, got {}{hint}", type_name(&v))))
 }
 
 fn boolean(func: &'static str, a: Dynamic, b: Dynamic, options: Map) -> ScriptResult<SharedMesh> {
@@ -114,7 +116,7 @@ pub mod csg_api {
     /// assert_eq((box([0, 0, 0], [1, 1, 1]) + box([1, 0, 0], [2, 1, 1])).volume(), 2.0);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn union(a: Dynamic, b: Dynamic) -> ScriptResult<SharedMesh> {
+    pub fn union(a: Solid, b: Solid) -> ScriptResult<SharedMesh> {
         boolean("union", a, b, Map::new())
     }
 
@@ -129,7 +131,7 @@ pub mod csg_api {
     /// assert(fine.face_count > coarse.face_count, "finer tessellation");
     /// ```
     #[rhai_fn(name = "union", return_raw)]
-    pub fn union_with(a: Dynamic, b: Dynamic, options: Map) -> ScriptResult<SharedMesh> {
+    pub fn union_with(a: Solid, b: Solid, options: Map) -> ScriptResult<SharedMesh> {
         boolean("union", a, b, options)
     }
 
@@ -144,7 +146,7 @@ pub mod csg_api {
     /// assert_near((cube - box([0.5, 0.5, 0.5], [2, 2, 2])).volume(), 0.875, 1e-12);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn subtract(a: Dynamic, b: Dynamic) -> ScriptResult<SharedMesh> {
+    pub fn subtract(a: Solid, b: Solid) -> ScriptResult<SharedMesh> {
         boolean("subtract", a, b, Map::new())
     }
 
@@ -157,7 +159,7 @@ pub mod csg_api {
     /// assert(dent.volume() < m.mesh(#{ tolerance: 0.005 }).volume(), "a dent");
     /// ```
     #[rhai_fn(name = "subtract", return_raw)]
-    pub fn subtract_with(a: Dynamic, b: Dynamic, options: Map) -> ScriptResult<SharedMesh> {
+    pub fn subtract_with(a: Solid, b: Solid, options: Map) -> ScriptResult<SharedMesh> {
         boolean("subtract", a, b, options)
     }
 
@@ -172,7 +174,7 @@ pub mod csg_api {
     /// assert_eq(intersect(box([0, 0, 0], [1, 1, 1]), box([0.25, 1, 0.25], [0.75, 2, 0.75])).face_count, 0);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn intersect(a: Dynamic, b: Dynamic) -> ScriptResult<SharedMesh> {
+    pub fn intersect(a: Solid, b: Solid) -> ScriptResult<SharedMesh> {
         boolean("intersect", a, b, Map::new())
     }
 
@@ -185,7 +187,7 @@ pub mod csg_api {
     /// assert_near(half.volume(), m.mesh(#{ tolerance: 0.002 }).volume() / 2, 1e-3);
     /// ```
     #[rhai_fn(name = "intersect", return_raw)]
-    pub fn intersect_with(a: Dynamic, b: Dynamic, options: Map) -> ScriptResult<SharedMesh> {
+    pub fn intersect_with(a: Solid, b: Solid, options: Map) -> ScriptResult<SharedMesh> {
         boolean("intersect", a, b, options)
     }
 
@@ -202,6 +204,7 @@ pub mod csg_api {
     /// assert_eq(s.filter(|x| x.input == 1).len(), 3);
     /// assert_eq(box([0, 0, 0], [1, 1, 1]).sources(), []);
     /// ```
+    #[rhai_fn(pure)]
     pub fn sources(m: &mut SharedMesh) -> Array {
         let Some(fs) = m.0.face_sources() else { return Array::new() };
         let mut counts = std::collections::BTreeMap::new();
@@ -227,7 +230,7 @@ pub mod csg_api {
     /// assert(s.input == 0 || s.input == 1, "one of the two operands");
     /// assert_eq(s.kind, "mesh");
     /// ```
-    #[rhai_fn(return_raw)]
+    #[rhai_fn(pure, return_raw)]
     pub fn face_source(m: &mut SharedMesh, f: INT) -> ScriptResult<Map> {
         let f = kernel("face_source", m.0.check_face(f))?;
         let fs = m
@@ -245,6 +248,7 @@ pub mod csg_api {
     /// let pits = union(icosphere(0.2, 2).translate(vec3(0, 0, 1)), icosphere(0.2, 2).translate(vec3(1, 0, 0)));
     /// assert_eq((cube - pits).inputs(), [0, 1, 2]);
     /// ```
+    #[rhai_fn(pure)]
     pub fn inputs(m: &mut SharedMesh) -> Array {
         let Some(fs) = m.0.face_sources() else { return Array::new() };
         let set: std::collections::BTreeSet<u32> = fs.iter().filter_map(FaceSource::leaf).collect();

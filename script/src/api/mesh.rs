@@ -7,7 +7,10 @@ use blocksmith_kernel::{Mesh, Vec3};
 use rhai::plugin::*;
 use rhai::{Array, Map, INT};
 
-use crate::convert::{count, factor3, fail, id_pairs, ids, kernel, number, type_name, vec3, Options, ScriptResult};
+use crate::convert::{
+    count, factor3, fail, id_pairs, ids, kernel, number, type_name, vec3, Number, NumberOrVector, Options,
+    ScriptResult, Vector,
+};
 
 /// A mesh as scripts hold it: shared and copied on write, so passing a mesh around is cheap
 /// and no script ever sees another variable's mesh change. A subdivision surface also holds
@@ -99,7 +102,7 @@ pub mod mesh_api {
     /// assert_near(c.volume(), 8.0, 1e-12);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn cube(size: Dynamic) -> ScriptResult<SharedMesh> {
+    pub fn cube(size: Number) -> ScriptResult<SharedMesh> {
         kernel("cube", Mesh::try_cube(positive("cube", "size", &size)?)).map(SharedMesh::new)
     }
 
@@ -110,7 +113,7 @@ pub mod mesh_api {
     /// assert_near(b.volume(), 6.0, 1e-12);
     /// ```
     #[rhai_fn(name = "box", return_raw)]
-    pub fn box_(min: Dynamic, max: Dynamic) -> ScriptResult<SharedMesh> {
+    pub fn box_(min: Vector, max: Vector) -> ScriptResult<SharedMesh> {
         let (a, b) = (vec3("box", "min", &min)?, vec3("box", "max", &max)?);
         if (a - b).abs().min_element() == 0.0 {
             return fail("box", format!("arguments `min` and `max` span no volume: {a} to {b}"));
@@ -126,7 +129,7 @@ pub mod mesh_api {
     /// assert_eq(s.face_count, 320);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn icosphere(radius: Dynamic, subdivisions: INT) -> ScriptResult<SharedMesh> {
+    pub fn icosphere(radius: Number, subdivisions: INT) -> ScriptResult<SharedMesh> {
         let r = positive("icosphere", "radius", &radius)?;
         let s = count("icosphere", "subdivisions", subdivisions, MAX_ICO_LEVEL)?;
         kernel("icosphere", Mesh::try_icosphere(r, s)).map(SharedMesh::new)
@@ -140,7 +143,7 @@ pub mod mesh_api {
     /// assert_eq(s.vertex_count, 16 * 7 + 2);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn uv_sphere(radius: Dynamic, segments_: INT, rings: INT) -> ScriptResult<SharedMesh> {
+    pub fn uv_sphere(radius: Number, segments_: INT, rings: INT) -> ScriptResult<SharedMesh> {
         let r = positive("uv_sphere", "radius", &radius)?;
         let s = segments("uv_sphere", "segments", segments_)?;
         if rings < 2 {
@@ -158,7 +161,7 @@ pub mod mesh_api {
     /// assert_eq(c.face_count, 34);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn cylinder(radius: Dynamic, height: Dynamic, segments_: INT) -> ScriptResult<SharedMesh> {
+    pub fn cylinder(radius: Number, height: Number, segments_: INT) -> ScriptResult<SharedMesh> {
         let r = positive("cylinder", "radius", &radius)?;
         let h = positive("cylinder", "height", &height)?;
         let s = segments("cylinder", "segments", segments_)?;
@@ -173,7 +176,7 @@ pub mod mesh_api {
     /// assert_eq(t.genus(), 1);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn torus(major: Dynamic, minor: Dynamic, major_segments: INT, minor_segments: INT) -> ScriptResult<SharedMesh> {
+    pub fn torus(major: Number, minor: Number, major_segments: INT, minor_segments: INT) -> ScriptResult<SharedMesh> {
         let (a, b) = (positive("torus", "major", &major)?, positive("torus", "minor", &minor)?);
         if b >= a {
             return fail("torus", format!("argument `minor` ({b}) must be smaller than `major` ({a})"));
@@ -405,7 +408,7 @@ pub mod mesh_api {
     /// assert_eq(m.bounds().min, vec3(0, -1, -1));
     /// ```
     #[rhai_fn(pure, return_raw)]
-    pub fn translate(m: &mut SharedMesh, offset: Dynamic) -> ScriptResult<SharedMesh> {
+    pub fn translate(m: &mut SharedMesh, offset: Vector) -> ScriptResult<SharedMesh> {
         Ok(SharedMesh::new(m.0.translate(vec3("translate", "offset", &offset)?)))
     }
     /// This mesh turned by `degrees` about `axis` through the origin (right-handed). Ids are kept.
@@ -415,7 +418,7 @@ pub mod mesh_api {
     /// assert_near(m.bounds().min.y, 1.0, 1e-12);
     /// ```
     #[rhai_fn(pure, return_raw)]
-    pub fn rotate(m: &mut SharedMesh, axis: Dynamic, degrees: Dynamic) -> ScriptResult<SharedMesh> {
+    pub fn rotate(m: &mut SharedMesh, axis: Vector, degrees: Number) -> ScriptResult<SharedMesh> {
         let a = nonzero("rotate", "axis", &axis)?;
         Ok(SharedMesh::new(m.0.rotate(a, number("rotate", "degrees", &degrees)?)))
     }
@@ -426,7 +429,7 @@ pub mod mesh_api {
     /// assert_near(cube(1).scale([2, 3, 4]).volume(), 24.0, 1e-12);
     /// ```
     #[rhai_fn(pure, return_raw)]
-    pub fn scale(m: &mut SharedMesh, factor: Dynamic) -> ScriptResult<SharedMesh> {
+    pub fn scale(m: &mut SharedMesh, factor: NumberOrVector) -> ScriptResult<SharedMesh> {
         let f = factor3("scale", "factor", &factor)?;
         if f.x * f.y * f.z == 0.0 {
             return fail(
@@ -445,7 +448,7 @@ pub mod mesh_api {
     /// assert_eq(m.bounds().max.x, -1.0);
     /// ```
     #[rhai_fn(pure, return_raw)]
-    pub fn mirror(m: &mut SharedMesh, normal: Dynamic) -> ScriptResult<SharedMesh> {
+    pub fn mirror(m: &mut SharedMesh, normal: Vector) -> ScriptResult<SharedMesh> {
         Ok(SharedMesh::new(m.0.mirror(nonzero("mirror", "normal", &normal)?)))
     }
     /// A triangle mesh of the same surface (vertex ids kept): convex faces by a fan, others by
@@ -492,7 +495,7 @@ pub mod mesh_api {
     /// assert_eq(m.catmull_clark(1).crease_count(), 2);
     /// ```
     #[rhai_fn(name = "crease", return_raw)]
-    pub fn crease_with_sharpness(m: &mut SharedMesh, edges: Array, sharpness: Dynamic) -> ScriptResult<()> {
+    pub fn crease_with_sharpness(m: &mut SharedMesh, edges: Array, sharpness: Number) -> ScriptResult<()> {
         let s = number("crease", "sharpness", &sharpness)?;
         if s < 0.0 {
             return fail("crease", format!("argument `sharpness` must be 0 or more, got {s}"));
@@ -534,7 +537,7 @@ pub mod mesh_api {
     /// assert_eq(s.positions()[0], m.positions()[0]);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn corner(m: &mut SharedMesh, verts: Array, sharpness: Dynamic) -> ScriptResult<()> {
+    pub fn corner(m: &mut SharedMesh, verts: Array, sharpness: Number) -> ScriptResult<()> {
         let s = number("corner", "sharpness", &sharpness)?;
         if s < 0.0 {
             return fail("corner", format!("argument `sharpness` must be 0 or more, got {s}"));

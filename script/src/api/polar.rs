@@ -12,7 +12,10 @@ use rhai::plugin::*;
 use rhai::{exported_module, Array, Engine, Map, INT};
 
 use super::mesh::SharedMesh;
-use crate::convert::{count, factor3, fail, id_pairs, ids, kernel, number, type_name, vec3, Options, ScriptResult};
+use crate::convert::{
+    count, factor3, fail, id_pairs, ids, kernel, number, type_name, vec3, Number, NumberOrVector, Options,
+    ScriptResult, Vector,
+};
 
 /// A polar mesh as scripts hold it (script type `PolarMesh`): shared and copied on write, so
 /// passing one around is cheap and no script sees another variable's mesh change. The seven
@@ -78,6 +81,53 @@ fn skeleton_node(func: &str, sk: &KernelSkeleton, i: INT) -> ScriptResult<u32> {
     Ok(i as u32)
 }
 
+/// `move_vertices` (and its older name `move`, given as `func`).
+fn move_selection(
+    func: &'static str,
+    pm: &mut PolarMesh,
+    verts: &Array,
+    offset: &Dynamic,
+    options: Map,
+) -> ScriptResult<()> {
+    let opts = Options::new(func, options, &["frame"])?;
+    let (_, frame) = center_frame(&opts)?;
+    let v = ids(func, "verts", verts)?;
+    let d = vec3(func, "offset", offset)?;
+    kernel(func, pm.get_mut().move_vertices(&v, d, frame))
+}
+
+/// `scale_vertices` (and its older name `scale`, given as `func`).
+fn scale_selection(
+    func: &'static str,
+    pm: &mut PolarMesh,
+    verts: &Array,
+    factor: &Dynamic,
+    options: Map,
+) -> ScriptResult<()> {
+    let opts = Options::new(func, options, &["center", "frame"])?;
+    let (center, frame) = center_frame(&opts)?;
+    let v = ids(func, "verts", verts)?;
+    let f = factor3(func, "factor", factor)?;
+    kernel(func, pm.get_mut().scale_vertices(&v, f, center, frame))
+}
+
+/// `rotate_vertices` (and its older name `rotate`, given as `func`).
+fn rotate_selection(
+    func: &'static str,
+    pm: &mut PolarMesh,
+    verts: &Array,
+    axis: &Dynamic,
+    degrees: &Dynamic,
+    options: Map,
+) -> ScriptResult<()> {
+    let opts = Options::new(func, options, &["center", "frame"])?;
+    let (center, frame) = center_frame(&opts)?;
+    let v = ids(func, "verts", verts)?;
+    let a = vec3(func, "axis", axis)?;
+    let d = number(func, "degrees", degrees)?;
+    kernel(func, pm.get_mut().rotate_vertices(&v, a, d, center, frame))
+}
+
 #[export_module]
 pub mod polar_api {
     use super::*;
@@ -104,7 +154,7 @@ pub mod polar_api {
     /// assert_eq(pm.loops().len(), 3);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn polar_sphere(radius: Dynamic, segments: INT, rings: INT) -> ScriptResult<PolarMesh> {
+    pub fn polar_sphere(radius: Number, segments: INT, rings: INT) -> ScriptResult<PolarMesh> {
         let r = number("polar_sphere", "radius", &radius)?;
         if r <= 0.0 {
             return fail("polar_sphere", format!("argument `radius` must be positive, got {}", fmt_num(r)));
@@ -332,19 +382,19 @@ pub mod polar_api {
     /// assert_eq(polar_octahedron().nearest_vertex([0, 0, 2]), 5);
     /// ```
     #[rhai_fn(pure, return_raw)]
-    pub fn nearest_vertex(pm: &mut PolarMesh, p: Dynamic) -> ScriptResult<INT> {
+    pub fn nearest_vertex(pm: &mut PolarMesh, p: Vector) -> ScriptResult<INT> {
         let p = vec3("nearest_vertex", "p", &p)?;
         kernel("nearest_vertex", pm.0.nearest_vertex(p)).map(INT::from)
     }
     /// The half-edge nearest to point `p` (of the nearest edge, the half on `p`'s side).
     #[rhai_fn(pure, return_raw)]
-    pub fn nearest_halfedge(pm: &mut PolarMesh, p: Dynamic) -> ScriptResult<INT> {
+    pub fn nearest_halfedge(pm: &mut PolarMesh, p: Vector) -> ScriptResult<INT> {
         let p = vec3("nearest_halfedge", "p", &p)?;
         kernel("nearest_halfedge", pm.0.nearest_halfedge(p)).map(INT::from)
     }
     /// The face nearest to point `p`.
     #[rhai_fn(pure, return_raw)]
-    pub fn nearest_face(pm: &mut PolarMesh, p: Dynamic) -> ScriptResult<INT> {
+    pub fn nearest_face(pm: &mut PolarMesh, p: Vector) -> ScriptResult<INT> {
         let p = vec3("nearest_face", "p", &p)?;
         kernel("nearest_face", pm.0.nearest_face(p)).map(INT::from)
     }
@@ -354,7 +404,7 @@ pub mod polar_api {
     /// assert_eq(polar_octahedron().vertices_near([0, 0, 1], 0.1), [5]);
     /// ```
     #[rhai_fn(pure, return_raw)]
-    pub fn vertices_near(pm: &mut PolarMesh, p: Dynamic, radius: Dynamic) -> ScriptResult<Array> {
+    pub fn vertices_near(pm: &mut PolarMesh, p: Vector, radius: Number) -> ScriptResult<Array> {
         let p = vec3("vertices_near", "p", &p)?;
         let r = number("vertices_near", "radius", &radius)?;
         kernel("vertices_near", pm.0.vertices_near(p, r)).map(|v| id_array(&v))
@@ -532,16 +582,17 @@ pub mod polar_api {
 
     // ---- Low-level modelling (§2.4) --------------------------------------------------------
 
-    /// Moves the vertices `verts` by `offset` (world axes).
+    /// Moves the vertices `verts` by `offset` (world axes). Like every PolarMesh edit, it
+    /// changes this mesh and returns nothing.
     ///
     /// ```rhai
     /// let pm = polar_octahedron();
-    /// pm.move([5], [0, 0, 1]);
+    /// pm.move_vertices([5], [0, 0, 1]);
     /// assert_eq(pm.position(5), vec3(0, 0, 2));
     /// ```
-    #[rhai_fn(name = "move", return_raw)]
-    pub fn move_(pm: &mut PolarMesh, verts: Array, offset: Dynamic) -> ScriptResult<()> {
-        move_with(pm, verts, offset, Map::new())
+    #[rhai_fn(name = "move_vertices", return_raw)]
+    pub fn move_vertices(pm: &mut PolarMesh, verts: Array, offset: Vector) -> ScriptResult<()> {
+        move_vertices_with(pm, verts, offset, Map::new())
     }
     /// Moves the vertices `verts` by `offset`, with option `frame`: `"global"` (world axes,
     /// default) or `"local"` (x, y in the selection's plane, z along its normal; for a loop, the
@@ -549,19 +600,63 @@ pub mod polar_api {
     ///
     /// ```rhai
     /// let pm = polar_sphere(1, 8, 4);
-    /// pm.move([9, 10, 11, 12, 13, 14, 15, 16], [0, 0, 0.5], #{ frame: "local" });
+    /// pm.move_vertices([9, 10, 11, 12, 13, 14, 15, 16], [0, 0, 0.5], #{ frame: "local" });
     /// assert_near(pm.position(9).z, 0.5, 1e-12);
     /// ```
+    #[rhai_fn(name = "move_vertices", return_raw)]
+    pub fn move_vertices_with(pm: &mut PolarMesh, verts: Array, offset: Vector, options: Map) -> ScriptResult<()> {
+        move_selection("move_vertices", pm, &verts, &offset, options)
+    }
+    /// `move_vertices` under its older name: moves the vertices `verts` by `offset`, with the
+    /// same options.
+    ///
+    /// ```rhai
+    /// let pm = polar_octahedron();
+    /// pm.move([5], [0, 0, 1]);
+    /// assert_eq(pm.position(5), vec3(0, 0, 2));
+    /// ```
     #[rhai_fn(name = "move", return_raw)]
-    pub fn move_with(pm: &mut PolarMesh, verts: Array, offset: Dynamic, options: Map) -> ScriptResult<()> {
-        let opts = Options::new("move", options, &["frame"])?;
-        let (_, frame) = center_frame(&opts)?;
-        let v = ids("move", "verts", &verts)?;
-        let d = vec3("move", "offset", &offset)?;
-        kernel("move", pm.get_mut().move_vertices(&v, d, frame))
+    pub fn move_(pm: &mut PolarMesh, verts: Array, offset: Vector) -> ScriptResult<()> {
+        move_selection("move", pm, &verts, &offset, Map::new())
+    }
+    /// `move_vertices` under its older name: moves the vertices `verts` by `offset`, with the
+    /// same options.
+    #[rhai_fn(name = "move", return_raw)]
+    pub fn move_with(pm: &mut PolarMesh, verts: Array, offset: Vector, options: Map) -> ScriptResult<()> {
+        move_selection("move", pm, &verts, &offset, options)
     }
     /// Scales the vertices `verts` by `factor` (a number, or a vector per axis) about their
-    /// centre.
+    /// centre, changing this mesh (a Mesh's `m.scale(f)` returns a new, whole scaled mesh).
+    ///
+    /// ```rhai
+    /// let pm = polar_sphere(1, 8, 4);
+    /// pm.scale_vertices([9, 10, 11, 12, 13, 14, 15, 16], 2);
+    /// assert_near(pm.position(9).x, 2.0, 1e-12);
+    /// ```
+    #[rhai_fn(name = "scale_vertices", return_raw)]
+    pub fn scale_vertices(pm: &mut PolarMesh, verts: Array, factor: NumberOrVector) -> ScriptResult<()> {
+        scale_vertices_with(pm, verts, factor, Map::new())
+    }
+    /// Scales with options `center` (default: the selection's centre) and `frame` (`"global"` or
+    /// `"local"`: a vector factor then acts along the selection's tangent, bitangent, normal).
+    ///
+    /// ```rhai
+    /// let pm = polar_sphere(1, 8, 4);
+    /// pm.scale_vertices([9, 10, 11, 12, 13, 14, 15, 16], [1.5, 1.5, 1], #{ frame: "local", center: [0, 0, 0] });
+    /// assert_near(pm.position(9).x, 1.5, 1e-12);
+    /// ```
+    #[rhai_fn(name = "scale_vertices", return_raw)]
+    pub fn scale_vertices_with(
+        pm: &mut PolarMesh,
+        verts: Array,
+        factor: NumberOrVector,
+        options: Map,
+    ) -> ScriptResult<()> {
+        scale_selection("scale_vertices", pm, &verts, &factor, options)
+    }
+    /// `scale_vertices` under its older name (API.md): scales the vertices `verts` by `factor`
+    /// about their centre. Unlike `m.scale(factor)` on a Mesh, the first argument is the
+    /// vertices; prefer `scale_vertices`, which says so.
     ///
     /// ```rhai
     /// let pm = polar_sphere(1, 8, 4);
@@ -569,26 +664,47 @@ pub mod polar_api {
     /// assert_near(pm.position(9).x, 2.0, 1e-12);
     /// ```
     #[rhai_fn(name = "scale", return_raw)]
-    pub fn scale(pm: &mut PolarMesh, verts: Array, factor: Dynamic) -> ScriptResult<()> {
-        scale_with(pm, verts, factor, Map::new())
+    pub fn scale(pm: &mut PolarMesh, verts: Array, factor: NumberOrVector) -> ScriptResult<()> {
+        scale_selection("scale", pm, &verts, &factor, Map::new())
     }
-    /// Scales with options `center` (default: the selection's centre) and `frame` (`"global"` or
-    /// `"local"`: a vector factor then acts along the selection's tangent, bitangent, normal).
+    /// `scale_vertices` under its older name, with the same options `center` and `frame`.
+    #[rhai_fn(name = "scale", return_raw)]
+    pub fn scale_with(pm: &mut PolarMesh, verts: Array, factor: NumberOrVector, options: Map) -> ScriptResult<()> {
+        scale_selection("scale", pm, &verts, &factor, options)
+    }
+    /// Turns the vertices `verts` by `degrees` about `axis` through their centre (right-handed),
+    /// changing this mesh (a Mesh's `m.rotate(axis, deg)` returns a new, whole turned mesh).
     ///
     /// ```rhai
-    /// let pm = polar_sphere(1, 8, 4);
-    /// pm.scale([9, 10, 11, 12, 13, 14, 15, 16], [1.5, 1.5, 1], #{ frame: "local", center: [0, 0, 0] });
-    /// assert_near(pm.position(9).x, 1.5, 1e-12);
+    /// let pm = polar_octahedron();
+    /// pm.rotate_vertices([1, 2, 3, 4], [0, 0, 1], 90);
+    /// assert_near(pm.position(1), vec3(0, 1, 0), 1e-12);
     /// ```
-    #[rhai_fn(name = "scale", return_raw)]
-    pub fn scale_with(pm: &mut PolarMesh, verts: Array, factor: Dynamic, options: Map) -> ScriptResult<()> {
-        let opts = Options::new("scale", options, &["center", "frame"])?;
-        let (center, frame) = center_frame(&opts)?;
-        let v = ids("scale", "verts", &verts)?;
-        let f = factor3("scale", "factor", &factor)?;
-        kernel("scale", pm.get_mut().scale_vertices(&v, f, center, frame))
+    #[rhai_fn(name = "rotate_vertices", return_raw)]
+    pub fn rotate_vertices(pm: &mut PolarMesh, verts: Array, axis: Vector, degrees: Number) -> ScriptResult<()> {
+        rotate_vertices_with(pm, verts, axis, degrees, Map::new())
     }
-    /// Turns the vertices `verts` by `degrees` about `axis` through their centre (right-handed).
+    /// Turns with options `center` (default: the selection's centre) and `frame` (`"local"`:
+    /// the axis is given in the selection's frame, `[0, 0, 1]` its normal).
+    ///
+    /// ```rhai
+    /// let pm = polar_octahedron();
+    /// pm.rotate_vertices([5], [1, 0, 0], 90, #{ center: [0, 0, 0] });
+    /// assert_near(pm.position(5), vec3(0, -1, 0), 1e-12);
+    /// ```
+    #[rhai_fn(name = "rotate_vertices", return_raw)]
+    pub fn rotate_vertices_with(
+        pm: &mut PolarMesh,
+        verts: Array,
+        axis: Vector,
+        degrees: Number,
+        options: Map,
+    ) -> ScriptResult<()> {
+        rotate_selection("rotate_vertices", pm, &verts, &axis, &degrees, options)
+    }
+    /// `rotate_vertices` under its older name (API.md): turns the vertices `verts` by `degrees`
+    /// about `axis` through their centre. Unlike `m.rotate(axis, deg)` on a Mesh, the first
+    /// argument is the vertices; prefer `rotate_vertices`, which says so.
     ///
     /// ```rhai
     /// let pm = polar_octahedron();
@@ -596,31 +712,19 @@ pub mod polar_api {
     /// assert_near(pm.position(1), vec3(0, 1, 0), 1e-12);
     /// ```
     #[rhai_fn(name = "rotate", return_raw)]
-    pub fn rotate(pm: &mut PolarMesh, verts: Array, axis: Dynamic, degrees: Dynamic) -> ScriptResult<()> {
-        rotate_with(pm, verts, axis, degrees, Map::new())
+    pub fn rotate(pm: &mut PolarMesh, verts: Array, axis: Vector, degrees: Number) -> ScriptResult<()> {
+        rotate_selection("rotate", pm, &verts, &axis, &degrees, Map::new())
     }
-    /// Turns with options `center` (default: the selection's centre) and `frame` (`"local"`:
-    /// the axis is given in the selection's frame, `[0, 0, 1]` its normal).
-    ///
-    /// ```rhai
-    /// let pm = polar_octahedron();
-    /// pm.rotate([5], [1, 0, 0], 90, #{ center: [0, 0, 0] });
-    /// assert_near(pm.position(5), vec3(0, -1, 0), 1e-12);
-    /// ```
+    /// `rotate_vertices` under its older name, with the same options `center` and `frame`.
     #[rhai_fn(name = "rotate", return_raw)]
     pub fn rotate_with(
         pm: &mut PolarMesh,
         verts: Array,
-        axis: Dynamic,
-        degrees: Dynamic,
+        axis: Vector,
+        degrees: Number,
         options: Map,
     ) -> ScriptResult<()> {
-        let opts = Options::new("rotate", options, &["center", "frame"])?;
-        let (center, frame) = center_frame(&opts)?;
-        let v = ids("rotate", "verts", &verts)?;
-        let a = vec3("rotate", "axis", &axis)?;
-        let d = number("rotate", "degrees", &degrees)?;
-        kernel("rotate", pm.get_mut().rotate_vertices(&v, a, d, center, frame))
+        rotate_selection("rotate", pm, &verts, &axis, &degrees, options)
     }
     /// Moves vertex `v` to point `p`.
     ///
@@ -630,7 +734,7 @@ pub mod polar_api {
     /// assert_eq(pm.position(5).z, 3.0);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn set_position(pm: &mut PolarMesh, v: INT, p: Dynamic) -> ScriptResult<()> {
+    pub fn set_position(pm: &mut PolarMesh, v: INT, p: Vector) -> ScriptResult<()> {
         let v = kernel("set_position", pm.0.vertex_id(v))?;
         let p = vec3("set_position", "p", &p)?;
         kernel("set_position", pm.get_mut().set_position(v, p))

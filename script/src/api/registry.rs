@@ -16,16 +16,31 @@ pub struct Declared {
     pub arity: usize,
     /// Declared `pure`: the receiver is left unchanged.
     pub pure: bool,
+    /// Takes the call context, so it may act beyond its arguments (write a file relative to
+    /// the output folder, declare a parameter, show a value): dropping its result is not judged.
+    pub context: bool,
     /// The Rust type returned (`()` for nothing), e.g. `SharedMesh`.
     pub returns: &'static str,
 }
 
 impl Declared {
-    /// A method that leaves its receiver as it was and returns something: calling it only
-    /// for its effect does nothing.
+    /// Calling it only for its effect does nothing: a method that leaves its receiver as it
+    /// was and returns something, or a function of its arguments alone (no context) that
+    /// returns a typed value (`cube(2)`; not `param`, whose value is `Dynamic` and which
+    /// declares a parameter).
     #[must_use]
     pub fn returns_new_value(&self) -> bool {
-        self.receiver.is_some() && self.pure && self.returns != "()"
+        match self.receiver {
+            Some(_) => self.pure && self.returns != "()",
+            None => !self.context && self.returns != "()" && self.returns != "Dynamic",
+        }
+    }
+
+    /// A method that changes its receiver and nothing else: on a value that is then dropped
+    /// (a temporary), its change is lost.
+    #[must_use]
+    pub fn edits_receiver(&self) -> bool {
+        self.receiver.is_some() && !self.pure && !self.context
     }
 }
 
@@ -59,6 +74,13 @@ mod tests {
         let b = *candidates("translate", 2, Some("Block")).next().unwrap();
         assert!(!b.pure && b.returns == "Block", "{b:?}");
         assert!(!one("crease_all", "SharedMesh").returns_new_value());
+        assert!(one("crease_all", "SharedMesh").edits_receiver());
+        // Constructors return a new value; `param` and `show` act beyond their arguments.
+        assert!(candidates("cube", 1, None).all(|d| d.returns_new_value()));
+        assert!(candidates("param", 2, None).all(|d| !d.returns_new_value()));
+        assert!(candidates("show", 1, None).all(|d| !d.returns_new_value()));
+        // Saving writes a file: not an edit whose loss matters.
+        assert!(candidates("save", 2, Some("SharedMesh")).all(|d| !d.edits_receiver() && !d.returns_new_value()));
         assert!(one("volume", "SharedMesh").returns_new_value());
         // Getters are properties, not calls.
         assert_eq!(candidates("vertex_count", 1, None).count(), 0);

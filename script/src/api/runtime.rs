@@ -5,7 +5,7 @@ use rhai::plugin::*;
 use rhai::Map;
 
 use crate::context::RunContext;
-use crate::convert::{fail, number, type_name, vec3, ScriptResult};
+use crate::convert::{fail, number, type_name, vec3, Number, NumberOrVector, ScriptResult};
 use crate::param::Declared;
 
 fn debug_text(ctx: &NativeCallContext, v: &Dynamic) -> String {
@@ -68,7 +68,7 @@ pub mod runtime_api {
     /// assert_near(vec3(1, 0, 0), [1, 0, 1e-9], 1e-6);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn assert_near(a: Dynamic, b: Dynamic, eps: Dynamic) -> ScriptResult<()> {
+    pub fn assert_near(a: NumberOrVector, b: NumberOrVector, eps: Number) -> ScriptResult<()> {
         let eps = number("assert_near", "eps", &eps)?;
         let is_num = |v: &Dynamic| v.is_int() || v.is_float();
         let (diff, sa, sb) = if is_num(&a) && is_num(&b) {

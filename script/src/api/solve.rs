@@ -11,7 +11,7 @@ use rhai::plugin::*;
 use rhai::{exported_module, Array, Engine, Map, INT};
 
 use super::mesh::SharedMesh;
-use crate::convert::{fail, ids, kernel, number, vec3, Options, ScriptResult};
+use crate::convert::{fail, ids, kernel, number, vec3, Number, Options, ScriptResult};
 
 /// A constraint system (script type `Solver`) on the vertices of the mesh it was made from, and
 /// the energies of its last solve.
@@ -54,7 +54,7 @@ pub mod solve_api {
     /// Keeps `verts` in their current shape up to a rotation and translation (SVD fit, never a
     /// reflection; Eqs. 5–9), with weight `w`.
     #[rhai_fn(return_raw)]
-    pub fn rigid(s: &mut Solver, verts: Array, w: Dynamic) -> ScriptResult<()> {
+    pub fn rigid(s: &mut Solver, verts: Array, w: Number) -> ScriptResult<()> {
         let v = ids("rigid", "verts", &verts)?;
         let w = number("rigid", "w", &w)?;
         kernel("rigid", s.system.rigid(&v, None, w))
@@ -74,7 +74,7 @@ pub mod solve_api {
     /// assert(c.radius > 0.5);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn circle(s: &mut Solver, verts: Array, w: Dynamic) -> ScriptResult<()> {
+    pub fn circle(s: &mut Solver, verts: Array, w: Number) -> ScriptResult<()> {
         let v = ids("circle", "verts", &verts)?;
         let w = number("circle", "w", &w)?;
         kernel("circle", s.system.circle(&v, w))
@@ -82,7 +82,7 @@ pub mod solve_api {
 
     /// Keeps `verts` on a plane, with weight `w`.
     #[rhai_fn(return_raw)]
-    pub fn plane(s: &mut Solver, verts: Array, w: Dynamic) -> ScriptResult<()> {
+    pub fn plane(s: &mut Solver, verts: Array, w: Number) -> ScriptResult<()> {
         let v = ids("plane", "verts", &verts)?;
         let w = number("plane", "w", &w)?;
         kernel("plane", s.system.plane(&v, w))
@@ -90,7 +90,7 @@ pub mod solve_api {
 
     /// Pins `verts` to `positions` (one each), with weight `w`.
     #[rhai_fn(return_raw)]
-    pub fn anchor(s: &mut Solver, verts: Array, positions: Array, w: Dynamic) -> ScriptResult<()> {
+    pub fn anchor(s: &mut Solver, verts: Array, positions: Array, w: Number) -> ScriptResult<()> {
         let v = ids("anchor", "verts", &verts)?;
         let p: Vec<Vec3> = positions
             .iter()
@@ -103,14 +103,14 @@ pub mod solve_api {
 
     /// Weights the closeness of every vertex to the starting surface (Eq. 10); 0 turns it off.
     #[rhai_fn(return_raw)]
-    pub fn closeness(s: &mut Solver, w: Dynamic) -> ScriptResult<()> {
+    pub fn closeness(s: &mut Solver, w: Number) -> ScriptResult<()> {
         let w = number("closeness", "w", &w)?;
         kernel("closeness", s.system.closeness(w))
     }
 
     /// Weights the cotangent Laplacian of the displacement (Eq. 11); 0 turns it off.
     #[rhai_fn(return_raw)]
-    pub fn laplacian(s: &mut Solver, w: Dynamic) -> ScriptResult<()> {
+    pub fn laplacian(s: &mut Solver, w: Number) -> ScriptResult<()> {
         let w = number("laplacian", "w", &w)?;
         kernel("laplacian", s.system.laplacian(w))
     }

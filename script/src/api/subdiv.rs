@@ -11,7 +11,7 @@ use rhai::plugin::*;
 use rhai::{exported_module, Array, Engine, Map, INT};
 
 use super::mesh::SharedMesh;
-use crate::convert::{fail, kernel, number, type_name, ScriptResult};
+use crate::convert::{fail, kernel, number, type_name, Integer, Number, ScriptResult};
 
 /// Registers every subdivision function on `engine`.
 pub fn register(engine: &mut Engine) {
@@ -167,7 +167,7 @@ pub mod subdiv_api {
     /// assert_near(s.normal, [0, 0, 1], 1e-14);
     /// ```
     #[rhai_fn(pure, return_raw)]
-    pub fn limit_eval(m: &mut SharedMesh, face: Dynamic, u: Dynamic, v: Dynamic) -> ScriptResult<Map> {
+    pub fn limit_eval(m: &mut SharedMesh, face: Integer, u: Number, v: Number) -> ScriptResult<Map> {
         let ev = evaluator(m)?;
         eval_one(&ev, &face, &u, &v, "")
     }

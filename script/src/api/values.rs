@@ -4,7 +4,7 @@ use blocksmith_kernel::Vec3;
 use rhai::plugin::*;
 use rhai::INT;
 
-use crate::convert::{number, vec3 as to_vec3, ScriptResult};
+use crate::convert::{number, vec3 as to_vec3, Number, NumberOrVector, ScriptResult, Vector};
 
 #[export_module]
 pub mod vec3_api {
@@ -17,7 +17,7 @@ pub mod vec3_api {
     /// assert_eq(p.y, 2.5);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn vec3(x: Dynamic, y: Dynamic, z: Dynamic) -> ScriptResult<Vec3> {
+    pub fn vec3(x: Number, y: Number, z: Number) -> ScriptResult<Vec3> {
         Ok(Vec3::new(number("vec3", "x", &x)?, number("vec3", "y", &y)?, number("vec3", "z", &z)?))
     }
 
@@ -38,19 +38,19 @@ pub mod vec3_api {
     }
     /// Sets the x coordinate.
     #[rhai_fn(set = "x", return_raw)]
-    pub fn set_x(v: &mut Vec3, x: Dynamic) -> ScriptResult<()> {
+    pub fn set_x(v: &mut Vec3, x: Number) -> ScriptResult<()> {
         v.x = number("x", "value", &x)?;
         Ok(())
     }
     /// Sets the y coordinate.
     #[rhai_fn(set = "y", return_raw)]
-    pub fn set_y(v: &mut Vec3, y: Dynamic) -> ScriptResult<()> {
+    pub fn set_y(v: &mut Vec3, y: Number) -> ScriptResult<()> {
         v.y = number("y", "value", &y)?;
         Ok(())
     }
     /// Sets the z coordinate.
     #[rhai_fn(set = "z", return_raw)]
-    pub fn set_z(v: &mut Vec3, z: Dynamic) -> ScriptResult<()> {
+    pub fn set_z(v: &mut Vec3, z: Number) -> ScriptResult<()> {
         v.z = number("z", "value", &z)?;
         Ok(())
     }
@@ -81,7 +81,7 @@ pub mod vec3_api {
     /// assert_eq(2.0 * vec3(1, 2, 3), vec3(2, 4, 6));
     /// ```
     #[rhai_fn(name = "*", return_raw)]
-    pub fn mul(a: Vec3, s: Dynamic) -> ScriptResult<Vec3> {
+    pub fn mul(a: Vec3, s: NumberOrVector) -> ScriptResult<Vec3> {
         if let Some(b) = s.clone().try_cast::<Vec3>() {
             return Ok(a * b);
         }
@@ -99,7 +99,7 @@ pub mod vec3_api {
     }
     /// Vector divided by a number (component-wise with a vector).
     #[rhai_fn(name = "/", return_raw)]
-    pub fn div(a: Vec3, s: Dynamic) -> ScriptResult<Vec3> {
+    pub fn div(a: Vec3, s: NumberOrVector) -> ScriptResult<Vec3> {
         let d = if let Some(b) = s.clone().try_cast::<Vec3>() { b } else { Vec3::splat(number("/", "divisor", &s)?) };
         if d.x == 0.0 || d.y == 0.0 || d.z == 0.0 {
             return Err("/: division of a Vec3 by zero".into());
@@ -123,7 +123,7 @@ pub mod vec3_api {
     /// assert_eq(dot(vec3(1, 2, 3), [4, 5, 6]), 32.0);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn dot(a: Dynamic, b: Dynamic) -> ScriptResult<f64> {
+    pub fn dot(a: Vector, b: Vector) -> ScriptResult<f64> {
         Ok(to_vec3("dot", "a", &a)?.dot(to_vec3("dot", "b", &b)?))
     }
     /// Cross product (right-handed).
@@ -132,7 +132,7 @@ pub mod vec3_api {
     /// assert_eq(cross(vec3(1, 0, 0), vec3(0, 1, 0)), vec3(0, 0, 1));
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn cross(a: Dynamic, b: Dynamic) -> ScriptResult<Vec3> {
+    pub fn cross(a: Vector, b: Vector) -> ScriptResult<Vec3> {
         Ok(to_vec3("cross", "a", &a)?.cross(to_vec3("cross", "b", &b)?))
     }
     /// Euclidean length.
@@ -141,7 +141,7 @@ pub mod vec3_api {
     /// assert_eq(length(vec3(3, 4, 0)), 5.0);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn length(v: Dynamic) -> ScriptResult<f64> {
+    pub fn length(v: Vector) -> ScriptResult<f64> {
         Ok(to_vec3("length", "v", &v)?.length())
     }
     /// The unit vector in the direction of `v`; an error for the zero vector.
@@ -150,14 +150,14 @@ pub mod vec3_api {
     /// assert_eq(normalize(vec3(0, 0, 2)), vec3(0, 0, 1));
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn normalize(v: Dynamic) -> ScriptResult<Vec3> {
+    pub fn normalize(v: Vector) -> ScriptResult<Vec3> {
         to_vec3("normalize", "v", &v)?
             .try_normalize()
             .ok_or_else(|| "normalize: argument `v` is the zero vector, which has no direction".into())
     }
     /// Distance between two points.
     #[rhai_fn(return_raw)]
-    pub fn distance(a: Dynamic, b: Dynamic) -> ScriptResult<f64> {
+    pub fn distance(a: Vector, b: Vector) -> ScriptResult<f64> {
         Ok(to_vec3("distance", "a", &a)?.distance(to_vec3("distance", "b", &b)?))
     }
     /// Linear interpolation `a + (b − a)·t`.
@@ -166,7 +166,7 @@ pub mod vec3_api {
     /// assert_eq(lerp(vec3(0, 0, 0), vec3(2, 4, 6), 0.5), vec3(1, 2, 3));
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn lerp(a: Dynamic, b: Dynamic, t: Dynamic) -> ScriptResult<Vec3> {
+    pub fn lerp(a: Vector, b: Vector, t: Number) -> ScriptResult<Vec3> {
         Ok(to_vec3("lerp", "a", &a)?.lerp(to_vec3("lerp", "b", &b)?, number("lerp", "t", &t)?))
     }
 

@@ -11,7 +11,7 @@ use rhai::plugin::*;
 use rhai::{exported_module, Array, Engine, Map, INT};
 
 use super::mesh::SharedMesh;
-use crate::convert::{fail, kernel, number, type_name, vec3, Options, ScriptResult};
+use crate::convert::{fail, kernel, number, type_name, vec3, Number, Options, ScriptResult, Vector};
 
 /// A voxel grid as scripts hold it (script type `Voxels`): shared and copied on write, like
 /// meshes, so passing a grid (e.g. as a tool) is cheap and no script ever sees another variable's
@@ -110,7 +110,7 @@ pub mod voxel_api {
     /// assert_near(vx.volume(), 4.0 / 3.0 * PI() * 1000.0, 5.0);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn fill_sphere(vx: &mut Voxels, center: Dynamic, radius: Dynamic) -> ScriptResult<()> {
+    pub fn fill_sphere(vx: &mut Voxels, center: Vector, radius: Number) -> ScriptResult<()> {
         let c = vec3("fill_sphere", "center", &center)?;
         let r = number("fill_sphere", "radius", &radius)?;
         if r <= 0.0 {
@@ -130,7 +130,7 @@ pub mod voxel_api {
     /// assert_eq(vx.get(5, 3, 7), 0);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn fill_box(vx: &mut Voxels, min: Dynamic, max: Dynamic) -> ScriptResult<()> {
+    pub fn fill_box(vx: &mut Voxels, min: Vector, max: Vector) -> ScriptResult<()> {
         let (a, b) = (vec3("fill_box", "min", &min)?, vec3("fill_box", "max", &max)?);
         kernel("fill_box", vx.get_mut().fill_box(a, b))
     }
@@ -267,7 +267,7 @@ pub mod voxel_api {
     /// assert_eq(l1.get(3, 3, 3), 255);
     /// assert_eq(vx.lod(4).get(0, 0, 0), 32);   // 512 full voxels of 4096, rounded: 255 / 8
     /// ```
-    #[rhai_fn(return_raw)]
+    #[rhai_fn(pure, return_raw)]
     pub fn lod(vx: &mut Voxels, level: INT) -> ScriptResult<Voxels> {
         kernel("lod", vx.get_mut().lod(level)).map(|v| Voxels(Rc::new(v)))
     }
@@ -282,7 +282,7 @@ pub mod voxel_api {
     /// assert(m.is_closed() && m.is_manifold(), "watertight");
     /// assert_near(m.volume(), 4.0 / 3.0 * PI() * 1000.0, 40.0);
     /// ```
-    #[rhai_fn(return_raw)]
+    #[rhai_fn(pure, return_raw)]
     pub fn to_mesh(vx: &mut Voxels) -> ScriptResult<SharedMesh> {
         kernel("to_mesh", vx.get_mut().to_mesh(0, DEFAULT_ISO)).map(SharedMesh::new)
     }
@@ -299,7 +299,7 @@ pub mod voxel_api {
     /// assert(coarse.face_count < fine.face_count, "coarser level, fewer faces");
     /// assert(coarse.is_closed(), "closed at every level");
     /// ```
-    #[rhai_fn(name = "to_mesh", return_raw)]
+    #[rhai_fn(name = "to_mesh", pure, return_raw)]
     pub fn to_mesh_with(vx: &mut Voxels, options: Map) -> ScriptResult<SharedMesh> {
         let opts = Options::new("to_mesh", options, &["level", "iso"])?;
         let lvl = match opts.raw("level") {
