@@ -1,6 +1,7 @@
 //! CSG (API.md §CSG; seed 000 §2.4.2; kernel `csg`): `union`, `subtract`, `intersect`, `a + b`,
 //! `a - b` of block models and meshes — the result is a closed manifold `Mesh` whose faces know
-//! their source (`m.sources()`, `m.face_source(f)`, `m.inputs()`).
+//! their source (`m.sources()`, `m.face_source(f)`, `m.inputs()`) and which keeps the control
+//! meshes of its mesh operands (subdivision inputs) for the studio to draw over it.
 //!
 //! Block-model operands are tessellated first with the call's `tolerance` option (default: the
 //! model's default, 0.001 × its diagonal), so adaptive tessellation comes through. A `Mesh`
@@ -58,6 +59,10 @@ fn boolean(func: &'static str, a: Dynamic, b: Dynamic, options: Map) -> ScriptRe
         }
         mesh_options = mesh_options.with_tolerance(t);
     }
+    // The mesh operands' control meshes stay with the result, for the studio's overlay.
+    let meshes: Vec<SharedMesh> =
+        [&a, &b].into_iter().filter_map(|v| v.read_lock::<SharedMesh>().map(|m| SharedMesh::clone(&m))).collect();
+    let control = SharedMesh::controls(&meshes);
     let (a, b) = (operand(func, "left", a, mesh_options)?, operand(func, "right", b, mesh_options)?);
     let tree = match func {
         "union" | "+" => a.union(b),
@@ -75,7 +80,7 @@ fn boolean(func: &'static str, a: Dynamic, b: Dynamic, options: Map) -> ScriptRe
     if let Some(p) = spinner {
         p.finish_and_clear();
     }
-    kernel(func, result).map(SharedMesh::new)
+    kernel(func, result).map(|r| SharedMesh(std::rc::Rc::new(r), control))
 }
 
 fn source_map(s: &FaceSource) -> Map {

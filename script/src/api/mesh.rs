@@ -15,7 +15,9 @@ use crate::convert::{
 /// A mesh as scripts hold it: shared and copied on write, so passing a mesh around is cheap
 /// and no script ever sees another variable's mesh change. A subdivision surface also holds
 /// the control mesh it was made from (the subdivision input, a block model's control mesh),
-/// which the studio draws over it; operations that make a new mesh from it drop it.
+/// which the studio draws over it. Moves, turns, scales and mirrors move it with the surface,
+/// triangulating keeps it, a boolean or `combine` keeps its operands' (see [`SharedMesh::controls`]);
+/// other operations that make a new mesh from it drop it.
 #[derive(Clone, Debug)]
 pub struct SharedMesh(pub Rc<Mesh>, pub Option<Rc<Mesh>>);
 
@@ -36,6 +38,25 @@ impl SharedMesh {
     #[must_use]
     pub fn control_for_derived(&self) -> Rc<Mesh> {
         self.1.clone().unwrap_or_else(|| self.0.clone())
+    }
+
+    /// `mesh`, made from this one by `f` moving every point (a move, turn, scale or mirror):
+    /// its control mesh, if any, moved the same way.
+    #[must_use]
+    pub fn moved(&self, mesh: Mesh, f: impl Fn(&Mesh) -> Mesh) -> SharedMesh {
+        SharedMesh(Rc::new(mesh), self.1.as_ref().map(|c| Rc::new(f(c))))
+    }
+
+    /// The control meshes of `parts` that have one, side by side in one mesh (what a boolean or
+    /// a combination of them shows over its surface); `None` when no part has one.
+    #[must_use]
+    pub fn controls<'a>(parts: impl IntoIterator<Item = &'a SharedMesh>) -> Option<Rc<Mesh>> {
+        let controls: Vec<&Rc<Mesh>> = parts.into_iter().filter_map(|p| p.1.as_ref()).collect();
+        match controls.as_slice() {
+            [] => None,
+            [one] => Some(Rc::clone(one)),
+            many => Mesh::combine(&many.iter().map(|c| &***c).collect::<Vec<&Mesh>>()).ok().map(Rc::new),
+        }
     }
 }
 
@@ -269,7 +290,7 @@ pub mod mesh_api {
             })
             .collect::<ScriptResult<Vec<_>>>()?;
         let refs: Vec<&Mesh> = parts.iter().map(|m| m.0.as_ref()).collect();
-        kernel("combine", Mesh::combine(&refs)).map(SharedMesh::new)
+        kernel("combine", Mesh::combine(&refs)).map(|c| SharedMesh(Rc::new(c), SharedMesh::controls(&parts)))
     }
 
     /// Number of vertices.
@@ -409,7 +430,8 @@ pub mod mesh_api {
     /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn translate(m: &mut SharedMesh, offset: Vector) -> ScriptResult<SharedMesh> {
-        Ok(SharedMesh::new(m.0.translate(vec3("translate", "offset", &offset)?)))
+        let v = vec3("translate", "offset", &offset)?;
+        Ok(m.moved(m.0.translate(v), |c| c.translate(v)))
     }
     /// This mesh turned by `degrees` about `axis` through the origin (right-handed). Ids are kept.
     ///
@@ -420,7 +442,8 @@ pub mod mesh_api {
     #[rhai_fn(pure, return_raw)]
     pub fn rotate(m: &mut SharedMesh, axis: Vector, degrees: Number) -> ScriptResult<SharedMesh> {
         let a = nonzero("rotate", "axis", &axis)?;
-        Ok(SharedMesh::new(m.0.rotate(a, number("rotate", "degrees", &degrees)?)))
+        let d = number("rotate", "degrees", &degrees)?;
+        Ok(m.moved(m.0.rotate(a, d), |c| c.rotate(a, d)))
     }
     /// This mesh scaled about the origin by a number or per axis by a vector. Mirroring
     /// scales (a negative product) keep the faces outward. A zero factor is an error.
@@ -437,7 +460,7 @@ pub mod mesh_api {
                 format!("argument `factor` has a zero component ({f}), which would flatten the mesh"),
             );
         }
-        Ok(SharedMesh::new(m.0.scale(f)))
+        Ok(m.moved(m.0.scale(f), |c| c.scale(f)))
     }
     /// This mesh reflected through the plane through the origin with normal `normal`; faces are
     /// reversed so they keep facing outward.
@@ -449,7 +472,8 @@ pub mod mesh_api {
     /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn mirror(m: &mut SharedMesh, normal: Vector) -> ScriptResult<SharedMesh> {
-        Ok(SharedMesh::new(m.0.mirror(nonzero("mirror", "normal", &normal)?)))
+        let n = nonzero("mirror", "normal", &normal)?;
+        Ok(m.moved(m.0.mirror(n), |c| c.mirror(n)))
     }
     /// A triangle mesh of the same surface (vertex ids kept): convex faces by a fan, others by
     /// a constrained Delaunay triangulation in the face's plane.
@@ -460,7 +484,7 @@ pub mod mesh_api {
     /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn triangulate(m: &mut SharedMesh) -> ScriptResult<SharedMesh> {
-        kernel("triangulate", m.0.triangulate()).map(SharedMesh::new)
+        kernel("triangulate", m.0.triangulate()).map(|t| SharedMesh(Rc::new(t), m.1.clone()))
     }
 
     /// Tags edges as infinitely sharp creases for subdivision; `edges` is an array of `[a, b]`
