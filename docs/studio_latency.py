@@ -5,8 +5,9 @@ For each recipe: `blocksmith watch` runs it, headless chromium shows the page, a
 saved 10 times. Each latency runs from the write to the page having drawn the new model (the
 page's `studio.shown.at`, taken two animation frames after the model is in the scene; the
 browser and this script read the same clock). Printed beside the recipe's own run time (the
-server's `run_ms`), so the overhead is what the studio adds: the debounce, the .glb, the
-WebSocket message, the page's fetch, parse and draw.
+server's `run_ms`), so the overhead is what the studio adds, and split where the page tells
+(`studio.shown.received`, `.loaded`): the server's part (the debounce, the .glb and facts, the
+WebSocket message) beyond the run, the page's fetch and parse of the layers, and its draw.
 
 `--big` adds a 1.3M-triangle model (`icosphere(1, 8)`): its save-to-screen latency, and the
 time a freshly opened page takes from navigation start to the model drawn (server send + page
@@ -171,21 +172,32 @@ def measure(binary, recipe, text=None, fresh_page=False):
                 glb = state(addr)["model"]["layers"][0]["url"]
                 with urllib.request.urlopen(f"http://{addr}{glb}") as r:
                     size = len(r.read())
-                loads = []
+                loads, steps = [], []
                 for _ in range(3):
                     browser.call("Page.reload", {"ignoreCache": True})
                     time.sleep(0.05)
-                    loads.append(shown_after(browser, 0)["sincePageStart"])
+                    shown = shown_after(browser, 0)
+                    loads.append(shown["sincePageStart"])
+                    if "received" in shown:
+                        origin = shown["at"] - shown["sincePageStart"]
+                        steps.append((shown["received"] - origin, shown["loaded"] - origin))
                 print(f"{name}: {triangles} triangles, .glb {size / 1e6:.1f} MB; a fresh page draws it "
                       f"{statistics.median(loads):.0f} ms after navigation start (median of 3; first page {first['sincePageStart']:.0f} ms)")
-            latencies, runs = [], []
+                if steps:
+                    print(f"{name}:   medians: the model's message arrives at {statistics.median(s[0] for s in steps):.0f} ms, "
+                          f"its layers are loaded at {statistics.median(s[1] for s in steps):.0f} ms")
+            latencies, runs, parts = [], [], []
             for i in range(SAVES):
                 before = browser.eval("studio.shown.version")
                 start = time.time() * 1000
                 target.write_text(text + f"\n// save {i}\n")
                 shown = shown_after(browser, before)
                 latencies.append(shown["at"] - start)
-                runs.append(state(addr)["model"]["run_ms"])
+                run = state(addr)["model"]["run_ms"]
+                runs.append(run)
+                if "received" in shown:
+                    parts.append((shown["received"] - start - run, shown["loaded"] - shown["started"],
+                                  shown["at"] - shown["loaded"]))
                 time.sleep(0.2)
         finally:
             browser.close()
@@ -193,6 +205,10 @@ def measure(binary, recipe, text=None, fresh_page=False):
     lat, run = statistics.median(latencies), statistics.median(runs)
     print(f"{name}: save to screen {lat:.0f} ms median (min {min(latencies):.0f}, max {max(latencies):.0f}), "
           f"of which the run {run:.0f} ms; the studio adds {lat - run:.0f} ms")
+    if parts:
+        server, load, draw = (statistics.median(p[k] for p in parts) for k in range(3))
+        print(f"{name}:   medians: server beyond the run {server:.0f} ms (debounce, .glb, facts, message), "
+              f"page fetch and parse {load:.0f} ms, draw {draw:.0f} ms")
 
 
 if __name__ == "__main__":

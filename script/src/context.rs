@@ -5,6 +5,7 @@ use std::cell::RefCell;
 use std::collections::BTreeMap;
 use std::path::{Component, Path, PathBuf};
 use std::rc::Rc;
+use std::sync::{Arc, Mutex};
 
 use rhai::{Dynamic, NativeCallContext};
 
@@ -25,6 +26,49 @@ pub struct RunContext {
     /// Where `show(value)` puts its values: the studio (`blocksmith watch`, the REPL) shows
     /// them; `None` elsewhere, where `show` does nothing.
     pub shown: Option<Shown>,
+    /// Where the files the run writes are listed as it writes them, for a watcher that must
+    /// not take a run's own saves for edits (`blocksmith watch`); `None` elsewhere.
+    pub writes: Option<Writes>,
+}
+
+/// The files a run writes, listed before each is written, shared with other threads.
+/// Cloning shares the list.
+#[derive(Clone, Debug, Default)]
+pub struct Writes(Arc<Mutex<Vec<PathBuf>>>);
+
+impl Writes {
+    /// Lists `path` (made absolute, its folder's symbolic links resolved, as a watcher names
+    /// it), and for a `.gltf` the `.bin` written beside it.
+    pub fn push(&self, path: &Path) {
+        let absolute = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+        let resolved = match (absolute.parent().and_then(|d| d.canonicalize().ok()), absolute.file_name()) {
+            (Some(dir), Some(name)) => dir.join(name),
+            _ => absolute,
+        };
+        let gltf = resolved.extension().is_some_and(|e| e.eq_ignore_ascii_case("gltf"));
+        let mut list = self.0.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        if gltf {
+            list.push(resolved.with_extension("bin"));
+        }
+        list.push(resolved);
+    }
+
+    /// The files listed so far.
+    #[must_use]
+    pub fn list(&self) -> Vec<PathBuf> {
+        self.0.lock().unwrap_or_else(std::sync::PoisonError::into_inner).clone()
+    }
+
+    /// Whether `path` is listed.
+    #[must_use]
+    pub fn contains(&self, path: &Path) -> bool {
+        self.0.lock().unwrap_or_else(std::sync::PoisonError::into_inner).iter().any(|p| p == path)
+    }
+
+    /// Empties the list (a new run starts).
+    pub fn clear(&self) {
+        self.0.lock().unwrap_or_else(std::sync::PoisonError::into_inner).clear();
+    }
 }
 
 /// The values a script passed to `show`, in order. Cloning shares them.

@@ -1,7 +1,8 @@
 //! `blocksmith watch` end to end: the server answers on 127.0.0.1 only, serves nothing outside
-//! what it shows (`/../`, absolute and percent-encoded paths), re-runs on save, and the page
-//! shows the model in a real browser (Debian's `chromium`, headless on SwiftShader; skipped
-//! when it is missing, except under CI=true, where it must be there).
+//! what it shows (`/../`, absolute and percent-encoded paths), re-runs on save but not on the
+//! recipe's own saves, `view` follows a `.gltf`'s buffer, and the page shows the model (and its
+//! control mesh through moves and booleans) in a real browser (Debian's `chromium`, headless
+//! on SwiftShader; skipped when it is missing, except under CI=true, where it must be there).
 
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpStream;
@@ -27,20 +28,28 @@ fn watch(recipe: &Path) -> Watch {
 }
 
 fn watch_with(recipe: &Path, args: &[&str]) -> Watch {
+    watch_command("watch", recipe, args)
+}
+
+/// `blocksmith COMMAND FILE ARGS...` (`watch` or `view`), once it has printed its address.
+fn watch_command(command: &str, file: &Path, args: &[&str]) -> Watch {
     let mut child = Command::new(env!("CARGO_BIN_EXE_blocksmith"))
-        .arg("watch")
-        .arg(recipe)
+        .arg(command)
+        .arg(file)
         .args(args)
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
     let mut lines = BufReader::new(child.stderr.take().unwrap()).lines();
-    let first = lines.next().unwrap().unwrap();
+    // Stopped even when what follows fails.
+    let mut w = Watch { child, addr: String::new() };
+    // The address line (a quick first run may say it was shown before it).
+    let first = lines.by_ref().map_while(Result::ok).find(|l| l.contains("http://")).expect("the address");
     let addr = first.split("http://").nth(1).unwrap().trim_end_matches(|c| c != '/').trim_end_matches('/');
-    let addr = addr.split_whitespace().next().unwrap().to_string();
+    w.addr = addr.split_whitespace().next().unwrap().to_string();
     // Keep draining its messages so it never blocks on a full pipe.
     std::thread::spawn(move || lines.for_each(drop));
-    Watch { child, addr }
+    w
 }
 
 /// A raw GET of `path` as sent (no normalisation): status and body.
@@ -81,6 +90,11 @@ fn watch_serves_only_what_it_shows_and_runs_again_on_save() {
     std::fs::write(dir.path().join("secret.txt"), "not for the page").unwrap();
     let w = watch(&recipe);
     assert!(w.addr.starts_with("127.0.0.1:"), "{}", w.addr);
+    // Bound to 127.0.0.1 itself, not to every address: another loopback address of the same
+    // port (all of 127/8 reaches this machine) is refused.
+    let port = w.addr.split(':').nth(1).unwrap();
+    let other = format!("127.0.0.2:{port}").parse().unwrap();
+    assert!(TcpStream::connect_timeout(&other, Duration::from_secs(2)).is_err(), "answered on {other}");
     let v = state_when(&w.addr, Duration::from_secs(30), |v| triangles(v).is_some());
     assert_eq!(triangles(&v), Some(12));
     let (status, page) = get(&w.addr, "/");
@@ -104,6 +118,10 @@ fn watch_serves_only_what_it_shows_and_runs_again_on_save() {
         &format!("/{}", dir.path().join("secret.txt").display()),
         "/model/1/../../secret.txt",
         "/download/../secret.txt",
+        "/%2e%2e%2fsecret.txt",
+        "/..%5csecret.txt",
+        &format!("/{}", dir.path().join("secret.txt").display().to_string().replace('/', "%2F")),
+        "/model/1/%2e%2e%2f%2e%2e%2fsecret.txt",
     ] {
         let (status, body) = get(&w.addr, bad);
         assert_eq!(status, 404, "{bad}");
@@ -163,6 +181,57 @@ fn watch_runs_again_when_an_imported_module_or_a_loaded_file_is_saved() {
     std::thread::sleep(Duration::from_millis(600));
     let v = state_when(&w.addr, Duration::from_secs(1), |_| true);
     assert_eq!(version(&v), before, "saving a file the recipe does not read runs nothing");
+}
+
+#[test]
+fn a_recipe_that_saves_what_it_loads_runs_once_per_edit_not_forever() {
+    let dir = tempfile::tempdir().unwrap();
+    let (stl, gltf) = (dir.path().join("copy.stl"), dir.path().join("copy.gltf"));
+    let recipe = dir.path().join("part.rhai");
+    let text = |size: u32| {
+        format!(
+            "let c = cube({size});\nc.save({stl:?});\nc.save({gltf:?});\n[load({stl:?}), load({gltf:?})]",
+            stl = stl.display().to_string(),
+            gltf = gltf.display().to_string()
+        )
+    };
+    std::fs::write(&recipe, text(1)).unwrap();
+    let w = watch(&recipe);
+    state_when(&w.addr, Duration::from_secs(30), |v| version(v) == 1);
+    // Its own saves (the .stl, the .gltf and its .bin, all files it loads) run nothing.
+    std::thread::sleep(Duration::from_millis(1500));
+    assert_eq!(version(&state_when(&w.addr, Duration::from_secs(1), |_| true)), 1, "ran itself again");
+    // An edit of the recipe runs it once.
+    std::fs::write(&recipe, text(2)).unwrap();
+    let v = state_when(&w.addr, Duration::from_secs(10), |v| version(v) == 2);
+    assert!((v["model"]["layers"][1]["facts"]["volume"].as_f64().unwrap() - 8.0).abs() < 1e-6, "{v}");
+    std::thread::sleep(Duration::from_millis(1500));
+    assert_eq!(version(&state_when(&w.addr, Duration::from_secs(1), |_| true)), 2, "ran itself again");
+    // An edit by hand of a file it loads (and writes) still runs it.
+    std::fs::write(&stl, b"not an stl, for a moment").unwrap();
+    state_when(&w.addr, Duration::from_secs(10), |v| version(v) == 3);
+    std::thread::sleep(Duration::from_millis(1000));
+    assert_eq!(version(&state_when(&w.addr, Duration::from_secs(1), |_| true)), 3);
+}
+
+#[test]
+fn view_of_a_gltf_shows_it_again_when_its_bin_is_saved() {
+    let dir = tempfile::tempdir().unwrap();
+    let (recipe, small, big) = (dir.path().join("r.rhai"), dir.path().join("m.gltf"), dir.path().join("b.gltf"));
+    for (size, out) in [(1, &small), (2, &big)] {
+        std::fs::write(&recipe, format!("cube({size})")).unwrap();
+        let o =
+            Command::new(env!("CARGO_BIN_EXE_blocksmith")).arg("run").arg(&recipe).arg("-o").arg(out).output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let w = watch_command("view", &small, &[]);
+    let volume = |v: &serde_json::Value| v["model"]["layers"][0]["facts"]["volume"].as_f64().unwrap_or(0.0);
+    let v = state_when(&w.addr, Duration::from_secs(30), |v| version(v) == 1);
+    assert!((volume(&v) - 1.0).abs() < 1e-6, "{v}");
+    // The buffer alone is saved (the bigger cube's, the same layout): the page shows it.
+    std::fs::copy(dir.path().join("b.bin"), dir.path().join("m.bin")).unwrap();
+    let v = state_when(&w.addr, Duration::from_secs(10), |v| version(v) == 2);
+    assert!((volume(&v) - 8.0).abs() < 1e-6, "{v}");
 }
 
 /// Sends `line` to the REPL and returns the next output line that contains `want`.
@@ -253,9 +322,12 @@ fn the_page_shows_the_model_in_a_real_browser() {
     let w = watch(&recipe);
     state_when(&w.addr, Duration::from_secs(30), |v| triangles(v).is_some());
     let shot = dir.path().join("page.png");
+    // A profile of its own: a browser already running on the default one would take the page.
+    let profile = tempfile::tempdir().unwrap();
     let o = Command::new(browser)
         .args(["--headless", "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader"])
-        .args(["--window-size=800,600", "--virtual-time-budget=10000", "--dump-dom"])
+        .args(["--window-size=800,600", "--virtual-time-budget=10000", "--dump-dom", "--no-first-run"])
+        .arg(format!("--user-data-dir={}", profile.path().display()))
         .arg(format!("--screenshot={}", shot.display()))
         .arg(format!("http://{}/", w.addr))
         .output()
@@ -379,6 +451,11 @@ fn the_page_follows_saves_errors_parameters_and_shows_control_meshes_without_rel
     let Some(mut b) = Browser::open(&format!("http://{}/", w.addr)) else { return };
     b.wait("window.studio && studio.triangles === 12", Duration::from_secs(20));
     b.eval("window.loadedOnce = 'this page'");
+    // An idle page draws nothing: no frame while nothing changes.
+    b.wait("studio.shown", Duration::from_secs(5));
+    let frames = b.eval("studio.frames()");
+    std::thread::sleep(Duration::from_millis(300));
+    assert_eq!(b.eval("studio.frames()"), frames, "frames drawn while idle");
     // A save shows the new model within 2 s, in the same page.
     let start = Instant::now();
     std::fs::write(&recipe, format!("{size}\nicosphere(s, 1)")).unwrap();
@@ -410,6 +487,29 @@ fn the_page_follows_saves_errors_parameters_and_shows_control_meshes_without_rel
     assert_eq!(b.eval("studio.controlEdges"), 0, "off until asked for");
     b.eval("document.getElementById('control').click()");
     assert_eq!(b.eval("studio.controlEdges"), 12, "the cube's edges over the surface");
+    assert_eq!(b.eval("document.getElementById('control-note').hidden"), true);
+    // Moved, the control mesh moves with the surface; unioned with a plain box, it stays.
+    let save = |b: &mut Browser, body: &str| {
+        let before = b.eval("studio.version").as_u64().unwrap();
+        std::fs::write(&recipe, format!("{size}\n{body}")).unwrap();
+        b.wait(&format!("studio.version > {before}"), Duration::from_secs(10));
+    };
+    save(&mut b, "cube(s).catmull_clark(2).translate([3, 0, 0])");
+    assert_eq!(b.eval("studio.controlEdges"), 12);
+    assert_eq!(b.eval("studio.controlBounds()[0]").as_f64(), Some(2.0), "the cage's -x side at 3 - 1");
+    save(&mut b, "union(cube(s).catmull_clark(2).rotate([0, 0, 1], 90), box([0, 0, 0], [2, 2, 2]))");
+    assert_eq!(b.eval("studio.controlEdges"), 12, "the subdivided operand's cage over the union");
+    assert_eq!(b.eval("document.getElementById('control-label').hidden"), false);
+    // A model with no control mesh: no overlay, and the page says why.
+    save(&mut b, "cube(s).translate([1, 0, 0])");
+    assert_eq!(b.eval("studio.controlEdges"), 0);
+    assert_eq!(b.eval("document.getElementById('control-label').hidden"), true);
+    assert_eq!(b.eval("document.getElementById('control-note').hidden"), false);
+    assert!(b
+        .eval("document.getElementById('control-note').textContent")
+        .as_str()
+        .unwrap()
+        .contains("No control mesh"));
 }
 
 #[test]

@@ -51,6 +51,7 @@ function showLayers(layers, objects) {
       objects[l.name].visible = box.checked;
       const lines = viewer.overlay.getObjectByName(l.name);
       if (lines) lines.visible = box.checked;
+      viewer.requestRender();
       studio.triangles = viewer.triangles();
       studio.controlEdges = viewer.controlEdges();
     };
@@ -68,27 +69,33 @@ function showLayers(layers, objects) {
 
 async function showModel(message) {
   if (message.version <= shown) return;
-  const objects = await viewer.show(message.layers);
+  const started = Date.now();
+  const objects = await viewer.show(message.layers, message.files);
+  const loaded = Date.now();
   shown = message.version;
   showFacts(message.layers, message.run_ms);
   showLayers(message.layers, objects);
   $('animation').hidden = !viewer.duration;
-  $('control-label').hidden = !message.layers.some((l) => l.control);
+  const control = message.layers.some((l) => l.control);
+  $('control-label').hidden = !control;
+  $('control-note').hidden = control;
   $('timeline').max = viewer.duration || 1;
   Object.assign(studio, {
     version: message.version, triangles: viewer.triangles(), controlEdges: viewer.controlEdges(), loads: studio.loads + 1,
   });
   document.title = `blocksmith: ${studio.triangles} triangles`;
-  // When the model reached the screen: after the next frame is drawn (for latency scripts).
-  const version = message.version;
+  // When the model reached the screen: after the next frame is drawn (for latency scripts),
+  // with when its message arrived, its layers started loading and had loaded (wall clock, ms).
+  const { version, received } = message;
   requestAnimationFrame(() => requestAnimationFrame(() => {
-    studio.shown = { version, at: Date.now(), sincePageStart: performance.now() };
+    studio.shown = { version, at: Date.now(), sincePageStart: performance.now(), received, started, loaded };
   }));
 }
 
 // Messages are handled one after the other, a model only once it has loaded, so an error that
 // follows a model is never hidden by that model's late arrival.
 function onMessage(message) {
+  message.received ??= Date.now();
   loading = loading.then(() => handle(message)).catch((e) => showError(`cannot show the model: ${e}`));
 }
 
@@ -147,11 +154,11 @@ $('control').onchange = (e) => {
 };
 $('fit').onclick = () => viewer.fit();
 $('play').onclick = () => {
-  viewer.playing = !viewer.playing;
+  viewer.setPlaying(!viewer.playing);
   $('play').textContent = viewer.playing ? 'pause' : 'play';
 };
 $('timeline').oninput = (e) => {
-  viewer.playing = false;
+  viewer.setPlaying(false);
   $('play').textContent = 'play';
   viewer.setTime(Number(e.target.value));
 };
@@ -164,4 +171,6 @@ viewer.onFrame = () => {
 };
 
 studio.bounds = () => viewer.bounds();
+studio.controlBounds = () => viewer.controlBounds();
+studio.frames = () => viewer.frames;
 connect(onMessage, setStatus);

@@ -1,7 +1,9 @@
 // The 3D view: three.js with the kernel's +Z up, a grid on the XY plane and axes, orbit / pan /
 // zoom, fit to view on the first model (later models keep the camera), feature colours or a
 // plain material, wireframe, the control mesh a surface was made from (lines over it), and the
-// playback of a model's animation.
+// playback of a model's animation. It draws only when something changed (a model, the camera,
+// a toggle, the size, a playing animation): an idle page costs nothing, and a new model is drawn
+// once, not behind a queue of frames of the old one.
 
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
@@ -46,37 +48,55 @@ export class Viewer {
     this.clock = new THREE.Clock();
     this.playing = true;
     this.loader = new GLTFLoader();
+    this.frames = 0;
+    this.pending = false;
+    this.controls.addEventListener('change', () => this.requestRender());
     new ResizeObserver(() => this.resize(container)).observe(container);
     this.resize(container);
-    this.renderer.setAnimationLoop(() => this.frame());
   }
+
+  // Draws at the next animation frame (once, however often it is asked for before then).
+  requestRender() {
+    if (this.pending) return;
+    this.pending = true;
+    requestAnimationFrame(() => this.frame());
+  }
+
+  // Whether an animation is running (then every frame is drawn).
+  get animating() { return this.playing && this.mixers.length > 0; }
 
   resize(container) {
     const w = Math.max(container.clientWidth, 1), h = Math.max(container.clientHeight, 1);
     this.renderer.setSize(w, h, false);
     this.camera.aspect = w / h;
     this.camera.updateProjectionMatrix();
+    this.requestRender();
   }
 
   frame() {
+    this.pending = false;
     const dt = this.clock.getDelta();
-    if (this.playing) this.mixers.forEach((m) => m.update(dt));
-    this.controls.update();
+    if (this.animating) this.mixers.forEach((m) => m.update(dt));
     this.renderer.render(this.scene, this.camera);
+    this.frames += 1;
     this.onFrame?.();
+    if (this.animating) this.requestRender();
   }
 
-  // Loads the layers ({name, url, control?}) and swaps them in whole when all have loaded;
+  // Starts or stops the animation; the clock restarts so a pause is not counted as played.
+  setPlaying(on) {
+    this.playing = on;
+    this.clock.getDelta();
+    this.requestRender();
+  }
+
+  // Parses the layers ({name, control?}) from their files (each layer's .glb, then each
+  // control mesh's edges as little-endian f32 x, y, z per end) and swaps them in whole;
   // resolves to the three.js objects by layer name.
-  async show(layers) {
-    const controls = Promise.all(layers.map(async (l) => {
-      if (!l.control) return null;
-      const response = await fetch(l.control);
-      if (!response.ok) throw new Error(`${l.control}: ${response.status}`);
-      return new Float32Array(await response.arrayBuffer());
-    }));
-    const loaded = await Promise.all(layers.map((l) => this.loader.loadAsync(l.url)));
-    const ends = await controls;
+  async show(layers, files) {
+    let next = layers.length;
+    const ends = layers.map((l) => (l.control ? new Float32Array(files[next++]) : null));
+    const loaded = await Promise.all(layers.map((l, i) => this.loader.parseAsync(files[i], '')));
     this.models.clear();
     this.overlay.clear();
     ends.forEach((e, i) => {
@@ -118,6 +138,8 @@ export class Viewer {
       this.fit();
       this.fitted = true;
     }
+    this.clock.getDelta();
+    this.requestRender();
     return objects;
   }
 
@@ -137,18 +159,26 @@ export class Viewer {
       m.wireframe = this.wireframe;
       o.material = m;
     });
+    this.requestRender();
   }
 
   setColours(on) { this.colours = on; this.applyMaterials(); }
   setWireframe(on) { this.wireframe = on; this.plain.wireframe = on; this.applyMaterials(); }
-  setHelpers(on) { this.helpers.visible = on; }
-  setControl(on) { this.overlay.visible = on; }
+  setHelpers(on) { this.helpers.visible = on; this.requestRender(); }
+  setControl(on) { this.overlay.visible = on; this.requestRender(); }
 
   // The models' bounds as drawn now (animated vertices where they are at this frame):
   // [min x, y, z, max x, y, z] in the view's frame.
   bounds() {
     const box = new THREE.Box3().setFromObject(this.models, true);
     return [...box.min.toArray(), ...box.max.toArray()];
+  }
+
+  // The control meshes' bounds, drawn or not: [min x, y, z, max x, y, z] (kernel frame);
+  // null when there is none.
+  controlBounds() {
+    const box = new THREE.Box3().setFromObject(this.overlay, true);
+    return box.isEmpty() ? null : [...box.min.toArray(), ...box.max.toArray()];
   }
 
   // The control-mesh edges on show (0 when the overlay is off).
@@ -186,9 +216,10 @@ export class Viewer {
     this.camera.updateProjectionMatrix();
     this.controls.target.copy(centre);
     this.controls.update();
+    this.requestRender();
   }
 
   // The animation's time, in seconds, and setting it (scrubbing).
   time() { return this.mixers.length ? this.mixers[0].time % (this.duration || 1) : 0; }
-  setTime(t) { this.mixers.forEach((m) => m.setTime(t)); }
+  setTime(t) { this.mixers.forEach((m) => m.setTime(t)); this.requestRender(); }
 }

@@ -13,12 +13,14 @@ use crate::context::RunContext;
 use crate::convert::{fail, type_name, Options, ScriptResult};
 
 /// The file a script names by `path` for writing: a relative path goes under the run's output
-/// directory; missing parent directories are created. Errors name `func`.
+/// directory; missing parent directories are created; the run's list of writes, if it keeps
+/// one ([`crate::context::Writes`]), gains it. Errors name `func`.
 ///
 /// # Errors
 /// A relative path leaving the output directory, or a directory that cannot be created.
 pub fn output_file(ctx: &NativeCallContext, func: &str, path: &str) -> ScriptResult<PathBuf> {
-    let p = match RunContext::of(ctx).output_path(path) {
+    let run = RunContext::of(ctx);
+    let p = match run.output_path(path) {
         Ok(p) => p,
         Err(e) => return fail(func, e),
     };
@@ -26,6 +28,9 @@ pub fn output_file(ctx: &NativeCallContext, func: &str, path: &str) -> ScriptRes
         if let Err(e) = fs::create_dir_all(dir) {
             return fail(func, format!("cannot create directory {}: {e}", dir.display()));
         }
+    }
+    if let Some(writes) = &run.writes {
+        writes.push(&p);
     }
     Ok(p)
 }

@@ -29,7 +29,8 @@ pub fn render_to_png(
     view: render::View,
 ) -> Result<String, RunError> {
     let scene = scene::open(input, options)?;
-    let meshes: Vec<&blocksmith_kernel::Mesh> = scene.layers.iter().map(|l| &l.mesh).collect();
+    let drawn = scene.layers.iter().map(scene::Layer::drawn).collect::<Result<Vec<_>, _>>()?;
+    let meshes: Vec<&blocksmith_kernel::Mesh> = drawn.iter().collect();
     let picture = render::render(&meshes, width, height, view);
     let png = picture.png();
     blocksmith_kernel::io::write_atomic(out, |w| {

@@ -1,6 +1,9 @@
 //! What the studio shows: a run's value, or a mesh file, as named layers — each a `.glb` as
 //! `save` writes it (so the page shows exactly what `blocksmith run -o x.glb` would write,
-//! animation included) and the mesh read back from it, for its facts and for `render`.
+//! animation included), the model's own mesh (for downloads) and its facts, computed once.
+//! A mesh or polar mesh is encoded in memory; an animation, whose modifiers may be script
+//! functions, goes through `save` and a temporary file. `render` draws the `.glb` read back
+//! ([`Layer::drawn`]), its colours as the page shows them.
 
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
@@ -12,6 +15,7 @@ use blocksmith_kernel::Mesh;
 use rhai::{Dynamic, Engine, AST};
 
 use crate::api::{mesh::SharedMesh, polar::PolarMesh};
+use crate::facts::Facts;
 use crate::run::{save_value, RunError};
 use crate::EngineOptions;
 
@@ -22,8 +26,11 @@ pub struct Layer {
     pub name: String,
     /// The value as a binary glTF file.
     pub glb: Vec<u8>,
-    /// The mesh of the file (its rest pose for an animation).
+    /// The value's mesh (its rest pose for an animation): the model itself, not the file's
+    /// vertices split at colour seams, so its facts say what the model is.
     pub mesh: Mesh,
+    /// The mesh's facts.
+    pub facts: Facts,
     /// The edges of the control mesh the value was made from, if any (see [`control_lines`]).
     pub control: Option<Vec<f32>>,
 }
@@ -100,17 +107,48 @@ pub fn layers(engine: &Engine, functions: &AST, value: Dynamic) -> Result<Vec<La
 /// A value that cannot be saved, named unless it is the `model`.
 pub fn layer(engine: &Engine, functions: &AST, name: String, value: Dynamic) -> Result<Layer, RunError> {
     let control = control_lines(&value);
-    let glb = glb_of(engine, functions, value).map_err(|e| {
-        if name == "model" {
-            e
-        } else {
-            RunError(format!("layer {name}: {e}"))
+    let named = |e: RunError| if name == "model" { e } else { RunError(format!("layer {name}: {}", e.0)) };
+    let file = PathBuf::from(format!("{name}.glb"));
+    let (glb, mesh) = match own_mesh(value) {
+        Ok(mesh) => {
+            let mut glb = Vec::new();
+            write_glb(&mesh, &mut glb, &file).map_err(|e| named(RunError(format!("error: {e}"))))?;
+            (glb, mesh)
         }
-    })?;
-    // Unwelded: the file's own vertices, colour seams included, as the page shows them.
-    let mesh = io::gltf::read_gltf_with(&glb, None, Path::new(&format!("{name}.glb")), io::Weld::Off)
-        .map_err(|e| RunError(format!("error: layer {name}: {e}")))?;
-    Ok(Layer { name, glb, mesh, control })
+        Err(value) => {
+            let glb = glb_of(engine, functions, value).map_err(named)?;
+            // Unwelded: the file's own vertices, as the animation moves them.
+            let mesh = io::gltf::read_gltf_with(&glb, None, &file, io::Weld::Off)
+                .map_err(|e| RunError(format!("error: layer {name}: {e}")))?;
+            (glb, mesh)
+        }
+    };
+    let facts = Facts::of(&mesh);
+    Ok(Layer { name, glb, mesh, facts, control })
+}
+
+impl Layer {
+    /// The mesh as the page draws it: the `.glb` read back unwelded, so colour seams split
+    /// vertices and each vertex carries the colour it is drawn with.
+    ///
+    /// # Errors
+    /// The `.glb` cannot be read (never for one this module wrote).
+    pub fn drawn(&self) -> Result<Mesh, RunError> {
+        io::gltf::read_gltf_with(&self.glb, None, Path::new(&format!("{}.glb", self.name)), io::Weld::Off)
+            .map_err(|e| RunError(format!("error: layer {}: {e}", self.name)))
+    }
+}
+
+/// The mesh that `save` writes for `value` when it is a `Mesh` (taken, not copied, when no
+/// one else holds it) or a `PolarMesh` (with its feature colours); the value back otherwise.
+fn own_mesh(value: Dynamic) -> Result<Mesh, Dynamic> {
+    match value.try_cast_result::<SharedMesh>() {
+        Ok(m) => Ok(Rc::try_unwrap(m.0).unwrap_or_else(|shared| (*shared).clone())),
+        Err(value) => match value.try_cast_result::<PolarMesh>() {
+            Ok(p) => Ok(p.0.to_colored_mesh()),
+            Err(value) => Err(value),
+        },
+    }
 }
 
 /// The edges of the control mesh `value` was made from, as segment end points (x, y, z of
@@ -130,7 +168,8 @@ pub fn control_lines(value: &Dynamic) -> Option<Vec<f32>> {
     Some(ends.flat_map(|p| [p.x as f32, p.y as f32, p.z as f32]).collect())
 }
 
-/// The `.glb` that `save` writes for `value`, through a temporary file.
+/// The `.glb` that `save` writes for `value`, through a temporary file (for values whose
+/// writing needs the engine: an animation's script modifiers).
 fn glb_of(engine: &Engine, functions: &AST, value: Dynamic) -> Result<Vec<u8>, RunError> {
     static COUNTER: AtomicU64 = AtomicU64::new(0);
     let n = COUNTER.fetch_add(1, Ordering::Relaxed);
@@ -157,8 +196,9 @@ pub fn load_file(path: &Path) -> Result<Scene, RunError> {
         write_glb(&mesh, &mut bytes, path).map_err(|e| RunError(format!("error: {e}")))?;
         bytes
     };
+    let facts = Facts::of(&mesh);
     Ok(Scene {
-        layers: vec![Layer { name: "model".into(), glb, mesh, control: None }],
+        layers: vec![Layer { name: "model".into(), glb, mesh, facts, control: None }],
         run_time: start.elapsed(),
         params: Vec::new(),
     })
@@ -193,9 +233,25 @@ mod tests {
         assert_eq!(scene.layers.len(), 1);
         assert_eq!(scene.layers[0].name, "model");
         assert_eq!(&scene.layers[0].glb[..4], b"glTF");
-        let f = crate::facts::Facts::of(&scene.layers[0].mesh);
+        let f = &scene.layers[0].facts;
         assert_eq!((f.vertices, f.triangles, f.closed, f.manifold, f.genus), (8, 12, true, true, 0));
         assert!((f.volume - 8.0).abs() < 1e-6, "{}", f.volume);
+    }
+
+    #[test]
+    fn a_boolean_result_has_the_facts_of_the_model_not_of_its_colour_split_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let text = "union(cube(1), cube(1).translate([0.5, 0.5, 0.5]))";
+        let scene = run_recipe(&recipe(dir.path(), text), EngineOptions::default()).unwrap();
+        let l = &scene.layers[0];
+        let f = &l.facts;
+        assert_eq!((f.closed, f.manifold, f.components, f.boundary_loops), (true, true, 1, 0));
+        assert!((f.volume - 1.875).abs() < 1e-9, "{}", f.volume);
+        // The file splits vertices where the sources' colours meet; render draws those.
+        let drawn = l.drawn().unwrap();
+        assert!(drawn.vertex_count() > l.mesh.vertex_count());
+        assert_eq!(drawn.triangle_count(), f.triangles);
+        assert!(drawn.vertex_colors().is_some());
     }
 
     #[test]
@@ -229,6 +285,27 @@ mod tests {
         assert_eq!(edges("polar"), Some(12), "the octahedron's edges");
         let smooth = s.layers.iter().find(|l| l.name == "smooth").unwrap().control.clone().unwrap();
         assert!(smooth.iter().all(|c| c.abs() == 1.0), "the cube's corners: {smooth:?}");
+    }
+
+    #[test]
+    fn moves_turns_and_booleans_keep_the_control_mesh_with_the_surface() {
+        let dir = tempfile::tempdir().unwrap();
+        let text = "let s = cube(2).catmull_clark(2);\n\
+                    #{ moved: s.translate([5, 0, 0]), turned: s.rotate([0, 0, 1], 45).triangulate(), \
+                    joined: union(s, cube(1).translate([1, 1, 1])), both: s - s.scale(0.5).translate([1, 0, 0]), \
+                    side: combine([s, cube(1).translate([4, 0, 0])]), plain: union(cube(1), cube(1).translate([0.5, 0, 0])) }";
+        let s = run_recipe(&recipe(dir.path(), text), EngineOptions::default()).unwrap();
+        let control = |name: &str| s.layers.iter().find(|l| l.name == name).unwrap().control.clone();
+        let xs = |c: &[f32]| c.chunks(3).map(|p| p[0]).fold((f32::MAX, f32::MIN), |(lo, hi), x| (lo.min(x), hi.max(x)));
+        let moved = control("moved").unwrap();
+        assert_eq!((moved.len() / 6, xs(&moved)), (12, (4.0, 6.0)), "the cube's edges, moved with the surface");
+        let turned = control("turned").unwrap();
+        let r = 2f32.sqrt();
+        assert!((xs(&turned).1 - r).abs() < 1e-5, "turned 45°: a corner at x = √2, {:?}", xs(&turned));
+        assert_eq!(control("joined").map(|c| c.len() / 6), Some(12), "the subdivided operand's cage");
+        assert_eq!(control("both").map(|c| c.len() / 6), Some(24), "both operands' cages");
+        assert_eq!(control("side").map(|c| c.len() / 6), Some(12));
+        assert_eq!(control("plain"), None, "no operand has a control mesh");
     }
 
     #[test]

@@ -11,7 +11,11 @@
 //! | `GET /download/I.glb`, `.obj`, `.stl` | layer `I` of the model on show, as a file |
 //! | `GET /api/state` | the session as JSON: model (layers, facts), error, parameters |
 //! | `POST /api/params` (form body `name=value&...`) | sets the parameters; runs again if they changed |
-//! | `GET /ws` | the WebSocket: JSON messages `model`, `error`, `running`, `params` |
+//! | `GET /ws` | the WebSocket: JSON messages `model`, `error`, `running`, `params`; a `model` is followed by binary messages, each layer's `.glb` then each control mesh's edges |
+//!
+//! A page gets a model's files over its WebSocket, right behind the message, not by asking for
+//! them: no request and answer per file between the save and the screen (the `/model/` paths
+//! serve the same bytes to tools and tests).
 
 use std::collections::BTreeMap;
 use std::io::{Cursor, Read};
@@ -62,11 +66,12 @@ fn header(text: &str) -> Header {
 }
 
 fn respond(request: Request, status: u16, media_type: &str, body: Vec<u8>) {
+    let length = body.len();
     let response = Response::new(
         StatusCode(status),
         vec![header(&format!("Content-Type: {media_type}")), header("Cache-Control: no-store")],
-        Cursor::new(body.clone()),
-        Some(body.len()),
+        Cursor::new(body),
+        Some(length),
         None,
     );
     // The page may have gone away; nothing to do then.
@@ -189,7 +194,15 @@ fn decode(text: &str) -> String {
     String::from_utf8_lossy(&out).into_owned()
 }
 
-/// Upgrades to a WebSocket and sends the session's messages until the page goes away.
+/// The version of the model a `model` message announces; `None` for other messages.
+fn model_version(message: &str) -> Option<u64> {
+    let v: serde_json::Value = serde_json::from_str(message).ok()?;
+    (v["type"] == "model").then(|| v["version"].as_u64()).flatten()
+}
+
+/// Upgrades to a WebSocket and sends the session's messages until the page goes away; a
+/// model's message is followed by its files (see the module documentation), and one already
+/// replaced by a newer model is skipped (the newer one's message follows).
 fn websocket(request: Request, session: &Session) {
     let key = request.headers().iter().find(|h| h.field.equiv("Sec-WebSocket-Key")).map(|h| h.value.to_string());
     let Some(key) = key else {
@@ -201,8 +214,19 @@ fn websocket(request: Request, session: &Session) {
     let mut socket = tungstenite::WebSocket::from_raw_socket(stream, tungstenite::protocol::Role::Server, None);
     let updates = session.follow();
     while let Ok(message) = updates.recv() {
-        if socket.send(tungstenite::Message::text(message)).is_err() {
-            break;
+        let mut files = Vec::new();
+        if let Some(version) = model_version(&message) {
+            let Some(model) = session.model().filter(|m| m.version == version) else { continue };
+            files.extend(model.layers.iter().map(|l| l.glb.clone()));
+            let ends = model.layers.iter().filter_map(|l| l.control.as_ref());
+            files.extend(ends.map(|e| e.iter().flat_map(|x| x.to_le_bytes()).collect::<Vec<u8>>()));
+        }
+        let frames = std::iter::once(tungstenite::Message::text(message))
+            .chain(files.into_iter().map(tungstenite::Message::binary));
+        for frame in frames {
+            if socket.send(frame).is_err() {
+                return;
+            }
         }
     }
 }

@@ -6,18 +6,26 @@
 //! (`EngineOptions::interrupt`, the one cancellation switch), and the run that follows reads
 //! the newest state; a superseded run's result, good or bad, is dropped. A failed run keeps
 //! the last good model and adds the error, formatted as the terminal prints it.
+//!
+//! A run's own saves are not edits: the files a run writes are listed as it writes them
+//! ([`crate::context::Writes`]) and stamped (size, modification time) when it ends. A change
+//! the watcher reports ([`Session::files_changed`]) to a file the running run has written is
+//! its own (an edit by hand racing the run's save is overwritten by it anyway); one to a file
+//! the last run wrote that still has the stamp it left runs nothing. So a recipe that saves a
+//! file it also loads, or one in the watched folders, does not run itself again and again,
+//! while an edit of that file by hand between runs still runs it.
 
 use std::collections::BTreeMap;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::mpsc::{self, Receiver, Sender};
 use std::sync::{Arc, Mutex, MutexGuard};
+use std::time::SystemTime;
 
 use serde_json::json;
 
 use super::scene::{self, Layer, Scene};
-use crate::context::RunContext;
-use crate::facts::Facts;
+use crate::context::{RunContext, Writes};
 use crate::EngineOptions;
 
 /// What a session shows.
@@ -50,12 +58,34 @@ pub struct Model {
     pub run_ms: f64,
     /// The recipe's parameters as declared (name, kind, default, value, range, choices, doc).
     pub params: Vec<serde_json::Value>,
+    /// The message that tells a page about the model, made once (see [`Model::message`]).
+    message: String,
 }
 
 impl Model {
-    /// The message that tells a page about the model (it fetches each layer's `.glb` by URL).
+    /// Model number `version` of `scene`.
     #[must_use]
-    pub fn message(&self) -> String {
+    pub fn new(version: u64, scene: Scene) -> Model {
+        let mut model = Model {
+            version,
+            layers: scene.layers,
+            run_ms: scene.run_time.as_secs_f64() * 1000.0,
+            params: scene.params,
+            message: String::new(),
+        };
+        model.message = model.describe();
+        model
+    }
+
+    /// The message that tells a page about the model (it fetches each layer's `.glb` by URL):
+    /// JSON `{type: "model", version, run_ms, layers: [{name, url, facts, control?,
+    /// control_edges?}], params}`.
+    #[must_use]
+    pub fn message(&self) -> &str {
+        &self.message
+    }
+
+    fn describe(&self) -> String {
         let layers: Vec<serde_json::Value> = self
             .layers
             .iter()
@@ -64,7 +94,7 @@ impl Model {
                 let mut layer = json!({
                     "name": l.name,
                     "url": format!("/model/{}/{i}.glb", self.version),
-                    "facts": Facts::of(&l.mesh).json(),
+                    "facts": l.facts.json(),
                 });
                 if let Some(c) = &l.control {
                     layer["control"] = json!(format!("/model/{}/{i}.control", self.version));
@@ -92,6 +122,24 @@ struct State {
     /// The files the latest run read (the recipe, its imports, loaded files).
     inputs: Vec<PathBuf>,
     inputs_hooks: Vec<InputsHook>,
+    /// The files the last finished run wrote, with the stamp each had when it ended.
+    written: BTreeMap<PathBuf, Option<Stamp>>,
+}
+
+/// What tells one version of a file from another without reading it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Stamp {
+    len: u64,
+    modified: Option<SystemTime>,
+}
+
+impl Stamp {
+    /// The stamp of the file at `path`, `None` when there is none.
+    #[must_use]
+    pub fn of(path: &Path) -> Option<Stamp> {
+        let m = std::fs::metadata(path).ok()?;
+        Some(Stamp { len: m.len(), modified: m.modified().ok() })
+    }
 }
 
 /// A studio session, shared by the server, the watcher and the runner.
@@ -101,8 +149,11 @@ pub struct Session {
     /// Counts run requests; a run whose count is no longer the newest is superseded.
     requested: AtomicU64,
     interrupt: Arc<AtomicBool>,
+    /// Whether a run is going; changed with the state locked.
     running: AtomicBool,
     wake: Mutex<Sender<()>>,
+    /// The files the running (or last) run has written so far.
+    writes: Writes,
 }
 
 impl Session {
@@ -118,6 +169,7 @@ impl Session {
             interrupt: Arc::new(AtomicBool::new(false)),
             running: AtomicBool::new(false),
             wake: Mutex::new(wake),
+            writes: Writes::default(),
         });
         let runner = Arc::clone(&session);
         std::thread::spawn(move || runner.run_loop(&woken));
@@ -137,6 +189,7 @@ impl Session {
             interrupt: Arc::new(AtomicBool::new(false)),
             running: AtomicBool::new(false),
             wake: Mutex::new(wake),
+            writes: Writes::default(),
         })
     }
 
@@ -153,6 +206,22 @@ impl Session {
             self.interrupt.store(true, Ordering::SeqCst);
         }
         let _ = self.wake.lock().unwrap_or_else(std::sync::PoisonError::into_inner).send(());
+    }
+
+    /// The watcher's news: these files (each one the recipe reads, or one beside it) changed.
+    /// Runs again unless every change is a run's own save (see the module documentation).
+    pub fn files_changed(&self, paths: &[PathBuf]) {
+        let news = {
+            let s = self.state();
+            let running = self.running.load(Ordering::SeqCst);
+            let own = |p: &PathBuf| {
+                (running && self.writes.contains(p)) || s.written.get(p).is_some_and(|&stamp| stamp == Stamp::of(p))
+            };
+            !paths.iter().all(own)
+        };
+        if news {
+            self.request_run();
+        }
     }
 
     /// Sets the parameters (all of them; those not given fall back to the recipe's defaults)
@@ -206,7 +275,7 @@ impl Session {
     fn state_messages(s: &State) -> Vec<String> {
         let mut out = Vec::new();
         if let Some(m) = &s.model {
-            out.push(m.message());
+            out.push(m.message().to_string());
         }
         out.push(json!({ "type": "params", "values": s.params }).to_string());
         if let Some(e) = &s.error {
@@ -219,7 +288,7 @@ impl Session {
     #[must_use]
     pub fn snapshot(&self) -> serde_json::Value {
         let s = self.state();
-        let model: Option<serde_json::Value> = s.model.as_ref().and_then(|m| serde_json::from_str(&m.message()).ok());
+        let model: Option<serde_json::Value> = s.model.as_ref().and_then(|m| serde_json::from_str(m.message()).ok());
         json!({ "model": model, "error": s.error, "params": s.params })
     }
 
@@ -232,13 +301,18 @@ impl Session {
             while woken.try_recv().is_ok() {}
             let ticket = self.requested.load(Ordering::SeqCst);
             self.interrupt.store(false, Ordering::SeqCst);
-            self.running.store(true, Ordering::SeqCst);
-            let params = self.params();
-            Self::broadcast(&mut self.state(), &json!({ "type": "running" }).to_string());
+            let params = {
+                let mut s = self.state();
+                self.writes.clear();
+                self.running.store(true, Ordering::SeqCst);
+                Self::broadcast(&mut s, &json!({ "type": "running" }).to_string());
+                s.params.clone()
+            };
             let (result, inputs) = self.run_once(params);
-            self.running.store(false, Ordering::SeqCst);
             {
                 let mut s = self.state();
+                s.written = self.writes.list().into_iter().map(|p| (p.clone(), Stamp::of(&p))).collect();
+                self.running.store(false, Ordering::SeqCst);
                 for hook in &s.inputs_hooks {
                     hook(&inputs);
                 }
@@ -266,16 +340,10 @@ impl Session {
     pub fn show(&self, scene: Scene) -> Arc<Model> {
         let mut s = self.state();
         s.version += 1;
-        let model = Arc::new(Model {
-            version: s.version,
-            layers: scene.layers,
-            run_ms: scene.run_time.as_secs_f64() * 1000.0,
-            params: scene.params,
-        });
-        let message = model.message();
+        let model = Arc::new(Model::new(s.version, scene));
         s.model = Some(Arc::clone(&model));
         s.error = None;
-        Self::broadcast(&mut s, &message);
+        Self::broadcast(&mut s, model.message());
         model
     }
 
@@ -284,16 +352,27 @@ impl Session {
         match &self.source {
             Source::Recipe(path) => {
                 let shown = Some(crate::context::Shown::default());
+                let writes = Some(self.writes.clone());
                 let options = EngineOptions {
-                    context: RunContext { params, shown, ..RunContext::default() },
+                    context: RunContext { params, shown, writes, ..RunContext::default() },
                     interrupt: Some(Arc::clone(&self.interrupt)),
                     ..EngineOptions::default()
                 };
                 scene::run_recipe_recorded(path, options)
             }
             Source::File(path) => {
-                let read = std::fs::canonicalize(path).unwrap_or_else(|_| path.clone());
-                (scene::load_file(path), vec![read])
+                // A .gltf's buffers and images are the model too.
+                let gltf = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gltf"));
+                let referenced = if gltf {
+                    [crate::gltf_buffers::buffer_files(path), crate::gltf_buffers::image_files(path)].concat()
+                } else {
+                    Vec::new()
+                };
+                let read = std::iter::once(path.clone())
+                    .chain(referenced)
+                    .map(|p| std::fs::canonicalize(&p).unwrap_or(p))
+                    .collect();
+                (scene::load_file(path), read)
             }
             Source::Values(_) => (Err(crate::run::RunError("error: nothing to run".into())), Vec::new()),
         }

@@ -2,13 +2,14 @@
 //! it imported, the files it loaded — the run's record, see [`crate::record::RunRecord`]) are
 //! watched (`notify`), and the set follows the runs: a new import's folder is added, a folder
 //! no run reads any more is dropped. A change to the contents or name of one of those files,
-//! or of a `.rhai` file beside the recipe (a module the recipe is about to import), asks the
-//! session for a run once the files have been quiet for [`DEBOUNCE`], so an editor's burst of
-//! writes — truncate, write, rename — makes one run, and never one on a half-written file.
-//! Reads (the runs' own) and other files in those folders (models the recipe writes) do not
-//! count, so a run never starts another.
+//! or of a `.rhai` file beside the recipe (a module the recipe is about to import), is told
+//! to the session once the files have been quiet for [`DEBOUNCE`] and their sizes are what
+//! they were at their last event, so an editor's burst of writes — truncate, write, rename —
+//! makes one run, and never one on a half-written file. Reads (the runs' own) and other files
+//! in those folders do not count, and the session tells a run's own saves from edits (see
+//! [`Session::files_changed`]), so a run never starts another.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use std::sync::mpsc;
 use std::sync::Arc;
@@ -19,8 +20,9 @@ use notify::{RecursiveMode, Watcher};
 
 use super::session::Session;
 
-/// The quiet time after the last change before a run.
-pub const DEBOUNCE: Duration = Duration::from_millis(50);
+/// The quiet time after the last change before a run: editors write a file in one burst
+/// (well under this), and it is part of every save-to-screen latency.
+pub const DEBOUNCE: Duration = Duration::from_millis(20);
 
 /// What the watching thread hears.
 enum Heard {
@@ -37,6 +39,11 @@ pub fn triggers(recipe: &Path, inputs: &BTreeSet<PathBuf>, changed: &Path) -> bo
     let beside =
         changed.parent() == recipe.parent() && changed.extension().is_some_and(|e| e.eq_ignore_ascii_case("rhai"));
     changed == recipe || inputs.contains(changed) || beside
+}
+
+/// The size of the file at `path` (`None`: no file).
+fn size(path: &Path) -> Option<u64> {
+    std::fs::metadata(path).ok().map(|m| m.len())
 }
 
 /// Whether an event of `kind` changes what a file holds (not a read, not its metadata).
@@ -104,20 +111,36 @@ pub fn watch(session: &Arc<Session>) -> Result<(), String> {
             }
             watched = wanted;
         };
-        // One run per burst: wait for a change that counts, then for the quiet after it.
+        // One run per burst: wait for a change that counts, then for the quiet after it, with
+        // every changed file the size it had at its last event.
         while let Ok(h) = hearing.recv() {
             match h {
                 Heard::Inputs(now) => follow(now, &mut inputs),
                 Heard::Changed(p) if triggers(&recipe, &inputs, &p) => {
+                    let mut changed: BTreeMap<PathBuf, Option<u64>> = BTreeMap::new();
+                    changed.insert(p.clone(), size(&p));
                     loop {
                         match hearing.recv_timeout(DEBOUNCE) {
-                            Ok(Heard::Changed(_)) => {}
+                            Ok(Heard::Changed(p)) => {
+                                if triggers(&recipe, &inputs, &p) {
+                                    changed.insert(p.clone(), size(&p));
+                                }
+                            }
                             Ok(Heard::Inputs(now)) => follow(now, &mut inputs),
-                            Err(mpsc::RecvTimeoutError::Timeout) => break,
+                            Err(mpsc::RecvTimeoutError::Timeout) => {
+                                let growing: Vec<PathBuf> =
+                                    changed.iter().filter(|(p, &n)| size(p) != n).map(|(p, _)| p.clone()).collect();
+                                if growing.is_empty() {
+                                    break;
+                                }
+                                for p in growing {
+                                    changed.insert(p.clone(), size(&p));
+                                }
+                            }
                             Err(mpsc::RecvTimeoutError::Disconnected) => return,
                         }
                     }
-                    target.request_run();
+                    target.files_changed(&changed.into_keys().collect::<Vec<_>>());
                 }
                 Heard::Changed(_) => {}
             }
