@@ -156,6 +156,36 @@ fn crease_tags_come_through_on_the_edges_they_lie_on() {
 }
 
 #[test]
+fn semi_sharp_creases_and_corners_keep_their_sharpness_through_a_boolean() {
+    // A box whose edges along x are 1.5 sharp and the others 3.25, with a 2.7 corner at the
+    // origin: the notch cuts three edges; every surviving piece keeps its edge's sharpness, the
+    // corner at the origin keeps its own, and the notch's new vertices and edges get none.
+    let mut body = Mesh::cuboid(Vec3::ZERO, Vec3::splat(2.0));
+    let edges: Vec<u32> = body.edges().collect();
+    for h in edges {
+        let d = body.position(body.target(h)) - body.position(body.origin(h));
+        body.set_edge_sharpness_halfedge(h, if d.x != 0.0 { 1.5 } else { 3.25 });
+    }
+    let origin = (0..8).find(|&v| body.position(v) == Vec3::ZERO).unwrap();
+    body.set_corner_sharpness(origin, 2.7);
+    let m = eval(&Csg::mesh(body).difference(cuboid([1.5; 3], [3.0; 3])));
+    let mut len = [0.0, 0.0];
+    for h in m.edges().filter(|&h| m.is_crease(h)) {
+        let d = m.position(m.target(h)) - m.position(m.origin(h));
+        let want = if d.x != 0.0 { 1.5 } else { 3.25 };
+        assert_eq!(m.edge_sharpness(h), want, "edge {d}");
+        len[usize::from(want == 3.25)] += d.length();
+    }
+    // Four x edges of 2, one cut to 1.5 (the notch takes 0.5 of it); eight others likewise.
+    assert!((len[0] - 7.5).abs() < 1e-12 && (len[1] - 15.0).abs() < 1e-12, "{len:?}");
+    for v in 0..m.vertex_count() as u32 {
+        let want = if m.position(v) == Vec3::ZERO { 2.7 } else { 0.0 };
+        assert_eq!(m.corner_sharpness(v), want, "vertex {v} at {}", m.position(v));
+    }
+    assert!(m.has_semi_sharp());
+}
+
+#[test]
 fn smooth_blocks_are_tessellated_first_with_their_options() {
     let opts = MeshOptions::DEFAULT.with_tolerance(1e-3);
     let t = block_model([-1.0; 3], [1.0; 3], true).tessellate(&opts, None).unwrap();

@@ -9,6 +9,9 @@
 //! connected part of a block model) are dealt into groups apart from each other, each group one
 //! import — and the plan runs, imports and both sides of every boolean in parallel; last, flat
 //! zero-volume shells are dropped, and sources and creases are read back from the face tags.
+//! Creases keep their sharpness (semi-sharp ones included; where pieces of several creases
+//! cover an output edge, the sharpest at its middle), and an input vertex with a corner
+//! sharpness that survives (an output vertex at exactly its position) keeps it.
 //!
 //! Cost: the leaves are tessellated and checked in O(n log n) for n input triangles (the
 //! coincident-vertex check sorts); faces by union–find, O(n α(n)); dealing p pieces into g
@@ -91,7 +94,8 @@ impl Csg {
     }
 
     /// Evaluates the tree into a closed, manifold triangle mesh whose faces carry their
-    /// [`FaceSource`]s and whose edges keep the crease tags of the inputs' edges they lie on.
+    /// [`FaceSource`]s and whose edges keep the crease sharpness of the inputs' edges they lie
+    /// on; surviving input corners keep their corner sharpness.
     /// An empty result (e.g. `a − a`) is a mesh without faces.
     ///
     /// # Errors
@@ -126,12 +130,17 @@ impl Csg {
         let mut first_leaf = 0u32;
         let mut tag = 0u32;
         let mut sources = Vec::new();
-        let mut creases: HashMap<[u32; 2], Vec<[Vec3; 2]>> = HashMap::new();
+        let mut creases: HashMap<[u32; 2], Vec<([Vec3; 2], f64)>> = HashMap::new();
+        let mut corners: HashMap<[u64; 3], f64> = HashMap::new();
         for p in &prepared {
             offsets.push(tag);
             sources.extend(p.face_sources.iter().map(|s| s.shifted(first_leaf)));
-            for &(f, g, seg) in &p.creases {
-                creases.entry(edge_key(f + tag, g + tag)).or_default().push(seg);
+            for &(f, g, seg, s) in &p.creases {
+                creases.entry(edge_key(f + tag, g + tag)).or_default().push((seg, s));
+            }
+            for &(x, s) in &p.corners {
+                let c = corners.entry(x.to_array().map(f64::to_bits)).or_insert(0.0);
+                *c = c.max(s);
             }
             tag += p.face_sources.len() as u32;
             first_leaf += p.leaf_span;
@@ -154,20 +163,35 @@ impl Csg {
         // two faces shared.
         if !creases.is_empty() {
             let tol = 1e-9 * mesh.bounds().size().max_element().max(f64::MIN_POSITIVE);
-            let tagged: Vec<u32> = mesh
+            let tagged: Vec<(u32, f64)> = mesh
                 .edges()
-                .filter(|&h| {
+                .filter_map(|h| {
                     let (f, g) = (mesh.face(h), mesh.face(mesh.twin(h)));
                     let (tf, tg) = (out.tags[f as usize], out.tags[g as usize]);
-                    let Some(segments) = (tf != tg).then(|| creases.get(&edge_key(tf, tg))).flatten() else {
-                        return false;
-                    };
+                    let segments = (tf != tg).then(|| creases.get(&edge_key(tf, tg))).flatten()?;
                     let (p, q) = (mesh.position(mesh.origin(h)), mesh.position(mesh.target(h)));
-                    [p, (p + q) * 0.5, q].iter().all(|&x| segments.iter().any(|&[a, b]| on_segment(x, a, b, tol)))
+                    let on = |x: Vec3| segments.iter().any(|&([a, b], _)| on_segment(x, a, b, tol));
+                    if !(on(p) && on(q)) {
+                        return None;
+                    }
+                    let m = (p + q) * 0.5;
+                    segments
+                        .iter()
+                        .filter(|&&([a, b], _)| on_segment(m, a, b, tol))
+                        .map(|&(_, s)| s)
+                        .reduce(f64::max)
+                        .map(|s| (h, s))
                 })
                 .collect();
-            for h in tagged {
-                mesh.set_crease_halfedge(h, true);
+            for (h, s) in tagged {
+                mesh.set_edge_sharpness_halfedge(h, s);
+            }
+        }
+        if !corners.is_empty() {
+            for v in 0..mesh.vertex_count() as u32 {
+                if let Some(&s) = corners.get(&mesh.position(v).to_array().map(f64::to_bits)) {
+                    mesh.set_corner_sharpness(v, s);
+                }
             }
         }
         mesh.set_face_sources(Some(face_sources)).map_err(|e| CsgError::Engine { reason: e.to_string() })?;
@@ -433,8 +457,10 @@ struct Prepared {
     faces: Vec<u32>,
     /// The source of each face.
     face_sources: Vec<FaceSource>,
-    /// Crease edges: the faces on their two sides and the segment.
-    creases: Vec<(u32, u32, [Vec3; 2])>,
+    /// Crease edges: the faces on their two sides, the segment and its sharpness.
+    creases: Vec<(u32, u32, [Vec3; 2], f64)>,
+    /// Vertices with a corner sharpness: position and sharpness.
+    corners: Vec<(Vec3, f64)>,
     /// How many leaf ids the input occupies (more than one for an earlier boolean result).
     leaf_span: u32,
     /// The leaf number used in errors raised after preparation.
@@ -515,12 +541,17 @@ fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
     let earlier_result = matches!(leaf, Csg::Mesh(m) if m.face_sources().is_some());
     check_solid(&mesh, &triangles, &components, !earlier_result, side, leaf_no)?;
     let (faces, face_sources, creases) = coplanar_faces(&mesh, &triangles, &sources, raw);
+    let corners = (0..mesh.vertex_count() as u32)
+        .filter(|&v| mesh.is_corner(v))
+        .map(|v| (mesh.position(v), mesh.corner_sharpness(v)))
+        .collect();
     Ok(Prepared {
         positions: mesh.positions().to_vec(),
         triangles,
         faces,
         face_sources,
         creases,
+        corners,
         leaf_span,
         first_leaf_hint: leaf_no,
         components,
@@ -532,14 +563,15 @@ const COPLANAR_SINE: f64 = 1e-10;
 
 /// The faces of a leaf (see [`Prepared`]): triangles joined across every edge that is no crease,
 /// between triangles of one source (any two, when `any_source`) whose normals agree; with the
-/// face sources (a face's first triangle's) and the crease edges between faces.
+/// face sources (a face's first triangle's) and the crease edges between faces with their
+/// sharpness.
 #[allow(clippy::type_complexity)]
 pub(super) fn coplanar_faces(
     mesh: &Mesh,
     triangles: &[[u32; 3]],
     sources: &[FaceSource],
     any_source: bool,
-) -> (Vec<u32>, Vec<FaceSource>, Vec<(u32, u32, [Vec3; 2])>) {
+) -> (Vec<u32>, Vec<FaceSource>, Vec<(u32, u32, [Vec3; 2], f64)>) {
     // A zero-area triangle (three corners on a line, as a block's T-vertices make along a
     // sharp edge) has no plane: it joins the face of a neighbour, after the others are joined.
     let normal = |t: usize| {
@@ -597,7 +629,7 @@ pub(super) fn coplanar_faces(
         .filter(|&h| mesh.is_crease(h))
         .map(|h| {
             let (f, g) = (faces[mesh.face(h) as usize], faces[mesh.face(mesh.twin(h)) as usize]);
-            (f, g, [mesh.position(mesh.origin(h)), mesh.position(mesh.target(h))])
+            (f, g, [mesh.position(mesh.origin(h)), mesh.position(mesh.target(h))], mesh.edge_sharpness(h))
         })
         .collect();
     (faces, face_sources, creases)

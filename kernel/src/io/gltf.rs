@@ -15,9 +15,13 @@
 //!
 //! What glTF cannot say goes in the mesh's `extras` under the key `"blocksmith"`:
 //! `face_arity_runs` (the polygon arities, run-length encoded as `[arity, count]` pairs),
-//! `creases` (vertex pairs) and `corners` (vertex ids). Reading re-joins the triangles into
-//! the polygons when these extras are present and consistent with the triangles; otherwise the
-//! triangles are kept as they are.
+//! `creases` (vertex pairs) and `corners` (vertex ids), with `crease_sharpness` and
+//! `corner_sharpness` beside them when any is semi-sharp (one number per pair or corner, `null`
+//! for infinitely sharp; numbers written as the shortest decimals that read back to the same
+//! `f64`), and `subdiv_options` (`boundary`, `crease`, `triangles`, named as scripts name them)
+//! when they are not the defaults. Reading re-joins the triangles into the polygons when these
+//! extras are present and consistent with the triangles; otherwise the triangles are kept as they
+//! are. Files without sharpness arrays read every crease and corner as infinitely sharp.
 //!
 //! Reading takes every triangle primitive (triangles, strips, fans) of every mesh instanced by
 //! the nodes of the default scene (the first scene when none is marked; every root node when
@@ -42,6 +46,7 @@ use super::error::IoError;
 use super::options::{UpAxis, Weld};
 use crate::math::{Mat4, Vec3};
 use crate::mesh::{Mesh, MeshError};
+use crate::subdiv::{BoundaryInterpolation, CreaseMethod, SubdivOptions, TriangleSubdivision};
 
 /// The key of blocksmith's data in the mesh's `extras`.
 const EXTRAS_KEY: &str = "blocksmith";
@@ -246,17 +251,39 @@ fn extras_json(mesh: &Mesh, arities: &[u32], vertex_extras: bool) -> Option<Stri
             _ => runs.push([a, 1]),
         }
     }
-    let creases = if vertex_extras { mesh.crease_pairs() } else { Vec::new() };
-    let corners: Vec<u32> = (0..mesh.vertex_count() as u32).filter(|&v| vertex_extras && mesh.is_corner(v)).collect();
+    let creases = if vertex_extras { mesh.crease_sharpnesses() } else { Vec::new() };
+    let corners: Vec<(u32, f64)> = (0..mesh.vertex_count() as u32)
+        .filter(|&v| vertex_extras && mesh.is_corner(v))
+        .map(|v| (v, mesh.corner_sharpness(v)))
+        .collect();
     let mut fields = serde_json::Map::new();
     if runs.iter().any(|&[a, _]| a != 3) {
         fields.insert("face_arity_runs".into(), serde_json::json!(runs));
     }
+    // Infinity has no JSON number: serde_json writes it as null, which reads back as infinite.
+    let sharpness = |s: &mut dyn Iterator<Item = f64>| serde_json::json!(s.collect::<Vec<f64>>());
     if !creases.is_empty() {
-        fields.insert("creases".into(), serde_json::json!(creases));
+        fields.insert("creases".into(), serde_json::json!(creases.iter().map(|c| c.0).collect::<Vec<_>>()));
+        if creases.iter().any(|c| c.1.is_finite()) {
+            fields.insert("crease_sharpness".into(), sharpness(&mut creases.iter().map(|c| c.1)));
+        }
     }
     if !corners.is_empty() {
-        fields.insert("corners".into(), serde_json::json!(corners));
+        fields.insert("corners".into(), serde_json::json!(corners.iter().map(|c| c.0).collect::<Vec<_>>()));
+        if corners.iter().any(|c| c.1.is_finite()) {
+            fields.insert("corner_sharpness".into(), sharpness(&mut corners.iter().map(|c| c.1)));
+        }
+    }
+    let o = mesh.subdiv_options();
+    if o != SubdivOptions::default() {
+        fields.insert(
+            "subdiv_options".into(),
+            serde_json::json!({
+                "boundary": o.boundary.name(),
+                "crease": o.crease.name(),
+                "triangles": o.triangles.name(),
+            }),
+        );
     }
     if fields.is_empty() {
         return None;
@@ -533,8 +560,48 @@ fn mesh_instances(doc: &gltf::Document) -> Result<Vec<(gltf::Mesh<'_>, Mat4)>, S
 /// blocksmith's `extras` on a glTF mesh, if present and well-formed.
 struct Extras {
     arity_runs: Option<Vec<(u32, u64)>>,
-    creases: Vec<[u32; 2]>,
-    corners: Vec<u32>,
+    /// Crease pairs with their sharpness (infinite when the file gives none).
+    creases: Vec<([u32; 2], f64)>,
+    /// Corners with their sharpness.
+    corners: Vec<(u32, f64)>,
+    options: Option<SubdivOptions>,
+}
+
+/// The sharpness array `key` of `ours` for `n` tags: `n` infinities when absent, `None` when
+/// malformed (not an array of `n` non-negative numbers or nulls; null is infinite).
+fn sharpness_array(ours: &serde_json::Value, key: &str, n: usize) -> Option<Vec<f64>> {
+    let Some(v) = ours.get(key) else {
+        return Some(vec![f64::INFINITY; n]);
+    };
+    let a = v.as_array()?;
+    if a.len() != n {
+        return None;
+    }
+    a.iter()
+        .map(|x| match x {
+            serde_json::Value::Null => Some(f64::INFINITY),
+            x => x.as_f64().filter(|&s| s >= 0.0),
+        })
+        .collect()
+}
+
+/// The `subdiv_options` of `ours`: defaults for a missing field, `None` for an unknown name.
+fn options_of(ours: &serde_json::Value) -> Option<Option<SubdivOptions>> {
+    let Some(o) = ours.get("subdiv_options") else {
+        return Some(None);
+    };
+    let name = |k: &str| o.get(k).map(|v| v.as_str());
+    let mut out = SubdivOptions::default();
+    if let Some(n) = name("boundary") {
+        out.boundary = BoundaryInterpolation::from_name(n?)?;
+    }
+    if let Some(n) = name("crease") {
+        out.crease = CreaseMethod::from_name(n?)?;
+    }
+    if let Some(n) = name("triangles") {
+        out.triangles = TriangleSubdivision::from_name(n?)?;
+    }
+    Some(Some(out))
 }
 
 fn blocksmith_extras(m: &gltf::Mesh) -> Option<Extras> {
@@ -569,7 +636,14 @@ fn blocksmith_extras(m: &gltf::Mesh) -> Option<Extras> {
         None => Vec::new(),
         Some(v) => v.as_array()?.iter().map(as_u32).collect::<Option<Vec<_>>>()?,
     };
-    Some(Extras { arity_runs, creases, corners })
+    let crease_sharpness = sharpness_array(ours, "crease_sharpness", creases.len())?;
+    let corner_sharpness = sharpness_array(ours, "corner_sharpness", corners.len())?;
+    Some(Extras {
+        arity_runs,
+        creases: creases.into_iter().zip(crease_sharpness).collect(),
+        corners: corners.into_iter().zip(corner_sharpness).collect(),
+        options: options_of(ours)?,
+    })
 }
 
 /// Checks that `acc` has one of the `allowed` types and lies inside its buffer (and, when
@@ -660,9 +734,11 @@ struct Soup {
     any_color: bool,
     indices: Vec<u32>,
     arities: Vec<u32>,
-    /// Crease pairs and corners in merged vertex ids.
-    creases: Vec<Vec<[u32; 2]>>,
-    corners: Vec<u32>,
+    /// Crease pairs and corners in merged vertex ids, with their sharpness.
+    creases: Vec<Vec<([u32; 2], f64)>>,
+    corners: Vec<(u32, f64)>,
+    /// The subdivision options of the first mesh that names them.
+    options: Option<SubdivOptions>,
     /// The file's buffer views (buffer, offset, length), for Draco data.
     views: Vec<(usize, usize, usize)>,
 }
@@ -851,12 +927,13 @@ impl Soup {
     /// vertex offset `off` (ignored when they name vertices the primitive does not have).
     fn add_tags(&mut self, extras: Option<&Extras>, nv: usize, off: u32) {
         if let Some(e) = extras {
-            if e.creases.iter().flatten().all(|&v| (v as usize) < nv) {
-                self.creases.push(e.creases.iter().map(|&[a, b]| [a + off, b + off]).collect());
+            if e.creases.iter().flat_map(|c| c.0).all(|v| (v as usize) < nv) {
+                self.creases.push(e.creases.iter().map(|&([a, b], s)| ([a + off, b + off], s)).collect());
             }
-            if e.corners.iter().all(|&v| (v as usize) < nv) {
-                self.corners.extend(e.corners.iter().map(|&v| v + off));
+            if e.corners.iter().all(|&(v, _)| (v as usize) < nv) {
+                self.corners.extend(e.corners.iter().map(|&(v, s)| (v + off, s)));
             }
+            self.options = self.options.or(e.options);
         }
     }
 
@@ -864,8 +941,17 @@ impl Soup {
     /// vertices.
     fn build(self, rule: Weld, path: &Path) -> Result<Mesh, IoError> {
         let (map, kept) = super::weld::weld(&self.positions, rule);
-        let Soup { mut positions, mut colors, any_color, mut indices, mut arities, mut creases, mut corners, .. } =
-            self;
+        let Soup {
+            mut positions,
+            mut colors,
+            any_color,
+            mut indices,
+            mut arities,
+            mut creases,
+            mut corners,
+            options,
+            ..
+        } = self;
         let merged = kept.len() < positions.len();
         if merged {
             positions = kept.iter().map(|&i| positions[i as usize]).collect();
@@ -876,10 +962,10 @@ impl Soup {
             (indices, arities, _) = super::weld::remap_faces(&indices, &arities, &map);
             for pairs in &mut creases {
                 for p in pairs.iter_mut() {
-                    *p = p.map(|v| map[v as usize]);
+                    p.0 = p.0.map(|v| map[v as usize]);
                 }
             }
-            for v in &mut corners {
+            for (v, _) in &mut corners {
                 *v = map[*v as usize];
             }
         }
@@ -892,10 +978,17 @@ impl Soup {
         for pairs in &creases {
             // All or nothing per primitive: pairs that are not edges mean the extras do not
             // belong to these triangles, and are ignored.
-            let _ = mesh.crease_edges(pairs);
+            let hs: Option<Vec<(u32, f64)>> =
+                pairs.iter().map(|&([a, b], s)| mesh.find_halfedge(a, b).map(|h| (h, s))).collect();
+            for (h, s) in hs.unwrap_or_default() {
+                mesh.set_edge_sharpness_halfedge(h, s);
+            }
         }
-        for v in corners {
-            mesh.set_corner(v, true);
+        for (v, s) in corners {
+            mesh.set_corner_sharpness(v, s);
+        }
+        if let Some(o) = options {
+            mesh.set_subdiv_options(o);
         }
         Ok(mesh)
     }
@@ -993,6 +1086,65 @@ mod tests {
         assert!(back.find_halfedge(1, 9).is_some_and(|h| back.is_crease(h)));
         assert!(back.is_corner(3));
         assert_eq!(back.genus(), 1);
+    }
+
+    #[test]
+    fn semi_sharp_creases_corners_and_options_round_trip_exactly() {
+        // Every value keeps its bits (shortest decimals), infinity comes back infinite, and the
+        // options come back; the edges keep their sharpness whichever way round they are named.
+        let mut m = Mesh::torus(2.0, 0.5, 12, 8);
+        let tiny = 0.1 + 0.2;
+        m.crease_edges_sharpness(&[[0, 1]], 1.5).unwrap();
+        m.crease_edges_sharpness(&[[1, 9]], tiny).unwrap();
+        m.crease_edges_sharpness(&[[9, 10]], 12.0).unwrap();
+        m.crease_edges(&[[2, 3]]).unwrap();
+        m.set_corner_sharpness(3, 2.7);
+        m.set_corner(5, true);
+        let o = SubdivOptions {
+            boundary: BoundaryInterpolation::EdgeAndCorner,
+            crease: CreaseMethod::Chaikin,
+            triangles: TriangleSubdivision::Smooth,
+        };
+        m.set_subdiv_options(o);
+        let back = read_gltf(&glb(&m), None, Path::new("mem.glb")).unwrap();
+        let sorted = |m: &Mesh| {
+            let mut c: Vec<([u32; 2], f64)> =
+                m.crease_sharpnesses().into_iter().map(|([a, b], s)| ([a.min(b), a.max(b)], s)).collect();
+            c.sort_by_key(|a| a.0);
+            c
+        };
+        let (want, got) = (sorted(&m), sorted(&back));
+        assert_eq!(want.len(), 4);
+        assert_eq!(got, want);
+        assert_eq!(back.edge_sharpness(back.find_halfedge(10, 9).unwrap()), 12.0);
+        assert_eq!(back.edge_sharpness(back.find_halfedge(9, 1).unwrap()).to_bits(), tiny.to_bits());
+        assert_eq!(back.corner_sharpness(3), 2.7);
+        assert_eq!(back.corner_sharpness(5), f64::INFINITY);
+        assert_eq!(back.corner_sharpness(4), 0.0);
+        assert_eq!(back.subdiv_options(), o);
+        // The semi-sharp creases subdivide as the original's.
+        let (a, b) = (f32_exact(&m).catmull_clark(2).unwrap(), back.catmull_clark(2).unwrap());
+        assert_eq!(a.positions(), b.positions());
+    }
+
+    #[test]
+    fn malformed_sharpness_extras_leave_the_creases_infinitely_sharp_or_out() {
+        // A sharpness array of the wrong length makes the extras unreadable (the triangles are
+        // kept, no tags); without one every crease is infinitely sharp, as older files say.
+        let mut m = Mesh::cube(2.0);
+        m.crease_edges_sharpness(&[[0, 1]], 1.5).unwrap();
+        let bytes = glb(&m);
+        let needle = b"\"crease_sharpness\":[1.5]";
+        let i = bytes.windows(needle.len()).position(|w| w == needle).expect("written");
+        let mut bad = bytes.clone();
+        bad[i + needle.len() - 5..i + needle.len()].copy_from_slice(b"[1,2]");
+        let back = read_gltf(&bad, None, Path::new("mem.glb")).unwrap();
+        assert_eq!((back.face_count(), back.crease_count()), (12, 0));
+        let mut plain = bytes.clone();
+        plain[i..i + needle.len()].copy_from_slice(b"\"crease_sharpnesX\":[1.5]");
+        let back = read_gltf(&plain, None, Path::new("mem.glb")).unwrap();
+        assert_eq!(back.face_count(), 6);
+        assert_eq!(back.edge_sharpness(back.find_halfedge(0, 1).unwrap()), f64::INFINITY);
     }
 
     #[test]

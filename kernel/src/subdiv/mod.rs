@@ -44,6 +44,6 @@ mod topology;
 pub use error::SubdivError;
 pub use evaluator::{LimitEvaluator, LimitSample};
 pub use limit::{catmull_clark_limit_stencils, loop_limit_stencils};
-pub use options::{BoundaryInterpolation, CreaseMethod, SubdivOptions, TriangleSubdivision};
+pub use options::{BoundaryInterpolation, CreaseMethod, SubdivOptions, TriangleSubdivision, SHARPNESS_INFINITE};
 pub use refiner::{loop_beta, Refiner, Scheme, MAX_FACES};
 pub use stencil::StencilTable;

@@ -1,4 +1,11 @@
-//! Subdivision options, as OpenSubdiv's `Sdc::Options` names them.
+//! Subdivision options, as OpenSubdiv's `Sdc::Options` names them, and the names files and
+//! scripts write them with.
+
+/// The sharpness from which a crease or corner is infinitely sharp (OpenSubdiv's
+/// `Sdc::Crease::SHARPNESS_INFINITE`): subdivision treats every value from 10 up, and
+/// `f64::INFINITY`, alike. Scripts see infinitely sharp creases as this value, since Rhai's
+/// comparisons of infinity are false.
+pub const SHARPNESS_INFINITE: f64 = 10.0;
 
 /// How boundary vertices are interpolated (OpenSubdiv's `VtxBoundaryInterpolation`).
 ///
@@ -53,4 +60,79 @@ pub struct SubdivOptions {
     pub crease: CreaseMethod,
     /// Catmull–Clark weights next to triangles (ignored by Loop).
     pub triangles: TriangleSubdivision,
+}
+
+impl BoundaryInterpolation {
+    /// The name scripts and glTF extras use: `"none"`, `"edge_only"`, `"edge_and_corner"`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            BoundaryInterpolation::None => "none",
+            BoundaryInterpolation::EdgeOnly => "edge_only",
+            BoundaryInterpolation::EdgeAndCorner => "edge_and_corner",
+        }
+    }
+
+    /// The mode of a [`BoundaryInterpolation::name`].
+    #[must_use]
+    pub fn from_name(name: &str) -> Option<BoundaryInterpolation> {
+        [BoundaryInterpolation::None, BoundaryInterpolation::EdgeOnly, BoundaryInterpolation::EdgeAndCorner]
+            .into_iter()
+            .find(|m| m.name() == name)
+    }
+}
+
+impl CreaseMethod {
+    /// The name scripts and glTF extras use: `"uniform"`, `"chaikin"`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            CreaseMethod::Uniform => "uniform",
+            CreaseMethod::Chaikin => "chaikin",
+        }
+    }
+
+    /// The method of a [`CreaseMethod::name`].
+    #[must_use]
+    pub fn from_name(name: &str) -> Option<CreaseMethod> {
+        [CreaseMethod::Uniform, CreaseMethod::Chaikin].into_iter().find(|m| m.name() == name)
+    }
+}
+
+impl TriangleSubdivision {
+    /// The name scripts and glTF extras use: `"catmull_clark"`, `"smooth"`.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            TriangleSubdivision::CatmullClark => "catmull_clark",
+            TriangleSubdivision::Smooth => "smooth",
+        }
+    }
+
+    /// The rule of a [`TriangleSubdivision::name`].
+    #[must_use]
+    pub fn from_name(name: &str) -> Option<TriangleSubdivision> {
+        [TriangleSubdivision::CatmullClark, TriangleSubdivision::Smooth].into_iter().find(|m| m.name() == name)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_read_back_and_unknown_names_are_none() {
+        for b in [BoundaryInterpolation::None, BoundaryInterpolation::EdgeOnly, BoundaryInterpolation::EdgeAndCorner] {
+            assert_eq!(BoundaryInterpolation::from_name(b.name()), Some(b));
+        }
+        for c in [CreaseMethod::Uniform, CreaseMethod::Chaikin] {
+            assert_eq!(CreaseMethod::from_name(c.name()), Some(c));
+        }
+        for t in [TriangleSubdivision::CatmullClark, TriangleSubdivision::Smooth] {
+            assert_eq!(TriangleSubdivision::from_name(t.name()), Some(t));
+        }
+        assert_eq!(BoundaryInterpolation::from_name("edge"), None);
+        assert_eq!(CreaseMethod::from_name("normal"), None);
+        assert_eq!(TriangleSubdivision::from_name("loop"), None);
+    }
 }

@@ -3,6 +3,7 @@
 use std::rc::Rc;
 
 use blocksmith_kernel::math::fmt_num;
+use blocksmith_kernel::subdiv::SHARPNESS_INFINITE;
 use blocksmith_kernel::{Mesh, Vec3};
 use rhai::plugin::*;
 use rhai::{Array, Map, INT};
@@ -108,6 +109,12 @@ fn color(func: &str, arg: &str, v: &Dynamic) -> ScriptResult<[f32; 4]> {
         c[i] = n as f32;
     }
     Ok(c)
+}
+
+/// A kernel sharpness as scripts see it: infinity becomes [`SHARPNESS_INFINITE`] (10), which
+/// subdivision reads back as infinite, since Rhai's comparisons of infinity are all false.
+pub(crate) fn script_sharpness(s: f64) -> f64 {
+    s.min(SHARPNESS_INFINITE)
 }
 
 #[export_module]
@@ -533,21 +540,44 @@ pub mod mesh_api {
         m.0 = Rc::new(copy);
         Ok(())
     }
-    /// The crease sharpness of the edge joining vertices `a` and `b`: 0 for a smooth edge, a
-    /// very large number (infinity) for an infinitely sharp one.
+    /// The crease sharpness of the edge joining vertices `a` and `b`: 0 for a smooth edge, the
+    /// semi-sharp value as set, and 10 for an infinitely sharp one (OpenSubdiv's
+    /// `SHARPNESS_INFINITE`: subdivision treats every sharpness from 10 up as infinite, so
+    /// `s >= 10` tests for it; Rhai cannot compare infinity, `inf > 10.0` is false).
     ///
     /// ```rhai
     /// let m = cube(2);
     /// assert_eq(m.crease_sharpness(0, 1), 0.0);
     /// m.crease([[0, 1]], 3);
     /// assert_eq(m.crease_sharpness(0, 1), 3.0);
+    /// m.crease([[0, 1]]);
+    /// assert(m.crease_sharpness(0, 1) >= 10);
     /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn crease_sharpness(m: &mut SharedMesh, a: INT, b: INT) -> ScriptResult<f64> {
         let (ua, ub) = (u32::try_from(a).ok(), u32::try_from(b).ok());
         match ua.zip(ub).and_then(|(a, b)| m.0.find_halfedge(a, b)) {
-            Some(h) => Ok(m.0.edge_sharpness(h)),
+            Some(h) => Ok(script_sharpness(m.0.edge_sharpness(h))),
             None => fail("crease_sharpness", format!("vertices {a} and {b} are not joined by an edge")),
+        }
+    }
+    /// The corner sharpness of vertex `v`: 0 for none, the semi-sharp value as set, and 10 for
+    /// an infinitely sharp corner (as `crease_sharpness`: every value from 10 up is infinite).
+    ///
+    /// ```rhai
+    /// let m = cube(2);
+    /// assert_eq(m.corner_sharpness(0), 0.0);
+    /// m.corner([0], 2.5);
+    /// assert_eq(m.corner_sharpness(0), 2.5);
+    /// m.corner([0], 1e9);
+    /// assert_eq(m.corner_sharpness(0), 10.0);
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn corner_sharpness(m: &mut SharedMesh, v: INT) -> ScriptResult<f64> {
+        let n = m.0.vertex_count();
+        match u32::try_from(v).ok().filter(|&v| (v as usize) < n) {
+            Some(v) => Ok(script_sharpness(m.0.corner_sharpness(v))),
+            None => fail("corner_sharpness", format!("argument `v`: vertex {v} does not exist (the mesh has {n})")),
         }
     }
     /// Gives vertices a corner sharpness for subdivision: `verts` an array of vertex ids,
