@@ -214,6 +214,122 @@ impl Mesh {
     }
 }
 
+impl Mesh {
+    /// A mesh whose faces all have `arity` corners, from face half-edges already paired: face `f`
+    /// owns half-edges `arity·f .. arity·(f + 1)` in corner order, half-edge `h` leaves vertex
+    /// `origins[h]`, its twin is `twins[h]` ([`NONE`] on a boundary) and its edge's crease
+    /// sharpness `sharpness[h]`. Boundary half-edges are added and linked as
+    /// [`Mesh::from_indexed`] adds them, so the result equals the mesh `from_indexed` builds from
+    /// the same faces (with the same tags), without searching for twins: for callers that know
+    /// them, as subdivision does (a child's twins follow from its parent's edges).
+    ///
+    /// # Errors
+    /// [`MeshError::NonFinite`] for a NaN or infinite coordinate; [`MeshError::Internal`] when
+    /// the arrays are inconsistent (twins not mutual or not reversed, lengths that differ, two
+    /// boundary half-edges leaving one vertex) — a bug of the caller.
+    pub(crate) fn from_paired_faces(
+        positions: Vec<Vec3>,
+        arity: usize,
+        mut origins: Vec<u32>,
+        mut twins: Vec<u32>,
+        mut sharpness: Vec<f64>,
+        vertex_sharpness: Vec<f64>,
+    ) -> Result<Mesh, MeshError> {
+        let nv = positions.len();
+        let nfh = origins.len();
+        let bad = |why: &str| Err(MeshError::Internal(format!("paired faces: {why}")));
+        if arity < 3
+            || !nfh.is_multiple_of(arity)
+            || twins.len() != nfh
+            || sharpness.len() != nfh
+            || vertex_sharpness.len() != nv
+        {
+            return bad("array lengths differ");
+        }
+        if nv >= NONE as usize || nfh >= (NONE as usize) / 2 {
+            return Err(MeshError::TooLarge { what: format!("{nv} vertices, {nfh} corners") });
+        }
+        check_finite(&positions)?;
+        let nf = nfh / arity;
+        let face_he: Vec<u32> = (0..nf as u32).map(|f| f * arity as u32).collect();
+        let mut he_face: Vec<u32> = Vec::with_capacity(nfh + nfh / 8);
+        let mut he_next: Vec<u32> = Vec::with_capacity(nfh + nfh / 8);
+        let mut he_prev: Vec<u32> = Vec::with_capacity(nfh + nfh / 8);
+        for f in 0..nf as u32 {
+            let s = f * arity as u32;
+            for i in 0..arity as u32 {
+                he_face.push(f);
+                he_next.push(if i + 1 == arity as u32 { s } else { s + i + 1 });
+                he_prev.push(if i == 0 { s + arity as u32 - 1 } else { s + i - 1 });
+            }
+        }
+        // The smallest face half-edge leaving each vertex (from_indexed's first of its bucket),
+        // and the twins checked: mutual, and running the other way.
+        let mut vertex_out = vec![NONE; nv];
+        for h in 0..nfh {
+            let v = origins[h];
+            if v as usize >= nv {
+                return bad("a vertex id out of range");
+            }
+            if vertex_out[v as usize] == NONE {
+                vertex_out[v as usize] = h as u32;
+            }
+            let t = twins[h];
+            if t != NONE
+                && (t as usize >= nfh
+                    || twins[t as usize] != h as u32
+                    || origins[t as usize] != origins[he_next[h] as usize])
+            {
+                return bad("twins that do not pair");
+            }
+        }
+        // Boundary half-edges close every unmatched face half-edge, in half-edge order.
+        let mut boundary_out = vec![NONE; nv];
+        for h in 0..nfh {
+            if twins[h] == NONE {
+                let b = origins.len() as u32;
+                let from = origins[he_next[h] as usize];
+                if boundary_out[from as usize] != NONE {
+                    return Err(MeshError::NonManifoldVertex { vertex: from, fans: 2 });
+                }
+                boundary_out[from as usize] = b;
+                origins.push(from);
+                he_next.push(NONE);
+                he_prev.push(NONE);
+                he_face.push(NONE);
+                twins.push(h as u32);
+                twins[h] = b;
+                sharpness.push(sharpness[h]);
+            }
+        }
+        for b in nfh..origins.len() {
+            let n = boundary_out[origins[twins[b] as usize] as usize];
+            he_next[b] = n;
+            he_prev[n as usize] = b as u32;
+        }
+        for (out, &b) in vertex_out.iter_mut().zip(&boundary_out) {
+            if b != NONE {
+                *out = b;
+            }
+        }
+        Ok(Mesh {
+            positions,
+            vertex_out,
+            he_origin: origins,
+            he_next,
+            he_prev,
+            he_twin: twins,
+            he_face,
+            face_he,
+            he_sharpness: sharpness,
+            vertex_sharpness,
+            subdiv_options: crate::subdiv::SubdivOptions::default(),
+            vertex_colors: None,
+            face_sources: None,
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

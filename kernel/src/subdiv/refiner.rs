@@ -249,9 +249,24 @@ impl Refiner {
     /// carrying the crease and corner sharpness down (semi-sharp values less one per level, or as
     /// the Chaikin option decays them; a corner the boundary mode sharpens is marked as one).
     ///
+    /// The half-edges are written straight from the last topology level (see `child_mesh`), not
+    /// rebuilt from a face list.
+    ///
     /// # Errors
     /// [`SubdivError::Internal`] if the refined faces do not form a valid mesh (a bug).
     pub fn to_mesh(&self, positions: Vec<Vec3>) -> Result<Mesh, SubdivError> {
+        if self.depth == 0 {
+            return self.to_mesh_from_faces(positions);
+        }
+        let last = self.levels.last().expect("base level");
+        let mut mesh = super::child_mesh::child_mesh(last, self.scheme == Scheme::Loop, positions)?;
+        mesh.set_subdiv_options(self.options);
+        Ok(mesh)
+    }
+
+    /// [`Refiner::to_mesh`] through the generic build from the face list (the base level, and
+    /// the reference the direct build is tested against).
+    pub(crate) fn to_mesh_from_faces(&self, positions: Vec<Vec3>) -> Result<Mesh, SubdivError> {
         let (idx, ar) = self.faces();
         let last = self.levels.last().expect("base level");
         let (creases, corners) = if self.depth == 0 { last.tags() } else { last.child_tags() };

@@ -175,7 +175,7 @@ impl Level {
 
     /// The sharpness of the two halves of edge `e` one level down.
     #[inline]
-    fn child_sharpness(&self, e: usize) -> [f32; 2] {
+    pub(crate) fn child_sharpness(&self, e: usize) -> [f32; 2] {
         if self.trans.child_edge.is_empty() {
             [self.edge_sharpness[e]; 2]
         } else {

@@ -1,11 +1,14 @@
 // Times OpenSubdiv's own CPU refiner on an OBJ file: uniform refinement of the topology
 // (Far::TopologyRefinerFactory::Create + RefineUniform) and of positions
-// (Far::PrimvarRefiner::Interpolate, double), for Catmull-Clark and Loop — the counterpart of
-// kernel/benches/subdiv.rs (which times the same phases of blocksmith's Refiner).
+// (Far::PrimvarRefiner::Interpolate, double), for Catmull-Clark or Loop — the counterpart of
+// kernel/benches/subdiv.rs (which times the same phases of blocksmith's Refiner, and writes the
+// inputs it times as OBJ files for this program; bench_vs_osd.sh runs both and prints ratios).
+// Crease tags `t crease 2/1/0 a b s` (0-based, as blocksmith writes them) are read as
+// OpenSubdiv's creases; edge-only boundaries, uniform creasing.
 //
 //   g++ -O2 -o osd_bench osd_bench.cpp -losdCPU
-//   ./osd_bench target/peers/meshes/ico6.obj 3 5      # mesh, levels, repetitions
-// Prints one line per scheme: OSD_BENCH scheme=... topology_med_s=... positions_med_s=... F=...
+//   ./osd_bench catmark mesh.obj 3 5      # scheme, mesh, levels, repetitions
+// Prints: OSD_BENCH scheme=... topology_med_s=... positions_med_s=... total_med_s=... F=...
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/topologyDescriptor.h>
 #include <opensubdiv/far/topologyRefinerFactory.h>
@@ -40,51 +43,67 @@ static double median(std::vector<double> v) {
 }
 
 int main(int argc, char** argv) {
-    if (argc < 2) { fprintf(stderr, "usage: osd_bench mesh.obj [levels] [reps]\n"); return 1; }
-    int levels = argc > 2 ? atoi(argv[2]) : 3, reps = argc > 3 ? atoi(argv[3]) : 5;
-    std::ifstream in(argv[1]);
+    if (argc < 3) { fprintf(stderr, "usage: osd_bench catmark|loop mesh.obj [levels] [reps]\n"); return 1; }
+    std::string scheme = argv[1];
+    int levels = argc > 3 ? atoi(argv[3]) : 3, reps = argc > 4 ? atoi(argv[4]) : 5;
+    std::ifstream in(argv[2]);
+    if (!in) { fprintf(stderr, "osd_bench: cannot read %s\n", argv[2]); return 1; }
     std::string line;
     std::vector<Vertex> verts;
-    std::vector<int> counts, indices;
+    std::vector<int> counts, indices, creasePairs;
+    std::vector<float> creaseW;
     while (std::getline(in, line)) {
         std::istringstream s(line);
         std::string k;
         s >> k;
         if (k == "v") { Vertex v; s >> v.p[0] >> v.p[1] >> v.p[2]; verts.push_back(v); }
         else if (k == "f") { int n = 0; std::string t; while (s >> t) { indices.push_back(atoi(t.c_str()) - 1); ++n; } counts.push_back(n); }
+        else if (k == "t") {
+            std::string name, shape;
+            int a, b;
+            float w;
+            s >> name >> shape;
+            if (name == "crease" && shape == "2/1/0" && (s >> a >> b >> w)) {
+                creasePairs.push_back(a);
+                creasePairs.push_back(b);
+                creaseW.push_back(w);
+            }
+        }
     }
     Far::TopologyDescriptor desc;
     desc.numVertices = (int)verts.size();
     desc.numFaces = (int)counts.size();
     desc.numVertsPerFace = counts.data();
     desc.vertIndicesPerFace = indices.data();
+    desc.numCreases = (int)creaseW.size();
+    desc.creaseVertexIndexPairs = creasePairs.data();
+    desc.creaseWeights = creaseW.data();
     Sdc::Options options;
     options.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
     typedef Far::TopologyRefinerFactory<Far::TopologyDescriptor> Factory;
-    for (Sdc::SchemeType type : {Sdc::SCHEME_CATMARK, Sdc::SCHEME_LOOP}) {
-        std::vector<double> tt, tp;
-        int nf = 0;
-        for (int r = 0; r < reps; ++r) {
-            double t0 = now();
-            Far::TopologyRefiner* refiner = Factory::Create(desc, Factory::Options(type, options));
-            refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(levels));
-            double t1 = now();
-            std::vector<Vertex> a = verts, b;
-            Far::PrimvarRefinerReal<double> pv(*refiner);
-            for (int l = 1; l <= levels; ++l) {
-                b.resize(refiner->GetLevel(l).GetNumVertices());
-                pv.Interpolate(l, a, b);
-                std::swap(a, b);
-            }
-            double t2 = now();
-            nf = refiner->GetLevel(levels).GetNumFaces();
-            tt.push_back(t1 - t0);
-            tp.push_back(t2 - t1);
-            delete refiner;
+    Sdc::SchemeType type = scheme == "loop" ? Sdc::SCHEME_LOOP : Sdc::SCHEME_CATMARK;
+    std::vector<double> tt, tp;
+    int nf = 0;
+    for (int r = 0; r < reps; ++r) {
+        double t0 = now();
+        Far::TopologyRefiner* refiner = Factory::Create(desc, Factory::Options(type, options));
+        if (!refiner) { fprintf(stderr, "osd_bench: OpenSubdiv refused the topology\n"); return 1; }
+        refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(levels));
+        double t1 = now();
+        std::vector<Vertex> a = verts, b;
+        Far::PrimvarRefinerReal<double> pv(*refiner);
+        for (int l = 1; l <= levels; ++l) {
+            b.resize(refiner->GetLevel(l).GetNumVertices());
+            pv.Interpolate(l, a, b);
+            std::swap(a, b);
         }
-        printf("OSD_BENCH scheme=%s levels=%d F0=%zu F=%d topology_med_s=%.4f positions_med_s=%.4f total_med_s=%.4f reps=%d\n",
-               type == Sdc::SCHEME_LOOP ? "loop" : "catmark", levels, counts.size(), nf, median(tt), median(tp),
-               median(tt) + median(tp), reps);
+        double t2 = now();
+        nf = refiner->GetLevel(levels).GetNumFaces();
+        tt.push_back(t1 - t0);
+        tp.push_back(t2 - t1);
+        delete refiner;
     }
+    printf("OSD_BENCH scheme=%s levels=%d F0=%zu creases=%zu F=%d topology_med_s=%.5f positions_med_s=%.5f total_med_s=%.5f reps=%d\n",
+           scheme.c_str(), levels, counts.size(), creaseW.size(), nf, median(tt), median(tp), median(tt) + median(tp), reps);
     return 0;
 }
