@@ -119,10 +119,16 @@ enum Command {
         #[arg(long)]
         open: bool,
     },
-    /// Print the API reference (of one function, or all).
+    /// Print the API reference: of one function, operator, type or standard-library module,
+    /// or of everything.
     Doc {
-        /// A function name.
+        /// A function (`cube`), operator (`+`), type (`Mesh`), module (`check`) or module
+        /// function (`check::solid`).
         name: Option<String>,
+        /// `text`, `markdown` (docs/reference.md), `html` (docs/reference.html) or `json`
+        /// (for editors: every function with all its signatures).
+        #[arg(long, default_value = "text", value_parser = ["text", "markdown", "html", "json"])]
+        format: String,
     },
 }
 
@@ -315,9 +321,10 @@ fn main() -> ExitCode {
         }
         Command::Watch { file, set, port, open } => served(studio::serve(&file, set.into_iter().collect(), port, open)),
         Command::View { file, port, open } => served(studio::serve(&file, Default::default(), port, open)),
-        Command::Doc { name } => {
+        Command::Doc { name, format } => {
             let engine = new_engine(EngineOptions::default());
-            match doc::render(&engine, name.as_deref()) {
+            let format = format.parse::<doc::Format>().unwrap_or(doc::Format::Text);
+            match doc::render_as(&engine, name.as_deref(), format) {
                 Ok(text) => {
                     print!("{text}");
                     ExitCode::SUCCESS

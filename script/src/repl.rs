@@ -1,6 +1,9 @@
 //! `blocksmith repl`: an interactive session. Definitions persist between entries; Ctrl-C stops
 //! a running evaluation and keeps the session; Ctrl-D exits. Works with piped standard input too.
 
+pub mod complete;
+pub mod input;
+
 use std::io::Write;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -12,7 +15,7 @@ use rustyline::completion::{Completer, Pair};
 use rustyline::error::ReadlineError;
 use rustyline::history::DefaultHistory;
 use rustyline::validate::{ValidationContext, ValidationResult, Validator};
-use rustyline::{Context, Editor, Helper, Highlighter, Hinter};
+use rustyline::{CompletionType, Config, Context, Editor, Helper, Highlighter, Hinter};
 
 use crate::context::{RunContext, Shown};
 use crate::diagnostics::{format_error, format_parse_error};
@@ -30,64 +33,55 @@ Commands:
   :show [EXPR]   show EXPR (or the last value) in the studio page, started on first use;
                  show(value) in code does the same
   :quit          leave (Ctrl-D too)
-Ctrl-C stops a running evaluation; Tab completes function names.";
+Ctrl-C stops a running evaluation; Tab completes names, and after `x.` the methods and
+properties of x's type; an unfinished entry (open brackets or string) continues at `..>`.";
 
-/// Completion of function, type and variable names; multi-line input while brackets are open.
+/// The prompt of a new entry.
+const PROMPT: &str = "bs> ";
+/// The prompt of an entry's next line while it is unfinished ([`input::unfinished`]).
+const CONTINUE: &str = "..> ";
+
+/// Completion ([`complete`]). Piped input gathers an unfinished entry's lines in rustyline's
+/// validator; a terminal gathers them in [`read_entry`], with the continuation prompt.
 #[derive(Helper, Highlighter, Hinter)]
 struct ReplHelper {
-    names: Vec<String>,
+    known: complete::Known,
+    gather_lines: bool,
 }
 
 impl Completer for ReplHelper {
     type Candidate = Pair;
     fn complete(&self, line: &str, pos: usize, _ctx: &Context<'_>) -> rustyline::Result<(usize, Vec<Pair>)> {
-        let start = line[..pos].rfind(|c: char| !(c.is_alphanumeric() || c == '_')).map_or(0, |i| i + 1);
-        let word = &line[start..pos];
-        let matches = self
-            .names
-            .iter()
-            .filter(|n| !word.is_empty() && n.starts_with(word))
-            .map(|n| Pair { display: n.clone(), replacement: n.clone() })
-            .collect();
-        Ok((start, matches))
+        let (start, found) = complete::candidates(&self.known, crate::catalogue::standard(), line, pos);
+        Ok((start, found.into_iter().map(|n| Pair { display: n.clone(), replacement: n }).collect()))
     }
 }
 
 impl Validator for ReplHelper {
     fn validate(&self, ctx: &mut ValidationContext) -> rustyline::Result<ValidationResult> {
-        Ok(if open_brackets(ctx.input()) > 0 { ValidationResult::Incomplete } else { ValidationResult::Valid(None) })
+        Ok(if self.gather_lines && input::open_brackets(ctx.input()) > 0 {
+            ValidationResult::Incomplete
+        } else {
+            ValidationResult::Valid(None)
+        })
     }
 }
 
-/// The number of brackets still open in `text`, ignoring strings and comments.
-#[must_use]
-pub fn open_brackets(text: &str) -> i64 {
-    let mut depth = 0i64;
-    let mut chars = text.chars().peekable();
-    while let Some(c) = chars.next() {
-        match c {
-            '"' | '`' | '\'' => {
-                while let Some(d) = chars.next() {
-                    if d == '\\' {
-                        chars.next();
-                    } else if d == c {
-                        break;
-                    }
-                }
+/// One entry from a terminal: a line, and while it is unfinished, more lines read with the
+/// continuation prompt. Ctrl-C drops the unfinished entry; Ctrl-D ends it (and the session).
+fn read_entry(editor: &mut Editor<ReplHelper, DefaultHistory>) -> Result<String, ReadlineError> {
+    let mut entry = editor.readline(PROMPT)?;
+    while input::unfinished(&entry) {
+        match editor.readline(CONTINUE) {
+            Ok(more) => {
+                entry.push('\n');
+                entry.push_str(&more);
             }
-            '/' if chars.peek() == Some(&'/') => {
-                for d in chars.by_ref() {
-                    if d == '\n' {
-                        break;
-                    }
-                }
-            }
-            '(' | '[' | '{' => depth += 1,
-            ')' | ']' | '}' => depth -= 1,
-            _ => {}
+            Err(ReadlineError::Eof) => break,
+            Err(e) => return Err(e),
         }
     }
-    depth
+    Ok(entry)
 }
 
 /// `(path, alias)` of each `import "path" as alias;` in an entry.
@@ -157,6 +151,23 @@ impl Session {
             warnings: Vec::new(),
             limits,
         }
+    }
+
+    /// What completion knows now: names, the variables' types and maps' keys, the folder.
+    #[must_use]
+    pub fn known(&self) -> complete::Known {
+        let mut known = complete::Known {
+            names: self.names(),
+            dir: std::env::current_dir().unwrap_or_default(),
+            ..complete::Known::default()
+        };
+        for (name, _, value) in self.scope.iter() {
+            known.variables.insert(name.to_string(), complete::script_type_of(&self.engine, &value));
+            if let Some(map) = value.read_lock::<rhai::Map>() {
+                known.keys.insert(name.to_string(), map.keys().map(ToString::to_string).collect());
+            }
+        }
+        known
     }
 
     /// Names for completion: functions, types and the session's variables.
@@ -381,18 +392,21 @@ pub fn run(max_operations: Option<u64>, timeout: Option<Duration>) -> Result<(),
     let _ = ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst));
     let mut session = Session::with_limits(interrupt, max_operations, timeout);
     session.open_page = std::io::IsTerminal::is_terminal(&std::io::stdin());
-    let mut editor: Editor<ReplHelper, DefaultHistory> = Editor::new().map_err(|e| format!("repl: {e}"))?;
-    editor.set_helper(Some(ReplHelper { names: session.names() }));
+    let interactive = std::io::IsTerminal::is_terminal(&std::io::stdin());
+    let config = Config::builder().completion_type(CompletionType::List).build();
+    let mut editor: Editor<ReplHelper, DefaultHistory> =
+        Editor::with_config(config).map_err(|e| format!("repl: {e}"))?;
+    editor.set_helper(Some(ReplHelper { known: session.known(), gather_lines: !interactive }));
     let history = history_path();
     if let Some(h) = &history {
         let _ = editor.load_history(h);
     }
     println!("blocksmith {} — :help for help, Ctrl-D to exit", env!("CARGO_PKG_VERSION"));
-    let interactive = std::io::IsTerminal::is_terminal(&std::io::stdin());
     // Piped input: errors name their line of the input, and any failed entry fails the run.
     let (mut first_line, mut failed) = (1usize, 0usize);
     loop {
-        match editor.readline("bs> ") {
+        let entry = if interactive { read_entry(&mut editor) } else { editor.readline(PROMPT) };
+        match entry {
             Ok(line) => {
                 let _ = editor.add_history_entry(line.as_str());
                 let out = session.handle(&line);
@@ -410,7 +424,7 @@ pub fn run(max_operations: Option<u64>, timeout: Option<Duration>) -> Result<(),
                 first_line += lines_in;
                 let _ = std::io::stdout().flush();
                 if let Some(h) = editor.helper_mut() {
-                    h.names = session.names();
+                    h.known = session.known();
                 }
             }
             Err(ReadlineError::Interrupted) => println!("^C"),
@@ -446,13 +460,6 @@ fn renumbered(out: &str, first: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn brackets_in_strings_and_comments_do_not_count() {
-        assert_eq!(open_brackets("fn f() {"), 1);
-        assert_eq!(open_brackets("let s = \"{(\"; // [[["), 0);
-        assert_eq!(open_brackets("[1, [2]"), 1);
-    }
 
     #[test]
     fn session_keeps_variables_functions_and_imports() {

@@ -245,18 +245,36 @@ pub mod anim_api {
     }
 
     /// The number of modifiers on the stack.
+    ///
+    /// ```rhai
+    /// let anim = animation(polar_sphere(0.2, 8, 6));
+    /// assert_eq(anim.modifier_count(), 0);
+    /// anim.add(growth());
+    /// assert_eq(anim.modifier_count(), 1);
+    /// ```
     #[rhai_fn(pure)]
     pub fn modifier_count(anim: &mut Animation) -> INT {
         anim.anim.modifiers().len() as INT
     }
 
     /// The number of skeleton nodes.
+    ///
+    /// ```rhai
+    /// assert_eq(animation(polar_sphere(0.2, 8, 6)).node_count, 7);   // 2 poles + 5 loops
+    /// ```
     #[rhai_fn(get = "node_count", pure)]
     pub fn node_count(anim: &mut Animation) -> INT {
         anim.anim.skeleton().node_count() as INT
     }
 
     /// The time at which every growth on the stack has finished (0 without one).
+    ///
+    /// ```rhai
+    /// let anim = animation(polar_sphere(0.2, 8, 6));
+    /// assert_eq(anim.duration(), 0.0);
+    /// anim.add(growth(#{ delay: 0.5 }));
+    /// assert_eq(anim.duration(), 4.0);   // 6 segments deep × delay 0.5 + 1 / speed 1
+    /// ```
     #[rhai_fn(pure)]
     pub fn duration(anim: &mut Animation) -> f64 {
         anim.anim.duration()

@@ -590,6 +590,13 @@ pub mod blocks_api {
     }
 
     /// Number of blocks.
+    ///
+    /// ```rhai
+    /// let m = blocks();
+    /// m.add(block([0, 0, 0], [1, 1, 1]));
+    /// m.add(block([1, 0, 0], [2, 1, 1]));
+    /// assert_eq(m.block_count, 2);
+    /// ```
     #[rhai_fn(get = "block_count", pure)]
     pub fn block_count(m: &mut BlockModel) -> INT {
         m.model.blocks().len() as INT

@@ -14,7 +14,7 @@ use blocksmith_kernel::blocks::MeshOptions;
 use blocksmith_kernel::csg::Csg;
 use blocksmith_kernel::mesh::FaceSource;
 use rhai::plugin::*;
-use rhai::{exported_module, Array, Engine, Map, INT};
+use rhai::{exported_module, Array, Engine, FuncRegistration, Map, INT};
 
 use super::blocks::BlockModel;
 use super::mesh::SharedMesh;
@@ -24,17 +24,52 @@ use crate::convert::{error, kernel, type_name, Options, ScriptResult, Solid};
 pub fn register(engine: &mut Engine) {
     engine.register_global_module(exported_module!(csg_api).into());
     macro_rules! operators {
-        ($($a:ty, $b:ty);*) => {$(
-            engine.register_fn("+", |a: $a, b: $b| -> ScriptResult<SharedMesh> {
-                boolean("+", Dynamic::from(a), Dynamic::from(b), Map::new())
-            });
-            engine.register_fn("-", |a: $a, b: $b| -> ScriptResult<SharedMesh> {
-                boolean("-", Dynamic::from(a), Dynamic::from(b), Map::new())
-            });
+        ($($a:ty, $ta:literal, $b:ty, $tb:literal);*) => {$(
+            FuncRegistration::new("+")
+                .with_params_info([concat!("a: ", $ta), concat!("b: ", $tb), "SharedMesh"])
+                .with_comments([UNION_DOC])
+                .register_into_engine(engine, |a: $a, b: $b| -> ScriptResult<SharedMesh> {
+                    boolean("+", Dynamic::from(a), Dynamic::from(b), Map::new())
+                });
+            FuncRegistration::new("-")
+                .with_params_info([concat!("a: ", $ta), concat!("b: ", $tb), "SharedMesh"])
+                .with_comments([SUBTRACT_DOC])
+                .register_into_engine(engine, |a: $a, b: $b| -> ScriptResult<SharedMesh> {
+                    boolean("-", Dynamic::from(a), Dynamic::from(b), Map::new())
+                });
         )*};
     }
-    operators!(SharedMesh, SharedMesh; SharedMesh, BlockModel; BlockModel, SharedMesh; BlockModel, BlockModel);
+    operators!(
+        SharedMesh, "SharedMesh", SharedMesh, "SharedMesh";
+        SharedMesh, "SharedMesh", BlockModel, "BlockModel";
+        BlockModel, "BlockModel", SharedMesh, "SharedMesh";
+        BlockModel, "BlockModel", BlockModel, "BlockModel"
+    );
 }
+
+/// The doc comment of the `+` operator on meshes and block models.
+const UNION_DOC: &str = r#"/// `a + b`: the union of two solids, as `union(a, b)` (seed 000 §2.4.2): a closed manifold
+/// `Mesh` whose faces remember which operand they came from (`m.sources()`). A `BlockModel`
+/// operand is tessellated first at its default tolerance; call `union(a, b, #{ tolerance })`
+/// for another.
+///
+/// ```rhai
+/// let m = cube(2) + cube(2).translate([1, 1, 1]);
+/// assert(m.is_closed(), "closed");
+/// assert_near(m.volume(), 8.0 + 8.0 - 1.0, 1e-9);
+/// ```"#;
+
+/// The doc comment of the `-` operator on meshes and block models.
+const SUBTRACT_DOC: &str = r#"/// `a - b`: `a` with `b` cut away, as `subtract(a, b)` (seed 000 §2.4.2): a closed manifold
+/// `Mesh` whose faces remember which operand they came from (`m.sources()`). A `BlockModel`
+/// operand is tessellated first at its default tolerance; call `subtract(a, b, #{ tolerance })`
+/// for another.
+///
+/// ```rhai
+/// let m = cube(2) - cube(2).translate([1, 1, 1]);
+/// assert(m.is_closed(), "closed");
+/// assert_near(m.volume(), 8.0 - 1.0, 1e-9);
+/// ```"#;
 
 /// One operand as a CSG leaf, or an error naming the function and the side.
 fn operand(func: &str, side: &str, v: Dynamic, options: MeshOptions) -> ScriptResult<Csg> {

@@ -301,16 +301,28 @@ pub mod mesh_api {
     }
 
     /// Number of vertices.
+    ///
+    /// ```rhai
+    /// assert_eq(cube(1).vertex_count, 8);
+    /// ```
     #[rhai_fn(get = "vertex_count", pure)]
     pub fn vertex_count(m: &mut SharedMesh) -> INT {
         m.0.vertex_count() as INT
     }
     /// Number of faces.
+    ///
+    /// ```rhai
+    /// assert_eq(cube(1).face_count, 6);
+    /// ```
     #[rhai_fn(get = "face_count", pure)]
     pub fn face_count(m: &mut SharedMesh) -> INT {
         m.0.face_count() as INT
     }
     /// Number of edges.
+    ///
+    /// ```rhai
+    /// assert_eq(cube(1).edge_count, 12);
+    /// ```
     #[rhai_fn(get = "edge_count", pure)]
     pub fn edge_count(m: &mut SharedMesh) -> INT {
         m.0.edge_count() as INT
@@ -325,12 +337,21 @@ pub mod mesh_api {
         m.0.triangle_count() as INT
     }
     /// Whether the mesh has no boundary edge.
+    ///
+    /// ```rhai
+    /// assert(cube(1).is_closed(), "a cube has no boundary");
+    /// assert(!mesh([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]]).is_closed(), "a triangle has one");
+    /// ```
     #[rhai_fn(pure)]
     pub fn is_closed(m: &mut SharedMesh) -> bool {
         m.0.is_closed()
     }
     /// Whether the connectivity is a 2-manifold (each edge in at most two faces, each vertex a
     /// single fan of faces).
+    ///
+    /// ```rhai
+    /// assert(cube(1).is_manifold(), "manifold");
+    /// ```
     #[rhai_fn(pure)]
     pub fn is_manifold(m: &mut SharedMesh) -> bool {
         m.0.is_manifold()
@@ -407,6 +428,12 @@ pub mod mesh_api {
         Ok(map)
     }
     /// The vertex positions, indexed by vertex id.
+    ///
+    /// ```rhai
+    /// let p = cube(2).positions();
+    /// assert_eq(p.len(), 8);
+    /// for q in p { assert_near(length(q), sqrt(3.0), 1e-12); }
+    /// ```
     #[rhai_fn(pure)]
     pub fn positions(m: &mut SharedMesh) -> Array {
         m.0.positions().iter().map(|p| Dynamic::from(*p)).collect()
@@ -424,6 +451,12 @@ pub mod mesh_api {
             .collect()
     }
     /// Area-weighted unit vertex normals, indexed by vertex id.
+    ///
+    /// ```rhai
+    /// let n = uv_sphere(1, 16, 8).normals();
+    /// assert_eq(n.len(), uv_sphere(1, 16, 8).vertex_count);
+    /// assert_near(length(n[0]), 1.0, 1e-12);
+    /// ```
     #[rhai_fn(pure)]
     pub fn normals(m: &mut SharedMesh) -> Array {
         m.0.vertex_normals().into_iter().map(Dynamic::from).collect()
@@ -659,11 +692,24 @@ pub mod mesh_api {
         Rc::make_mut(&mut m.0).crease_all();
     }
     /// Number of edges tagged as creases.
+    ///
+    /// ```rhai
+    /// let m = cube(1);
+    /// m.crease([[0, 1]]);
+    /// assert_eq(m.crease_count(), 1);
+    /// ```
     #[rhai_fn(pure)]
     pub fn crease_count(m: &mut SharedMesh) -> INT {
         m.0.crease_count() as INT
     }
     /// The crease edges as `[a, b]` vertex-id pairs.
+    ///
+    /// ```rhai
+    /// let m = cube(1);
+    /// m.crease_all();
+    /// assert_eq(m.creases().len(), 12);
+    /// assert_eq(m.creases()[0].len(), 2);
+    /// ```
     #[rhai_fn(pure)]
     pub fn creases(m: &mut SharedMesh) -> Array {
         m.0.crease_pairs()

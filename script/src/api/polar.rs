@@ -221,6 +221,10 @@ pub mod polar_api {
         pm.0.mesh().edge_count() as INT
     }
     /// Number of half-edges (ids run from 0 to this − 1).
+    ///
+    /// ```rhai
+    /// assert_eq(polar_octahedron().halfedge_count, 24);
+    /// ```
     #[rhai_fn(get = "halfedge_count", pure)]
     pub fn halfedge_count(pm: &mut PolarMesh) -> INT {
         pm.0.halfedge_count() as INT
@@ -257,6 +261,12 @@ pub mod polar_api {
         Ok(pm.0.is_pole(kernel("is_pole", pm.0.vertex_id(v))?))
     }
     /// Whether half-edge `h` lies on a loop (otherwise on a backbone).
+    ///
+    /// ```rhai
+    /// let pm = polar_octahedron();
+    /// assert(pm.is_loop(pm.halfedge(1, 2)), "the equator is a loop");
+    /// assert(!pm.is_loop(pm.halfedge(0, 1)), "pole to equator is a backbone");
+    /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn is_loop(pm: &mut PolarMesh, h: INT) -> ScriptResult<bool> {
         Ok(pm.0.is_loop(kernel("is_loop", pm.0.halfedge_id(h))?))
@@ -315,6 +325,10 @@ pub mod polar_api {
         pm.0.features().iter().map(|f| Dynamic::from_array(id_array(f))).collect()
     }
     /// The number of edges at vertex `v`.
+    ///
+    /// ```rhai
+    /// assert_eq(polar_octahedron().valence(0), 4);
+    /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn valence(pm: &mut PolarMesh, v: INT) -> ScriptResult<INT> {
         Ok(pm.0.valence(kernel("valence", pm.0.vertex_id(v))?) as INT)
@@ -329,6 +343,10 @@ pub mod polar_api {
         Ok(pm.0.position(kernel("position", pm.0.vertex_id(v))?))
     }
     /// All vertex positions, indexed by vertex id.
+    ///
+    /// ```rhai
+    /// assert_eq(polar_octahedron().positions().len(), 6);
+    /// ```
     #[rhai_fn(pure)]
     pub fn positions(pm: &mut PolarMesh) -> Array {
         pm.0.mesh().positions().iter().map(|p| Dynamic::from(*p)).collect()
@@ -345,18 +363,34 @@ pub mod polar_api {
         Ok(id_array(&pm.0.ends(h)))
     }
     /// The face of half-edge `h`.
+    ///
+    /// ```rhai
+    /// let pm = polar_octahedron();
+    /// let f = pm.face_of(pm.halfedge(1, 2));
+    /// assert(pm.face_vertices(f).contains(1), "the face of a half-edge has its vertices");
+    /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn face_of(pm: &mut PolarMesh, h: INT) -> ScriptResult<INT> {
         let h = kernel("face_of", pm.0.halfedge_id(h))?;
         Ok(INT::from(pm.0.face_of(h)))
     }
     /// The vertices of face `f`, in order.
+    ///
+    /// ```rhai
+    /// assert_eq(polar_octahedron().face_vertices(0).len(), 3);
+    /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn face_vertices(pm: &mut PolarMesh, f: INT) -> ScriptResult<Array> {
         let f = kernel("face_vertices", pm.0.face_id(f))?;
         Ok(pm.0.mesh().face_vertices(f).map(int).collect())
     }
     /// The half-edges leaving vertex `v`.
+    ///
+    /// ```rhai
+    /// let pm = polar_octahedron();
+    /// assert_eq(pm.outgoing(0).len(), 4);
+    /// for h in pm.outgoing(0) { assert_eq(pm.ends(h)[0], 0); }
+    /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn outgoing(pm: &mut PolarMesh, v: INT) -> ScriptResult<Array> {
         let v = kernel("outgoing", pm.0.vertex_id(v))?;
@@ -387,12 +421,27 @@ pub mod polar_api {
         kernel("nearest_vertex", pm.0.nearest_vertex(p)).map(INT::from)
     }
     /// The half-edge nearest to point `p` (of the nearest edge, the half on `p`'s side).
+    ///
+    /// ```rhai
+    /// let pm = polar_octahedron();
+    /// let e = pm.ends(pm.nearest_halfedge(lerp(pm.position(1), pm.position(2), 0.5)));
+    /// e.sort();
+    /// assert_eq(e, [1, 2]);
+    /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn nearest_halfedge(pm: &mut PolarMesh, p: Vector) -> ScriptResult<INT> {
         let p = vec3("nearest_halfedge", "p", &p)?;
         kernel("nearest_halfedge", pm.0.nearest_halfedge(p)).map(INT::from)
     }
     /// The face nearest to point `p`.
+    ///
+    /// ```rhai
+    /// let pm = polar_octahedron();
+    /// let f = pm.nearest_face((pm.position(0) + pm.position(1) + pm.position(2)) / 3);
+    /// let v = pm.face_vertices(f);
+    /// v.sort();
+    /// assert_eq(v, [0, 1, 2]);
+    /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn nearest_face(pm: &mut PolarMesh, p: Vector) -> ScriptResult<INT> {
         let p = vec3("nearest_face", "p", &p)?;
@@ -429,6 +478,11 @@ pub mod polar_api {
     }
     /// The mesh with each feature in its own hue as vertex colours (appendix B.1.3),
     /// neighbouring features in different hues.
+    ///
+    /// ```rhai
+    /// let m = polar_octahedron().to_colored_mesh();
+    /// assert_eq(m.face_count, 8);
+    /// ```
     #[rhai_fn(pure)]
     pub fn to_colored_mesh(pm: &mut PolarMesh) -> SharedMesh {
         SharedMesh::new(pm.0.to_colored_mesh())
@@ -753,6 +807,12 @@ pub mod polar_api {
     }
     /// The local frame of a vertex selection (the one `"local"` moves use):
     /// `#{center, normal, tangent, bitangent}`.
+    ///
+    /// ```rhai
+    /// let f = polar_octahedron().selection_frame([1, 2, 3, 4]);
+    /// assert_near(f.center, vec3(0, 0, 0), 1e-12);
+    /// assert_near(length(cross(f.normal, vec3(0, 0, 1))), 0.0, 1e-12);   // the equator's plane
+    /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn selection_frame(pm: &mut PolarMesh, verts: Array) -> ScriptResult<Map> {
         let v = ids("selection_frame", "verts", &verts)?;
@@ -797,38 +857,77 @@ pub mod polar_api {
         sk.0.node_count() as INT
     }
     /// Number of segments (one per region).
+    ///
+    /// ```rhai
+    /// assert_eq(polar_sphere(1, 8, 5).skeleton().segment_count, 5);   // a chain of 6 nodes
+    /// ```
     #[rhai_fn(get = "segment_count", pure)]
     pub fn segment_count(sk: &mut Skeleton) -> INT {
         sk.0.segment_count() as INT
     }
     /// The root node.
+    ///
+    /// ```rhai
+    /// let sk = polar_sphere(1, 8, 5).skeleton();
+    /// assert(sk.is_pole(sk.root), "rooted at a pole");
+    /// ```
     #[rhai_fn(get = "root", pure)]
     pub fn root(sk: &mut Skeleton) -> INT {
         INT::from(sk.0.root())
     }
     /// The segments as `[node, node]` pairs.
+    ///
+    /// ```rhai
+    /// let s = polar_sphere(1, 8, 5).skeleton().segments();
+    /// assert_eq(s.len(), 5);
+    /// assert_eq(s[0].len(), 2);
+    /// ```
     #[rhai_fn(pure)]
     pub fn segments(sk: &mut Skeleton) -> Array {
         sk.0.segments().iter().map(|s| Dynamic::from_array(id_array(s))).collect()
     }
     /// The position of node `i` (a pole, or the centre of a loop).
+    ///
+    /// ```rhai
+    /// let sk = polar_sphere(1, 8, 5).skeleton();
+    /// assert_near(length(sk.position(sk.root)), 1.0, 1e-12);   // a pole of the unit sphere
+    /// ```
     #[rhai_fn(name = "position", pure, return_raw)]
     pub fn node_position(sk: &mut Skeleton, i: INT) -> ScriptResult<Vec3> {
         Ok(sk.0.position(skeleton_node("position", &sk.0, i)?))
     }
     /// The parent of node `i` in the rooted tree, or `()` for a root.
+    ///
+    /// ```rhai
+    /// let sk = polar_sphere(1, 8, 5).skeleton();
+    /// let child = sk.children(sk.root)[0];
+    /// assert_eq(sk.parent(child), sk.root);
+    /// assert_eq(sk.parent(sk.root), ());
+    /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn parent(sk: &mut Skeleton, i: INT) -> ScriptResult<Dynamic> {
         let i = skeleton_node("parent", &sk.0, i)?;
         Ok(sk.0.parent(i).map_or(Dynamic::UNIT, int))
     }
     /// The children of node `i` in the rooted tree.
+    ///
+    /// ```rhai
+    /// let sk = polar_sphere(1, 8, 5).skeleton();
+    /// assert_eq(sk.children(sk.root).len(), 1);   // a chain
+    /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn children(sk: &mut Skeleton, i: INT) -> ScriptResult<Array> {
         let i = skeleton_node("children", &sk.0, i)?;
         Ok(id_array(sk.0.children(i)))
     }
     /// The depth of node `i` below its root.
+    ///
+    /// ```rhai
+    /// let sk = polar_sphere(1, 8, 5).skeleton();
+    /// let order = sk.order();
+    /// assert_eq(sk.depth(sk.root), 0);
+    /// assert_eq(sk.depth(order[order.len() - 1]), 5);
+    /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn depth(sk: &mut Skeleton, i: INT) -> ScriptResult<INT> {
         let i = skeleton_node("depth", &sk.0, i)?;
@@ -840,6 +939,12 @@ pub mod polar_api {
         Ok(sk.0.is_pole(skeleton_node("is_pole", &sk.0, i)?))
     }
     /// The vertices bound to node `i`.
+    ///
+    /// ```rhai
+    /// let sk = polar_sphere(1, 8, 5).skeleton();
+    /// assert_eq(sk.vertices(sk.root).len(), 1);   // a pole
+    /// assert_eq(sk.vertices(sk.children(sk.root)[0]).len(), 8);   // a loop
+    /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn vertices(sk: &mut Skeleton, i: INT) -> ScriptResult<Array> {
         let i = skeleton_node("vertices", &sk.0, i)?;
@@ -856,6 +961,11 @@ pub mod polar_api {
         sk.0.cycle_count() as INT
     }
     /// The node vertex `v` is bound to.
+    ///
+    /// ```rhai
+    /// let sk = polar_sphere(1, 8, 5).skeleton();
+    /// assert_eq(sk.node_of(sk.vertices(sk.root)[0]), sk.root);
+    /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn node_of(sk: &mut Skeleton, v: INT) -> ScriptResult<INT> {
         let n = sk.0.vertex_nodes().len();
@@ -865,6 +975,12 @@ pub mod polar_api {
         Ok(INT::from(sk.0.node_of(v as u32)))
     }
     /// Every node, depth first from the root (parents before children).
+    ///
+    /// ```rhai
+    /// let sk = polar_sphere(1, 8, 5).skeleton();
+    /// assert_eq(sk.order().len(), 6);
+    /// assert_eq(sk.order()[0], sk.root);
+    /// ```
     #[rhai_fn(pure)]
     pub fn order(sk: &mut Skeleton) -> Array {
         id_array(sk.0.depth_first_order())

@@ -53,6 +53,14 @@ pub mod solve_api {
 
     /// Keeps `verts` in their current shape up to a rotation and translation (SVD fit, never a
     /// reflection; Eqs. 5–9), with weight `w`.
+    ///
+    /// ```rhai
+    /// let m = cube(2);
+    /// let s = shape_up(m);
+    /// s.rigid([0, 1, 2, 3, 4, 5, 6, 7], 10);
+    /// s.anchor([0], [[0, 0, 5]], 100);
+    /// assert_near(s.solve(100).volume(), 8.0, 1e-3);   // moved whole, not squashed
+    /// ```
     #[rhai_fn(return_raw)]
     pub fn rigid(s: &mut Solver, verts: Array, w: Number) -> ScriptResult<()> {
         let v = ids("rigid", "verts", &verts)?;
@@ -81,6 +89,18 @@ pub mod solve_api {
     }
 
     /// Keeps `verts` on a plane, with weight `w`.
+    ///
+    /// ```rhai
+    /// let m = uv_sphere(1, 16, 8);
+    /// let s = shape_up(m);
+    /// let cap = [];
+    /// for v in 0..m.vertex_count { if m.positions()[v].z > 0.5 { cap.push(v); } }
+    /// s.plane(cap, 100);
+    /// s.closeness(0.01);
+    /// let flat = s.solve(50);
+    /// let z = flat.positions()[cap[0]].z;
+    /// for v in cap { assert_near(flat.positions()[v].z, z, 1e-2); }
+    /// ```
     #[rhai_fn(return_raw)]
     pub fn plane(s: &mut Solver, verts: Array, w: Number) -> ScriptResult<()> {
         let v = ids("plane", "verts", &verts)?;
@@ -89,6 +109,13 @@ pub mod solve_api {
     }
 
     /// Pins `verts` to `positions` (one each), with weight `w`.
+    ///
+    /// ```rhai
+    /// let s = shape_up(cube(2));
+    /// s.anchor([0], [[0, 0, 5]], 100);
+    /// s.closeness(1);
+    /// assert_near(s.solve(10).positions()[0], vec3(0, 0, 5), 0.1);
+    /// ```
     #[rhai_fn(return_raw)]
     pub fn anchor(s: &mut Solver, verts: Array, positions: Array, w: Number) -> ScriptResult<()> {
         let v = ids("anchor", "verts", &verts)?;
@@ -102,6 +129,12 @@ pub mod solve_api {
     }
 
     /// Weights the closeness of every vertex to the starting surface (Eq. 10); 0 turns it off.
+    ///
+    /// ```rhai
+    /// let s = shape_up(cube(2));
+    /// s.closeness(1);   // nothing else asked: nothing moves
+    /// assert_near(s.solve(5).volume(), 8.0, 1e-9);
+    /// ```
     #[rhai_fn(return_raw)]
     pub fn closeness(s: &mut Solver, w: Number) -> ScriptResult<()> {
         let w = number("closeness", "w", &w)?;
@@ -109,6 +142,13 @@ pub mod solve_api {
     }
 
     /// Weights the cotangent Laplacian of the displacement (Eq. 11); 0 turns it off.
+    ///
+    /// ```rhai
+    /// let s = shape_up(cube(2));
+    /// s.laplacian(0.5);
+    /// s.closeness(1);
+    /// assert_near(s.solve(5).volume(), 8.0, 1e-9);
+    /// ```
     #[rhai_fn(return_raw)]
     pub fn laplacian(s: &mut Solver, w: Number) -> ScriptResult<()> {
         let w = number("laplacian", "w", &w)?;

@@ -22,16 +22,37 @@ pub mod vec3_api {
     }
 
     /// The x coordinate.
+    ///
+    /// ```rhai
+    /// let v = vec3(1, 2, 3);
+    /// assert_eq(v.x, 1.0);
+    /// v.x = 5;
+    /// assert_eq(v, vec3(5, 2, 3));
+    /// ```
     #[rhai_fn(get = "x", pure)]
     pub fn get_x(v: &mut Vec3) -> f64 {
         v.x
     }
     /// The y coordinate.
+    ///
+    /// ```rhai
+    /// let v = vec3(1, 2, 3);
+    /// assert_eq(v.y, 2.0);
+    /// v.y = 5;
+    /// assert_eq(v, vec3(1, 5, 3));
+    /// ```
     #[rhai_fn(get = "y", pure)]
     pub fn get_y(v: &mut Vec3) -> f64 {
         v.y
     }
     /// The z coordinate.
+    ///
+    /// ```rhai
+    /// let v = vec3(1, 2, 3);
+    /// assert_eq(v.z, 3.0);
+    /// v.z = 5;
+    /// assert_eq(v, vec3(1, 2, 5));
+    /// ```
     #[rhai_fn(get = "z", pure)]
     pub fn get_z(v: &mut Vec3) -> f64 {
         v.z
@@ -65,11 +86,19 @@ pub mod vec3_api {
         a + b
     }
     /// Vector difference.
+    ///
+    /// ```rhai
+    /// assert_eq(vec3(3, 3, 3) - vec3(1, 2, 3), vec3(2, 1, 0));
+    /// ```
     #[rhai_fn(name = "-")]
     pub fn sub(a: Vec3, b: Vec3) -> Vec3 {
         a - b
     }
     /// The opposite vector.
+    ///
+    /// ```rhai
+    /// assert_eq(-vec3(1, 0, 0), vec3(-1, 0, 0));
+    /// ```
     #[rhai_fn(name = "-")]
     pub fn neg(a: Vec3) -> Vec3 {
         -a
@@ -98,6 +127,11 @@ pub mod vec3_api {
         a * s as f64
     }
     /// Vector divided by a number (component-wise with a vector).
+    ///
+    /// ```rhai
+    /// assert_eq(vec3(2, 4, 6) / 2, vec3(1, 2, 3));
+    /// assert_eq(vec3(2, 4, 6) / vec3(2, 4, 6), vec3(1, 1, 1));
+    /// ```
     #[rhai_fn(name = "/", return_raw)]
     pub fn div(a: Vec3, s: NumberOrVector) -> ScriptResult<Vec3> {
         let d = if let Some(b) = s.clone().try_cast::<Vec3>() { b } else { Vec3::splat(number("/", "divisor", &s)?) };
@@ -107,11 +141,19 @@ pub mod vec3_api {
         Ok(a / d)
     }
     /// Exact equality of all three coordinates.
+    ///
+    /// ```rhai
+    /// assert(vec3(1, 2, 3) == vec3(1, 2, 3), "equal");
+    /// ```
     #[rhai_fn(name = "==")]
     pub fn eq(a: Vec3, b: Vec3) -> bool {
         a == b
     }
     /// Inequality.
+    ///
+    /// ```rhai
+    /// assert(vec3(1, 2, 3) != vec3(1, 2, 4), "not equal");
+    /// ```
     #[rhai_fn(name = "!=")]
     pub fn ne(a: Vec3, b: Vec3) -> bool {
         a != b
@@ -156,6 +198,10 @@ pub mod vec3_api {
             .ok_or_else(|| "normalize: argument `v` is the zero vector, which has no direction".into())
     }
     /// Distance between two points.
+    ///
+    /// ```rhai
+    /// assert_eq(distance(vec3(0, 0, 0), [3, 4, 0]), 5.0);
+    /// ```
     #[rhai_fn(return_raw)]
     pub fn distance(a: Vector, b: Vector) -> ScriptResult<f64> {
         Ok(to_vec3("distance", "a", &a)?.distance(to_vec3("distance", "b", &b)?))
@@ -176,6 +222,10 @@ pub mod vec3_api {
         format!("vec3({}, {}, {})", v.x, v.y, v.z)
     }
     /// The coordinates as an array `[x, y, z]`.
+    ///
+    /// ```rhai
+    /// assert_eq(vec3(1, 2, 3).to_array(), [1.0, 2.0, 3.0]);
+    /// ```
     #[rhai_fn(pure)]
     pub fn to_array(v: &mut Vec3) -> rhai::Array {
         vec![Dynamic::from(v.x), Dynamic::from(v.y), Dynamic::from(v.z)]

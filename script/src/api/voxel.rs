@@ -77,6 +77,10 @@ pub mod voxel_api {
     }
 
     /// The grid side n.
+    ///
+    /// ```rhai
+    /// assert_eq(voxels(16).size, 16);
+    /// ```
     #[rhai_fn(get = "size", pure)]
     pub fn get_size(vx: &mut Voxels) -> INT {
         vx.0.size() as INT
@@ -87,6 +91,10 @@ pub mod voxel_api {
         vx.0.scale()
     }
     /// The world position of the grid's corner (0, 0, 0).
+    ///
+    /// ```rhai
+    /// assert_eq(voxels(8).origin, vec3(0, 0, 0));
+    /// ```
     #[rhai_fn(get = "origin", pure)]
     pub fn get_origin(vx: &mut Voxels) -> blocksmith_kernel::Vec3 {
         vx.0.origin()
@@ -149,6 +157,13 @@ pub mod voxel_api {
     }
 
     /// The density (0–255) of voxel `(x, y, z)`.
+    ///
+    /// ```rhai
+    /// let vx = voxels(4);
+    /// assert_eq(vx.get(0, 0, 0), 0);
+    /// vx.fill_box([0, 0, 0], [1, 1, 1]);
+    /// assert_eq(vx.get(0, 0, 0), 255);
+    /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn get(vx: &mut Voxels, x: INT, y: INT, z: INT) -> ScriptResult<INT> {
         kernel("get", vx.0.get(x, y, z)).map(INT::from)
@@ -171,6 +186,12 @@ pub mod voxel_api {
     }
 
     /// The number of non-empty voxels.
+    ///
+    /// ```rhai
+    /// let vx = voxels(8);
+    /// vx.fill_box([0, 0, 0], [2, 2, 2]);
+    /// assert_eq(vx.filled(), 8);
+    /// ```
     #[rhai_fn(pure)]
     pub fn filled(vx: &mut Voxels) -> INT {
         vx.0.filled() as INT
@@ -195,6 +216,11 @@ pub mod voxel_api {
     }
 
     /// The filled volume in world units (`volume()` × scale³).
+    ///
+    /// ```rhai
+    /// let vx = voxelize(cube(2), 16);
+    /// assert_near(vx.world_volume(), 8.0, 1e-9);
+    /// ```
     #[rhai_fn(pure)]
     pub fn world_volume(vx: &mut Voxels) -> f64 {
         vx.0.world_volume()
@@ -202,6 +228,10 @@ pub mod voxel_api {
 
     /// Bytes held by the grid with its derived data (Haar hierarchy, surface caches, rotated-tool
     /// cache).
+    ///
+    /// ```rhai
+    /// assert(voxels(16).memory() >= 16 * 16 * 16, "at least a byte a voxel");
+    /// ```
     #[rhai_fn(pure)]
     pub fn memory(vx: &mut Voxels) -> INT {
         vx.0.memory_bytes() as INT
