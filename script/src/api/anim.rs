@@ -272,8 +272,8 @@ pub mod anim_api {
     /// ```rhai
     /// let anim = animation(polar_sphere(0.2, 8, 6));
     /// assert_eq(anim.duration(), 0.0);
-    /// anim.add(growth(#{ delay: 0.5 }));
-    /// assert_eq(anim.duration(), 4.0);   // 6 segments deep × delay 0.5 + 1 / speed 1
+    /// anim.add(growth(#{ delay: 0.5, thickness_delay: 0.5 }));
+    /// assert_eq(anim.duration(), 4.0);   // the far pole 6 segments deep: 6 × 0.5 + 1 / speed 1
     /// ```
     #[rhai_fn(pure)]
     pub fn duration(anim: &mut Animation) -> f64 {

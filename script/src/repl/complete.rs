@@ -96,7 +96,7 @@ pub fn type_of(known: &Known, catalogue: &[Overload], expr: &str) -> Option<Stri
     };
     let mut returns = catalogue.iter().filter(|o| {
         o.name == name
-            && (o.property == Some("get")) == !called
+            && (o.property == Some("get")) != called
             && receiver_type.as_ref().is_none_or(|t| o.params.first().is_some_and(|(_, pt)| pt == t))
     });
     let first = returns.next()?.returns.clone();
