@@ -219,7 +219,7 @@ mod tests {
         assert_eq!(sig("union")[0], "union(a: Mesh|BlockModel, b: Mesh|BlockModel) -> Mesh");
         assert_eq!(sig("limit_eval")[0], "limit_eval(m: Mesh, face: int, u: number, v: number) -> map");
         // Operators registered from closures show the value they return, not `Result<..>`'s tail.
-        assert!(all.iter().any(|o| o.name == "+" && o.signature() == "+(arg1: Mesh, arg2: Mesh) -> Mesh"));
+        assert!(all.iter().any(|o| o.name == "+" && o.signature() == "+(a: Mesh, b: Mesh) -> Mesh"));
         // `any` only where any value is taken or given.
         let any: Vec<String> = all
             .iter()

@@ -11,9 +11,10 @@ struct Pane {
 }
 
 impl Pane {
-    /// `blocksmith repl` in a new 160×50 pane, started in `dir`.
-    fn start(dir: &Path) -> Pane {
-        let socket = format!("blocksmith-repl-test-{}", std::process::id());
+    /// `blocksmith repl` in a new 160×50 pane, started in `dir`, on a tmux server named
+    /// after `test` (tests run side by side, each on its own server).
+    fn start(dir: &Path, test: &str) -> Pane {
+        let socket = format!("blocksmith-repl-{test}-{}", std::process::id());
         let pane = Pane { socket };
         let history = dir.join("history");
         let cmd = format!("BLOCKSMITH_HISTORY='{}' '{}' repl", history.display(), env!("CARGO_BIN_EXE_blocksmith"));
@@ -93,7 +94,7 @@ fn completion_knows_the_receivers_type_and_load_paths() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("table.rhai"), "let legs = 4;\ncube(legs)").unwrap();
     std::fs::write(dir.path().join("tabular.txt"), "not a script").unwrap();
-    let pane = Pane::start(dir.path());
+    let pane = Pane::start(dir.path(), "completion");
 
     pane.type_text("let m = cube(1); let b = block([0, 0, 0], [1, 1, 1]);");
     pane.keys(&["Enter"]);
@@ -137,7 +138,7 @@ fn completion_knows_the_receivers_type_and_load_paths() {
 #[test]
 fn unfinished_entries_continue_at_the_continuation_prompt() {
     let dir = tempfile::tempdir().unwrap();
-    let pane = Pane::start(dir.path());
+    let pane = Pane::start(dir.path(), "continuation");
     pane.type_text("fn double(x) {");
     pane.keys(&["Enter"]);
     pane.wait_for_last_line("..>");
