@@ -1,6 +1,7 @@
 //! Subdivision at about 100k faces: Catmull–Clark and Loop three levels deep, split into the
 //! topology refinement, the position refinement and the half-edge build of the result; and the
-//! limit evaluator (build, then 1M (face, u, v) samples).
+//! limit evaluator (build, then 1M (face, u, v) samples). Also two Catmull–Clark levels of a
+//! cylinder with 100,000-gon caps (`cc2_cylinder100k`), whose centres reach valence 100,000.
 //!
 //! Inputs: `ico6`, the icosphere with 6 subdivisions (40,962 vertices, 81,920 triangles — the mesh
 //! `../shared/peers/subdiv_peers.py` times libigl, pymeshlab and Blender's OpenSubdiv on, and
@@ -96,6 +97,11 @@ fn refinement(c: &mut Criterion) {
             b.iter_batched(|| p.clone(), |p| black_box(r.to_mesh(p).unwrap()), BatchSize::LargeInput)
         });
     }
+    // Two levels of a cylinder whose caps are 100,000-gons: each cap's face point has valence
+    // 100,000 after the first step (the half-edge build was quadratic in valence).
+    let cylinder = Mesh::cylinder(1.0, 1.0, 100_000);
+    g.throughput(Throughput::Elements(cylinder.face_count() as u64));
+    g.bench_function("cc2_cylinder100k_total", |b| b.iter(|| black_box(cylinder.catmull_clark(2).unwrap())));
     g.finish();
 }
 

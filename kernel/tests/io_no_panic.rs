@@ -1,5 +1,7 @@
 //! The readers never panic: random byte strings and randomly damaged valid files (bytes
-//! flipped, cut short, spans repeated) each give `Ok` or `Err`, for every format.
+//! flipped, cut short, spans repeated) each give `Ok` or `Err`, for every format: OBJ, STL
+//! (binary and ASCII), PLY (three encodings), glTF (GLB and JSON) and 3MF (the zip damaged, and
+//! the model XML inside damaged then zipped again).
 //!
 //! The random source is a fixed-seed xorshift, so a failure reproduces. Set `IO_FUZZ_CASES` to
 //! run more cases than the default 300 per input (e.g. 100000), and `IO_FUZZ_SEED` for other ones.
@@ -7,7 +9,7 @@
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
 
-use blocksmith_kernel::io::{gltf, obj, ply, stl, PlyEncoding};
+use blocksmith_kernel::io::{gltf, obj, ply, stl, threemf, PlyEncoding};
 use blocksmith_kernel::{Mesh, Vec3};
 
 /// xorshift64*: small, deterministic, good enough to make junk.
@@ -150,4 +152,46 @@ fn base64(bytes: &[u8]) -> String {
         }
     }
     out
+}
+
+#[test]
+fn threemf_reader_never_panics() {
+    let p = Path::new("fuzz.3mf");
+    let mut valid = Vec::new();
+    threemf::write_3mf(&sample(), &mut valid, p).unwrap();
+    // The package itself damaged: the zip reader's errors.
+    never_panics("3mf", &valid, false, |b| threemf::read_3mf(b, p).is_ok());
+    // The model XML damaged inside an intact package: the model reader's errors.
+    let parts = unzip(&valid);
+    let model = parts.iter().position(|(n, _)| n.ends_with(".model")).unwrap();
+    let xml = parts[model].1.clone();
+    never_panics("3mf model", &xml, true, |b| {
+        let mut parts = parts.clone();
+        parts[model].1 = b.to_vec();
+        threemf::read_3mf(&zip_stored(&parts), p).is_ok()
+    });
+}
+
+fn unzip(bytes: &[u8]) -> Vec<(String, Vec<u8>)> {
+    use std::io::Read;
+    let mut z = zip::ZipArchive::new(std::io::Cursor::new(bytes)).unwrap();
+    (0..z.len())
+        .map(|i| {
+            let mut f = z.by_index(i).unwrap();
+            let mut data = Vec::new();
+            f.read_to_end(&mut data).unwrap();
+            (f.name().unwrap().to_string(), data)
+        })
+        .collect()
+}
+
+fn zip_stored(parts: &[(String, Vec<u8>)]) -> Vec<u8> {
+    use std::io::Write;
+    let mut w = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
+    let o = zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Stored);
+    for (name, data) in parts {
+        w.start_file(name.as_str(), o).unwrap();
+        w.write_all(data).unwrap();
+    }
+    w.finish().unwrap().into_inner()
 }

@@ -41,6 +41,20 @@ pub fn kernel<T, E: Display>(func: &str, r: Result<T, E>) -> ScriptResult<T> {
     r.map_err(|e| error(func, e))
 }
 
+/// What a closure called back from Rust (`key`, e.g. "the closure `radius`") failed with, for
+/// a kernel error's message: a stop (the operation or time limit, an interrupt) as its reason
+/// alone, a thrown value as itself with its place, other errors as Rhai words them.
+#[must_use]
+pub fn closure_error(key: &str, e: &EvalAltResult) -> String {
+    match e {
+        EvalAltResult::ErrorTerminated(reason, _) => reason.to_string(),
+        EvalAltResult::ErrorInFunctionCall(_, _, inner, _) => closure_error(key, inner),
+        EvalAltResult::ErrorRuntime(value, pos) if pos.is_none() => format!("{key} raised: {value}"),
+        EvalAltResult::ErrorRuntime(value, pos) => format!("{key} raised: {value} ({pos})"),
+        other => format!("{key} raised: {other}"),
+    }
+}
+
 /// A short name for a script value's type, for messages.
 #[must_use]
 pub fn type_name(v: &Dynamic) -> String {
@@ -65,7 +79,17 @@ pub fn type_name(v: &Dynamic) -> String {
 
 /// A number from an integer or a float, finite.
 pub fn number(func: &str, arg: &str, v: &Dynamic) -> ScriptResult<f64> {
-    number_named(func, "argument", arg, v)
+    let (kind, name) = kind_and_name(arg);
+    number_named(func, kind, &name, v)
+}
+
+/// What `arg` names for messages: an argument by default, or an option when it is written as
+/// one (`option `at``, `option `at`[0]`), quoted once: `option `at[0]``.
+fn kind_and_name(arg: &str) -> (&'static str, String) {
+    match arg.strip_prefix("option ") {
+        Some(rest) => ("option", rest.replace('`', "")),
+        None => ("argument", arg.to_string()),
+    }
 }
 
 /// A finite number given as the `kind` (`"argument"` or `"option"`) called `name`.
@@ -93,7 +117,8 @@ pub fn count(func: &str, arg: &str, v: INT, max: INT) -> ScriptResult<u32> {
 
 /// A `Vec3` from a `Vec3` or an array of three numbers, finite.
 pub fn vec3(func: &str, arg: &str, v: &Dynamic) -> ScriptResult<Vec3> {
-    vec3_named(func, "argument", arg, v)
+    let (kind, name) = kind_and_name(arg);
+    vec3_named(func, kind, &name, v)
 }
 
 /// A finite vector given as the `kind` (`"argument"` or `"option"`) called `name`.
@@ -307,5 +332,11 @@ mod tests {
         assert!(e.contains("mesh: option `tolerance` must be a number, got a string"), "{e}");
         let e = o.vec3("at", Vec3::ZERO).unwrap_err().to_string();
         assert!(e.contains("mesh: option `at[1]` must be a finite number"), "{e}");
+        // Callers naming an option as the argument get it quoted once.
+        let at = Dynamic::from(vec![Dynamic::from(1_i64), Dynamic::from("x"), Dynamic::from(0_i64)]);
+        let e = vec3("sculpt", "option `at`", &at).unwrap_err().to_string();
+        assert!(e.contains("sculpt: option `at[1]` must be a number, got a string"), "{e}");
+        let e = number("fit", "option `axis`[2]", &Dynamic::from(f64::INFINITY)).unwrap_err().to_string();
+        assert!(e.contains("fit: option `axis[2]` must be a finite number"), "{e}");
     }
 }

@@ -65,9 +65,12 @@ pub fn new_engine(options: EngineOptions) -> Engine {
     let mut engine = Engine::new();
     engine.set_max_call_levels(96);
     engine.set_max_expr_depths(128, 128);
-    engine.set_max_string_size(64 << 20);
-    engine.set_max_array_size(64 << 20);
-    engine.set_max_map_size(1 << 20);
+    // No size limits of Rhai's: they walk every array after each call that may change it
+    // (quadratic pushes). Data is held to the memory budget by the heap check of every step
+    // below and by the functions of `api::data`, which grow by a requested size.
+    engine.set_max_string_size(0);
+    engine.set_max_array_size(0);
+    engine.set_max_map_size(0);
     api::register_all(&mut engine);
     engine.set_module_resolver(
         resolver::Resolver::new(options.context.script_dir.clone()).recording(options.context.record.clone()),
@@ -79,7 +82,8 @@ pub fn new_engine(options: EngineOptions) -> Engine {
 
 /// (Re)starts the limits of `options` on `engine`: a fresh operation count and deadline.
 ///
-/// Every step of the script checks one cancellation token — the interrupt flag, the deadline and
+/// Every step checks that the heap in use (when counted, see [`limits::CountingAllocator`]) is
+/// within the memory budget, and one cancellation token — the interrupt flag, the deadline and
 /// the operation count — and makes it the current token of the thread it runs on, so the kernel
 /// work it calls checks the same token in its long loops ([`limits::check`]) and stops with it.
 /// Without limits the token never stops anything (and still replaces one left by other work).
@@ -89,6 +93,9 @@ pub fn set_limits(engine: &mut Engine, options: &EngineOptions) {
     let token = CancelToken::with(options.interrupt.clone(), deadline, operations);
     engine.on_progress(move |_| {
         limits::make_current(&token);
+        if let Err(e) = limits::check_heap() {
+            return Some(Dynamic::from(e.to_string()));
+        }
         match token.charge(1) {
             Ok(()) => None,
             Err(LimitError::Stopped(reason)) => Some(Dynamic::from(reason.to_string())),

@@ -13,8 +13,9 @@ use clap::{Parser, Subcommand};
 
 /// mimalloc rather than the system allocator: the boolean engine allocates and frees many
 /// mid-sized arrays per operation, which glibc returns to the system and faults back in.
+/// Counted, so that a script whose data grows over the memory budget stops with an error.
 #[global_allocator]
-static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+static ALLOCATOR: limits::CountingAllocator<mimalloc::MiMalloc> = limits::CountingAllocator(mimalloc::MiMalloc);
 
 #[derive(Parser)]
 #[command(name = "blocksmith", version, about = "Scriptable 3D modeling: blocks, polar meshes, subdivision, voxels.")]
@@ -257,7 +258,20 @@ fn list_params(file: &std::path::Path, set: &[(String, String)], format: &str) -
     }
 }
 
+/// The stack of the thread the command runs on: deep data (an array nested a million deep, made
+/// by a loop) is copied and freed by recursion, more than the main thread's 8 MiB allow. Only
+/// the pages used are ever committed.
+const STACK_BYTES: usize = 1 << 30;
+
 fn main() -> ExitCode {
+    match std::thread::Builder::new().name("blocksmith".into()).stack_size(STACK_BYTES).spawn(command) {
+        Ok(thread) => thread.join().unwrap_or(ExitCode::FAILURE),
+        // A system refusing so large a stack: run with the main thread's.
+        Err(_) => command(),
+    }
+}
+
+fn command() -> ExitCode {
     let cli = Cli::parse();
     match cli.command {
         Command::Run { file, set, params: Some(format), .. } => list_params(&file, &set, &format),

@@ -109,10 +109,6 @@ fn requests_over_the_memory_budget_are_refused_naming_the_estimate_and_the_budge
             "to_mesh: the marching-cubes surface (",
         ),
         (
-            "icosphere(1, 8) - icosphere(1, 8).translate([0.5, 0, 0])",
-            "a boolean of 2621440 triangles needs an estimated",
-        ),
-        (
             "lsystem(#{ axiom: \"A\", rules: #{ A: \"AA\" }, max_modules: 9223372036854775807 }).derive(40)",
             "the derived string (",
         ),
@@ -121,6 +117,12 @@ fn requests_over_the_memory_budget_are_refused_naming_the_estimate_and_the_budge
         assert_fails_with(&o, what);
         assert_fails_with(&o, "over the memory budget of 256 MiB (raise it with --memory-limit)");
     }
+    // The boolean's inputs (about 400 MiB) fit a budget of 1 GiB; its work would not.
+    let (o, _) = run_recipe("icosphere(1, 8) - icosphere(1, 8).translate([0.5, 0, 0])", &["--memory-limit", "1G"]);
+    assert_fails_with(
+        &o,
+        "a boolean of 2621440 triangles needs an estimated 2.50 GiB, over the memory budget of 1.00 GiB",
+    );
     let (o, _) = run_recipe("cube(1)", &["--memory-limit", "lots"]);
     assert_fails_with(&o, "expected a size such as 512M, 8G or 1T");
 }
@@ -167,4 +169,145 @@ fn primitives_out_of_range_are_catchable_errors_not_panics() {
                   cube(1)\n";
     let (o, _) = run_recipe(recipe, &[]);
     assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[test]
+fn script_data_is_held_to_the_memory_budget_without_walking_it_on_every_call() {
+    // Doubling an array, a nested array, a string or growing a map: each stops at the budget
+    // (checked on every step against the heap in use) with the error naming it.
+    for recipe in [
+        "let a = [1]; loop { a += a; }",
+        "let a = [0]; loop { a = [a, a]; }",
+        "let s = \"ab\"; loop { s += s; }",
+        "let m = #{}; let i = 0; loop { m[`k${i}`] = [i, i, i, i]; i += 1; }",
+    ] {
+        let (o, _) = run_recipe(recipe, &["--memory-limit", "32M"]);
+        assert_fails_with(&o, "is over the memory budget of 32.0 MiB (raise it with --memory-limit)");
+    }
+    // Functions growing by a size they are given are refused before allocating, catchably.
+    let recipe = "let caught = [];\n\
+                  try { blob(1000000000000); } catch (e) { caught.push(e); }\n\
+                  try { [].pad(1000000000000, [1, 2]); } catch (e) { caught.push(e); }\n\
+                  try { let s = \"ab\"; s.pad(1000000000000, \"xy\"); } catch (e) { caught.push(e); }\n\
+                  try { let s = \"a\"; s.pad(100000, 'a'); s.replace(\"a\", s); } catch (e) { caught.push(e); }\n\
+                  assert_eq(caught.len(), 4);\n\
+                  assert(caught[0].starts_with(\"blob: a BLOB of 1000000000000 bytes needs an estimated 931 GiB\"), caught[0]);\n\
+                  assert(caught[1].starts_with(\"pad: padding an array to 1000000000000 elements\"), caught[1]);\n\
+                  assert(caught[2].starts_with(\"pad: padding a string to 1000000000000 characters\"), caught[2]);\n\
+                  assert(caught[3].starts_with(\"replace: the replaced string (100000 replacements)\"), caught[3]);\n\
+                  // An empty padding pads nothing (it used to loop for ever).\n\
+                  let s = \"ab\"; s.pad(10, \"\"); assert_eq(s, \"ab\");\n\
+                  // Pushing is linear (it was quadratic: the time limit would stop it).\n\
+                  let a = []; for i in 0..300000 { a.push(i); } assert_eq(a.len(), 300000);\n\
+                  cube(1)\n";
+    let (o, _) = run_recipe(recipe, &["--memory-limit", "32M", "--timeout", "120"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[test]
+fn deep_nesting_is_a_catchable_error_not_a_stack_overflow() {
+    // Arrays and maps nested 5,000 deep: comparing and printing them is refused, catchably;
+    // making, copying and dropping them works.
+    let recipe = "let a = []; let b = []; let m = #{};\n\
+                  for i in 0..5000 { a = [a]; b = [b]; m = #{ m: m }; }\n\
+                  let caught = [];\n\
+                  try { a == b; } catch (e) { caught.push(e); }\n\
+                  try { a != b; } catch (e) { caught.push(e); }\n\
+                  try { a.to_string(); } catch (e) { caught.push(e); }\n\
+                  try { m.to_debug(); } catch (e) { caught.push(e); }\n\
+                  try { m == m; } catch (e) { caught.push(e); }\n\
+                  assert_eq(caught.len(), 5);\n\
+                  for e in caught { assert(e.contains(\"nests arrays and maps more than 500 deep\"), e); }\n\
+                  let c = a; let n = 0; while c.len() > 0 { c = c[0]; n += 1; } assert_eq(n, 5000);\n\
+                  // Printing and interpolation fall back to Rhai's own text of the value, on the\n\
+                  // command's large stack.\n\
+                  print(a); debug(m);\n\
+                  let s = `${a}`; assert(s.len() >= 10000, `${s.len()}`);\n\
+                  // Shallower data compares and prints as before.\n\
+                  assert([1, [2, #{ x: [3] }]] == [1, [2, #{ x: [3] }]]);\n\
+                  assert_eq(`${[1, \"a\", #{ b: [2.5] }]}`, \"[1, \\\"a\\\", #{\\\"b\\\": [2.5]}]\");\n\
+                  cube(1)\n";
+    let (o, _) = run_recipe(recipe, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // An L-system parameter nested 10,000 deep is refused naming the limit.
+    let deep = format!("F({}x{})", "(".repeat(10_000), ")".repeat(10_000));
+    let recipe = format!("lsystem(#{{ axiom: \"A(1)\", rules: #{{ \"A(x)\": \"{deep}\" }} }})");
+    let (o, _) = run_recipe(&recipe, &[]);
+    assert_fails_with(&o, "the expression is too large: more than 256 operands");
+}
+
+#[test]
+fn messages_name_the_real_cause_once() {
+    let ls = "let ls = lsystem(#{ axiom: \"F\", rules: #{ F: \"F[+F]F\" } });\n";
+    // A failing size closure is named as such, with what it threw.
+    let (o, _) = run_recipe(&format!("{ls}ls.grow(2, #{{ radius: |s| {{ throw \"boom\" }} }})"), &[]);
+    assert_fails_with(&o, "grow: radius at step 0 for `F`: the closure `radius` raised: boom");
+    assert!(!stderr(&o).contains("probability"), "{}", stderr(&o));
+    // A limit reached inside a closure says which limit, not "Script terminated".
+    let (o, _) = run_recipe(
+        &format!("{ls}ls.grow(2, #{{ radius: |s| {{ let x = 0; loop {{ x += 1; }} }} }})"),
+        &["--max-operations", "10000"],
+    );
+    assert_fails_with(&o, "operation limit reached (--max-operations 10000)");
+    assert!(!stderr(&o).contains("Script terminated"), "{}", stderr(&o));
+    // An option's element is quoted once.
+    let (o, _) = run_recipe("let v = voxels(8); v.sculpt(voxels(4), #{ at: [1, \"x\", 0] })", &[]);
+    assert_fails_with(&o, "sculpt: option `at[1]` must be a number, got a string");
+}
+
+#[test]
+fn values_out_of_range_are_refused_at_the_call_naming_the_argument() {
+    let recipe = "let caught = [];\n\
+                  try { cube(1).scale(1e300).scale(1e300); } catch (e) { caught.push(e); }\n\
+                  try { cube(1).translate([1.7e308, 0, 0]).translate([1e308, 0, 0]); } catch (e) { caught.push(e); }\n\
+                  let pm = polar_sphere(1, 8, 4);\n\
+                  try { pm.scale([9, 10, 11, 12, 13, 14, 15, 16], 0); } catch (e) { caught.push(e); }\n\
+                  assert_eq(caught.len(), 3);\n\
+                  assert(caught[0].contains(\"scale: argument `factor` [1e300, 1e300, 1e300] takes vertex 0 to [-inf, -inf, -inf]\"), caught[0]);\n\
+                  assert(caught[1].starts_with(\"translate: argument `offset` [1e308, 0, 0] takes vertex\"), caught[1]);\n\
+                  assert(caught[2].contains(\"scale: argument `factor` is 0\"), caught[2]);\n\
+                  // A huge or tiny axis is a direction like any other.\n\
+                  let p = cube(2).translate([5, 0, 0]);\n\
+                  for axis in [[0, 0, 1e300], [0, 0, 1e-200]] {\n\
+                      assert_near(p.rotate(axis, 90).bounds().min, vec3(-1, 4, -1), 1e-12);\n\
+                  }\n\
+                  cube(1)\n";
+    let (o, _) = run_recipe(recipe, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+}
+
+#[cfg(unix)]
+#[test]
+fn an_interrupt_stops_a_long_icosphere_in_the_repl_and_keeps_the_session() {
+    use std::io::{Read, Write};
+    use std::process::Stdio;
+    let d = tempfile::tempdir().unwrap();
+    let mut child = blocksmith()
+        .arg("repl")
+        .current_dir(d.path())
+        .env("BLOCKSMITH_HISTORY", d.path().join("history"))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdin = child.stdin.take().unwrap();
+    // Nine levels: about 5M triangles, many seconds of work in a debug build.
+    stdin.write_all(b"let s = icosphere(1, 9);\n").unwrap();
+    stdin.flush().unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let start = std::time::Instant::now();
+    let sent = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
+    assert!(sent.success());
+    stdin.write_all(b"1 + 41\n").unwrap();
+    drop(stdin);
+    let mut out = String::new();
+    child.stdout.take().unwrap().read_to_string(&mut out).unwrap();
+    let seconds = start.elapsed().as_secs_f64();
+    let status = child.wait().unwrap();
+    assert!(status.code().is_some(), "killed by a signal: {status:?}");
+    assert!(out.contains("interrupted"), "{out}");
+    assert!(out.contains("=> 42"), "the session went on: {out}");
+    // Far less than the icosphere would take: the interrupt reached the kernel's loop.
+    assert!(seconds < 10.0, "the session came back after {seconds} s");
 }

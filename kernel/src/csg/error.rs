@@ -3,6 +3,7 @@
 use thiserror::Error;
 
 use crate::blocks::BlockError;
+use crate::math::fmt_num;
 use crate::mesh::MeshError;
 
 /// Which operand of a boolean is at fault.
@@ -58,6 +59,15 @@ pub enum CsgError {
         #[source]
         source: MeshError,
     },
+    /// An operand too small, in some direction, for the engine's precision where it lies.
+    #[error(
+        "the {side} operand spans {} at coordinates up to {}: booleans resolve 1e-12 of the largest coordinate, \
+         and every operand must span at least 1e-10 of it in each direction (the precision limit); \
+         move the operands nearer the origin",
+        fmt_num(*span),
+        format!("{magnitude:.2e}")
+    )]
+    Precision { side: Side, span: f64, magnitude: f64 },
     /// The inputs are too large for 32-bit triangle ids.
     #[error("the inputs have {triangles} triangles in all; at most 2^31 fit")]
     TooLarge { triangles: usize },

@@ -318,3 +318,19 @@ fn coplanar_triangles_of_one_source_are_cut_as_one_face() {
     assert!((length - (12.0 - 3.0 * 0.2)).abs() < 1e-9, "crease length {length}");
     assert!(creases.iter().all(|&[a, b]| along_box_edge(p[a as usize], p[b as usize], [0.0; 3], [1.0; 3])));
 }
+
+#[test]
+fn booleans_beyond_the_precision_limit_are_refused_naming_it() {
+    // Two boxes 2 across overlapping by half: right at 1e10 from the origin, refused at 1e12
+    // (the engine would merge them into a wrong volume or nothing).
+    let at =
+        |offset: f64, dx: f64| cuboid([offset + dx, offset, offset], [offset + dx + 2.0, offset + 2.0, offset + 2.0]);
+    let near = eval(&at(1e10, 0.0).union(at(1e10, 1.0)));
+    assert!((near.volume() - 12.0).abs() < 1e-3, "{}", near.volume());
+    for c in [at(1e12, 0.0).union(at(1e12, 1.0)), at(1e12, 0.0).difference(at(1e12, 1.0))] {
+        let e = c.evaluate().unwrap_err();
+        assert!(matches!(e, CsgError::Precision { .. }), "{e:?}");
+        let msg = e.to_string();
+        assert!(msg.contains("spans 2 at coordinates up to 1.00e12") && msg.contains("(the precision limit)"), "{msg}");
+    }
+}

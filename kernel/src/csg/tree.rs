@@ -423,14 +423,45 @@ fn run(
         Plan::Union(parts) => {
             let solids: Vec<Solid> =
                 parts.par_iter().map(|p| run(p, prepared, leaves, offsets, token)).collect::<Result<_, _>>()?;
+            check_precision(&solids.iter().collect::<Vec<_>>())?;
             Solid::union_all(solids).map_err(|reason| CsgError::Engine { reason })
         }
         Plan::Op(op, a, b) => {
             let (ra, rb) =
                 rayon::join(|| run(a, prepared, leaves, offsets, token), || run(b, prepared, leaves, offsets, token));
-            ra?.boolean(&rb?, *op).map_err(|reason| CsgError::Engine { reason })
+            let (ra, rb) = (ra?, rb?);
+            check_precision(&[&ra, &rb])?;
+            ra.boolean(&rb, *op).map_err(|reason| CsgError::Engine { reason })
         }
     }
+}
+
+/// The engine resolves [`ENGINE_PRECISION`] of the operands' largest coordinate (Manifold's
+/// `kPrecision`); closer points are merged.
+pub const ENGINE_PRECISION: f64 = 1e-12;
+
+/// How many times the engine's resolution an operand must span in every direction: smaller
+/// operands are merged away (two boxes 2 across at 1e12 from the origin united into 5.3 of
+/// volume, their difference emptied).
+pub const MIN_SPAN_RESOLUTIONS: f64 = 100.0;
+
+/// Refuses a boolean whose operands are too small for the precision at their distance from the
+/// origin, rather than return a wrong result. The first operand is the left one.
+fn check_precision(operands: &[&Solid]) -> Result<(), CsgError> {
+    let bounds: Vec<(Vec3, Vec3)> = operands.iter().filter(|s| !s.is_empty()).map(|s| s.bounds()).collect();
+    if bounds.len() < 2 {
+        return Ok(());
+    }
+    let magnitude = bounds.iter().map(|(lo, hi)| lo.abs().max(hi.abs()).max_element()).fold(0.0, f64::max);
+    let resolution = ENGINE_PRECISION * magnitude;
+    for (i, (lo, hi)) in bounds.iter().enumerate() {
+        let span = (*hi - *lo).min_element();
+        if span < MIN_SPAN_RESOLUTIONS * resolution {
+            let side = if i == 0 { Side::Left } else { Side::Right };
+            return Err(CsgError::Precision { side, span, magnitude });
+        }
+    }
+    Ok(())
 }
 
 /// The operands of the chain of unions at `node`, left to right.

@@ -9,6 +9,9 @@ pub enum LimitError {
     /// The estimated memory of the result is over the budget (refused before allocating).
     #[error("{what} needs an estimated {}, over the memory budget of {} (raise it with --memory-limit)", human_bytes(*bytes), human_bytes(*limit))]
     OverBudget { what: String, bytes: u64, limit: u64 },
+    /// The heap in use is over the budget (an interpreter's data grew past it).
+    #[error("the memory in use ({}) is over the memory budget of {} (raise it with --memory-limit)", human_bytes(*bytes), human_bytes(*limit))]
+    HeapOverBudget { bytes: u64, limit: u64 },
     /// The work was stopped by its token.
     #[error("{0}")]
     Stopped(StopReason),

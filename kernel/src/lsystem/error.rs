@@ -38,6 +38,9 @@ pub enum LsystemError {
     /// A probability callback (a script closure) failed.
     #[error("{place}: the probability of choice {choice} failed: {message}")]
     Callback { place: String, choice: usize, message: String },
+    /// A size callback (a script closure giving a length or a radius) failed.
+    #[error("{place}: {message}")]
+    SizeCallback { place: String, message: String },
     /// A parameter expression gave a non-finite value.
     #[error("{place}: parameter {index} of `{symbol}` evaluates to {value}")]
     NonFiniteParameter { place: String, symbol: String, index: usize, value: f64 },

@@ -424,7 +424,7 @@ fn parse_rule(spec: &RuleSpec) -> Result<Rule, LsystemError> {
                 let chars: Vec<char> = text.chars().collect();
                 let mut vars = names.clone();
                 vars.push("step".into());
-                Prob::Expr(ExprParser { place: &pplace, chars: &chars, pos: 0, names: &vars }.parse()?)
+                Prob::Expr(ExprParser { place: &pplace, chars: &chars, pos: 0, names: &vars, parts: 0 }.parse()?)
             }
         };
         choices.push((ts, p));
@@ -559,7 +559,7 @@ fn lex(place: &str, s: &str, formals: Option<&[String]>) -> Result<Vec<Template>
                 } else if c == ')' && d > 0 {
                     d -= 1;
                 } else if (c == ',' && d == 0) || j == close {
-                    let mut p = ExprParser { place, chars: &chars[..j], pos: start, names };
+                    let mut p = ExprParser { place, chars: &chars[..j], pos: start, names, parts: 0 };
                     let e = p.parse()?;
                     params.push(e);
                     start = j + 1;
@@ -572,11 +572,19 @@ fn lex(place: &str, s: &str, formals: Option<&[String]>) -> Result<Vec<Template>
     Ok(out)
 }
 
+/// The most operands (numbers, names, calls, parenthesised or negated terms) a parameter
+/// expression may have. Parsing and evaluating recurse once per level of the expression's
+/// tree, which is never deeper than this: 10,000 nested parentheses are refused instead of
+/// overflowing the stack.
+pub const MAX_EXPRESSION_PARTS: usize = 256;
+
 struct ExprParser<'a> {
     place: &'a str,
     chars: &'a [char],
     pos: usize,
     names: &'a [String],
+    /// Operands parsed so far, against [`MAX_EXPRESSION_PARTS`].
+    parts: usize,
 }
 
 impl ExprParser<'_> {
@@ -627,6 +635,12 @@ impl ExprParser<'_> {
     }
 
     fn unary(&mut self) -> Result<Expr, LsystemError> {
+        self.parts += 1;
+        if self.parts > MAX_EXPRESSION_PARTS {
+            return Err(self.err(&format!(
+                "the expression is too large: more than {MAX_EXPRESSION_PARTS} operands, nested terms included"
+            )));
+        }
         if self.peek() == Some('-') {
             self.pos += 1;
             return Ok(Expr::Neg(Box::new(self.unary()?)));
@@ -742,6 +756,21 @@ mod tests {
         let e = parse_modules("axiom", "F@F").unwrap_err();
         assert_eq!(e, LsystemError::UnknownSymbol { place: "axiom".into(), found: '@', at: 2 });
         assert!(e.to_string().contains("unknown symbol `@` at character 2"), "{e}");
+    }
+
+    #[test]
+    fn deeply_nested_or_huge_expressions_are_refused_not_overflowing_the_stack() {
+        let nested = format!("F({}1{})", "(".repeat(10_000), ")".repeat(10_000));
+        let e = Lsystem::new(&nested, &[], 1).unwrap_err();
+        assert!(e.to_string().contains("the expression is too large: more than 256 operands"), "{e}");
+        let long = format!("F({})", vec!["1"; 300].join("+"));
+        assert!(Lsystem::new(&long, &[], 1).is_err());
+        let rule = RuleSpec::deterministic("A(x)", &format!("F({}x{})", "-(".repeat(5000), ")".repeat(5000)));
+        let e = Lsystem::new("A(1)", &[rule], 1).unwrap_err();
+        assert!(e.to_string().contains("more than 256 operands"), "{e}");
+        // Within the limit, nesting works as written.
+        let ok = format!("F({}2{})", "(".repeat(100), ")".repeat(100));
+        assert!(Lsystem::new(&ok, &[], 1).is_ok());
     }
 
     #[test]

@@ -501,7 +501,7 @@ pub fn grow(modules: &[Module], opts: &GrowOptions) -> Result<Grown, LsystemErro
 /// [`LsystemError::InvalidOption`], [`LsystemError::NothingDrawn`],
 /// [`LsystemError::UnbalancedBrackets`], [`LsystemError::DrawAfterPole`],
 /// [`LsystemError::NoRoomForBranch`], [`LsystemError::GrowthCap`] (the caps on vertices and
-/// features), [`LsystemError::Callback`] from `size`, and [`LsystemError::Polar`] for a refused
+/// features), [`LsystemError::SizeCallback`] from `size`, and [`LsystemError::Polar`] for a refused
 /// operation (a bug).
 pub fn grow_with<E: Display>(
     modules: &[Module],
@@ -901,9 +901,8 @@ impl Grower {
         };
         let call = |what: Size, size: &mut dyn FnMut(Size, f64) -> Result<f64, E>| -> Result<f64, LsystemError> {
             let name = if what == Size::Length { "length" } else { "radius" };
-            let v = size(what, step).map_err(|e| LsystemError::Callback {
+            let v = size(what, step).map_err(|e| LsystemError::SizeCallback {
                 place: format!("{name} at step {step} for `{m}`"),
-                choice: 0,
                 message: e.to_string(),
             })?;
             if !(v.is_finite() && v > 0.0) {

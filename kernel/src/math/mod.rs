@@ -3,12 +3,14 @@
 mod aabb;
 mod closest_point;
 mod color;
+mod direction;
 mod fmt_num;
 mod lerp;
 
 pub use aabb::Aabb;
 pub use closest_point::closest_on_triangle;
 pub use color::hsv_rgba;
+pub use direction::direction;
 pub use fmt_num::fmt_num;
 pub use lerp::lerp;
 

@@ -1,7 +1,7 @@
 //! Building a half-edge mesh from indexed polygons, in time linear in the number of corners.
 //!
 //! Steps: validate faces; lay out face half-edges; bucket them by origin vertex (a counting sort);
-//! find each twin by scanning the target's outgoing bucket (vertex valence is small); close every
+//! find each twin in the target's outgoing bucket (scanned, or bisected when the valence is high); close every
 //! unmatched half-edge with a boundary half-edge; link boundary loops; check that every vertex's
 //! half-edges form one fan.
 
@@ -17,6 +17,14 @@ pub(super) fn check_finite(positions: &[Vec3]) -> Result<(), MeshError> {
         None => Ok(()),
     }
 }
+
+/// Buckets of outgoing half-edges up to this size are searched by a scan, larger ones by
+/// bisection after sorting.
+const SCAN_VALENCE: usize = 16;
+
+/// The stoppable build charges its cancellation token once per this many faces or vertices (a
+/// power of two).
+const CHARGE_EVERY: usize = 1 << 16;
 
 /// A vertex that appears more than once in a face's corner list.
 fn repeated_vertex(corners: &[u32]) -> Option<u32> {
@@ -57,6 +65,26 @@ impl Mesh {
     /// - [`MeshError::NonManifoldVertex`] when a vertex's faces form more than one fan;
     /// - [`MeshError::NonFinite`] for a NaN or infinite coordinate.
     pub fn from_indexed(positions: Vec<Vec3>, indices: &[u32], arities: &[u32]) -> Result<Mesh, MeshError> {
+        Mesh::build_indexed(positions, indices, arities, &mut |_| Ok(()))
+    }
+
+    /// [`Mesh::from_indexed`] charging its work to the current cancellation token
+    /// ([`crate::limits::charge`]) every 65,536 faces or vertices, so that building a mesh of
+    /// millions of faces stops soon after the token does.
+    ///
+    /// # Errors
+    /// As [`Mesh::from_indexed`], and [`MeshError::Limit`] when the token stops the work.
+    pub fn from_indexed_stoppable(positions: Vec<Vec3>, indices: &[u32], arities: &[u32]) -> Result<Mesh, MeshError> {
+        Mesh::build_indexed(positions, indices, arities, &mut crate::limits::charge)
+    }
+
+    fn build_indexed(
+        positions: Vec<Vec3>,
+        indices: &[u32],
+        arities: &[u32],
+        charge: &mut dyn FnMut(u64) -> Result<(), crate::limits::LimitError>,
+    ) -> Result<Mesh, MeshError> {
+        let mut tick = |i: usize| if i & (CHARGE_EVERY - 1) == 0 { charge(CHARGE_EVERY as u64) } else { Ok(()) };
         let nv = positions.len();
         if nv >= NONE as usize || indices.len() >= (NONE as usize) / 2 {
             return Err(MeshError::TooLarge { what: format!("{nv} vertices, {} corners", indices.len()) });
@@ -81,6 +109,7 @@ impl Mesh {
         let mut he_target = Vec::with_capacity(nfh);
         let mut start = 0usize;
         for (f, &arity) in arities.iter().enumerate() {
+            tick(f)?;
             let arity = arity as usize;
             let corners = &indices[start..start + arity];
             if arity < 3 {
@@ -122,15 +151,35 @@ impl Mesh {
             out_list[fill[v as usize] as usize] = h as u32;
             fill[v as usize] += 1;
         }
-        let target = |h: usize| he_target[h];
+        // The same buckets for searching by target: those of high valence (a polygon's centre
+        // after a subdivision step, a fan's hub) sorted by (target, id) and searched by bisection,
+        // so that a vertex of valence n costs n log n rather than n².
+        let mut by_target = out_list.clone();
+        for v in 0..nv {
+            let bucket = &mut by_target[out_start[v] as usize..out_start[v + 1] as usize];
+            if bucket.len() > SCAN_VALENCE {
+                bucket.sort_unstable_by_key(|&h| (he_target[h as usize], h));
+            }
+        }
+        // The lowest-id half-edge of `v`'s bucket that ends at `t`.
+        let first_to = |v: u32, t: u32| -> Option<u32> {
+            let bucket = &by_target[out_start[v as usize] as usize..out_start[v as usize + 1] as usize];
+            if bucket.len() > SCAN_VALENCE {
+                let i = bucket.partition_point(|&o| he_target[o as usize] < t);
+                bucket.get(i).copied().filter(|&o| he_target[o as usize] == t)
+            } else {
+                bucket.iter().copied().find(|&o| he_target[o as usize] == t)
+            }
+        };
 
         // 3. Twins. A repeated directed edge is a non-manifold edge.
         let mut he_twin = vec![NONE; nfh];
         for v in 0..nv {
+            tick(v)?;
             let bucket = &out_list[out_start[v] as usize..out_start[v + 1] as usize];
-            for (i, &h) in bucket.iter().enumerate() {
-                let t = target(h as usize);
-                if let Some(&other) = bucket[..i].iter().find(|&&o| target(o as usize) == t) {
+            for &h in bucket {
+                let t = he_target[h as usize];
+                if let Some(other) = first_to(v as u32, t).filter(|&o| o != h) {
                     return Err(MeshError::NonManifoldEdge {
                         a: v as u32,
                         b: t,
@@ -138,8 +187,7 @@ impl Mesh {
                         second: he_face[h as usize] as usize,
                     });
                 }
-                let tb = &out_list[out_start[t as usize] as usize..out_start[t as usize + 1] as usize];
-                if let Some(&tw) = tb.iter().find(|&&o| target(o as usize) == v as u32) {
+                if let Some(tw) = first_to(t, v as u32) {
                     he_twin[h as usize] = tw;
                 }
             }
@@ -174,6 +222,7 @@ impl Mesh {
         // 5. One outgoing half-edge per vertex (boundary first), and one fan per vertex.
         let mut vertex_out = vec![NONE; nv];
         for v in 0..nv {
+            tick(v)?;
             let count = out_start[v + 1] - out_start[v];
             if count == 0 {
                 continue;
@@ -381,6 +430,27 @@ mod tests {
         ];
         let e = Mesh::from_polygons(p, &[[0, 1, 2], [0, 3, 4]]).unwrap_err();
         assert!(matches!(e, MeshError::NonManifoldVertex { vertex: 0, .. }), "{e}");
+    }
+
+    #[test]
+    fn a_hub_of_high_valence_finds_its_twins_and_its_repeated_edges() {
+        // A closed fan of 50,000 triangles around a hub, over a 50,000-gon: the hub's bucket is
+        // searched by bisection; every half-edge has its twin and the mesh is closed.
+        let n = 50_000u32;
+        let mut positions = vec![Vec3::new(0.0, 0.0, 1.0)];
+        positions.extend((0..n).map(|i| Vec3::new(f64::from(i).cos(), f64::from(i).sin(), 0.0)));
+        let mut faces: Vec<Vec<u32>> = (0..n).map(|i| vec![0, 1 + i, 1 + (i + 1) % n]).collect();
+        faces.push((1..=n).rev().collect());
+        let m = Mesh::from_polygons(positions.clone(), &faces).unwrap();
+        assert!(m.is_closed() && m.is_manifold());
+        assert_eq!(
+            (m.vertex_count(), m.face_count(), m.edge_count()),
+            (n as usize + 1, n as usize + 1, 2 * n as usize)
+        );
+        // The same directed hub edge twice is found in the sorted bucket, naming both faces.
+        faces[7] = vec![0, 4, 10];
+        let e = Mesh::from_polygons(positions, &faces).unwrap_err();
+        assert_eq!(e, MeshError::NonManifoldEdge { a: 0, b: 4, first: 3, second: 7 });
     }
 
     #[test]

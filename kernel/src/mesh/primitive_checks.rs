@@ -73,7 +73,8 @@ impl Mesh {
     /// 10·4ˢ + 2 vertices and 20·4ˢ triangles by the memory budget.
     ///
     /// # Errors
-    /// [`MeshError::OutOfRange`] for `radius`; [`MeshError::Limit`] over the budget.
+    /// [`MeshError::OutOfRange`] for `radius`; [`MeshError::Limit`] over the budget or when
+    /// the current cancellation token stops the work ([`Mesh::icosphere_stoppable`]).
     pub fn try_icosphere(radius: f64, subdivisions: u32) -> Result<Mesh, MeshError> {
         check_length("radius", radius)?;
         let f = 20.0 * 4f64.powi(subdivisions.min(1000) as i32);
@@ -83,7 +84,7 @@ impl Mesh {
             3.0 * f,
             f,
         )?;
-        Ok(Mesh::icosphere(radius, subdivisions))
+        Mesh::icosphere_stoppable(radius, subdivisions)
     }
 
     /// Checks the arguments of [`Mesh::uv_sphere`]: `radius` by [`check_length`], the
@@ -131,6 +132,19 @@ impl Mesh {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_stopped_token_stops_an_icosphere_and_the_same_call_then_succeeds() {
+        use crate::limits::{install, CancelToken, LimitError, StopReason};
+        use std::sync::atomic::AtomicBool;
+        use std::sync::Arc;
+        {
+            let _g = install(CancelToken::with(Some(Arc::new(AtomicBool::new(true))), None, None));
+            let e = Mesh::try_icosphere(1.0, 3).unwrap_err();
+            assert_eq!(e, MeshError::Limit(LimitError::Stopped(StopReason::Interrupted)));
+        }
+        assert_eq!(Mesh::try_icosphere(1.0, 3).unwrap(), Mesh::icosphere(1.0, 3));
+    }
     use crate::limits::LimitError;
 
     #[test]

@@ -4,7 +4,7 @@
 use std::collections::HashMap;
 use std::f64::consts::{PI, TAU};
 
-use super::Mesh;
+use super::{Mesh, MeshError};
 use crate::math::Vec3;
 
 /// Corner `i` of the unit cube: bit 0 is x, bit 1 is y, bit 2 is z.
@@ -49,6 +49,20 @@ impl Mesh {
     /// 10·4ˢ + 2 vertices and 20·4ˢ triangles.
     #[must_use]
     pub fn icosphere(radius: f64, subdivisions: u32) -> Mesh {
+        Mesh::icosphere_with(radius, subdivisions, false).expect("primitive construction is manifold by design")
+    }
+
+    /// [`Mesh::icosphere`] charging its work to the current cancellation token: every 16,384
+    /// faces split, and while building the mesh ([`Mesh::from_indexed_stoppable`]).
+    ///
+    /// # Errors
+    /// [`MeshError::Limit`] when the token stops the work.
+    pub fn icosphere_stoppable(radius: f64, subdivisions: u32) -> Result<Mesh, MeshError> {
+        Mesh::icosphere_with(radius, subdivisions, true)
+    }
+
+    /// The icosphere, charging the current token when `stoppable` (else it never fails).
+    fn icosphere_with(radius: f64, subdivisions: u32, stoppable: bool) -> Result<Mesh, MeshError> {
         let t = (1.0 + 5f64.sqrt()) / 2.0;
         let mut positions: Vec<Vec3> = [
             [-1.0, t, 0.0],
@@ -92,7 +106,10 @@ impl Mesh {
         for _ in 0..subdivisions {
             let mut midpoint: HashMap<(u32, u32), u32> = HashMap::with_capacity(faces.len() * 3 / 2);
             let mut next_faces = Vec::with_capacity(faces.len() * 4);
-            for [a, b, c] in faces {
+            for (k, [a, b, c]) in faces.into_iter().enumerate() {
+                if stoppable && k % 16_384 == 0 {
+                    crate::limits::charge(16_384)?;
+                }
                 let mut mid = |x: u32, y: u32| -> u32 {
                     *midpoint.entry((x.min(y), x.max(y))).or_insert_with(|| {
                         positions.push(((positions[x as usize] + positions[y as usize]) * 0.5).normalize() * radius);
@@ -104,8 +121,13 @@ impl Mesh {
             }
             faces = next_faces;
         }
-        let faces: Vec<Vec<u32>> = faces.iter().map(|f| f.to_vec()).collect();
-        built(positions, &faces)
+        let indices: Vec<u32> = faces.iter().flatten().copied().collect();
+        let arities = vec![3; faces.len()];
+        if stoppable {
+            Mesh::from_indexed_stoppable(positions, &indices, &arities)
+        } else {
+            Mesh::from_indexed(positions, &indices, &arities)
+        }
     }
 
     /// A latitude–longitude sphere: `segments` ≥ 3 around z, `rings` ≥ 2 bands from the south

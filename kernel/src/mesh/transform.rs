@@ -3,7 +3,7 @@
 //! keep facing outward.
 
 use super::Mesh;
-use crate::math::{Mat3, Quat, Vec3};
+use crate::math::{direction, Mat3, Quat, Vec3};
 
 impl Mesh {
     /// This mesh moved by `offset`.
@@ -12,11 +12,11 @@ impl Mesh {
         self.map_positions(|p| p + offset)
     }
 
-    /// This mesh turned by `degrees` about `axis` through the origin (right-handed).
-    /// A zero axis leaves the mesh as it is.
+    /// This mesh turned by `degrees` about `axis` through the origin (right-handed); the axis
+    /// may have any non-zero length. A zero axis leaves the mesh as it is.
     #[must_use]
     pub fn rotate(&self, axis: Vec3, degrees: f64) -> Mesh {
-        let Some(axis) = axis.try_normalize() else { return self.clone() };
+        let Some(axis) = direction(axis) else { return self.clone() };
         let q = Quat::from_axis_angle(axis, degrees.to_radians());
         self.map_positions(|p| q * p)
     }
@@ -37,7 +37,7 @@ impl Mesh {
     /// reversed so that they keep facing outward. A zero normal leaves the mesh as it is.
     #[must_use]
     pub fn mirror(&self, normal: Vec3) -> Mesh {
-        let Some(n) = normal.try_normalize() else { return self.clone() };
+        let Some(n) = direction(normal) else { return self.clone() };
         let reflect = Mat3::IDENTITY - 2.0 * Mat3::from_cols(n * n.x, n * n.y, n * n.z);
         self.map_positions(|p| reflect * p).reversed()
     }
@@ -86,6 +86,17 @@ mod tests {
         let m = Mesh::cube(2.0).translate(Vec3::X * 5.0).rotate(Vec3::Z, 90.0);
         let c = m.bounds().center();
         assert!((c - Vec3::new(0.0, 5.0, 0.0)).length() < 1e-12, "{c}");
+    }
+
+    #[test]
+    fn axes_of_any_nonzero_length_turn_the_same_way() {
+        let m = Mesh::cube(2.0).translate(Vec3::X * 5.0);
+        let want = m.rotate(Vec3::Z, 90.0);
+        for axis in [Vec3::Z * 1e300, Vec3::Z * 1e-200, Vec3::Z * f64::MAX, Vec3::Z * 5e-324] {
+            assert_eq!(m.rotate(axis, 90.0), want, "{axis}");
+            assert_eq!(m.mirror(axis), m.mirror(Vec3::Z), "{axis}");
+        }
+        assert_eq!(m.rotate(Vec3::ZERO, 90.0), m);
     }
 
     #[test]

@@ -40,7 +40,7 @@ pub fn triangulate_polygon(corners: &[Vec3], normal: Vec3) -> Result<Triangles, 
     if k == 3 {
         return Ok(vec![[0, 1, 2]]);
     }
-    let n = normal.try_normalize().ok_or_else(|| "its corners are collinear (zero area)".to_string())?;
+    let n = crate::math::direction(normal).ok_or_else(|| "its corners are collinear (zero area)".to_string())?;
     let is_convex = (0..k).all(|i| {
         let (a, b, c) = (corners[i], corners[(i + 1) % k], corners[(i + 2) % k]);
         (b - a).cross(c - b).dot(n) > 0.0

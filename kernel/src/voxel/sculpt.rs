@@ -183,9 +183,12 @@ impl Voxels {
         let contact = |g: usize| !subtract || data[g] > 0;
         let bounds = cache.bounds;
         let cx = ((clo[0] - glo[0]) as usize, (chi[0] - glo[0]) as usize);
+        // Each plane charges its voxels to the caller's token (on the workers too); once it
+        // stops, the remaining planes are skipped and the grid is left as it was.
+        let token = crate::limits::current();
         for_each_chunk(self.parallel, &mut cache.values, dims[0] * dims[1], |z, plane| {
             let gz = glo[2] + z as i64;
-            if gz < clo[2] || gz >= chi[2] {
+            if gz < clo[2] || gz >= chi[2] || token.charge((dims[0] * dims[1]) as u64).is_err() {
                 return;
             }
             let mut buf = Vec::new();
@@ -223,6 +226,9 @@ impl Voxels {
                 }
             }
         });
+        if let Some(reason) = token.stopped() {
+            return Err(crate::limits::LimitError::Stopped(reason).into());
+        }
         let rotated = unset_before - cache.values.iter().filter(|&&v| v == UNSET).count();
 
         // Pass 2: add or subtract the filling percentage, clamped (§3.3).
@@ -271,6 +277,25 @@ impl Voxels {
 mod tests {
     use super::*;
     use crate::voxel::DEFAULT_ISO;
+
+    #[test]
+    fn a_stopped_token_stops_a_stroke_and_leaves_the_grid_as_it_was() {
+        use crate::limits::{install, CancelToken, LimitError, StopReason};
+        use std::sync::atomic::AtomicBool;
+        use std::sync::Arc;
+        let mut block = Voxels::new(32).unwrap();
+        block.fill_box(Vec3::splat(4.0), Vec3::splat(28.0)).unwrap();
+        let before = block.data().to_vec();
+        let tool = ball_tool(16, 6.0);
+        let stroke = SculptOptions::at(Vec3::new(16.0, 16.0, 28.0)).with_mode(SculptMode::Subtract);
+        {
+            let _g = install(CancelToken::with(Some(Arc::new(AtomicBool::new(true))), None, None));
+            let e = block.sculpt(&tool, &stroke).unwrap_err();
+            assert_eq!(e, VoxelError::Limit(LimitError::Stopped(StopReason::Interrupted)));
+        }
+        assert_eq!(block.data(), &before[..]);
+        assert!(block.sculpt(&tool, &stroke).unwrap().changed > 0);
+    }
 
     fn ball_tool(n: usize, r: f64) -> Voxels {
         let mut t = Voxels::new(n).unwrap();

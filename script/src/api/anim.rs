@@ -54,7 +54,7 @@ fn script_modifiers<'a>(
         state.insert("thickness".into(), Dynamic::from(s.thickness));
         let out: Dynamic = closures[id]
             .call_within_context(ctx, (INT::from(node), t, state))
-            .map_err(|e| format!("the script modifier raised: {e}"))?;
+            .map_err(|e| crate::convert::closure_error("the script modifier", &e))?;
         let Some(map) = out.clone().try_cast::<Map>() else {
             return Err(format!(
                 "the script modifier must return a map #{{position, thickness}}, got {}",

@@ -279,7 +279,7 @@ fn mesh_model(ctx: &NativeCallContext, m: &mut BlockModel, options: Map) -> Scri
                 let call = |p: Vec3, n: Vec3, u: f64, v: f64| -> Result<f64, String> {
                     let r: Dynamic = f
                         .call_within_context(ctx, (p, n, u, v))
-                        .map_err(|e| format!("the closure `displacement` raised: {e}"))?;
+                        .map_err(|e| crate::convert::closure_error("the closure `displacement`", &e))?;
                     displacement_value(&r)
                 };
                 model.tessellate_with_progress(&o, Some(&call), &mut progress)

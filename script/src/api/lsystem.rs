@@ -144,7 +144,7 @@ fn derive_modules(ctx: &NativeCallContext, func: &str, ls: &LSystem, steps: INT)
             Some(ast) => f.call(ctx.engine(), ast, (INT::from(step), args)),
             None => f.call_within_context(ctx, (INT::from(step), args)),
         }
-        .map_err(|e| format!("the closure `p` raised: {e}"))?;
+        .map_err(|e| crate::convert::closure_error("the closure `p`", &e))?;
         to_number(&r).ok_or_else(|| format!("the closure `p` returned {}, not a number", type_name(&r)))
     };
     kernel(func, inner.grammar.derive_with(steps, &mut call))
@@ -221,8 +221,9 @@ fn grow_all(ctx: &NativeCallContext, ls: &LSystem, steps: INT, options: Map) -> 
         match s {
             SizeOpt::Number(x) => Ok(if sigmoid { x * blocksmith_kernel::lsystem::sigmoid(step) } else { *x }),
             SizeOpt::Closure(f) => {
-                let r: Dynamic =
-                    f.call_within_context(ctx, (step,)).map_err(|e| format!("the closure `{key}` raised: {e}"))?;
+                let r: Dynamic = f
+                    .call_within_context(ctx, (step,))
+                    .map_err(|e| crate::convert::closure_error(&format!("the closure `{key}`"), &e))?;
                 to_number(&r).ok_or_else(|| format!("the closure `{key}` returned {}, not a number", type_name(&r)))
             }
         }

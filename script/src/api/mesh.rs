@@ -83,10 +83,30 @@ fn segments(func: &str, arg: &str, v: INT) -> ScriptResult<u32> {
 
 fn nonzero(func: &str, arg: &str, v: &Dynamic) -> ScriptResult<Vec3> {
     let d = vec3(func, arg, v)?;
-    if d.length_squared() == 0.0 {
+    if d == Vec3::ZERO {
         return fail(func, format!("argument `{arg}` is the zero vector, which has no direction"));
     }
     Ok(d)
+}
+
+/// `v` as `[x, y, z]` with numbers as messages print them.
+fn fmt_vec(v: Vec3) -> String {
+    format!("[{}, {}, {}]", fmt_num(v.x), fmt_num(v.y), fmt_num(v.z))
+}
+
+/// Checks `m`, the result of `func` with argument `arg` (`value`): an error naming the argument
+/// and the vertex when the argument took a coordinate out of the numbers (±1.8e308).
+fn finite(func: &str, arg: &str, value: &str, m: &Mesh) -> ScriptResult<()> {
+    match m.positions().iter().position(|p| !p.is_finite()) {
+        None => Ok(()),
+        Some(v) => fail(
+            func,
+            format!(
+                "argument `{arg}` {value} takes vertex {v} to {}, past the largest number (about 1.8e308)",
+                fmt_vec(m.position(v as u32))
+            ),
+        ),
+    }
 }
 
 fn array_option(v: &Dynamic, key: &str) -> ScriptResult<Array> {
@@ -471,7 +491,9 @@ pub mod mesh_api {
     #[rhai_fn(pure, return_raw)]
     pub fn translate(m: &mut SharedMesh, offset: Vector) -> ScriptResult<SharedMesh> {
         let v = vec3("translate", "offset", &offset)?;
-        Ok(m.moved(m.0.translate(v), |c| c.translate(v)))
+        let t = m.0.translate(v);
+        finite("translate", "offset", &fmt_vec(v), &t)?;
+        Ok(m.moved(t, |c| c.translate(v)))
     }
     /// This mesh turned by `degrees` about `axis` through the origin (right-handed). Ids are kept.
     ///
@@ -500,7 +522,9 @@ pub mod mesh_api {
                 format!("argument `factor` has a zero component ({f}), which would flatten the mesh"),
             );
         }
-        Ok(m.moved(m.0.scale(f), |c| c.scale(f)))
+        let t = m.0.scale(f);
+        finite("scale", "factor", &fmt_vec(f), &t)?;
+        Ok(m.moved(t, |c| c.scale(f)))
     }
     /// This mesh reflected through the plane through the origin with normal `normal`; faces are
     /// reversed so they keep facing outward.

@@ -4,9 +4,11 @@
 pub mod anim;
 pub mod blocks;
 pub mod csg;
+pub mod data;
 pub mod files;
 pub mod lsystem;
 pub mod mesh;
+pub mod nesting;
 pub mod polar;
 pub mod registry;
 pub mod runtime;
@@ -34,4 +36,6 @@ pub fn register_all(engine: &mut Engine) {
     blocks::register(engine);
     csg::register(engine);
     engine.register_global_module(exported_module!(runtime::runtime_api).into());
+    engine.register_global_module(exported_module!(data::data_api).into());
+    engine.register_global_module(exported_module!(nesting::nesting_api).into());
 }

@@ -108,6 +108,12 @@ fn scale_selection(
     let (center, frame) = center_frame(&opts)?;
     let v = ids(func, "verts", verts)?;
     let f = factor3(func, "factor", factor)?;
+    if f == Vec3::ZERO && v.len() > 1 {
+        return fail(
+            func,
+            "argument `factor` is 0, which would put all the vertices at one point (faces without area)",
+        );
+    }
     kernel(func, pm.get_mut().scale_vertices(&v, f, center, frame))
 }
 
