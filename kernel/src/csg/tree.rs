@@ -455,8 +455,9 @@ fn check_precision(operands: &[&Solid]) -> Result<(), CsgError> {
     let magnitude = bounds.iter().map(|(lo, hi)| lo.abs().max(hi.abs()).max_element()).fold(0.0, f64::max);
     let resolution = ENGINE_PRECISION * magnitude;
     for (i, (lo, hi)) in bounds.iter().enumerate() {
+        // A flat operand (span 0, as an intermediate boolean can leave) has no volume to lose.
         let span = (*hi - *lo).min_element();
-        if span < MIN_SPAN_RESOLUTIONS * resolution {
+        if span > 0.0 && span < MIN_SPAN_RESOLUTIONS * resolution {
             let side = if i == 0 { Side::Left } else { Side::Right };
             return Err(CsgError::Precision { side, span, magnitude });
         }

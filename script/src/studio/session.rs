@@ -443,16 +443,19 @@ mod tests {
         next(&rx, "running");
         std::fs::write(&p, "cube(param(\"size\", 1))").unwrap();
         session.set_params(BTreeMap::from([("size".to_string(), "2".to_string())]));
+        // The first run may read the new recipe before the parameters arrive (the "running"
+        // message comes before it reads the file) and show size 1; what must never be shown is
+        // the interrupted run, and the parameters' run must follow.
         let m = loop {
             let v: serde_json::Value =
                 serde_json::from_str(&rx.recv_timeout(Duration::from_secs(30)).unwrap()).unwrap();
             assert_ne!(v["type"], "error", "the interrupted run is dropped, not shown: {v}");
-            if v["type"] == "model" {
+            if v["type"] == "model" && v["params"][0]["value"].as_i64() == Some(2) {
                 break v;
             }
         };
-        assert_eq!(m["version"], 1);
-        assert_eq!((m["params"][0]["name"].as_str(), m["params"][0]["value"].as_i64()), (Some("size"), Some(2)));
+        assert!(m["version"].as_u64().is_some_and(|v| v <= 2), "one model per finished request: {m}");
+        assert_eq!(m["params"][0]["name"].as_str(), Some("size"));
         assert!((m["layers"][0]["facts"]["volume"].as_f64().unwrap() - 8.0).abs() < 1e-9);
     }
 }
