@@ -233,6 +233,18 @@ fn report(result: Result<String, RunError>) -> ExitCode {
 }
 
 /// The exit of a server that stopped (it only returns on an error).
+/// Writes `text` to standard output. A reader that stops early (`blocksmith doc | head`) closes
+/// the pipe: the command then ends quietly, as other command-line tools do, instead of panicking.
+fn print_out(text: &str) {
+    use std::io::Write;
+    let mut stdout = std::io::stdout().lock();
+    match stdout.write_all(text.as_bytes()).and_then(|()| stdout.flush()) {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
+        Err(e) => eprintln!("error: could not write to standard output: {e}"),
+        Ok(()) => {}
+    }
+}
+
 fn served(result: Result<(), String>) -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -248,7 +260,7 @@ fn list_params(file: &std::path::Path, set: &[(String, String)], format: &str) -
     let format = if format == "json" { ListFormat::Json } else { ListFormat::Text };
     match params_list::execute(file, set, format) {
         Ok(listing) => {
-            print!("{listing}");
+            print_out(&listing);
             ExitCode::SUCCESS
         }
         Err(e) => {
@@ -291,7 +303,7 @@ fn command() -> ExitCode {
                     eprintln!("{w}");
                 }
                 if let Some(stats) = o.stats {
-                    println!("{stats:#}");
+                    print_out(&format!("{stats:#}\n"));
                 }
                 o.summary
             }))
@@ -323,7 +335,7 @@ fn command() -> ExitCode {
                 }
             };
             let outcomes = test_runner::run_all_limited(&files, &out, limits.max_operations, limits.timeout);
-            print!("{}", test_runner::report(&outcomes));
+            print_out(&test_runner::report(&outcomes));
             if outcomes.iter().any(|o| o.error.is_some()) {
                 ExitCode::FAILURE
             } else {
@@ -340,7 +352,7 @@ fn command() -> ExitCode {
             let format = format.parse::<doc::Format>().unwrap_or(doc::Format::Text);
             match doc::render_as(&engine, name.as_deref(), format) {
                 Ok(text) => {
-                    print!("{text}");
+                    print_out(&text);
                     ExitCode::SUCCESS
                 }
                 Err(e) => {

@@ -248,3 +248,21 @@ fn repl_reads_piped_input_and_keeps_definitions() {
     assert!(out.contains("The total surface area."), "{out}");
     assert!(d.path().join("c.obj").exists());
 }
+
+#[test]
+fn a_reader_that_stops_early_ends_the_command_quietly() {
+    // `blocksmith doc | head -1`: the pipe closes after the first line.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_blocksmith"))
+        .arg("doc")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut first = [0u8; 16];
+    std::io::Read::read_exact(child.stdout.as_mut().unwrap(), &mut first).unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(out.status.success(), "{:?} {stderr}", out.status);
+}
