@@ -194,30 +194,7 @@ impl Mesh {
         }
 
         // 4. Boundary half-edges close every unmatched face half-edge.
-        let mut boundary_out = vec![NONE; nv];
-        for h in 0..nfh {
-            if he_twin[h] == NONE {
-                let b = he_origin.len() as u32;
-                let from = he_origin[he_next[h] as usize];
-                if boundary_out[from as usize] != NONE {
-                    return Err(MeshError::NonManifoldVertex { vertex: from, fans: 2 });
-                }
-                boundary_out[from as usize] = b;
-                he_origin.push(from);
-                he_next.push(NONE);
-                he_prev.push(NONE);
-                he_face.push(NONE);
-                he_twin.push(h as u32);
-                he_twin[h] = b;
-            }
-        }
-        for b in nfh..he_origin.len() {
-            // b runs from target(h) to origin(h); the boundary continues from origin(h).
-            let to = he_origin[he_twin[b] as usize];
-            let n = boundary_out[to as usize];
-            he_next[b] = n;
-            he_prev[n as usize] = b as u32;
-        }
+        let boundary_out = close_boundary(nv, &mut he_origin, &mut he_next, &mut he_prev, &mut he_face, &mut he_twin)?;
 
         // 5. One outgoing half-edge per vertex (boundary first), and one fan per vertex.
         let mut vertex_out = vec![NONE; nv];
@@ -332,29 +309,11 @@ impl Mesh {
                 return bad("twins that do not pair");
             }
         }
-        // Boundary half-edges close every unmatched face half-edge, in half-edge order.
-        let mut boundary_out = vec![NONE; nv];
-        for h in 0..nfh {
-            if twins[h] == NONE {
-                let b = origins.len() as u32;
-                let from = origins[he_next[h] as usize];
-                if boundary_out[from as usize] != NONE {
-                    return Err(MeshError::NonManifoldVertex { vertex: from, fans: 2 });
-                }
-                boundary_out[from as usize] = b;
-                origins.push(from);
-                he_next.push(NONE);
-                he_prev.push(NONE);
-                he_face.push(NONE);
-                twins.push(h as u32);
-                twins[h] = b;
-                sharpness.push(sharpness[h]);
-            }
-        }
+        // Boundary half-edges close every unmatched face half-edge, in half-edge order, each
+        // as sharp as its twin.
+        let boundary_out = close_boundary(nv, &mut origins, &mut he_next, &mut he_prev, &mut he_face, &mut twins)?;
         for b in nfh..origins.len() {
-            let n = boundary_out[origins[twins[b] as usize] as usize];
-            he_next[b] = n;
-            he_prev[n as usize] = b as u32;
+            sharpness.push(sharpness[twins[b] as usize]);
         }
         for (out, &b) in vertex_out.iter_mut().zip(&boundary_out) {
             if b != NONE {
@@ -377,6 +336,44 @@ impl Mesh {
             face_sources: None,
         })
     }
+}
+
+/// Adds a boundary half-edge opposite every face half-edge without a twin (in half-edge order)
+/// and links each boundary loop; returns each vertex's outgoing boundary half-edge (`NONE` for
+/// an inner vertex). Two boundary half-edges leaving one vertex make it non-manifold.
+fn close_boundary(
+    nv: usize,
+    origin: &mut Vec<u32>,
+    next: &mut Vec<u32>,
+    prev: &mut Vec<u32>,
+    face: &mut Vec<u32>,
+    twin: &mut Vec<u32>,
+) -> Result<Vec<u32>, MeshError> {
+    let nfh = origin.len();
+    let mut boundary_out = vec![NONE; nv];
+    for h in 0..nfh {
+        if twin[h] == NONE {
+            let b = origin.len() as u32;
+            let from = origin[next[h] as usize];
+            if boundary_out[from as usize] != NONE {
+                return Err(MeshError::NonManifoldVertex { vertex: from, fans: 2 });
+            }
+            boundary_out[from as usize] = b;
+            origin.push(from);
+            next.push(NONE);
+            prev.push(NONE);
+            face.push(NONE);
+            twin.push(h as u32);
+            twin[h] = b;
+        }
+    }
+    for b in nfh..origin.len() {
+        // b runs from target(h) to origin(h); the boundary continues from origin(h).
+        let n = boundary_out[origin[twin[b] as usize] as usize];
+        next[b] = n;
+        prev[n as usize] = b as u32;
+    }
+    Ok(boundary_out)
 }
 
 #[cfg(test)]
