@@ -11,8 +11,10 @@
 //! back to the same `f64` (so a round trip keeps every bit); every face triangulated as
 //! [`super::face_triangles`] does. Vertex colours are written as a `<m:colorgroup>` with one
 //! colour per vertex (materials extension §3.3); without them, faces that carry sources (a
-//! boolean result) get one `<m:basematerials>` entry per source, coloured as glTF colours them
-//! ([`super::source_color`]). 3MF is Z-up and in millimetres by specification: positions are
+//! boolean result) get one `<basematerials>` entry per source, coloured as glTF colours them
+//! ([`super::source_color`]); base materials belong to the core namespace (core §5.1), colour
+//! groups to the materials one. What is written validates against the Consortium's core and
+//! materials schemas (checked in CI over every 3MF the tests write). 3MF is Z-up and in millimetres by specification: positions are
 //! written as they are.
 //!
 //! Reading places every build item's object (through nested components, with their
@@ -126,12 +128,12 @@ fn model_xml(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> String {
                 let h = hex(super::source_color(src));
                 let n = index.len() as u32;
                 *index.entry(h.clone()).or_insert_with(|| {
-                    let _ = writeln!(bases, "<m:base name=\"source {n}\" displaycolor=\"{h}\"/>");
+                    let _ = writeln!(bases, "<base name=\"source {n}\" displaycolor=\"{h}\"/>");
                     n
                 })
             })
             .collect();
-        let _ = write!(s, "<m:basematerials id=\"2\">\n{bases}</m:basematerials>\n");
+        let _ = write!(s, "<basematerials id=\"2\">\n{bases}</basematerials>\n");
         face_material = Some(per_face);
     }
     let object_pid = if colors.is_some() || face_material.is_some() { " pid=\"2\" pindex=\"0\"" } else { "" };
@@ -656,6 +658,7 @@ fn build_mesh(parts: &Parts, root: &str, scale: f64, path: &Path) -> Result<Mesh
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mesh::FaceSource;
 
     fn written(mesh: &Mesh) -> Vec<u8> {
         let mut bytes = Vec::new();
@@ -774,6 +777,24 @@ mod tests {
         m.set_vertex_colors(Some(colors.clone())).unwrap();
         let back = read_3mf(&written(&m), Path::new("c.3mf")).unwrap();
         assert_eq!(back.vertex_colors(), Some(colors.as_slice()));
+    }
+
+    #[test]
+    fn face_sources_are_core_base_materials() {
+        // Base materials are core elements (core §5.1); colour groups are the materials
+        // extension's. A prefixed `m:basematerials` is outside both schemas.
+        let mut m = Mesh::cube(1.0);
+        m.set_face_sources(Some((0..6).map(|face| FaceSource::Mesh { leaf: face / 3, face }).collect())).unwrap();
+        let mut zip = zip::ZipArchive::new(Cursor::new(written(&m))).unwrap();
+        let mut xml = String::new();
+        zip.by_name("3D/3dmodel.model").unwrap().read_to_string(&mut xml).unwrap();
+        assert!(xml.contains("<basematerials id=\"2\">\n<base name=\"source 0\""), "{xml}");
+        assert!(!xml.contains("m:base"), "{xml}");
+        for (leaf, tris) in [(0, 6), (1, 6)] {
+            let color = hex(super::super::source_color(&FaceSource::Mesh { leaf, face: 0 }));
+            assert!(xml.contains(&format!("<base name=\"source {leaf}\" displaycolor=\"{color}\"/>")), "{xml}");
+            assert_eq!(xml.matches(&format!("pid=\"2\" p1=\"{leaf}\"/>")).count(), tris, "{xml}");
+        }
     }
 
     #[test]
