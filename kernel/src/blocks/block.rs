@@ -204,6 +204,10 @@ impl Edge {
 
 /// A block: 8 corners, per-face sub-face grids, per-edge sharpness and a group id.
 ///
+/// An edge's sharpness is 0 (smooth), `f64::INFINITY` (sharp: a crease at every level) or between
+/// (semi-sharp: DeRose, Kass & Truong 1998 §3 as OpenSubdiv applies it, the crease rules for that
+/// many levels, then smooth — a bevelled edge on a smooth block, rounder as the value falls).
+///
 /// Made by [`Block::from_bounds`] or [`Block::from_corners`], which validate the corners. Every
 /// face starts undivided (1 × 1), every edge smooth, the group 0. Changes are all or nothing: an
 /// operation that fails leaves the block as it was.
@@ -211,7 +215,7 @@ impl Edge {
 pub struct Block {
     corners: [Vec3; 8],
     divisions: [[u32; 2]; 6],
-    sharp: [bool; 12],
+    sharp: [f64; 12],
     group: i64,
 }
 
@@ -243,7 +247,7 @@ impl Block {
     ///   higher x, y, z) is left-handed or flat at some corner.
     pub fn from_corners(corners: [Vec3; 8]) -> Result<Block, BlockError> {
         validate(&corners)?;
-        Ok(Block { corners, divisions: [[1, 1]; 6], sharp: [false; 12], group: 0 })
+        Ok(Block { corners, divisions: [[1, 1]; 6], sharp: [0.0; 12], group: 0 })
     }
 
     /// The 8 corners.
@@ -283,25 +287,43 @@ impl Block {
         Ok(())
     }
 
-    /// Whether `edge` is sharp.
+    /// Whether `edge` is sharp or semi-sharp (sharpness above 0).
     #[must_use]
     pub fn is_sharp(&self, edge: Edge) -> bool {
+        self.sharp[edge.index()] > 0.0
+    }
+
+    /// The sharpness of `edge`: 0 smooth, `f64::INFINITY` sharp, between semi-sharp.
+    #[must_use]
+    pub fn sharpness(&self, edge: Edge) -> f64 {
         self.sharp[edge.index()]
     }
 
-    /// Tags `edge` sharp (`true`) or smooth.
+    /// Tags `edge` sharp (`true`, infinitely) or smooth.
     pub fn set_sharp(&mut self, edge: Edge, sharp: bool) {
-        self.sharp[edge.index()] = sharp;
+        self.sharp[edge.index()] = if sharp { f64::INFINITY } else { 0.0 };
+    }
+
+    /// Sets the sharpness of `edge` (0 smooth, `f64::INFINITY` or 10 and more sharp).
+    ///
+    /// # Errors
+    /// [`BlockError::BadSharpness`] for NaN or a negative value; the block is unchanged.
+    pub fn set_sharpness(&mut self, edge: Edge, sharpness: f64) -> Result<(), BlockError> {
+        if sharpness.is_nan() || sharpness < 0.0 {
+            return Err(BlockError::BadSharpness { edge: edge.name(), sharpness });
+        }
+        self.sharp[edge.index()] = sharpness;
+        Ok(())
     }
 
     /// Tags every edge sharp.
     pub fn sharp_all(&mut self) {
-        self.sharp = [true; 12];
+        self.sharp = [f64::INFINITY; 12];
     }
 
     /// Tags every edge smooth.
     pub fn smooth_all(&mut self) {
-        self.sharp = [false; 12];
+        self.sharp = [0.0; 12];
     }
 
     /// The group id.
@@ -434,7 +456,7 @@ fn validate(c: &[Vec3; 8]) -> Result<(), BlockError> {
             }
         }
     }
-    let probe = Block { corners: *c, divisions: [[1, 1]; 6], sharp: [false; 12], group: 0 };
+    let probe = Block { corners: *c, divisions: [[1, 1]; 6], sharp: [0.0; 12], group: 0 };
     for face in Face::ALL {
         let q = probe.subface_corners_full(face);
         let n = (q[2] - q[0]).cross(q[3] - q[1]);

@@ -13,11 +13,18 @@
 //!    Sides with the same end vertices form one group; the T-vertices of all of them are merged
 //!    by their parameter along the side and inserted into every remaining polygon that uses part
 //!    of the side, and placed on the straight segment between the joined ends.
-//! 4. An edge is sharp (a crease) when at least one block edge it lies on is sharp.
+//! 4. An edge is sharp (a crease) when at least one block edge it lies on is sharp; its sharpness
+//!    is the largest of theirs (semi-sharp block edges give semi-sharp creases).
 //! 5. The polygons are built into a half-edge [`Mesh`] (which refuses non-manifold input), checked
-//!    closed, and given one Catmull–Clark step (§2.3, second step): all quads.
+//!    closed, and given one Catmull–Clark step (§2.3, second step): all quads. Where a block edge
+//!    is semi-sharp, the quads are refined further until its sharpness is used up (DeRose, Kass &
+//!    Truong 1998 §3: the crease rules apply for ⌈s⌉ levels, and only then are the quads patches
+//!    of one limit surface that no longer changes from level to level, as the tessellator's
+//!    [`crate::subdiv::LimitEvaluator`] needs); each child quad keeps its parent's sub-face and
+//!    the quarter of its (u, v) it covers, and every half-edge keeps the sharpness of the block
+//!    edge it lies on.
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 
 use crate::math::{lerp, Vec3};
 use crate::mesh::{Mesh, MeshError, NONE};
@@ -44,10 +51,15 @@ pub struct ControlMesh {
     pub polygons: Mesh,
     /// The sub-face of each polygon.
     pub polygon_sources: Vec<SubFaceRef>,
-    /// `polygons` after one Catmull–Clark step: quads only.
+    /// `polygons` after one Catmull–Clark step, and as many more as semi-sharp block edges need
+    /// to run out of sharpness: quads only, no semi-sharp crease left.
     pub mesh: Mesh,
     /// One entry per face of `mesh`.
     pub sources: Vec<PatchSource>,
+    /// Per half-edge of `mesh`, the sharpness of the block edge it lies on as the blocks set it
+    /// (0 off sharp block edges, `f64::INFINITY` on sharp ones, the value on semi-sharp ones,
+    /// whose creases `mesh` itself has used up): the tessellation tags its edges with it.
+    pub edge_sharpness: Vec<f64>,
 }
 
 impl BlockModel {
@@ -93,8 +105,8 @@ enum Local {
 struct Assembly {
     positions: Vec<Vec3>,
     polys: Vec<Poly>,
-    /// Sharp edges as ordered vertex pairs (smaller id first).
-    sharp: HashSet<(u32, u32)>,
+    /// Sharp edges as ordered vertex pairs (smaller id first), with their sharpness.
+    sharp: HashMap<(u32, u32), f64>,
     index: HashMap<SubFaceRef, usize>,
 }
 
@@ -206,7 +218,7 @@ fn add_block(asm: &mut Assembly, bi: u32, block: &Block) {
                         if block.is_sharp(e) {
                             let end = if k == 3 { n } else { idx[k + 1] };
                             for m in idx[k]..end {
-                                asm.sharp.insert(key(verts[m], verts[(m + 1) % n]));
+                                sharpen(&mut asm.sharp, key(verts[m], verts[(m + 1) % n]), block.sharpness(e));
                             }
                         }
                     }
@@ -297,6 +309,12 @@ fn group_chains(
     Ok(groups)
 }
 
+/// Tags edge `k` with sharpness `s`, keeping the larger of two tags.
+fn sharpen(sharp: &mut HashMap<(u32, u32), f64>, k: (u32, u32), s: f64) {
+    let e = sharp.entry(k).or_insert(0.0);
+    *e = e.max(s);
+}
+
 /// A sub-face, for messages.
 fn describe(r: SubFaceRef) -> String {
     format!("sub-face {} of face {} of block {}", r.sub, r.face.name(), r.block)
@@ -307,7 +325,7 @@ fn assemble(model: &BlockModel, connections: &[Connection]) -> Result<ControlMes
     if model.blocks().is_empty() {
         return Err(BlockError::Empty);
     }
-    let mut asm = Assembly { positions: Vec::new(), polys: Vec::new(), sharp: HashSet::new(), index: HashMap::new() };
+    let mut asm = Assembly { positions: Vec::new(), polys: Vec::new(), sharp: HashMap::new(), index: HashMap::new() };
     for (bi, block) in model.blocks().iter().enumerate() {
         add_block(&mut asm, bi as u32, block);
     }
@@ -368,8 +386,10 @@ fn assemble(model: &BlockModel, connections: &[Connection]) -> Result<ControlMes
             pos[v] /= f64::from(count[v]);
         }
     }
-    let mut sharp: HashSet<(u32, u32)> =
-        asm.sharp.iter().map(|&(a, b)| key(root[a as usize], root[b as usize])).collect();
+    let mut sharp: HashMap<(u32, u32), f64> = HashMap::new();
+    for (&(a, b), &s) in &asm.sharp {
+        sharpen(&mut sharp, key(root[a as usize], root[b as usize]), s);
+    }
 
     // Step 3b: every glued side lists all T-vertices of its group; remaining polygons that use a
     // piece of it get the ones inside that piece. Rules map a directed edge to the vertices to
@@ -404,13 +424,13 @@ fn assemble(model: &BlockModel, connections: &[Connection]) -> Result<ControlMes
                 if inside.is_empty() {
                     continue;
                 }
-                if sharp.contains(&key(c0, c1)) {
+                if let Some(&s) = sharp.get(&key(c0, c1)) {
                     let mut prev = c0;
                     for &(c, _) in &inside {
-                        sharp.insert(key(prev, c));
+                        sharpen(&mut sharp, key(prev, c), s);
                         prev = c;
                     }
-                    sharp.insert(key(prev, c1));
+                    sharpen(&mut sharp, key(prev, c1), s);
                 }
                 let back: Vec<(u32, f64)> = inside.iter().rev().map(|&(c, f)| (c, 1.0 - f)).collect();
                 rules.insert((c0, c1), inside);
@@ -494,15 +514,15 @@ fn assemble(model: &BlockModel, connections: &[Connection]) -> Result<ControlMes
             reason: format!("the surface has {open} boundary edges (sub-faces joined to sides that do not match)"),
         });
     }
-    let mut sharp_pairs: Vec<(u32, u32)> = sharp.into_iter().collect();
-    sharp_pairs.sort_unstable();
-    for (a, b) in sharp_pairs {
+    let mut sharp_pairs: Vec<((u32, u32), f64)> = sharp.into_iter().collect();
+    sharp_pairs.sort_unstable_by_key(|a| a.0);
+    for ((a, b), s) in sharp_pairs {
         let (fa, fb) = (final_id[a as usize], final_id[b as usize]);
         if fa == NONE || fb == NONE {
             continue;
         }
         if let Some(h) = polygons.find_halfedge(fa, fb) {
-            polygons.set_crease_halfedge(h, true);
+            polygons.set_edge_sharpness_halfedge(h, s);
         }
     }
     let mesh = polygons.catmull_clark(1).map_err(|e| BlockError::Internal(e.to_string()))?;
@@ -524,7 +544,65 @@ fn assemble(model: &BlockModel, connections: &[Connection]) -> Result<ControlMes
     if sources.len() != mesh.face_count() {
         return Err(BlockError::Internal(format!("{} sources for {} quads", sources.len(), mesh.face_count())));
     }
-    Ok(ControlMesh { polygons, polygon_sources, mesh, sources })
+    let mut tags: HashMap<(u32, u32), f64> =
+        polygons.crease_sharpnesses().into_iter().map(|([a, b], s)| (key(a, b), s)).collect();
+    tags = child_tags(&polygons, &tags);
+    let (mesh, sources, tags) = use_up_sharpness(mesh, sources, tags)?;
+    let mut edge_sharpness = vec![0.0; mesh.halfedge_count()];
+    for (&(a, b), &s) in &tags {
+        let h = mesh.find_halfedge(a, b).ok_or_else(|| BlockError::Internal(format!("crease ({a}, {b}) lost")))?;
+        edge_sharpness[h as usize] = s;
+        edge_sharpness[mesh.twin(h) as usize] = s;
+    }
+    Ok(ControlMesh { polygons, polygon_sources, mesh, sources, edge_sharpness })
+}
+
+/// The tags of `parent`'s edges on the edges of its Catmull–Clark child: the edge point of the
+/// parent's `e`-th edge (in [`Mesh::edges`] order) is child vertex `V + e`, and both halves of a
+/// tagged edge keep its tag (the layout of [`crate::subdiv::refiner`]).
+fn child_tags(parent: &Mesh, tags: &HashMap<(u32, u32), f64>) -> HashMap<(u32, u32), f64> {
+    let nv = parent.vertex_count() as u32;
+    let mut out = HashMap::with_capacity(2 * tags.len());
+    for (e, h) in parent.edges().enumerate() {
+        let (a, b) = (parent.origin(h), parent.target(h));
+        if let Some(&s) = tags.get(&key(a, b)) {
+            let m = nv + e as u32;
+            out.insert(key(a, m), s);
+            out.insert(key(m, b), s);
+        }
+    }
+    out
+}
+
+/// Refines `mesh` until no semi-sharp crease is left, each child quad with the quarter of its
+/// parent's source it covers and the block-edge tags carried down.
+#[allow(clippy::type_complexity)]
+fn use_up_sharpness(
+    mut mesh: Mesh,
+    mut sources: Vec<PatchSource>,
+    mut tags: HashMap<(u32, u32), f64>,
+) -> Result<(Mesh, Vec<PatchSource>, HashMap<(u32, u32), f64>), BlockError> {
+    while mesh.has_semi_sharp() {
+        let child = mesh.catmull_clark(1).map_err(|e| match e {
+            crate::subdiv::SubdivError::Limit(l) => BlockError::Limit(l),
+            e => BlockError::Topology { reason: format!("refining semi-sharp block edges: {e}") },
+        })?;
+        // Quad f's child k covers the quarter at its corner k (see the sources above).
+        let mid = |a: [f64; 2], b: [f64; 2]| [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
+        let mut next = Vec::with_capacity(4 * sources.len());
+        for s in &sources {
+            let q = s.uv;
+            let centre = mid(mid(q[0], q[1]), mid(q[2], q[3]));
+            for k in 0..4 {
+                let uv = [q[k], mid(q[k], q[(k + 1) % 4]), centre, mid(q[(k + 3) % 4], q[k])];
+                next.push(PatchSource { subface: s.subface, uv });
+            }
+        }
+        tags = child_tags(&mesh, &tags);
+        mesh = child;
+        sources = next;
+    }
+    Ok((mesh, sources, tags))
 }
 
 #[cfg(test)]

@@ -35,6 +35,9 @@ pub enum BlockError {
     /// An edge name that is not two faces of different axes, e.g. `"+x+y"`.
     #[error("unknown edge \"{name}\"; an edge is named by two faces of different axes, e.g. \"+x+y\" or \"-z+x\"")]
     UnknownEdge { name: String },
+    /// An edge sharpness that is NaN or negative.
+    #[error("edge {edge} needs a sharpness of 0 or more, got {sharpness}")]
+    BadSharpness { edge: String, sharpness: f64 },
     /// A sub-face index outside `0..nu*nv` of its face.
     #[error("sub-face {sub} of face {face} does not exist (the face has {count})")]
     SubFaceOutOfRange { face: &'static str, sub: i64, count: u32 },

@@ -23,9 +23,10 @@
 //! across its shorter diagonal. The result is a closed, manifold triangle mesh.
 //!
 //! # Creases
-//! A triangle edge along a sharp side of its patch (a sharp block edge, or a crease of the
-//! control mesh) is tagged a crease of the output mesh, so that booleans, exporters and later
-//! subdivision see the block's sharp edges as the mesh's.
+//! A triangle edge along a sharp side of its patch (a sharp or semi-sharp block edge,
+//! [`ControlMesh::edge_sharpness`]) is tagged a crease of the output mesh with the block edge's
+//! sharpness, so that booleans, exporters and later subdivision see the block's sharp edges as
+//! the mesh's.
 //!
 //! # Displacement
 //! A closure `d(p, n, u, v)` moves each point `p` of the limit surface along its unit normal `n`
@@ -473,7 +474,7 @@ pub fn tessellate_control_with_progress(
     let mut positions: Vec<Vec3> = Vec::new();
     let mut tris: Vec<u32> = Vec::new();
     let mut triangle_patches: Vec<u32> = Vec::new();
-    let mut creases: Vec<[u32; 2]> = Vec::new();
+    let mut creases: Vec<([u32; 2], f64)> = Vec::new();
     let mut sub_patches = 0usize;
     for f in 0..nf {
         let h = hes[f as usize];
@@ -581,8 +582,14 @@ pub fn tessellate_control_with_progress(
             for k in 0..ring.len() {
                 let (a, b) = (ring[k], ring[(k + 1) % ring.len()]);
                 let side = [a.1 == 0 && b.1 == 0, a.0 == r && b.0 == r, a.1 == r && b.1 == r, a.0 == 0 && b.0 == 0];
-                if side.iter().zip(&h).any(|(&on, &hk)| on && mesh.is_crease(hk)) {
-                    creases.push([vid[k], vid[(k + 1) % vid.len()]]);
+                let s = side
+                    .iter()
+                    .zip(&h)
+                    .filter(|&(&on, _)| on)
+                    .map(|(_, &hk)| cm.edge_sharpness[hk as usize])
+                    .fold(0.0, f64::max);
+                if s > 0.0 {
+                    creases.push(([vid[k], vid[(k + 1) % vid.len()]], s));
                 }
             }
             if vid.len() == 4 {
@@ -606,7 +613,12 @@ pub fn tessellate_control_with_progress(
     let arities = vec![3u32; tris.len() / 3];
     let mut out = Mesh::from_indexed(positions, &tris, &arities)
         .map_err(|e| BlockError::Internal(format!("the tessellation is not a manifold mesh: {e}")))?;
-    out.crease_edges(&creases).map_err(|e| BlockError::Internal(format!("a crease of the tessellation: {e}")))?;
+    for ([a, b], s) in creases {
+        let h = out
+            .find_halfedge(a, b)
+            .ok_or_else(|| BlockError::Internal(format!("a crease of the tessellation ({a}, {b}) is no edge")))?;
+        out.set_edge_sharpness_halfedge(h, s);
+    }
     if out.face_count() != triangle_patches.len() {
         return Err(BlockError::Internal(format!(
             "{} triangle sources for {} triangles",
@@ -666,6 +678,67 @@ mod tests {
         let bb = t.mesh.bounds();
         assert!(bb.min.distance(Vec3::ZERO) < 1e-12 && bb.max.distance(Vec3::new(1.0, 2.0, 3.0)) < 1e-12);
         assert_eq!(t.stats.sub_patches, t.stats.patches);
+    }
+
+    #[test]
+    fn semi_sharp_block_edges_bevel_between_smooth_and_sharp() {
+        // Every edge of a 1 × 2 × 3 box at sharpness 0, 1, 2.5 and infinity: the volume grows
+        // strictly with the sharpness (smooth rounds the box most, sharp is the box), the
+        // semi-sharp control meshes are refined until no semi-sharp crease is left, and the
+        // surface's edges along the box's edges carry the sharpness the block set.
+        let opts = MeshOptions::DEFAULT.with_tolerance(1e-4);
+        let (lo, hi) = ([0.0; 3], [1.0, 2.0, 3.0]);
+        let mut volumes = Vec::new();
+        for s in [0.0, 1.0, 2.5, f64::INFINITY] {
+            let mut b = boxed(lo, hi);
+            for e in crate::blocks::Edge::all() {
+                b.set_sharpness(e, s).unwrap();
+            }
+            let mut m = BlockModel::new();
+            m.add(b);
+            let cm = m.control_mesh().unwrap();
+            assert!(!cm.mesh.has_semi_sharp());
+            // One step of the 6 quads, then ⌈s⌉ − 1 more while semi-sharp creases remain.
+            let levels = if s.is_finite() && s > 1.0 { s.ceil() as u32 } else { 1 };
+            assert_eq!(cm.mesh.face_count(), 24 * 4usize.pow(levels - 1), "sharpness {s}");
+            assert_eq!(cm.sources.len(), cm.mesh.face_count());
+            let t = m.tessellate(&opts, None).unwrap();
+            check_solid(&t.mesh);
+            let p = t.mesh.positions();
+            let creases = t.mesh.crease_sharpnesses();
+            let length: f64 = creases.iter().map(|&([a, b], _)| p[a as usize].distance(p[b as usize])).sum();
+            if s == 0.0 {
+                assert!(creases.is_empty());
+            } else {
+                assert!(creases.iter().all(|&(_, x)| x == s), "sharpness {s}");
+                // A sharp crease is the box's edge; a semi-sharp one is rounded off it, and as
+                // long as the rounded edges (between the smooth block's and the box's).
+                if s.is_finite() {
+                    assert!(length > 12.0 && length < 24.0, "sharpness {s}: crease length {length}");
+                } else {
+                    assert!(creases.iter().all(|&([a, b], _)| along_box_edge(p[a as usize], p[b as usize], lo, hi)));
+                    assert!((length - 24.0).abs() < 1e-12, "crease length {length}");
+                }
+            }
+            volumes.push(t.mesh.volume());
+        }
+        assert!(volumes.windows(2).all(|w| w[0] < w[1]), "volumes {volumes:?}");
+        assert!((volumes[3] - 6.0).abs() < 1e-9);
+        // The sources still name the box's six faces with (u, v) inside [0, 1].
+        let mut b = boxed(lo, hi);
+        b.set_sharpness(crate::blocks::Edge::parse("+x+y").unwrap(), 2.5).unwrap();
+        let mut m = BlockModel::new();
+        m.add(b);
+        let cm = m.control_mesh().unwrap();
+        assert!(cm.sources.iter().all(|s| s.uv.iter().flatten().all(|&x| (0.0..=1.0).contains(&x))));
+        let faces: std::collections::HashSet<Face> = cm.sources.iter().map(|s| s.subface.face).collect();
+        assert_eq!(faces.len(), 6);
+        // Bad sharpness is refused and leaves the block as it was.
+        let mut b = boxed(lo, hi);
+        let e = crate::blocks::Edge::parse("+x+y").unwrap();
+        assert!(matches!(b.set_sharpness(e, -1.0), Err(BlockError::BadSharpness { .. })));
+        assert!(b.set_sharpness(e, f64::NAN).is_err());
+        assert_eq!(b.sharpness(e), 0.0);
     }
 
     #[test]

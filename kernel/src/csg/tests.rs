@@ -186,6 +186,22 @@ fn semi_sharp_creases_and_corners_keep_their_sharpness_through_a_boolean() {
 }
 
 #[test]
+fn semi_sharp_block_edges_keep_their_sharpness_through_a_boolean() {
+    // A block with every edge at 1.5, cut at a corner: the surviving pieces of its edges are
+    // creases of 1.5, the cut's new edges are none.
+    let mut b = Block::from_bounds(Vec3::ZERO, Vec3::ONE).unwrap();
+    for e in crate::blocks::Edge::all() {
+        b.set_sharpness(e, 1.5).unwrap();
+    }
+    let mut model = BlockModel::new();
+    model.add(b);
+    let m = eval(&Csg::blocks(model, MeshOptions::DEFAULT.with_tolerance(1e-3)).difference(cuboid([0.8; 3], [2.0; 3])));
+    let creases = m.crease_sharpnesses();
+    assert!(!creases.is_empty());
+    assert!(creases.iter().all(|&(_, s)| s == 1.5), "{creases:?}");
+}
+
+#[test]
 fn smooth_blocks_are_tessellated_first_with_their_options() {
     let opts = MeshOptions::DEFAULT.with_tolerance(1e-3);
     let t = block_model([-1.0; 3], [1.0; 3], true).tessellate(&opts, None).unwrap();

@@ -448,6 +448,48 @@ pub mod blocks_api {
         Ok(b.clone())
     }
 
+    /// Gives `edges` (names of two faces, as `sharp` takes them) a crease `sharpness`: 0 is
+    /// smooth, 10 and more sharp, and a value between makes a semi-sharp edge (DeRose, Kass &
+    /// Truong 1998 §3, OpenSubdiv's rules) — a bevel on a smooth block, rounder as the value
+    /// falls. It reaches the control mesh, the surface (refined until the sharpness is used up)
+    /// and booleans, whose output edges keep it. All or nothing. Changes the block in place and
+    /// returns a copy.
+    ///
+    /// ```rhai
+    /// let b = block([0, 0, 0], [1, 1, 1]);
+    /// b.sharp(["+x+y", "+z-x"], 1.5);
+    /// assert_eq(b.sharpness("+y+x"), 1.5);
+    /// assert(b.is_sharp("+x+y"), "semi-sharp counts as sharp");
+    /// assert_eq(b.sharpness("-x-y"), 0.0);
+    /// ```
+    #[rhai_fn(name = "sharp", return_raw)]
+    pub fn sharp_with_sharpness(b: &mut Block, edge_names: Array, sharpness: Dynamic) -> ScriptResult<Block> {
+        let s = number("sharp", "sharpness", &sharpness)?;
+        if s.is_nan() || s < 0.0 {
+            return fail("sharp", format!("argument `sharpness` must be 0 or more, got {s}"));
+        }
+        let list = edges("sharp", &edge_names)?;
+        let mut copy = b.clone();
+        for e in list {
+            kernel("sharp", copy.set_sharpness(e, s))?;
+        }
+        *b = copy;
+        Ok(b.clone())
+    }
+
+    /// The sharpness of `edge`: 0 smooth, 10 sharp (OpenSubdiv's infinite; every value from
+    /// 10 up is sharp), between for a semi-sharp edge.
+    ///
+    /// ```rhai
+    /// let b = block([0, 0, 0], [1, 1, 1]).sharp_all();
+    /// assert_eq(b.sharpness("+x+z"), 10.0);
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn sharpness(b: &mut Block, edge: &str) -> ScriptResult<f64> {
+        let e = Edge::parse(edge).map_err(|e| error("sharpness", format!("argument `edge`: {e}")))?;
+        Ok(crate::api::mesh::script_sharpness(b.sharpness(e)))
+    }
+
     /// Tags `edges` smooth (the reverse of `sharp`). Changes the block in place and returns a
     /// copy (on a variable, one change per statement: see `blocksmith doc block`).
     ///
