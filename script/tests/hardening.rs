@@ -146,6 +146,18 @@ fn the_timeout_and_the_operation_limit_stop_long_kernel_work() {
 }
 
 #[test]
+fn the_timeout_stops_a_boolean_inside_the_engine() {
+    // Each difference of two 327,680-triangle spheres runs for seconds in a debug build, nearly
+    // all of it inside the engine (imports, intersections, assembly): the deadline lands there.
+    let recipe = "let a = icosphere(1, 7); let b = a.translate([0.3, 0.2, 0.1]); loop { a - b; }";
+    let (o, seconds) = run_recipe(recipe, &["--timeout", "2.5"]);
+    assert_fails_with(&o, "-: time limit reached (--timeout 2.5)");
+    // Within a fraction of a second of the deadline (a generous margin for a loaded debug
+    // build; the release figure is in the hardening notes), not after the boolean.
+    assert!(seconds < 2.5 + 2.0, "stopped after {seconds} s");
+}
+
+#[test]
 fn absurd_step_counts_and_durations_are_refused_at_the_call_naming_the_option() {
     let plant = "import \"_plant\" as plant;\nlet pm = plant::plant(2.0, 0.08, 8, 9);\n\
                  let anim = animation(pm, #{ root: 0 });\n";

@@ -525,7 +525,7 @@ fn assemble(model: &BlockModel, connections: &[Connection]) -> Result<ControlMes
             polygons.set_edge_sharpness_halfedge(h, s);
         }
     }
-    let mesh = polygons.catmull_clark(1).map_err(|e| BlockError::Internal(e.to_string()))?;
+    let mesh = polygons.catmull_clark(1).map_err(|e| BlockError::internal("", e))?;
     // Child k of polygon f is [v_k, edge point (v_k, v_k+1), face point, edge point (v_k-1, v_k)].
     let mut sources = Vec::with_capacity(mesh.face_count());
     for (f, puv) in uvs.iter().enumerate() {

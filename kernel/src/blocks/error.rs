@@ -82,3 +82,39 @@ pub enum BlockError {
     #[error(transparent)]
     Limit(#[from] crate::limits::LimitError),
 }
+
+impl BlockError {
+    /// The error of a step that cannot fail on valid input (`what` names it): a limit (the
+    /// memory budget, a stop) stays a limit, anything else is an internal error.
+    pub(crate) fn internal(what: &str, e: impl Into<InnerFailure>) -> BlockError {
+        match e.into() {
+            InnerFailure::Limit(l) => BlockError::Limit(l),
+            InnerFailure::Other(reason) if what.is_empty() => BlockError::Internal(reason),
+            InnerFailure::Other(reason) => BlockError::Internal(format!("{what}: {reason}")),
+        }
+    }
+}
+
+/// A mesh or subdivision error seen by the block mesher: a limit, or anything else as text.
+pub(crate) enum InnerFailure {
+    Limit(crate::limits::LimitError),
+    Other(String),
+}
+
+impl From<crate::mesh::MeshError> for InnerFailure {
+    fn from(e: crate::mesh::MeshError) -> InnerFailure {
+        match e {
+            crate::mesh::MeshError::Limit(l) => InnerFailure::Limit(l),
+            e => InnerFailure::Other(e.to_string()),
+        }
+    }
+}
+
+impl From<crate::subdiv::SubdivError> for InnerFailure {
+    fn from(e: crate::subdiv::SubdivError) -> InnerFailure {
+        match e {
+            crate::subdiv::SubdivError::Limit(l) => InnerFailure::Limit(l),
+            e => InnerFailure::Other(e.to_string()),
+        }
+    }
+}

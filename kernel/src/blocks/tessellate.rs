@@ -407,9 +407,9 @@ pub fn tessellate_control_with_progress(
 ) -> Result<ControlTessellation, BlockError> {
     options.check()?;
     let mesh = &cm.mesh;
-    let ev = LimitEvaluator::new(mesh).map_err(|e| BlockError::Internal(e.to_string()))?;
+    let ev = LimitEvaluator::new(mesh).map_err(|e| BlockError::internal("", e))?;
     let tol = options.tolerance.unwrap_or_else(|| 1e-3 * mesh.bounds().size().length());
-    let limits = mesh.catmull_clark_limit().map_err(|e| BlockError::Internal(e.to_string()))?.positions().to_vec();
+    let limits = mesh.catmull_clark_limit().map_err(|e| BlockError::internal("", e))?.positions().to_vec();
     let limit = Limit { ev, limits, cm };
     let surface = Surface { limit: &limit, displacement };
     let r: u32 = 1 << options.max_depth;
@@ -612,7 +612,7 @@ pub fn tessellate_control_with_progress(
     }
     let arities = vec![3u32; tris.len() / 3];
     let mut out = Mesh::from_indexed(positions, &tris, &arities)
-        .map_err(|e| BlockError::Internal(format!("the tessellation is not a manifold mesh: {e}")))?;
+        .map_err(|e| BlockError::internal("the tessellation is not a manifold mesh", e))?;
     for ([a, b], s) in creases {
         let h = out
             .find_halfedge(a, b)

@@ -350,3 +350,18 @@ fn booleans_beyond_the_precision_limit_are_refused_naming_it() {
         assert!(msg.contains("spans 2 at coordinates up to 1.00e12") && msg.contains("(the precision limit)"), "{msg}");
     }
 }
+
+#[test]
+fn a_stopped_token_stops_the_evaluation_with_its_reason() {
+    use crate::limits::{install, CancelToken, LimitError, StopReason};
+    use std::sync::atomic::AtomicBool;
+    use std::sync::Arc;
+    let _current = install(CancelToken::with(Some(Arc::new(AtomicBool::new(true))), None, None));
+    for tree in [
+        unit().difference(cuboid([0.5; 3], [2.0; 3])),
+        Csg::blocks(block_model([0.0; 3], [1.0; 3], false), MeshOptions::DEFAULT),
+    ] {
+        let e = tree.evaluate().unwrap_err();
+        assert_eq!(e, CsgError::Limit(LimitError::Stopped(StopReason::Interrupted)));
+    }
+}

@@ -25,12 +25,12 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 
-use super::engine::{Solid, Triangles};
+use super::engine::{self, EngineError, Solid, Stop, Triangles};
 use super::{CsgError, CsgOp, Side};
-use crate::blocks::{BlockModel, MeshOptions};
-use crate::limits::{check_memory, CancelToken, LimitError};
+use crate::blocks::{BlockError, BlockModel, MeshOptions};
+use crate::limits::{check_memory, CancelToken, LimitError, StopReason};
 use crate::math::{Aabb, Vec3};
-use crate::mesh::{FaceSource, Mesh};
+use crate::mesh::{FaceSource, Mesh, MeshError};
 
 /// A CSG tree. Cloning is cheap (inputs are shared).
 #[derive(Clone, Debug)]
@@ -105,19 +105,28 @@ impl Csg {
         // On a worker of the thread pool: the parallel steps inside then share work with the
         // other workers directly, rather than each handing a job from this thread to the pool
         // and sleeping until it is done.
-        // The pool's workers have no current cancellation token: hand them the caller's.
+        // The pool's workers have no current cancellation token: hand them the caller's. The
+        // engine's own stop flag follows it while the booleans run.
         let token = crate::limits::current();
-        rayon::scope(|_| self.evaluate_here(&token))
+        rayon::scope(|_| {
+            let _current = crate::limits::install(token.clone());
+            engine::watching(&token, |stop| self.evaluate_here(&token, stop))
+        })
     }
 
-    /// [`Csg::evaluate`] on the calling thread, checking `token` between the engine's steps.
-    fn evaluate_here(&self, token: &CancelToken) -> Result<Mesh, CsgError> {
+    /// [`Csg::evaluate`] on the calling thread, checking `token` between its steps; `stop`
+    /// (set when `token` stops) ends the engine's booleans early.
+    fn evaluate_here(&self, token: &CancelToken, stop: &Stop) -> Result<Mesh, CsgError> {
         let mut leaves = Vec::new();
         collect_leaves(self, Side::Left, &mut leaves);
         let prepared: Vec<Prepared> = leaves
             .par_iter()
             .enumerate()
-            .map(|(k, (leaf, side))| prepare(leaf, *side, k as u32))
+            .map(|(k, (leaf, side))| {
+                // The workers' block tessellation and checks charge the caller's token.
+                let _current = crate::limits::install(token.clone());
+                prepare(leaf, *side, k as u32)
+            })
             .collect::<Result<_, _>>()?;
         // Leaf numbers and the global face tags: leaf k's faces (coplanar groups, see
         // `Prepared::faces`) are tagged from offsets[k], its leaf ids start at first_leaf[k].
@@ -151,9 +160,11 @@ impl Csg {
         let bounds: Vec<Vec<Aabb>> = prepared.iter().map(Prepared::component_bounds).collect();
         let mut leaf_no = 0usize;
         let plan = plan(self, &bounds, &mut leaf_no);
-        let solid = run(&plan, &prepared, &leaves, &offsets, token)?;
+        let solid = run(&plan, &prepared, &leaves, &offsets, token, stop)?;
         drop(prepared);
+        token.charge(solid_size(&solid))?;
         let out = without_flat_shells(solid.triangles());
+        token.charge(out.triangles.len() as u64)?;
         let flat: Vec<u32> = out.triangles.as_flattened().to_vec();
         let mut mesh = Mesh::from_indexed(out.positions, &flat, &vec![3; out.triangles.len()])
             .map_err(|e| CsgError::Engine { reason: e.to_string() })?;
@@ -186,6 +197,7 @@ impl Csg {
             for (h, s) in tagged {
                 mesh.set_edge_sharpness_halfedge(h, s);
             }
+            token.charge(mesh.edge_count() as u64)?;
         }
         if !corners.is_empty() {
             for v in 0..mesh.vertex_count() as u32 {
@@ -375,10 +387,19 @@ fn run(
     leaves: &[(&Csg, Side)],
     offsets: &[u32],
     token: &CancelToken,
+    stop: &Stop,
 ) -> Result<Solid, CsgError> {
     if let Some(reason) = token.stopped() {
         return Err(LimitError::Stopped(reason).into());
     }
+    // The engine stopped: by the token, whose reason is read again (a deadline or count, once
+    // passed, stays passed; an interrupt flag is never cleared by the kernel).
+    let engine_error = |e: EngineError| match e {
+        EngineError::Stopped => {
+            CsgError::Limit(LimitError::Stopped(token.stopped().unwrap_or(StopReason::Interrupted)))
+        }
+        EngineError::Failed(reason) => CsgError::Engine { reason },
+    };
     match plan {
         Plan::Import { pieces, id } => {
             // Each piece brings the vertices its triangles use, numbered in order of first use.
@@ -411,29 +432,41 @@ fn run(
                 }
             }
             token.charge(triangles.len() as u64)?;
-            Solid::with_id(&positions, &triangles, &tags, *id).map_err(|reason| {
-                let (k, _) = pieces[0];
-                CsgError::NonManifold {
-                    side: leaves[k].1,
-                    leaf: prepared[k].first_leaf_hint,
-                    reason: format!("the boolean engine refuses it ({reason})"),
+            Solid::with_id_until(&positions, &triangles, &tags, *id, stop).map_err(|e| match e {
+                EngineError::Stopped => engine_error(e),
+                EngineError::Failed(reason) => {
+                    let (k, _) = pieces[0];
+                    CsgError::NonManifold {
+                        side: leaves[k].1,
+                        leaf: prepared[k].first_leaf_hint,
+                        reason: format!("the boolean engine refuses it ({reason})"),
+                    }
                 }
             })
         }
         Plan::Union(parts) => {
             let solids: Vec<Solid> =
-                parts.par_iter().map(|p| run(p, prepared, leaves, offsets, token)).collect::<Result<_, _>>()?;
+                parts.par_iter().map(|p| run(p, prepared, leaves, offsets, token, stop)).collect::<Result<_, _>>()?;
             check_precision(&solids.iter().collect::<Vec<_>>())?;
-            Solid::union_all(solids).map_err(|reason| CsgError::Engine { reason })
+            token.charge(solids.iter().map(solid_size).sum())?;
+            Solid::union_all_until(solids, stop).map_err(engine_error)
         }
         Plan::Op(op, a, b) => {
-            let (ra, rb) =
-                rayon::join(|| run(a, prepared, leaves, offsets, token), || run(b, prepared, leaves, offsets, token));
+            let (ra, rb) = rayon::join(
+                || run(a, prepared, leaves, offsets, token, stop),
+                || run(b, prepared, leaves, offsets, token, stop),
+            );
             let (ra, rb) = (ra?, rb?);
             check_precision(&[&ra, &rb])?;
-            ra.boolean(&rb, *op).map_err(|reason| CsgError::Engine { reason })
+            token.charge(solid_size(&ra) + solid_size(&rb))?;
+            ra.boolean_until(&rb, *op, stop).map_err(engine_error)
         }
     }
+}
+
+/// A solid's work units for the operation count: its triangles.
+fn solid_size(s: &Solid) -> u64 {
+    s.triangle_count() as u64
 }
 
 /// The engine resolves [`ENGINE_PRECISION`] of the operands' largest coordinate (Manifold's
@@ -523,8 +556,10 @@ fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
             if model.blocks().is_empty() {
                 return Err(CsgError::EmptyOperand { side, leaf: leaf_no });
             }
-            let t =
-                model.tessellate(options, None).map_err(|source| CsgError::Blocks { side, leaf: leaf_no, source })?;
+            let t = model.tessellate(options, None).map_err(|source| match source {
+                BlockError::Limit(l) => CsgError::Limit(l),
+                source => CsgError::Blocks { side, leaf: leaf_no, source },
+            })?;
             let sources = t.triangle_sources.iter().map(|&sub_face| FaceSource::Block { leaf: 0, sub_face }).collect();
             (Cow::Owned(t.mesh), sources, true, false)
         }
@@ -540,10 +575,9 @@ fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
             let (tri, from) = if m.is_triangle_mesh() {
                 (Cow::Borrowed(m.as_ref()), None)
             } else {
-                let (t, from) = m.triangulate_with_sources().map_err(|source| CsgError::Triangulation {
-                    side,
-                    leaf: leaf_no,
-                    source,
+                let (t, from) = m.triangulate_with_sources().map_err(|source| match source {
+                    MeshError::Limit(l) => CsgError::Limit(l),
+                    source => CsgError::Triangulation { side, leaf: leaf_no, source },
                 })?;
                 (Cow::Owned(t), Some(from))
             };
@@ -571,8 +605,11 @@ fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
     // An earlier boolean result is the engine's own valid output: where two solids met along
     // an edge it keeps two vertices at one point, which is no self-touching for it.
     let earlier_result = matches!(leaf, Csg::Mesh(m) if m.face_sources().is_some());
+    crate::limits::charge(triangles.len() as u64)?;
     check_solid(&mesh, &triangles, &components, !earlier_result, side, leaf_no)?;
+    crate::limits::charge(triangles.len() as u64)?;
     let (faces, face_sources, creases) = coplanar_faces(&mesh, &triangles, &sources, raw);
+    crate::limits::charge(triangles.len() as u64)?;
     let corners = (0..mesh.vertex_count() as u32)
         .filter(|&v| mesh.is_corner(v))
         .map(|v| (mesh.position(v), mesh.corner_sharpness(v)))

@@ -49,7 +49,7 @@ impl Manifold {
     /// stays -1 for an imported mesh (the input is the original, not this
     /// Manifold), and [`Self::as_original`] discards the face IDs.
     pub fn from_mesh_gl(mesh: &MeshGL) -> Self {
-        Self::from_mesh_impl(mesh, ImportMode::Strict, false, None)
+        Self::from_mesh_impl(mesh, ImportMode::Strict, false, None, None)
     }
 
     /// Import a double-precision mesh directly into the f64 kernel. Unlike
@@ -60,7 +60,7 @@ impl Manifold {
     /// `uint32_t` casts do — the kernel indexes vertices with 32 bits.
     /// Face IDs and run original IDs are kept as in [`Self::from_mesh_gl`].
     pub fn from_mesh_gl64(mesh: &MeshGL64) -> Self {
-        Self::from_mesh_impl(mesh, ImportMode::Strict, false, None)
+        Self::from_mesh_impl(mesh, ImportMode::Strict, false, None, None)
     }
 
     /// Import that accepts non-manifold geometry for the robust boolean
@@ -72,12 +72,12 @@ impl Manifold {
     /// transforms, and mesh export; pairing-dependent operations return
     /// empty results with `Error::NotManifold`.
     pub fn from_mesh_gl_robust(mesh: &MeshGL) -> Self {
-        Self::from_mesh_impl(mesh, ImportMode::AllowSoup, false, None)
+        Self::from_mesh_impl(mesh, ImportMode::AllowSoup, false, None, None)
     }
 
     /// Double-precision variant of [`Self::from_mesh_gl_robust`].
     pub fn from_mesh_gl64_robust(mesh: &MeshGL64) -> Self {
-        Self::from_mesh_impl(mesh, ImportMode::AllowSoup, false, None)
+        Self::from_mesh_impl(mesh, ImportMode::AllowSoup, false, None, None)
     }
 
     /// Import a mesh of any supported precision and index width — e.g. an
@@ -96,7 +96,19 @@ impl Manifold {
     /// as the C++ import's `uint32_t` casts do. Face IDs and run original
     /// IDs are kept as in [`Self::from_mesh_gl`].
     pub fn from_mesh_glp<P: MeshPrecision, I: MeshIndex>(mesh: &MeshGLP<P, I>) -> Self {
-        Self::from_mesh_impl(mesh, ImportMode::Strict, false, None)
+        Self::from_mesh_impl(mesh, ImportMode::Strict, false, None, None)
+    }
+
+    /// [`Self::from_mesh_glp`] with cooperative cancellation: a cancel requested
+    /// before or during the import makes it return an empty manifold whose
+    /// status is [`crate::types::Error::Cancelled`]. `None` is
+    /// [`Self::from_mesh_glp`].
+    // blocksmith patch (PATCHES.md, 6): the import checks a token between its stages.
+    pub fn from_mesh_glp_with_token<P: MeshPrecision, I: MeshIndex>(
+        mesh: &MeshGLP<P, I>,
+        token: Option<&crate::cancel::CancelToken>,
+    ) -> Self {
+        Self::from_mesh_impl(mesh, ImportMode::Strict, false, None, token)
     }
 
     /// Generic variant of [`Self::from_mesh_gl_robust`] /
@@ -104,7 +116,7 @@ impl Manifold {
     /// orientable is kept as a triangle soup for the robust boolean engine.
     /// Precision and index handling are as in [`Self::from_mesh_glp`].
     pub fn from_mesh_glp_robust<P: MeshPrecision, I: MeshIndex>(mesh: &MeshGLP<P, I>) -> Self {
-        Self::from_mesh_impl(mesh, ImportMode::AllowSoup, false, None)
+        Self::from_mesh_impl(mesh, ImportMode::AllowSoup, false, None, None)
     }
 
     /// [`Self::from_mesh_gl64_robust`] for meshes the robust boolean engine
@@ -125,7 +137,7 @@ impl Manifold {
         mesh: &MeshGL64,
         refs: Option<AssembledRefs>,
     ) -> Self {
-        Self::from_mesh_impl(mesh, ImportMode::AllowSoup, true, refs)
+        Self::from_mesh_impl(mesh, ImportMode::AllowSoup, true, refs, None)
     }
 
     fn from_mesh_impl<P: MeshPrecision, I: MeshIndex>(
@@ -133,7 +145,16 @@ impl Manifold {
         mode: ImportMode,
         skip_swap: bool,
         refs: Option<AssembledRefs>,
+        token: Option<&crate::cancel::CancelToken>,
     ) -> Self {
+        // blocksmith patch (PATCHES.md, 6): between the stages below, a cancelled token ends
+        // the import with an empty manifold whose status is Cancelled.
+        let cancelled = || crate::cancel::is_cancelled(token);
+        let cancelled_result = || Self::make_empty(crate::types::Error::Cancelled);
+        if cancelled() {
+            return cancelled_result();
+        }
+        let t_import = crate::timing::start();
         let num_vert = mesh.num_vert() as u32;
         let num_tri = mesh.num_tri();
 
@@ -364,7 +385,15 @@ impl Manifold {
             }
         }
 
+        if cancelled() {
+            return cancelled_result();
+        }
+        let t = crate::timing::start();
         imp.create_halfedges(&tri_prop, &tri_vert);
+        crate::timing::print("  Import: halfedges", t);
+        if cancelled() {
+            return cancelled_result();
+        }
 
         // Import halfedge tangents from MeshGL (flat f32 array, 4 per halfedge)
         if !mesh.halfedge_tangent.is_empty() {
@@ -409,9 +438,14 @@ impl Manifold {
         // RemoveDegenerates, RemoveUnreferencedVerts, SortGeometry
         // Note: CleanupTopology omitted — it would fix opposite-face meshes but
         // conflicts with is_manifold check ordering.
+        if cancelled() {
+            return cancelled_result();
+        }
+        let t = crate::timing::start();
         imp.dedupe_prop_verts();
         imp.calculate_bbox();
         imp.set_epsilon(mesh.tolerance.to_f64(), false);
+        crate::timing::print("  Import: dedupe, bounds", t);
         // Supplied references keep their own coplanar groups (the flood fill
         // still sets the face normals).
         let kept: Vec<i32> = if keep_coplanar {
@@ -425,10 +459,19 @@ impl Manifold {
         };
         // blocksmith patch (PATCHES.md, 1): both branches below end by computing the vertex
         // normals, so they are not computed here first.
+        if cancelled() {
+            return cancelled_result();
+        }
+        let t = crate::timing::start();
         crate::face_op::set_face_normals_and_coplanar(&mut imp);
         for (r, &c) in imp.mesh_relation.tri_ref.iter_mut().zip(&kept) {
             r.coplanar_id = c;
         }
+        crate::timing::print("  Import: normals, coplanar", t);
+        if cancelled() {
+            return cancelled_result();
+        }
+        let t = crate::timing::start();
         if skip_swap {
             // remove_degenerates without its swap_degenerates stage; see
             // `Self::from_mesh_gl64_robust_assembled`.
@@ -438,8 +481,18 @@ impl Manifold {
         } else {
             crate::edge_op::remove_degenerates(&mut imp, 0);
         }
+        crate::timing::print("  Import: degenerates", t);
+        if cancelled() {
+            return cancelled_result();
+        }
+        let t = crate::timing::start();
         imp.remove_unreferenced_verts();
         imp.sort_geometry();
+        crate::timing::print("  Import: sort", t);
+        crate::timing::print("Import", t_import);
+        if cancelled() {
+            return cancelled_result();
+        }
         Self { imp }
     }
 
