@@ -1,7 +1,9 @@
 //! The dropped-result lint: before a script runs, find the calls whose result is thrown away
 //! while their receiver is left as it was — `c.translate([5, 0, 0]);` as a statement moves
 //! nothing, since a mesh's transforms return a new mesh — and the chains whose later edits reach
-//! only a dropped copy (`b.subdivide("+z", 2, 2).sharp_all();` leaves `b` not sharp).
+//! only a dropped new value (`c.translate(v).crease_all();` creases a moved copy nobody keeps).
+//! A Block's edits return the block itself, so a chain of them on a variable
+//! (`b.subdivide("+z", 2, 2).sharp_all();`) edits the variable and is not reported.
 //!
 //! Which functions keep their receiver comes from their declarations ([`crate::api::registry`]).
 //! Receivers' types are followed through `let` and assignments from the functions' declared
@@ -302,7 +304,7 @@ impl Lint {
                 ),
             };
             self.found.push(Dropped { position: pos, message });
-        } else if decls.iter().all(|d| d.edits_receiver()) && call.args.first().is_some_and(is_temporary) {
+        } else if decls.iter().all(|d| d.edits_receiver()) && call.args.first().is_some_and(|a| !self.held(a)) {
             let made = call.args.first().map_or_else(String::new, describe);
             let message = format!(
                 "`{name}` changes the value `{made}` returned, and that value is then dropped; keep it first: \
@@ -346,15 +348,34 @@ impl Lint {
                 ),
             };
             self.found.push(Dropped { position: last.pos, message });
-        } else if decls.iter().all(|d| d.edits_receiver()) && (links.len() >= 2 || is_temporary(root)) {
-            // An edit of a value the chain made (a copy, a new mesh, a constructor's value):
+        } else if decls.iter().all(|d| d.edits_receiver()) {
+            // The value the last call edits: made by the last earlier call that does not return
+            // its receiver itself, or the root when every earlier one does (a Block's edits).
+            // A script's own function or overloads that disagree leave it unknown: not judged.
+            let mut t = self.type_of(root);
+            let mut made_by = None;
+            let mut unknown = false;
+            for (i, l) in links[..links.len() - 1].iter().enumerate() {
+                let arity = l.call.args.len() + 1;
+                let ds: Vec<&Declared> = candidates(l.call.name.as_str(), arity, t).collect();
+                let selves = ds.iter().filter(|d| d.returns_receiver()).count();
+                if ds.is_empty() || selves != 0 && selves != ds.len() {
+                    unknown = true;
+                } else if selves == 0 {
+                    (made_by, unknown) = (Some(i), false);
+                }
+                t = unique_return(l.call.name.as_str(), arity, t);
+            }
+            if unknown || made_by.is_none() && self.held(root) {
+                return;
+            }
+            // An edit of a value the chain made (a new mesh, a copy, a constructor's value):
             // dropped with it.
-            let Some(prev) = links.len().checked_sub(2).map(|i| links[i].call.name.as_str()) else {
+            let Some(prev) = made_by.map(|i| links[i].call.name.as_str()) else {
                 let made = describe(root);
                 let message = format!(
                     "`{name}` changes the value `{made}` returned, and that value is then dropped; keep it first: \
-                     `let x = {made}; x.{};`",
-                    shown(last.call)
+                     `let x = {made}; x.{calls};`"
                 );
                 self.found.push(Dropped { position: last.pos, message });
                 return;
@@ -363,14 +384,27 @@ impl Lint {
             let split = var.map_or_else(String::new, |x| {
                 // Each earlier link as a statement of its own: kept by assignment when it
                 // returns a new value, else an edit of `x` itself.
-                let mut t = self.type_of(root);
+                let root_type = self.type_of(root);
+                let mut t = root_type;
                 let mut stmts: Vec<String> = Vec::new();
-                for l in &links {
+                for (i, l) in links.iter().enumerate() {
                     let arity = l.call.args.len() + 1;
                     let fresh = {
                         let mut ds = candidates(l.call.name.as_str(), arity, t).peekable();
                         ds.peek().is_some() && ds.all(Declared::returns_new_value)
                     };
+                    let returns = unique_return(l.call.name.as_str(), arity, t);
+                    if fresh && (returns.is_none() || returns != root_type) {
+                        // A value of another kind (a model's block): keep it in a variable of its own.
+                        let shown_calls =
+                            |ls: &[Link<'_>]| ls.iter().map(|l| shown(l.call)).collect::<Vec<_>>().join(".");
+                        let (made, rest) = links.split_at(i + 1);
+                        return format!(
+                            "; keep it first: `let y = {x}.{}; y.{};`",
+                            shown_calls(made),
+                            shown_calls(rest)
+                        );
+                    }
                     stmts.push(if fresh {
                         format!("{x} = {x}.{};", shown(l.call))
                     } else {
@@ -380,12 +414,13 @@ impl Lint {
                 }
                 format!("; write one change per statement: `{}`", stmts.join(" "))
             });
+            let j = made_by.unwrap_or_default();
             let prev_fresh = {
                 let mut t = self.type_of(root);
-                for l in &links[..links.len() - 2] {
+                for l in &links[..j] {
                     t = unique_return(l.call.name.as_str(), l.call.args.len() + 1, t);
                 }
-                let arity = links[links.len() - 2].call.args.len() + 1;
+                let arity = links[j].call.args.len() + 1;
                 let mut ds = candidates(prev, arity, t).peekable();
                 ds.peek().is_some() && ds.all(Declared::returns_new_value)
             };
@@ -395,6 +430,39 @@ impl Lint {
                  not get it{split}"
             );
             self.found.push(Dropped { position: last.pos, message });
+        }
+    }
+}
+
+impl Lint {
+    /// Whether `e`'s value is one a variable holds: a variable, an element or property of one,
+    /// or an edit of such a value that may return it itself (`b.subdivide(…)` on a Block `b`,
+    /// function-style too).
+    fn held(&self, e: &Expr) -> bool {
+        match e {
+            Expr::FnCall(call, _) if call.namespace.is_empty() => {
+                let Some(first) = call.args.first() else { return false };
+                let receiver = self.type_of(first);
+                // Overloads that disagree (a parameter's `translate`) are not judged: held.
+                candidates(call.name.as_str(), call.args.len(), receiver).any(Declared::returns_receiver)
+                    && self.held(first)
+            }
+            Expr::Dot(..) => match chain(e) {
+                Some((root, links)) => {
+                    let mut t = self.type_of(root);
+                    for l in &links {
+                        let arity = l.call.args.len() + 1;
+                        if !candidates(l.call.name.as_str(), arity, t).any(Declared::returns_receiver) {
+                            return false;
+                        }
+                        t = unique_return(l.call.name.as_str(), arity, t);
+                    }
+                    self.held(root)
+                }
+                // A property or an index on the way: part of a held value.
+                None => true,
+            },
+            other => !is_temporary(other),
         }
     }
 }
@@ -510,13 +578,30 @@ mod tests {
     }
 
     #[test]
-    fn a_chain_whose_edit_reaches_only_a_copy_is_found() {
-        let src = "let b = block([0, 0, 0], [1, 1, 1]);\nb.subdivide(\"+z\", 2, 2).sharp_all();\nb\n";
-        let found = lint(src);
+    fn a_chain_of_block_edits_edits_the_block_and_an_edit_of_a_copy_is_found() {
+        // A Block's edits return the block itself: the chain edits `b`, function-style too.
+        let src = "let b = block([0, 0, 0], [1, 1, 1]);\nb.subdivide(\"+z\", 2, 2).sharp_all();\n\
+                   b.translate([1, 0, 0]).rotate([0, 0, 1], 90).smooth([\"+x+y\"]);\n\
+                   sharp_all(subdivide(b, \"+x\", 2, 1));\nlet m = blocks();\nm.add(b);\nm\n";
+        assert_eq!(lint(src), Vec::<String>::new());
+        // A script's own method may return `this`: not judged.
+        let src = "fn lift(dz) { this.translate([0, 0, dz]) }\nlet b = block([0, 0, 0], [1, 1, 1]);\n\
+                   b.lift(1).sharp_all();\nb\n";
+        assert_eq!(lint(src), Vec::<String>::new());
+        // A model's `block(id)` is a copy: editing it changes nothing the model holds.
+        let found = lint("let m = blocks();\nm.add(block([0, 0, 0], [1, 1, 1]));\nm.block(0).sharp_all();\nm\n");
         assert_eq!(found.len(), 1, "{found:?}");
         assert!(
-            found[0].starts_with("2:25 `sharp_all` changes the copy that `subdivide` returned")
-                && found[0].contains("`b.subdivide(…); b.sharp_all();`"),
+            found[0].starts_with("3:12 `sharp_all` changes the new value that `block` returned")
+                && found[0].ends_with("keep it first: `let y = m.block(…); y.sharp_all();`"),
+            "{found:?}"
+        );
+        // A chain of edits on a fresh block that is then dropped.
+        let found = lint("block([0, 0, 0], [1, 1, 1]).subdivide(\"+z\", 2, 2).sharp_all();\n1\n");
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert!(
+            found[0].contains("`sharp_all` changes the value `block(…)` returned")
+                && found[0].ends_with("`let x = block(…); x.subdivide(…).sharp_all();`"),
             "{found:?}"
         );
         // A chain ending in a save is its effect, not a dropped result.

@@ -48,21 +48,28 @@ fn run_warns_of_a_dropped_transform_and_test_refuses_it() {
 }
 
 #[test]
-fn a_block_chain_whose_edit_reaches_a_copy_is_reported() {
+fn a_block_chain_on_a_variable_edits_it_and_an_edit_of_a_model_s_copy_is_reported() {
     let d = tempfile::tempdir().unwrap();
     let p = script(
         &d,
         "chain.rhai",
-        "let b = block([0, 0, 0], [1, 1, 1]);\nb.subdivide(\"+z\", 2, 2).sharp_all();\nassert(b.is_sharp(\"+x+y\"), \"b is sharp\");\n",
+        "let b = block([0, 0, 0], [1, 1, 1]);\nb.subdivide(\"+z\", 2, 2).sharp_all();\n\
+         assert(b.is_sharp(\"+x+y\") && b.subface_count(\"+z\") == 4, \"b has both\");\n\
+         let m = blocks();\nm.add(b);\nm\n",
     );
+    let o = blocksmith().arg("test").arg(&p).output().unwrap();
+    assert!(o.status.success() && !stderr(&o).contains("warning"), "{}{}", stdout(&o), stderr(&o));
+    // `m.block(0)` is a copy: editing it changes nothing the model holds.
+    let p =
+        script(&d, "copy.rhai", "let m = blocks();\nm.add(block([0, 0, 0], [1, 1, 1]));\nm.block(0).sharp_all();\nm\n");
     let o = blocksmith().arg("run").arg(&p).output().unwrap();
     let err = stderr(&o);
-    // The run fails at the assert, and the warning shown first says why.
-    assert!(!o.status.success());
-    let warning = err.find("chain.rhai:2:25: warning: `sharp_all` changes the copy that `subdivide` returned");
-    let failure = err.find("chain.rhai:3:");
-    assert!(warning.is_some() && failure.is_some() && warning < failure, "{err}");
-    assert!(err.contains("`b.subdivide(…); b.sharp_all();`"), "{err}");
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains("copy.rhai:3:12: warning: `sharp_all` changes the new value that `block` returned")
+            && err.contains("keep it first: `let y = m.block(…); y.sharp_all();`"),
+        "{err}"
+    );
 }
 
 #[test]

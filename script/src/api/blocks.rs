@@ -2,15 +2,15 @@
 //! blocks with sub-face grids and sharp edges, connections, the control mesh and its adaptive,
 //! watertight tessellation with optional displacement.
 //!
-//! # Blocks are edited in place
+//! # Blocks are edited in place, and their edits return the block itself
 //! A block is a description being set up, not a result: `subdivide`, `sharp`, `smooth`,
 //! `sharp_all`, `smooth_all`, `b.group = g`, `translate` and `rotate` all change the block they
 //! are called on (API.md lists them as statements, `b.translate(v)` beside `b.group = g`), where a
-//! `Mesh`'s transforms return a new mesh. Each also returns a copy of the changed block, so that
-//! a fresh block is set up in one expression: `let b = block(lo, hi).subdivide("+y", 4, 1);`.
-//! Rhai calls the next method of a chain on that copy, so on a variable write one statement per
-//! change (`b.subdivide("+z", 2, 1); b.sharp_all();`): in `b.subdivide(..).sharp_all()` only the
-//! subdivision reaches `b`. A failed change leaves the block as it was. `m.add(b)` adds a copy:
+//! `Mesh`'s transforms return a new mesh. Each returns the block itself (a second handle on it,
+//! [`Block::same`]), so a chain edits one block: `b.subdivide("+z", 2, 1).sharp_all();` on a
+//! variable, `let b = block(lo, hi).subdivide("+y", 4, 1);` on a fresh one. Every other copy
+//! is a block of its own (`let c = b;`, an argument, an array element): see
+//! [`super::block_handle`]. A failed change leaves the block as it was. `m.add(b)` adds a copy:
 //! later changes to `b` do not reach the model.
 //!
 //! # Nothing connects until `allow`
@@ -20,13 +20,14 @@
 
 use blocksmith_kernel::blocks::tessellate::MAX_DEPTH;
 use blocksmith_kernel::blocks::{
-    Block, BlockModel as KernelModel, BlockStats, Connection, Edge, Face, MeshOptions, Miss,
+    Block as KernelBlock, BlockModel as KernelModel, BlockStats, Connection, Edge, Face, MeshOptions, Miss,
 };
 use blocksmith_kernel::math::fmt_num;
 use blocksmith_kernel::Vec3;
 use rhai::plugin::*;
 use rhai::{exported_module, Array, Engine, Map, INT};
 
+use super::block_handle::Block;
 use super::mesh::SharedMesh;
 use crate::convert::{error, fail, kernel, number, type_name, vec3, Number, Options, ScriptResult, Vector};
 
@@ -315,10 +316,11 @@ pub mod blocks_api {
     ///
     /// Blocks are edited in place: `subdivide`, `sharp`, `smooth`, `sharp_all`, `smooth_all`,
     /// `b.group = g`, `translate` and `rotate` change the block (a `Mesh`'s transforms return a
-    /// new mesh instead). Each also returns a copy of the changed block, so a fresh block is set
-    /// up in one chain, `let b = block(lo, hi).subdivide("+y", 4, 1).sharp_all();`; on a variable
-    /// write one change per statement, since in `b.subdivide(..).sharp_all()` the second call
-    /// changes the copy. `m.add(b)` adds a copy. Nothing connects until `m.allow(g1, g2)`.
+    /// new mesh instead). Each returns the block itself, so a chain edits one block:
+    /// `b.subdivide("+y", 4, 1).sharp_all();` on a variable, `let b = block(lo, hi).sharp_all();`
+    /// on a fresh one. `let c = b;` is a copy that changes on its own, while
+    /// `let c = b.translate(v);` is b itself. `m.add(b)` adds a copy. Nothing connects until
+    /// `m.allow(g1, g2)`.
     ///
     /// ```rhai
     /// let b = block([0, 0, 0], [1, 2, 3]);
@@ -328,7 +330,7 @@ pub mod blocks_api {
     #[rhai_fn(return_raw)]
     pub fn block(min: Vector, max: Vector) -> ScriptResult<Block> {
         let (lo, hi) = (vec3("block", "min", &min)?, vec3("block", "max", &max)?);
-        kernel("block", Block::from_bounds(lo, hi))
+        kernel("block", KernelBlock::from_bounds(lo, hi)).map(Block::new)
     }
 
     /// A block from 8 free corners: bit `i` of the index says whether the corner is on the high
@@ -357,7 +359,7 @@ pub mod blocks_api {
         for (i, p) in corners.iter().enumerate() {
             c[i] = vec3("block", &format!("corners[{i}]"), p)?;
         }
-        kernel("block", Block::from_corners(c))
+        kernel("block", KernelBlock::from_corners(c)).map(Block::new)
     }
 
     /// The 8 corners.
@@ -367,7 +369,7 @@ pub mod blocks_api {
     /// ```
     #[rhai_fn(pure)]
     pub fn corners(b: &mut Block) -> Array {
-        b.corners().iter().map(|p| Dynamic::from(*p)).collect()
+        b.read().corners().iter().map(|p| Dynamic::from(*p)).collect()
     }
 
     /// The block's volume (faces split about their centres; exact for planar faces).
@@ -377,7 +379,7 @@ pub mod blocks_api {
     /// ```
     #[rhai_fn(pure, name = "volume")]
     pub fn block_volume(b: &mut Block) -> f64 {
-        b.volume()
+        b.read().volume()
     }
 
     /// A one-line summary: group and bounds (what the REPL shows).
@@ -387,6 +389,7 @@ pub mod blocks_api {
     /// ```
     #[rhai_fn(name = "to_string", name = "to_debug", pure)]
     pub fn block_to_string(b: &mut Block) -> String {
+        let b = b.read();
         let (lo, hi) = bounds_of(b.corners().iter());
         format!("Block(group {}, bounds {lo}..{hi})", b.group())
     }
@@ -394,7 +397,7 @@ pub mod blocks_api {
     /// Divides `face` (`"-x" "+x" "-y" "+y" "-z" "+z"`) into `nu × nv` sub-faces, numbered
     /// `i + nu * j`. On a face of axis a, u runs along the first of the other two axes in x, y, z
     /// order and v along the second (on `"+y"`, u along x and v along z). Changes the block in
-    /// place and returns a copy (on a variable, one change per statement: see `blocksmith doc block`).
+    /// place and returns it, for a chain (see `blocksmith doc Block`).
     ///
     /// ```rhai
     /// let b = block([0, 0, 0], [1, 1, 1]);
@@ -405,8 +408,8 @@ pub mod blocks_api {
     #[rhai_fn(return_raw)]
     pub fn subdivide(b: &mut Block, face_name: &str, nu: INT, nv: INT) -> ScriptResult<Block> {
         let f = face("subdivide", "face", face_name)?;
-        kernel("subdivide", b.subdivide(f, nu, nv))?;
-        Ok(b.clone())
+        kernel("subdivide", b.write().subdivide(f, nu, nv))?;
+        Ok(b.same())
     }
 
     /// The sub-face grid of `face`: `[nu, nv]`.
@@ -416,7 +419,7 @@ pub mod blocks_api {
     /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn divisions(b: &mut Block, face_name: &str) -> ScriptResult<Array> {
-        let (nu, nv) = b.divisions(face("divisions", "face", face_name)?);
+        let (nu, nv) = b.read().divisions(face("divisions", "face", face_name)?);
         Ok(vec![int(nu), int(nv)])
     }
 
@@ -427,12 +430,12 @@ pub mod blocks_api {
     /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn subface_count(b: &mut Block, face_name: &str) -> ScriptResult<INT> {
-        Ok(INT::from(b.subface_count(face("subface_count", "face", face_name)?)))
+        Ok(INT::from(b.read().subface_count(face("subface_count", "face", face_name)?)))
     }
 
     /// Tags `edges` (an array of names of two faces, e.g. `["+x+y", "-z+x"]`; either order)
     /// sharp: the surface keeps a crease there. All or nothing. Changes the block in place and
-    /// returns a copy (on a variable, one change per statement: see `blocksmith doc block`).
+    /// returns it, for a chain (see `blocksmith doc Block`).
     ///
     /// ```rhai
     /// let b = block([0, 0, 0], [1, 1, 1]);
@@ -443,9 +446,9 @@ pub mod blocks_api {
     #[rhai_fn(return_raw)]
     pub fn sharp(b: &mut Block, edge_names: Array) -> ScriptResult<Block> {
         for e in edges("sharp", &edge_names)? {
-            b.set_sharp(e, true);
+            b.write().set_sharp(e, true);
         }
-        Ok(b.clone())
+        Ok(b.same())
     }
 
     /// Gives `edges` (names of two faces, as `sharp` takes them) a crease `sharpness`: 0 is
@@ -453,7 +456,7 @@ pub mod blocks_api {
     /// Truong 1998 §3, OpenSubdiv's rules) — a bevel on a smooth block, rounder as the value
     /// falls. It reaches the control mesh, the surface (refined until the sharpness is used up)
     /// and booleans, whose output edges keep it. All or nothing. Changes the block in place and
-    /// returns a copy.
+    /// returns it, for a chain (see `blocksmith doc Block`).
     ///
     /// ```rhai
     /// let b = block([0, 0, 0], [1, 1, 1]);
@@ -469,12 +472,12 @@ pub mod blocks_api {
             return fail("sharp", format!("argument `sharpness` must be 0 or more, got {s}"));
         }
         let list = edges("sharp", &edge_names)?;
-        let mut copy = b.clone();
+        let mut copy = b.kernel_copy();
         for e in list {
             kernel("sharp", copy.set_sharpness(e, s))?;
         }
-        *b = copy;
-        Ok(b.clone())
+        *b.write() = copy;
+        Ok(b.same())
     }
 
     /// The sharpness of `edge`: 0 smooth, 10 sharp (OpenSubdiv's infinite; every value from
@@ -487,11 +490,11 @@ pub mod blocks_api {
     #[rhai_fn(pure, return_raw)]
     pub fn sharpness(b: &mut Block, edge: &str) -> ScriptResult<f64> {
         let e = Edge::parse(edge).map_err(|e| error("sharpness", format!("argument `edge`: {e}")))?;
-        Ok(crate::api::mesh::script_sharpness(b.sharpness(e)))
+        Ok(crate::api::mesh::script_sharpness(b.read().sharpness(e)))
     }
 
-    /// Tags `edges` smooth (the reverse of `sharp`). Changes the block in place and returns a
-    /// copy (on a variable, one change per statement: see `blocksmith doc block`).
+    /// Tags `edges` smooth (the reverse of `sharp`). Changes the block in place and returns it,
+    /// for a chain (see `blocksmith doc Block`).
     ///
     /// ```rhai
     /// let b = block([0, 0, 0], [1, 1, 1]).sharp_all();
@@ -501,9 +504,9 @@ pub mod blocks_api {
     #[rhai_fn(return_raw)]
     pub fn smooth(b: &mut Block, edge_names: Array) -> ScriptResult<Block> {
         for e in edges("smooth", &edge_names)? {
-            b.set_sharp(e, false);
+            b.write().set_sharp(e, false);
         }
-        Ok(b.clone())
+        Ok(b.same())
     }
 
     /// Whether `edge` is sharp.
@@ -514,29 +517,33 @@ pub mod blocks_api {
     #[rhai_fn(pure, return_raw)]
     pub fn is_sharp(b: &mut Block, edge: &str) -> ScriptResult<bool> {
         let e = Edge::parse(edge).map_err(|e| error("is_sharp", format!("argument `edge`: {e}")))?;
-        Ok(b.is_sharp(e))
+        Ok(b.read().is_sharp(e))
     }
 
-    /// Tags all 12 edges sharp (Fig. 2, red edges). Changes the block in place and returns a
-    /// copy (on a variable, one change per statement: see `blocksmith doc block`).
+    /// Tags all 12 edges sharp (Fig. 2, red edges). Changes the block in place and returns it,
+    /// for a chain (see `blocksmith doc Block`).
     ///
     /// ```rhai
     /// assert(block([0, 0, 0], [1, 1, 1]).sharp_all().is_sharp("-y-z"), "sharp");
+    /// // A chain on a variable edits it: both changes reach `b`.
+    /// let b = block([0, 0, 0], [1, 1, 1]);
+    /// b.subdivide("+z", 2, 2).sharp_all();
+    /// assert(b.is_sharp("-y-z") && b.subface_count("+z") == 4, "subdivided and sharp");
     /// ```
     pub fn sharp_all(b: &mut Block) -> Block {
-        b.sharp_all();
-        b.clone()
+        b.write().sharp_all();
+        b.same()
     }
 
-    /// Tags all 12 edges smooth (the default). Changes the block in place and returns a copy (on
-    /// a variable, one change per statement: see `blocksmith doc block`).
+    /// Tags all 12 edges smooth (the default). Changes the block in place and returns it, for a
+    /// chain (see `blocksmith doc Block`).
     ///
     /// ```rhai
     /// assert(!block([0, 0, 0], [1, 1, 1]).sharp_all().smooth_all().is_sharp("-y-z"), "smooth");
     /// ```
     pub fn smooth_all(b: &mut Block) -> Block {
-        b.smooth_all();
-        b.clone()
+        b.write().smooth_all();
+        b.same()
     }
 
     /// The group id (0 by default); blocks connect only across allowed group pairs.
@@ -548,17 +555,17 @@ pub mod blocks_api {
     /// ```
     #[rhai_fn(get = "group", pure)]
     pub fn get_group(b: &mut Block) -> INT {
-        b.group()
+        b.read().group()
     }
 
     /// Sets the group id.
     #[rhai_fn(set = "group")]
     pub fn set_group(b: &mut Block, g: INT) {
-        b.set_group(g);
+        b.write().set_group(g);
     }
 
     /// Moves the block by `v`, in place (see `blocksmith doc block`: blocks are edited, meshes are
-    /// transformed into new ones), and returns a copy of the moved block. An offset that takes a
+    /// transformed into new ones), and returns it, for a chain. An offset that takes a
     /// coordinate to NaN, infinity or beyond ±1e100 is an error and the block stays where it was.
     ///
     /// ```rhai
@@ -569,12 +576,12 @@ pub mod blocks_api {
     #[rhai_fn(name = "translate", return_raw)]
     pub fn block_translate(b: &mut Block, v: Vector) -> ScriptResult<Block> {
         let v = vec3("translate", "v", &v)?;
-        kernel("translate", b.translate(v))?;
-        Ok(b.clone())
+        kernel("translate", b.write().translate(v))?;
+        Ok(b.same())
     }
 
     /// Turns the block by `deg` degrees about `axis` through the origin (right-handed), in place,
-    /// and returns a copy of the turned block; a zero axis leaves it as it is (as `Mesh.rotate`
+    /// and returns it, for a chain; a zero axis leaves it as it is (as `Mesh.rotate`
     /// does). A non-finite angle is an error and the block stays as it was.
     ///
     /// ```rhai
@@ -584,8 +591,8 @@ pub mod blocks_api {
     #[rhai_fn(name = "rotate", return_raw)]
     pub fn block_rotate(b: &mut Block, axis: Vector, deg: Number) -> ScriptResult<Block> {
         let (a, d) = (vec3("rotate", "axis", &axis)?, number("rotate", "deg", &deg)?);
-        kernel("rotate", b.rotate(a, d))?;
-        Ok(b.clone())
+        kernel("rotate", b.write().rotate(a, d))?;
+        Ok(b.same())
     }
 
     // ---- Models -------------------------------------------------------------------------
@@ -610,7 +617,7 @@ pub mod blocks_api {
     /// assert_eq(m.add(block([1, 0, 0], [2, 1, 1])), 1);
     /// ```
     pub fn add(m: &mut BlockModel, b: Block) -> INT {
-        INT::from(m.changed().add(b))
+        INT::from(m.changed().add(b.kernel_copy()))
     }
 
     /// A one-line summary: block count, bounds and threshold (what the REPL shows).
@@ -644,7 +651,7 @@ pub mod blocks_api {
         m.model.blocks().len() as INT
     }
 
-    /// A copy of block `id`.
+    /// A copy of block `id` (editing it leaves the model as it is).
     ///
     /// ```rhai
     /// let m = blocks();
@@ -653,7 +660,7 @@ pub mod blocks_api {
     /// ```
     #[rhai_fn(name = "block", pure, return_raw)]
     pub fn model_block(m: &mut BlockModel, id: INT) -> ScriptResult<Block> {
-        kernel("block", m.model.block(id)).cloned()
+        kernel("block", m.model.block(id)).map(|b| Block::new(b.clone()))
     }
 
     /// Lets blocks of groups `g1` and `g2` connect (either order; `allow(g, g)` within a group).
@@ -851,7 +858,7 @@ mod tests {
 
     #[test]
     fn subdivision_limits_are_reported() {
-        let mut b = Block::from_bounds(Vec3::ZERO, Vec3::ONE).unwrap();
+        let mut b = Block::new(KernelBlock::from_bounds(Vec3::ZERO, Vec3::ONE).unwrap());
         let e = blocks_api::subdivide(&mut b, "+q", 1, 1).unwrap_err().to_string();
         assert!(e.contains("subdivide: argument `face`: unknown face \"+q\""), "{e}");
         let e = blocks_api::subdivide(&mut b, "+x", 0, 1).unwrap_err().to_string();

@@ -2,6 +2,7 @@
 //! only place that knows them all.
 
 pub mod anim;
+pub mod block_handle;
 pub mod blocks;
 pub mod csg;
 pub mod data;

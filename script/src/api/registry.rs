@@ -42,6 +42,17 @@ impl Declared {
     pub fn edits_receiver(&self) -> bool {
         self.receiver.is_some() && !self.pure && !self.context
     }
+
+    /// An edit that returns the value it changed, itself (a Block's `subdivide`, see
+    /// [`crate::editing::Rule::EditAndSelf`]): the next call of a chain edits the same value.
+    #[must_use]
+    pub fn returns_receiver(&self) -> bool {
+        self.edits_receiver()
+            && self.receiver == Some(self.returns)
+            && crate::editing::KINDS
+                .iter()
+                .any(|k| k.rust == self.returns && k.rule == crate::editing::Rule::EditAndSelf)
+    }
 }
 
 include!(concat!(env!("OUT_DIR"), "/registry.rs"));
@@ -68,11 +79,12 @@ mod tests {
 
     #[test]
     fn the_table_knows_which_methods_keep_their_receiver() {
-        // Mesh transforms return a new mesh; Block edits change the block (and return a copy).
+        // Mesh transforms return a new mesh; Block edits change the block and return it.
         let t = *candidates("translate", 2, Some("SharedMesh")).next().unwrap();
-        assert!(t.returns_new_value() && t.returns == "SharedMesh", "{t:?}");
+        assert!(t.returns_new_value() && t.returns == "SharedMesh" && !t.returns_receiver(), "{t:?}");
         let b = *candidates("translate", 2, Some("Block")).next().unwrap();
-        assert!(!b.pure && b.returns == "Block", "{b:?}");
+        assert!(!b.pure && b.returns == "Block" && b.returns_receiver(), "{b:?}");
+        assert!(candidates("block", 2, Some("BlockModel")).all(|d| !d.returns_receiver()), "a model's block is a copy");
         assert!(!one("crease_all", "SharedMesh").returns_new_value());
         assert!(one("crease_all", "SharedMesh").edits_receiver());
         // Constructors return a new value; `param` and `show` act beyond their arguments.
