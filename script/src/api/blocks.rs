@@ -466,7 +466,7 @@ pub mod blocks_api {
     /// assert_eq(b.sharpness("-x-y"), 0.0);
     /// ```
     #[rhai_fn(name = "sharp", return_raw)]
-    pub fn sharp_with_sharpness(b: &mut Block, edge_names: Array, sharpness: Dynamic) -> ScriptResult<Block> {
+    pub fn sharp_with_sharpness(b: &mut Block, edge_names: Array, sharpness: Number) -> ScriptResult<Block> {
         let s = number("sharp", "sharpness", &sharpness)?;
         if s.is_nan() || s < 0.0 {
             return fail("sharp", format!("argument `sharpness` must be 0 or more, got {s}"));
