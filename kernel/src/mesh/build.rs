@@ -278,29 +278,33 @@ impl Mesh {
         check_finite(&positions)?;
         let nf = nfh / arity;
         let face_he: Vec<u32> = (0..nf as u32).map(|f| f * arity as u32).collect();
-        let mut he_face: Vec<u32> = Vec::with_capacity(nfh + nfh / 8);
-        let mut he_next: Vec<u32> = Vec::with_capacity(nfh + nfh / 8);
-        let mut he_prev: Vec<u32> = Vec::with_capacity(nfh + nfh / 8);
-        for f in 0..nf as u32 {
-            let s = f * arity as u32;
-            for i in 0..arity as u32 {
-                he_face.push(f);
-                he_next.push(if i + 1 == arity as u32 { s } else { s + i + 1 });
-                he_prev.push(if i == 0 { s + arity as u32 - 1 } else { s + i - 1 });
+        // Face half-edges run in face order, `arity` to a face: face, next and prev are
+        // arithmetic (written by exact-size extends, the arity a constant in the common cases).
+        let cap = nfh + nfh / 8;
+        let (mut he_face, mut he_next, mut he_prev) =
+            (Vec::with_capacity(cap), Vec::with_capacity(cap), Vec::with_capacity(cap));
+        match arity {
+            3 => face_cycles::<3>(nfh, &mut he_face, &mut he_next, &mut he_prev),
+            4 => face_cycles::<4>(nfh, &mut he_face, &mut he_next, &mut he_prev),
+            a => {
+                let a = a as u32;
+                he_face.extend((0..nfh as u32).map(|h| h / a));
+                he_next.extend((0..nfh as u32).map(|h| if (h + 1) % a == 0 { h + 1 - a } else { h + 1 }));
+                he_prev.extend((0..nfh as u32).map(|h| if h % a == 0 { h + a - 1 } else { h - 1 }));
             }
         }
         // The smallest face half-edge leaving each vertex (from_indexed's first of its bucket),
-        // and the twins checked: mutual, and running the other way.
+        // and the twins checked: in range, mutual, and running the other way.
         let mut vertex_out = vec![NONE; nv];
-        for h in 0..nfh {
-            let v = origins[h];
+        for (h, &v) in origins.iter().enumerate() {
             if v as usize >= nv {
                 return bad("a vertex id out of range");
             }
             if vertex_out[v as usize] == NONE {
                 vertex_out[v as usize] = h as u32;
             }
-            let t = twins[h];
+        }
+        for (h, &t) in twins.iter().enumerate() {
             if t != NONE
                 && (t as usize >= nfh
                     || twins[t as usize] != h as u32
@@ -336,6 +340,15 @@ impl Mesh {
             face_sources: None,
         })
     }
+}
+
+/// The face, next and previous half-edge of `nfh` face half-edges laid out `A` to a face, in
+/// face order (the arity a constant, so the divisions are multiplications).
+fn face_cycles<const A: u32>(nfh: usize, face: &mut Vec<u32>, next: &mut Vec<u32>, prev: &mut Vec<u32>) {
+    let n = nfh as u32;
+    face.extend((0..n).map(|h| h / A));
+    next.extend((0..n).map(|h| if (h + 1) % A == 0 { h + 1 - A } else { h + 1 }));
+    prev.extend((0..n).map(|h| if h % A == 0 { h + A - 1 } else { h - 1 }));
 }
 
 /// Adds a boundary half-edge opposite every face half-edge without a twin (in half-edge order)

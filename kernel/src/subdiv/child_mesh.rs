@@ -108,8 +108,12 @@ pub(crate) fn child_mesh(lv: &Level, loop_scheme: bool, positions: Vec<Vec3>) ->
         let start = lv.face_verts[c0 as usize];
         let (s_start, s_end) = if start == lv.edge_verts[e][0] { (sa, sb) } else { (sb, sa) };
         let (a0, b0) = (leave(c0) as usize, arrive(n0) as usize);
-        sharp[a0] = s_start;
-        sharp[b0] = s_end;
+        // Smooth halves are left as allocated (zero): a mesh without creases never writes, so
+        // never touches, its sharpness pages.
+        if s_start != 0.0 || s_end != 0.0 {
+            sharp[a0] = s_start;
+            sharp[b0] = s_end;
+        }
         if c1 != NONE {
             let n1 = next_corner(lv, lv.edge_faces[e][1], c1);
             let (a1, b1) = (leave(c1) as usize, arrive(n1) as usize);
@@ -118,13 +122,17 @@ pub(crate) fn child_mesh(lv: &Level, loop_scheme: bool, positions: Vec<Vec3>) ->
             twins[b1] = a0 as u32;
             twins[a1] = b0 as u32;
             twins[b0] = a1 as u32;
-            sharp[a1] = s_end;
-            sharp[b1] = s_start;
+            if s_start != 0.0 || s_end != 0.0 {
+                sharp[a1] = s_end;
+                sharp[b1] = s_start;
+            }
         }
     }
     let mut corner = vec![0.0f64; positions.len()];
     for (c, &p) in corner.iter_mut().zip(&lv.vertex_sharpness) {
-        *c = to_mesh_sharpness(super::topology::decrement(p));
+        if p > 0.0 {
+            *c = to_mesh_sharpness(super::topology::decrement(p));
+        }
     }
     Mesh::from_paired_faces(positions, arity, origins, twins, sharp, corner)
         .map_err(|e| SubdivError::Internal(format!("refined faces do not form a mesh: {e}")))
