@@ -1210,7 +1210,7 @@ impl Grower {
             return Ok(());
         }
         let spokes: Vec<u32> = pm.mesh().outgoing(tip).collect();
-        let prev_center = spokes.iter().map(|&x| pm.position(pm.mesh().target(x))).sum::<Vec3>() / spokes.len() as f64;
+        let prev_center = crate::math::mean_point(spokes.iter().map(|&x| pm.position(pm.mesh().target(x))));
         let refined = Self::polar(i, pm.add_refinement(i64::from(spokes[0])))?;
         let verts = refined.vertices;
         // The far end of each new vertex's spoke (its neighbour on the previous loop or gap),

@@ -6,6 +6,7 @@ mod color;
 mod direction;
 mod fmt_num;
 mod lerp;
+mod mean;
 
 pub use aabb::Aabb;
 pub use closest_point::closest_on_triangle;
@@ -13,6 +14,7 @@ pub use color::hsv_rgba;
 pub use direction::direction;
 pub use fmt_num::fmt_num;
 pub use lerp::lerp;
+pub use mean::mean_point;
 
 /// A point or direction in 3D, in double precision.
 pub type Vec3 = glam::DVec3;

@@ -138,8 +138,7 @@ impl Mesh {
     /// The centroid of face `f`'s corners.
     #[must_use]
     pub fn face_centroid(&self, f: u32) -> Vec3 {
-        let (sum, n) = self.face_vertices(f).fold((Vec3::ZERO, 0.0), |(s, n), v| (s + self.position(v), n + 1.0));
-        sum / n
+        crate::math::mean_point(self.face_vertices(f).map(|v| self.position(v)))
     }
 
     /// Area-weighted vertex normals (unit length; zero for isolated vertices).

@@ -280,7 +280,7 @@ impl Mesh {
                         (None, _) => {
                             // Cut about a new vertex at the centroid: one triangle per side,
                             // the side v0 → v1 first.
-                            let c = corners.iter().copied().sum::<Vec3>() / k as f64;
+                            let c = crate::math::mean_point(corners.iter().copied());
                             if !c.is_finite() {
                                 return Err(MeshError::Triangulation {
                                     face: f as usize,

@@ -136,12 +136,14 @@ impl PolarMesh {
         gap.extend((1..k).rev().map(n));
         let gap_pos = |c: u32| if c < nv { m.position(c) } else { positions[(c - nv) as usize] };
         let pts: Vec<Vec3> = gap.iter().map(|&c| gap_pos(c)).collect();
-        let centre = pts.iter().copied().sum::<Vec3>() / pts.len() as f64;
+        // Centre and (Newell) normal about the gap's own centre, so a mesh far from the origin
+        // keeps its digits.
+        let centre = crate::math::mean_point(pts.iter().copied());
         let mut normal = Vec3::ZERO;
         let mut perimeter = 0.0;
         for j in 0..pts.len() {
             let (p, q) = (pts[j], pts[(j + 1) % pts.len()]);
-            normal += p.cross(q);
+            normal += (p - centre).cross(q - centre);
             perimeter += p.distance(q);
         }
         let normal = normal.normalize_or_zero();

@@ -103,7 +103,7 @@ impl PolarMesh {
 
     fn polygon_frame(&self, verts: &[u32]) -> LoopFrame {
         let pts: Vec<Vec3> = verts.iter().map(|&v| self.position(v)).collect();
-        let center = pts.iter().copied().sum::<Vec3>() / pts.len() as f64;
+        let center = crate::math::mean_point(pts.iter().copied());
         let mut n = Vec3::ZERO;
         for i in 0..pts.len() {
             n += (pts[i] - center).cross(pts[(i + 1) % pts.len()] - center);
@@ -114,7 +114,7 @@ impl PolarMesh {
     fn principal_frame(&self, verts: &[u32]) -> LoopFrame {
         let m = &self.mesh;
         let pts: Vec<Vec3> = verts.iter().map(|&v| m.position(v)).collect();
-        let center = pts.iter().copied().sum::<Vec3>() / pts.len() as f64;
+        let center = crate::math::mean_point(pts.iter().copied());
         let mut c = [[0.0; 3]; 3];
         for p in &pts {
             let d = (*p - center).to_array();

@@ -114,7 +114,7 @@ impl Skeleton {
         let mut normals = Vec::with_capacity(nn);
         for n in 0..nn {
             let vs = &node_vertices[n];
-            positions.push(vs.iter().map(|&v| m.position(v)).sum::<Vec3>() / vs.len().max(1) as f64);
+            positions.push(crate::math::mean_point(vs.iter().map(|&v| m.position(v))));
             let normal = match pole_vertex[n] {
                 Some(p) => m.vertex_faces(p).map(|f| m.face_vector_area(f)).sum::<Vec3>(),
                 None => {

@@ -1,7 +1,6 @@
 //! Split feature (§4.7): replace a loop and the two rings beside it by two pole fans.
 
 use super::{PolarError, PolarMesh, Poly};
-use crate::math::Vec3;
 use crate::mesh::edit::IdSet;
 
 impl PolarMesh {
@@ -50,7 +49,7 @@ impl PolarMesh {
             }
         }
         let nv = m.vertex_count() as u32;
-        let centre = |hs: &[u32]| hs.iter().map(|&x| m.position(m.origin(x))).sum::<Vec3>() / hs.len() as f64;
+        let centre = |hs: &[u32]| crate::math::mean_point(hs.iter().map(|&x| m.position(m.origin(x))));
         let cm = centre(&split);
         let (ca, cb) = (centre(&side_a), centre(&side_b));
         let positions = [ca.lerp(cm, 0.5), cb.lerp(cm, 0.5)];

@@ -66,7 +66,7 @@ pub(crate) fn circle(points: &[Vec3]) -> Vec<Vec3> {
 
 /// `points` less their mean.
 pub(crate) fn centred(points: &[Vec3]) -> Vec<Vec3> {
-    let mean = points.iter().copied().sum::<Vec3>() / points.len().max(1) as f64;
+    let mean = crate::math::mean_point(points.iter().copied());
     points.iter().map(|p| *p - mean).collect()
 }
 

@@ -141,7 +141,7 @@ pub fn retain_circular_features(
     // 2–4. Compensation, repeated.
     let mut retained_mesh = deformed.clone();
     retained_mesh.set_positions(retained.clone()).map_err(|_| SolveError::NonFinite { what: "the retained mesh" })?;
-    let centroid = retained.iter().copied().sum::<Vec3>() / n as f64;
+    let centroid = crate::math::mean_point(retained.iter().copied());
     let cylinders: Vec<_> =
         features.iter().map(|f| fit_cylinder(&gather(&retained, f), RadiusRule::Minimum)).collect::<Result<_, _>>()?;
     let mut factors = vec![1.0; features.len()];

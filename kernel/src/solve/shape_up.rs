@@ -43,6 +43,11 @@ struct Constraint {
 /// [`Factored::solve`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct ShapeUp {
+    /// The local origin every position is held and solved about: the centre of the mesh's
+    /// bounds, so that a mesh far from the origin loses no digits in the global step (whose
+    /// right-hand side would otherwise carry the large coordinates through the factored solve).
+    origin: Vec3,
+    /// The mesh's positions, less `origin`.
     start: Vec<Vec3>,
     triangles: Vec<[u32; 3]>,
     stars: Vec<Vec<u32>>,
@@ -79,10 +84,11 @@ impl ShapeUp {
     /// # Errors
     /// [`SolveError::NonFinite`] for a NaN coordinate.
     pub fn new(mesh: &Mesh) -> Result<ShapeUp, SolveError> {
-        let start = mesh.positions().to_vec();
-        if start.iter().any(|p| !p.is_finite()) {
+        if mesh.positions().iter().any(|p| !p.is_finite()) {
             return Err(SolveError::NonFinite { what: "the mesh" });
         }
+        let origin = if mesh.vertex_count() == 0 { Vec3::ZERO } else { mesh.bounds().center() };
+        let start: Vec<Vec3> = mesh.positions().iter().map(|p| *p - origin).collect();
         let mut triangles = Vec::new();
         for f in 0..mesh.face_count() as u32 {
             let vs: Vec<u32> = mesh.face_vertices(f).collect();
@@ -96,7 +102,7 @@ impl ShapeUp {
                 stars[v as usize].push(t as u32);
             }
         }
-        Ok(ShapeUp { start, triangles, stars, constraints: Vec::new(), closeness: 0.0, laplacian: 0.0 })
+        Ok(ShapeUp { origin, start, triangles, stars, constraints: Vec::new(), closeness: 0.0, laplacian: 0.0 })
     }
 
     /// The number of vertices.
@@ -178,7 +184,11 @@ impl ShapeUp {
         if positions.iter().any(|p| !p.is_finite()) {
             return Err(SolveError::NonFinite { what: "the anchor positions" });
         }
-        self.constraints.push(Constraint { verts: verts.to_vec(), weight, kind: Kind::Anchor(positions.to_vec()) });
+        self.constraints.push(Constraint {
+            verts: verts.to_vec(),
+            weight,
+            kind: Kind::Anchor(positions.iter().map(|p| *p - self.origin).collect()),
+        });
         Ok(())
     }
 
@@ -375,7 +385,7 @@ impl Factored<'_> {
         } else {
             Vec::new()
         };
-        let mut x = start.to_vec();
+        let mut x: Vec<Vec3> = start.iter().map(|p| *p - up.origin).collect();
         let mut energies = Vec::with_capacity(iterations + 1);
         for _ in 0..iterations {
             let (projected, close, energy) = up.local(&x);
@@ -409,7 +419,7 @@ impl Factored<'_> {
             }
         }
         energies.push(up.local(&x).2);
-        Ok(Solution { positions: x, energies })
+        Ok(Solution { positions: x.into_iter().map(|p| p + up.origin).collect(), energies })
     }
 }
 
