@@ -177,7 +177,7 @@ pub fn read_ply_with(bytes: &[u8], path: &Path, weld: Weld) -> Result<Mesh, IoEr
     let mut arities: Vec<u32> = Vec::new();
     let mut seen_vertices = false;
     for el in &elements {
-        let at = |i: u64| format!("{} {i}", el.name);
+        let at = |i: u64| At { element: &el.name, i };
         match el.name.as_str() {
             "vertex" if !seen_vertices => {
                 seen_vertices = true;
@@ -191,10 +191,10 @@ pub fn read_ply_with(bytes: &[u8], path: &Path, weld: Weld) -> Result<Mesh, IoEr
                     let mut rgba = [0.0f32, 0.0, 0.0, 1.0];
                     for (p, &scale) in el.props.iter().zip(&scales) {
                         if p.list.is_some() {
-                            src.skip_list(p, path, &at(i))?;
+                            src.skip_list(p, path, at(i))?;
                             continue;
                         }
-                        let x = src.scalar(p.scalar, path, &at(i))?;
+                        let x = src.scalar(p.scalar, path, at(i))?;
                         match p.role {
                             Role::Coord(k) => c[k] = x,
                             Role::Color(k) => rgba[k] = (x / scale) as f32,
@@ -217,16 +217,16 @@ pub fn read_ply_with(bytes: &[u8], path: &Path, weld: Weld) -> Result<Mesh, IoEr
                     for p in &el.props {
                         match (p.list, p.role) {
                             (Some(count_type), Role::Indices) => {
-                                let n = src.count(count_type, path, &at(i))?;
+                                let n = src.count(count_type, path, at(i))?;
                                 for _ in 0..n {
-                                    let v = src.scalar(p.scalar, path, &at(i))?;
-                                    indices.push(index(v, positions.len(), path, &at(i))?);
+                                    let v = src.scalar(p.scalar, path, at(i))?;
+                                    indices.push(index(v, positions.len(), path, at(i))?);
                                 }
                                 arities.push(n as u32);
                             }
-                            (Some(_), _) => src.skip_list(p, path, &at(i))?,
+                            (Some(_), _) => src.skip_list(p, path, at(i))?,
                             (None, _) => {
-                                src.scalar(p.scalar, path, &at(i))?;
+                                src.scalar(p.scalar, path, at(i))?;
                             }
                         }
                     }
@@ -243,9 +243,9 @@ pub fn read_ply_with(bytes: &[u8], path: &Path, weld: Weld) -> Result<Mesh, IoEr
                 for i in 0..el.count {
                     for p in &el.props {
                         if p.list.is_some() {
-                            src.skip_list(p, path, &at(i))?;
+                            src.skip_list(p, path, at(i))?;
                         } else {
-                            src.scalar(p.scalar, path, &at(i))?;
+                            src.scalar(p.scalar, path, at(i))?;
                         }
                     }
                 }
@@ -258,11 +258,30 @@ pub fn read_ply_with(bytes: &[u8], path: &Path, weld: Weld) -> Result<Mesh, IoEr
     build(positions, colors, indices, arities, weld, path)
 }
 
+/// Where a value is read, for errors: entry `i` of element `element` ("face 12"). Formatted only
+/// when an error is made, so that reading costs no allocation per value.
+#[derive(Clone, Copy)]
+struct At<'a> {
+    element: &'a str,
+    i: u64,
+}
+
+impl std::fmt::Display for At<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} {}", self.element, self.i)
+    }
+}
+
 /// A face index read as a number: a whole number below the vertex count.
-fn index(v: f64, vertex_count: usize, path: &Path, at: &str) -> Result<u32, IoError> {
+fn index(v: f64, vertex_count: usize, path: &Path, at: At<'_>) -> Result<u32, IoError> {
     if v.fract() != 0.0 || v < 0.0 || v >= vertex_count as f64 {
         if v.fract() == 0.0 && v.is_finite() {
-            return Err(IoError::IndexOutOfRange { path: path.into(), at: at.into(), index: v as i64, vertex_count });
+            return Err(IoError::IndexOutOfRange {
+                path: path.into(),
+                at: at.to_string(),
+                index: v as i64,
+                vertex_count,
+            });
         }
         return Err(ply_error(path, format!("{at}: vertex index {v} is not a whole number")));
     }
@@ -441,7 +460,7 @@ enum Source<'a> {
 }
 
 impl Source<'_> {
-    fn scalar(&mut self, s: Scalar, path: &Path, at: &str) -> Result<f64, IoError> {
+    fn scalar(&mut self, s: Scalar, path: &Path, at: At<'_>) -> Result<f64, IoError> {
         match self {
             Source::Ascii(words) => {
                 let w = words.next().ok_or_else(|| ply_error(path, format!("{at}: the data ends early")))?;
@@ -476,7 +495,7 @@ impl Source<'_> {
     }
 
     /// A list's count: a whole number ≥ 0.
-    fn count(&mut self, s: Scalar, path: &Path, at: &str) -> Result<u64, IoError> {
+    fn count(&mut self, s: Scalar, path: &Path, at: At<'_>) -> Result<u64, IoError> {
         let n = self.scalar(s, path, at)?;
         if n < 0.0 {
             return Err(ply_error(path, format!("{at}: a list of {n} items")));
@@ -484,7 +503,7 @@ impl Source<'_> {
         Ok(n as u64)
     }
 
-    fn skip_list(&mut self, p: &Property, path: &Path, at: &str) -> Result<(), IoError> {
+    fn skip_list(&mut self, p: &Property, path: &Path, at: At<'_>) -> Result<(), IoError> {
         let n = self.count(p.list.unwrap_or(Scalar::U8), path, at)?;
         for _ in 0..n {
             self.scalar(p.scalar, path, at)?;
