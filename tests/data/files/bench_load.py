@@ -9,8 +9,9 @@ time).
     cargo run --release --example load_weld -- DIR/torus_1m.3mf 5
 
 Measured on 2026-12-03 (release build, 2 shared cores, medians of 5; blocksmith / trimesh): split glTF
-1.13 s / 2.35 s (0.48x), STL 0.96 s / 3.49 s (0.28x), PLY 1.07 s / 0.80 s (1.34x, over the target),
-3MF 1.27 s / 8.71 s (0.15x).
+0.60 s / 1.68 s (0.35x), STL 0.55 s / 1.99 s (0.27x), PLY 0.21 s / 0.59 s (0.36x), 3MF 0.96 s /
+4.22 s (0.23x). PLY was 0.83 s (1.41x) before its reader stopped formatting a location string
+for every value it read.
 
 The PLY (binary) and the 3MF store the torus indexed, as those formats usually are (3MF needs
 lxml and networkx for trimesh).
