@@ -7,7 +7,7 @@ use std::path::{Component, Path, PathBuf};
 use std::rc::Rc;
 use std::sync::{Arc, Mutex};
 
-use rhai::{Dynamic, NativeCallContext};
+use rhai::{Dynamic, NativeCallContext, Position};
 
 use crate::record::Recorder;
 
@@ -29,6 +29,56 @@ pub struct RunContext {
     /// Where the files the run writes are listed as it writes them, for a watcher that must
     /// not take a run's own saves for edits (`blocksmith watch`); `None` elsewhere.
     pub writes: Option<Writes>,
+    /// The warnings the run gives as it goes (blocks that touch without connecting), shown
+    /// with the lint's: `run` and the REPL print them, `blocksmith test` fails on them.
+    pub warnings: Warnings,
+}
+
+/// A warning a running script gave: where (the module's source name, `None` for the script
+/// itself, and the position of the call) and what.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Warning {
+    /// The source of the module whose call gave it, or `None` for the script being run.
+    pub source: Option<String>,
+    /// The position of the call.
+    pub position: Position,
+    /// What is wrong and the fix.
+    pub message: String,
+}
+
+/// The warnings of a run, in order. Cloning shares them.
+#[derive(Clone, Debug, Default)]
+pub struct Warnings(Rc<RefCell<Vec<Warning>>>);
+
+impl Warnings {
+    /// Adds the warning `message` for the call of `ctx`.
+    pub fn push(&self, ctx: &NativeCallContext, message: String) {
+        let source = ctx.call_source().map(str::to_string);
+        self.0.borrow_mut().push(Warning { source, position: ctx.call_position(), message });
+    }
+
+    /// The warnings so far, leaving none.
+    #[must_use]
+    pub fn take(&self) -> Vec<Warning> {
+        std::mem::take(&mut *self.0.borrow_mut())
+    }
+
+    /// The warnings so far, leaving none, formatted as the lint's are (`file:line:col:
+    /// warning: ...`, the source line and a caret): the script's own as `name` with its
+    /// `source`, a module's with its file.
+    #[must_use]
+    pub fn take_formatted(&self, name: &str, source: &str) -> Vec<String> {
+        self.take()
+            .iter()
+            .map(|w| match &w.source {
+                Some(module) if module != name => {
+                    let text = std::fs::read_to_string(module).unwrap_or_default();
+                    crate::diagnostics::format_warning(module, &text, w.position, &w.message)
+                }
+                _ => crate::diagnostics::format_warning(name, source, w.position, &w.message),
+            })
+            .collect()
+    }
 }
 
 /// The files a run writes, listed before each is written, shared with other threads.

@@ -115,7 +115,9 @@ pub fn overview() -> String {
     }
     out.push_str(
         "A call whose result is dropped while its receiver stays as it was is reported before the script \
-         runs: a warning in `run` and the REPL, an error in `blocksmith test`.\n\n",
+         runs: a warning in `run` and the REPL, an error in `blocksmith test`. Warnings a running script \
+         gives (blocks that touch without connecting, from `mesh`) go the same way; a test that expects one \
+         takes it with `take_warnings()` and checks it.\n\n",
     );
     out
 }

@@ -68,7 +68,9 @@ enum Command {
         #[command(flatten)]
         limits: LimitArgs,
     },
-    /// Run .rhai test scripts (default: tests/), each in a fresh engine.
+    /// Run .rhai test scripts (default: tests/), each in a fresh engine. A warning fails the
+    /// test (a dropped result, blocks that touch without connecting) unless the script takes
+    /// it with `take_warnings()`.
     Test {
         /// Test files or directories.
         paths: Vec<PathBuf>,

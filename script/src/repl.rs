@@ -118,7 +118,7 @@ pub struct Session {
     studio: Option<(Arc<studio::session::Session>, String)>,
     /// Whether the first show opens the page in the browser (an interactive session).
     pub open_page: bool,
-    /// The dropped results of the entry being evaluated, as warnings.
+    /// The dropped results of the entry being evaluated and the warnings it gave as it ran.
     warnings: Vec<String>,
     /// The limits each entry runs under (a fresh count and deadline per entry).
     limits: EngineOptions,
@@ -336,6 +336,8 @@ impl Session {
         self.interrupt.store(false, Ordering::SeqCst);
         crate::set_limits(&mut self.engine, &self.limits);
         let result = self.engine.eval_ast_with_scope::<Dynamic>(&mut self.scope, &merged);
+        // What the entry warned of as it ran (blocks that touch without connecting), after the lint's.
+        self.warnings.extend(self.limits.context.warnings.take_formatted(name, source));
         self.functions = merged;
         self.functions.clear_statements();
         match result {

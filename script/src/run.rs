@@ -69,7 +69,8 @@ pub struct RecipeRun {
     /// The wall-clock time of compiling and evaluating the recipe.
     pub elapsed: Duration,
     /// Calls whose result the recipe (or a module it imports) drops while their receiver
-    /// stays as it was, found before it ran ([`crate::lint`]), formatted as warnings.
+    /// stays as it was, found before it ran ([`crate::lint`]), then the warnings the run gave
+    /// as it went ([`crate::context::Warnings`]: blocks that touch without connecting), formatted.
     pub warnings: Vec<String>,
 }
 
@@ -123,6 +124,7 @@ pub fn run_recipe(path: &Path, mut options: EngineOptions) -> Result<RecipeRun, 
     options.context.record = record.clone();
     record.input(path);
     let set_names: Vec<String> = options.context.params.keys().cloned().collect();
+    let given = options.context.warnings.clone();
     let engine = new_engine(options);
     let fail = |error: RunError| RecipeFailure { error, record: record.snapshot() };
     let (source, ast) = compile_file(&engine, path).map_err(fail)?;
@@ -133,11 +135,13 @@ pub fn run_recipe(path: &Path, mut options: EngineOptions) -> Result<RecipeRun, 
         .collect();
     warnings.extend(crate::lint::imported_warnings(&engine, &ast, path.parent()));
     let value = engine.eval_ast_with_scope::<Dynamic>(&mut Scope::new(), &ast).map_err(|e| {
-        // A dropped result is often why a later line fails: show it first.
+        // A dropped result or an unconnected block is often why a later line fails: show it first.
         let mut text: Vec<String> = warnings.clone();
+        text.extend(given.take_formatted(&name, &source));
         text.push(format_error(&name, &source, &e));
         fail(RunError(text.join("\n")))
     })?;
+    warnings.extend(given.take_formatted(&name, &source));
     let elapsed = start.elapsed();
     let record = record.snapshot();
     if let Some(error) = unknown_set_names(path, &set_names, &record) {

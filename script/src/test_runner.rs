@@ -93,14 +93,23 @@ pub fn run_all_limited(
     outcomes.into_iter().flatten().collect()
 }
 
+/// How a test that expects a warning says so, after the warnings that failed it.
+const TAKE_WARNINGS: &str = "(in a test every warning is an error; a test that expects a warning from a run, such as \
+     mesh's unconnected blocks, takes them with `take_warnings()` and checks them)";
+
 fn run_one(path: &Path, output_dir: &Path, max_operations: Option<u64>, timeout: Option<Duration>) -> TestOutcome {
     let start = Instant::now();
     let context = RunContext { output_dir: Some(output_dir.to_path_buf()), ..RunContext::default() };
     let error = match run_recipe(path, EngineOptions { context, max_operations, timeout, ..EngineOptions::default() }) {
         Err(e) => Some(e.error.0),
-        // In a test a dropped result is an error: the test may pass for the wrong reason.
+        // In a test a warning is an error (a dropped result, blocks that touch without
+        // connecting): the test may pass for the wrong reason. A test that means to make such a
+        // model takes the run's warnings with `take_warnings()` and checks them.
         Ok(run) if !run.warnings.is_empty() => {
-            Some(run.warnings.iter().map(|w| w.replacen(": warning: ", ": error: ", 1)).collect::<Vec<_>>().join("\n"))
+            let mut lines: Vec<String> =
+                run.warnings.iter().map(|w| w.replacen(": warning: ", ": error: ", 1)).collect();
+            lines.push(TAKE_WARNINGS.to_string());
+            Some(lines.join("\n"))
         }
         Ok(_) => None,
     };

@@ -238,10 +238,50 @@ fn blocks_touching_without_connecting_are_reported_by_mesh() {
             && err.contains("`m.connect(1, \"+z\", 0, 0, \"-z\", 0)`"),
         "{err}"
     );
+    // Shown as the lint's warnings are: the source line and a caret under the call.
+    assert!(err.contains("7 | let s = m.mesh(#{ tolerance: 0.01 });\n") && err.contains("|           ^"), "{err}");
     let fixed = script(&d, "fixed.rhai", &table(10));
     let o = blocksmith().arg("run").arg(&fixed).arg("-o").arg(d.path().join("fixed.obj")).output().unwrap();
     assert!(o.status.success() && !stderr(&o).contains("warning"), "{}", stderr(&o));
     assert!(stdout(&o).contains("[]"), "{}", stdout(&o));
+    // In a test they are errors, unless the test takes them and checks them.
+    let o = blocksmith().arg("test").arg(&loose).arg(&fixed).output().unwrap();
+    let out = stdout(&o);
+    assert!(!o.status.success(), "{out}");
+    assert!(
+        out.contains("loose.rhai:7:11: error: mesh: block 1 touches block 0")
+            && out.contains("takes them with `take_warnings()`")
+            && out.contains("1 passed, 1 failed"),
+        "{out}"
+    );
+    let taken = script(
+        &d,
+        "taken.rhai",
+        &table(1).replace(
+            "\ns\n",
+            "\nlet w = take_warnings();\nassert_eq(w.len(), 4);\nassert(w[0].starts_with(\"7:11: mesh: block 1 touches\"), w[0]);\ns\n",
+        ),
+    );
+    let o = blocksmith().arg("test").arg(&taken).output().unwrap();
+    assert!(o.status.success(), "{}", stdout(&o));
+    // The REPL shows them after the entry, as it shows the lint's.
+    use std::io::Write;
+    let mut child = blocksmith()
+        .arg("repl")
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .env("BLOCKSMITH_HISTORY", "/dev/null")
+        .spawn()
+        .unwrap();
+    let entries = "let m = blocks();\nm.allow(0, 0);\nm.add(block([0, 0, 1], [2, 2, 1.2]));\n\
+                   m.add(block([0, 0, 0], [0.2, 0.2, 1]));\nlet s = m.mesh();\nlet t = m.mesh();\n";
+    child.stdin.take().unwrap().write_all(entries.as_bytes()).unwrap();
+    let o = child.wait_with_output().unwrap();
+    let out = stdout(&o);
+    assert_eq!(out.matches(":11: warning: mesh: block 1 touches block 0").count(), 2, "{out}");
+    assert!(out.contains("<stdin>:5:11: warning: mesh: block 1") && out.contains("| let t = m.mesh();"), "{out}");
+    assert!(!stderr(&o).contains("warning"), "{}", stderr(&o));
 }
 
 #[test]

@@ -291,14 +291,10 @@ fn mesh_model(ctx: &NativeCallContext, m: &mut BlockModel, options: Map) -> Scri
     let t = kernel("mesh", result)?;
     m.stats = Some(t.stats);
     // Blocks that touch without connecting come out as separate pieces: say so, with the fix.
+    // They go with the lint's warnings: `run` and the REPL print them, `blocksmith test` fails.
+    let run = crate::context::RunContext::of(ctx);
     for miss in kernel("mesh", model.unconnected())? {
-        let at = ctx.call_position();
-        let place = match (ctx.call_source(), at.line(), at.position()) {
-            (Some(src), Some(l), Some(c)) => format!("{src}:{l}:{c}: "),
-            (None, Some(l), Some(c)) => format!("{l}:{c}: "),
-            _ => String::new(),
-        };
-        eprintln!("{place}warning: mesh: {}", miss_message(&miss));
+        run.warnings.push(ctx, format!("mesh: {}", miss_message(&miss)));
     }
     // The control mesh goes with the surface, for the studio to draw over it.
     Ok(SharedMesh::with_control(t.mesh, std::rc::Rc::new(t.control)))

@@ -2,7 +2,7 @@
 
 use blocksmith_kernel::Vec3;
 use rhai::plugin::*;
-use rhai::Map;
+use rhai::{Array, Map};
 
 use crate::context::RunContext;
 use crate::convert::{fail, number, type_name, vec3, Number, NumberOrVector, ScriptResult};
@@ -15,6 +15,37 @@ fn debug_text(ctx: &NativeCallContext, v: &Dynamic) -> String {
 #[export_module]
 pub mod runtime_api {
     use super::*;
+
+    /// The warnings the run has given so far, each a string (`mesh`'s blocks that touch
+    /// without connecting: `"3:11: mesh: block 1 touches block 0 …"`), leaving none. `run` and
+    /// the REPL print the warnings nobody took, and `blocksmith test` fails on them, so a test
+    /// that means to make such a model takes them here and checks them.
+    ///
+    /// ```rhai
+    /// let m = blocks();
+    /// m.allow(0, 0);
+    /// m.add(block([0, 0, 1], [2, 2, 1.2]));
+    /// m.add(block([0, 0, 0], [0.2, 0.2, 1]));
+    /// let s = m.mesh();
+    /// let w = take_warnings();
+    /// assert_eq(w.len(), 1);
+    /// assert(w[0].contains("mesh: block 1 touches block 0 but does not connect to it"), w[0]);
+    /// assert_eq(take_warnings(), []);
+    /// ```
+    pub fn take_warnings(ctx: NativeCallContext) -> Array {
+        RunContext::of(&ctx)
+            .warnings
+            .take()
+            .into_iter()
+            .map(|w| {
+                let at = match (w.position.line(), w.position.position()) {
+                    (Some(l), Some(c)) => format!("{l}:{c}: "),
+                    _ => String::new(),
+                };
+                Dynamic::from(format!("{at}{}", w.message))
+            })
+            .collect()
+    }
 
     /// Fails the script with `message` unless `condition` is true.
     ///
