@@ -1,7 +1,8 @@
 //! Agreement with OpenSubdiv itself: `tests/data/subdiv/osd_shape.cpp` (OpenSubdiv 3.5's Far API
 //! in double precision) is built with the system's g++ and `libosdCPU`, and run on every shape of
 //! `tests/data/subdiv/shapes` (made by `make_shapes.py` there: semi-sharp creases of 0.5, 1, 1.5,
-//! 2.7 and infinity, corners, every boundary mode, Chaikin creasing, n-gons, triangles with both
+//! 2.7 and infinity, fractional and whole corners, darts (a vertex with one sharp edge) at regular
+//! and extraordinary vertices, every boundary mode, Chaikin creasing, n-gons, triangles with both
 //! triangle rules). Positions at levels 1–3 and the limit positions of the level-3 vertices must
 //! agree to 1e-9, and the refined faces must be the same polygons.
 //!

@@ -130,6 +130,14 @@ def main():
     write("loop_grid_edge_corner", v, f, [crease(5, 6, 2.7), corner(9, 0.5), "t interpolateboundary 1/0/0 1"],
           "triangle grid, edge and corner")
     write("loop_grid_none", v, f, [crease(5, 6, 1.5), "t interpolateboundary 1/0/0 0"], "triangle grid, none")
+    v, f = torus(6, 4)
+    write("cc_torus_darts", v, f, [crease(0, 1, 10), crease(9, 13, 0.5), crease(13, 17, 1.5)],
+          "torus 6x4, an infinitely sharp edge and a two-edge semi-sharp chain, darts at their ends")
+    write("cc_cube_dart_corner", CUBE_V, CUBE_F, [crease(4, 5, 1.5), corner(5, 0.7), corner(6, 2.3)],
+          "cube, one semi-sharp edge ending in a fractional corner (0.7) and a dart; a lone corner 2.3")
+    v, f = icosahedron()
+    write("loop_icosahedron_darts", v, f, [crease(0, 11, 2.7), crease(3, 9, 10), crease(9, 4, 0.5)],
+          "icosahedron, a semi-sharp edge and an infinite-then-0.5 chain between valence-5 darts")
 
 
 main()
