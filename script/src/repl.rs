@@ -4,6 +4,7 @@
 pub mod complete;
 pub mod input;
 
+use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -33,8 +34,9 @@ Commands:
   :show [EXPR]   show EXPR (or the last value) in the studio page, started on first use;
                  show(value) in code does the same
   :quit          leave (Ctrl-D too)
-Ctrl-C stops a running evaluation; Tab completes names, and after `x.` the methods and
-properties of x's type; an unfinished entry (open brackets or string) continues at `..>`.";
+Ctrl-C stops a running evaluation; Tab completes names, after `x.` the methods and
+properties of x's type, after `alias::` what an imported module offers; an unfinished entry
+(open brackets or string) continues at `..>`.";
 
 /// The prompt of a new entry.
 const PROMPT: &str = "bs> ";
@@ -122,6 +124,8 @@ pub struct Session {
     warnings: Vec<String>,
     /// The limits each entry runs under (a fresh count and deadline per entry).
     limits: EngineOptions,
+    /// The names each module imported so far offers, by alias, for completion after `alias::`.
+    modules: BTreeMap<String, Vec<String>>,
 }
 
 impl Session {
@@ -150,6 +154,7 @@ impl Session {
             open_page: false,
             warnings: Vec::new(),
             limits,
+            modules: BTreeMap::new(),
         }
     }
 
@@ -167,6 +172,7 @@ impl Session {
                 known.keys.insert(name.to_string(), map.keys().map(ToString::to_string).collect());
             }
         }
+        known.modules = self.modules.clone();
         known
     }
 
@@ -357,6 +363,7 @@ impl Session {
         for (path, alias) in imports_of(source) {
             let resolved = self.engine.module_resolver().resolve(&self.engine, None, &path, Position::NONE);
             if let Ok(module) = resolved {
+                self.modules.insert(alias.clone(), module_names(&module));
                 self.engine.register_static_module(alias, module);
             }
         }
@@ -374,6 +381,19 @@ impl Session {
         let out = self.with_warnings(out);
         self.with_shown(out)
     }
+}
+
+/// The functions and constants a module offers, sorted, each once.
+fn module_names(module: &rhai::Module) -> Vec<String> {
+    let functions = module.gen_fn_signatures_with_mapper(|t| t.into()).filter_map(|sig| {
+        let name = sig.split('(').next()?.trim();
+        let name = name.rsplit(' ').next()?;
+        (!name.is_empty()).then(|| name.to_string())
+    });
+    let mut names: Vec<String> = functions.chain(module.iter_var().map(|(n, _)| n.to_string())).collect();
+    names.sort();
+    names.dedup();
+    names
 }
 
 fn history_path() -> Option<PathBuf> {
@@ -479,5 +499,23 @@ mod tests {
         assert!(err.starts_with("<repl>:1:"), "{err}");
         assert_eq!(s.handle("a + 1").unwrap(), "=> 43");
         assert!(s.handle(":quit").is_none());
+    }
+
+    #[test]
+    fn imported_modules_complete_after_their_alias() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(
+            dir.path().join("shapes.rhai"),
+            "export const SIDE = 2;\nfn box_of(s) { cube(s) }\nfn bowl() { 1 }",
+        )
+        .unwrap();
+        let mut s = Session::new(Arc::new(AtomicBool::new(false)));
+        let path = dir.path().join("shapes").to_string_lossy().replace('\\', "/");
+        assert_eq!(s.handle(&format!("import \"{path}\" as sh;")).unwrap(), "");
+        let known = s.known();
+        let cat = crate::catalogue::standard();
+        assert_eq!(complete::candidates(&known, cat, "sh::bo", 6).1, ["bowl", "box_of"]);
+        assert_eq!(complete::candidates(&known, cat, "sh::S", 5).1, ["SIDE"]);
+        assert!(s.handle("sh::box_of(2)").unwrap().contains("Mesh(8 vertices"));
     }
 }

@@ -1,6 +1,7 @@
 //! Tab completion in the REPL: after `x.` the methods and properties of `x`'s type (the
 //! session knows its variables' values, and the catalogue the types functions return), after
-//! `:load ` the script files and folders, after `:` the commands, else every name.
+//! `alias::` the functions and constants of the module imported as `alias`, after `:load ` the
+//! script files and folders, after `:` the commands, else every name.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -16,6 +17,8 @@ pub struct Known {
     pub variables: BTreeMap<String, String>,
     /// The keys of the variables that hold object maps.
     pub keys: BTreeMap<String, Vec<String>>,
+    /// The names each imported module offers (its functions and constants), by alias.
+    pub modules: BTreeMap<String, Vec<String>>,
     /// Where relative `:load` paths start.
     pub dir: PathBuf,
 }
@@ -38,6 +41,11 @@ pub fn candidates(known: &Known, catalogue: &[Overload], line: &str, pos: usize)
     }
     let start = before.rfind(|c: char| !(c.is_alphanumeric() || c == '_')).map_or(0, |i| i + 1);
     let word = &before[start..];
+    if let Some(path) = before[..start].strip_suffix("::") {
+        let alias_start = path.rfind(|c: char| !(c.is_alphanumeric() || c == '_')).map_or(0, |i| i + 1);
+        let pool = known.modules.get(&path[alias_start..]).map(Vec::as_slice).unwrap_or_default();
+        return (start, pool.iter().filter(|n| n.starts_with(word)).cloned().collect());
+    }
     let members = before[..start].strip_suffix('.').map(|receiver| {
         let t = type_of(known, catalogue, receiver);
         let keys = known.keys.get(receiver.trim()).cloned().unwrap_or_default();
@@ -220,6 +228,17 @@ mod tests {
         assert_eq!(type_of(&k, cat, "nothing_here"), None);
         let (_, after_call) = candidates(&k, cat, "cube(1).catmull_clark_l", 23);
         assert_eq!(after_call, ["catmull_clark_limit", "catmull_clark_limit_normals"]);
+    }
+
+    #[test]
+    fn module_members_follow_their_alias() {
+        let cat = catalogue::standard();
+        let mut k = known();
+        k.modules.insert("check".into(), vec!["close_to".into(), "closed".into(), "manifold".into()]);
+        assert_eq!(candidates(&k, cat, "check::clo", 10), (7, vec!["close_to".to_string(), "closed".to_string()]));
+        assert_eq!(candidates(&k, cat, "let ok = check::", 16).1.len(), 3);
+        // An alias the session has not imported offers nothing, not every name.
+        assert!(candidates(&k, cat, "nope::c", 7).1.is_empty());
     }
 
     #[test]
