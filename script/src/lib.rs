@@ -71,6 +71,9 @@ pub fn new_engine(options: EngineOptions) -> Engine {
     engine.set_max_string_size(0);
     engine.set_max_array_size(0);
     engine.set_max_map_size(0);
+    // `+` and `+=` of strings, arrays and BLOBs go to the budget-checked versions of
+    // `api::data` rather than Rhai's built-in ones.
+    engine.set_fast_operators(false);
     api::register_all(&mut engine);
     engine.set_module_resolver(
         resolver::Resolver::new(options.context.script_dir.clone()).recording(options.context.record.clone()),

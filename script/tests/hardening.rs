@@ -185,17 +185,36 @@ fn primitives_out_of_range_are_catchable_errors_not_panics() {
 
 #[test]
 fn script_data_is_held_to_the_memory_budget_without_walking_it_on_every_call() {
-    // Doubling an array, a nested array, a string or growing a map: each stops at the budget
-    // (checked on every step against the heap in use) with the error naming it.
-    for recipe in [
-        "let a = [1]; loop { a += a; }",
-        "let a = [0]; loop { a = [a, a]; }",
-        "let s = \"ab\"; loop { s += s; }",
-        "let m = #{}; let i = 0; loop { m[`k${i}`] = [i, i, i, i]; i += 1; }",
-    ] {
+    // Doubling a nested array or growing a map: each stops at the budget (checked on every
+    // step against the heap in use) with the error naming it.
+    for recipe in
+        ["let a = [0]; loop { a = [a, a]; }", "let m = #{}; let i = 0; loop { m[`k${i}`] = [i, i, i, i]; i += 1; }"]
+    {
         let (o, _) = run_recipe(recipe, &["--memory-limit", "32M"]);
         assert_fails_with(&o, "is over the memory budget of 32.0 MiB (raise it with --memory-limit)");
     }
+    // Joining doubles data in one step: the result is estimated before it is allocated and
+    // refused, catchably, naming the estimate and the budget (checked after the step, it would
+    // have passed the budget up to three times over).
+    let recipe = "let caught = [];\n\
+                  let a = [0]; try { loop { a += a; } } catch (e) { caught.push(e); } a = ();\n\
+                  let a = [0]; try { loop { a = a + a; } } catch (e) { caught.push(e); } a = ();\n\
+                  let a = [0]; try { loop { a.append(a); } } catch (e) { caught.push(e); } a = ();\n\
+                  let s = \"ab\"; try { loop { s += s; } } catch (e) { caught.push(e); } s = ();\n\
+                  let s = \"ab\"; try { loop { s = s + s; } } catch (e) { caught.push(e); } s = ();\n\
+                  let b = blob(1); try { loop { b += b; } } catch (e) { caught.push(e); } b = ();\n\
+                  let a = []; try { loop { a.pad(a.len() + 100000, 0); } } catch (e) { caught.push(e); } a = ();\n\
+                  assert_eq(caught.len(), 7);\n\
+                  let starts = [\"+=: an array of \", \"+: an array of \", \"append: an array of \",\n\
+                                \"+=: a string of \", \"+: a string of \", \"+=: a BLOB of \", \"pad: padding an array to \"];\n\
+                  for i in 0..7 {\n\
+                      assert(starts.some(|s| caught[i].starts_with(s)), caught[i]);\n\
+                      assert(caught[i].contains(\"needs an estimated\"), caught[i]);\n\
+                      assert(caught[i].contains(\"over the memory budget of 32.0 MiB (raise it with --memory-limit)\"), caught[i]);\n\
+                  }\n\
+                  cube(1)\n";
+    let (o, _) = run_recipe(recipe, &["--memory-limit", "32M"]);
+    assert!(o.status.success(), "{}", stderr(&o));
     // Functions growing by a size they are given are refused before allocating, catchably.
     let recipe = "let caught = [];\n\
                   try { blob(1000000000000); } catch (e) { caught.push(e); }\n\
@@ -228,13 +247,22 @@ fn deep_nesting_is_a_catchable_error_not_a_stack_overflow() {
                   try { a.to_string(); } catch (e) { caught.push(e); }\n\
                   try { m.to_debug(); } catch (e) { caught.push(e); }\n\
                   try { m == m; } catch (e) { caught.push(e); }\n\
-                  assert_eq(caught.len(), 5);\n\
+                  try { print(a); } catch (e) { caught.push(e); }\n\
+                  try { debug(a); } catch (e) { caught.push(e); }\n\
+                  try { print(m); } catch (e) { caught.push(e); }\n\
+                  try { debug(m); } catch (e) { caught.push(e); }\n\
+                  try { m.to_json(); } catch (e) { caught.push(e); }\n\
+                  assert_eq(caught.len(), 10);\n\
                   for e in caught { assert(e.contains(\"nests arrays and maps more than 500 deep\"), e); }\n\
+                  assert(caught[5].starts_with(\"print: \") && caught[6].starts_with(\"debug: \"), caught[5]);\n\
+                  assert(caught[9].starts_with(\"to_json: \"), caught[9]);\n\
                   let c = a; let n = 0; while c.len() > 0 { c = c[0]; n += 1; } assert_eq(n, 5000);\n\
-                  // Printing and interpolation fall back to Rhai's own text of the value, on the\n\
-                  // command's large stack.\n\
-                  print(a); debug(m);\n\
+                  // Interpolation cannot be refused (Rhai falls back to its own text of the value,\n\
+                  // on the command's large stack).\n\
                   let s = `${a}`; assert(s.len() >= 10000, `${s.len()}`);\n\
+                  let s = `${m}`; assert(s.len() >= 10000, `${s.len()}`);\n\
+                  // Shallower data prints as before.\n\
+                  print([1, [2]]); debug(#{ x: [3] }); assert_eq(#{ x: [3] }.to_json(), \"{\\\"x\\\":[3]}\");\n\
                   // Shallower data compares and prints as before.\n\
                   assert([1, [2, #{ x: [3] }]] == [1, [2, #{ x: [3] }]]);\n\
                   assert_eq(`${[1, \"a\", #{ b: [2.5] }]}`, \"[1, \\\"a\\\", #{\\\"b\\\": [2.5]}]\");\n\

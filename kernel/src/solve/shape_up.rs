@@ -364,7 +364,8 @@ impl Factored<'_> {
     ///
     /// # Errors
     /// [`SolveError::NonFinite`] for a start of the wrong length or with NaN (reported as
-    /// non-finite), or a solve that diverges.
+    /// non-finite), or a solve that diverges; [`SolveError::Limit`] when the current
+    /// cancellation token stops it (checked every iteration).
     pub fn solve(&self, start: &[Vec3], iterations: usize) -> Result<Solution, SolveError> {
         let up = self.up;
         let n = up.start.len();
@@ -388,6 +389,8 @@ impl Factored<'_> {
         let mut x: Vec<Vec3> = start.iter().map(|p| *p - up.origin).collect();
         let mut energies = Vec::with_capacity(iterations + 1);
         for _ in 0..iterations {
+            // One unit per vertex and constraint vertex: a long solve stops with its token.
+            crate::limits::charge((n + up.constraints.iter().map(|c| c.verts.len()).sum::<usize>()) as u64)?;
             let (projected, close, energy) = up.local(&x);
             energies.push(energy);
             let mut rhs = Mat::<f64>::zeros(n, 3);
@@ -448,6 +451,23 @@ mod tests {
             }
         }
         assert!(s.positions[0].distance(moved(0)) < 1e-6);
+    }
+
+    #[test]
+    fn a_solve_stops_with_its_token_and_charges_every_iteration() {
+        use crate::limits::{install, CancelToken, LimitError, StopReason};
+        use std::sync::atomic::AtomicU64;
+        use std::sync::Arc;
+        let m = Mesh::icosphere(1.0, 1);
+        let mut up = ShapeUp::new(&m).unwrap();
+        up.closeness(1.0).unwrap();
+        let f = up.factor().unwrap();
+        // 42 vertices, no constraint: 42 units an iteration, so 100 iterations pass 4,000.
+        let counter = Arc::new(AtomicU64::new(0));
+        let _current = install(CancelToken::with(None, None, Some((counter.clone(), 4000))));
+        let e = f.solve(m.positions(), 100).unwrap_err();
+        assert_eq!(e, SolveError::Limit(LimitError::Stopped(StopReason::Operations { max: 4000 })));
+        assert_eq!(counter.load(std::sync::atomic::Ordering::Relaxed), 96 * 42);
     }
 
     #[test]

@@ -4,8 +4,9 @@
 //! itself once per level, a few kilobytes of stack each: data nested a few thousand deep (made
 //! by a loop, `a = [a]`) overflowed the stack and aborted the process. These versions measure
 //! the nesting first — without recursing past [`MAX_NESTING`] — and refuse deeper data with a
-//! catchable error naming the limit. (`print`, `debug` and interpolation fall back to Rhai's own
-//! text of a value they cannot convert, which recurses on the command's large stack.)
+//! catchable error naming the limit; so do `print`, `debug` and a map's `to_json`. (Rhai's
+//! string interpolation, `${x}`, cannot be refused: it falls back to Rhai's own text of a value
+//! whose `to_string` fails, which recurses on the command's large stack.)
 
 use std::cell::Cell;
 use std::fmt::Write;
@@ -188,6 +189,62 @@ pub mod nesting_api {
     pub fn array_to_string(ctx: NativeCallContext, a: &mut Array) -> ScriptResult<String> {
         let _measured = measure("to_string", || array_deeper(a, MAX_NESTING))?;
         Ok(array_text(&ctx, a))
+    }
+
+    /// Prints the array as `to_string` writes it. Arrays nested more than 500 deep are refused.
+    ///
+    /// ```rhai
+    /// print([1, [2]]);
+    /// ```
+    #[rhai_fn(name = "print", return_raw, pure)]
+    pub fn array_print(ctx: NativeCallContext, a: &mut Array) -> ScriptResult<String> {
+        let _measured = measure("print", || array_deeper(a, MAX_NESTING))?;
+        Ok(array_text(&ctx, a))
+    }
+
+    /// Prints the array as `to_debug` writes it. Arrays nested more than 500 deep are refused.
+    ///
+    /// ```rhai
+    /// debug([1, [2]]);
+    /// ```
+    #[rhai_fn(name = "debug", return_raw, pure)]
+    pub fn array_debug(ctx: NativeCallContext, a: &mut Array) -> ScriptResult<String> {
+        let _measured = measure("debug", || array_deeper(a, MAX_NESTING))?;
+        Ok(array_text(&ctx, a))
+    }
+
+    /// Prints the map as `to_string` writes it. Maps nested more than 500 deep are refused.
+    ///
+    /// ```rhai
+    /// print(#{ a: [1] });
+    /// ```
+    #[rhai_fn(name = "print", return_raw, pure)]
+    pub fn map_print(ctx: NativeCallContext, m: &mut Map) -> ScriptResult<String> {
+        let _measured = measure("print", || map_deeper(m, MAX_NESTING))?;
+        Ok(map_text(&ctx, m))
+    }
+
+    /// Prints the map as `to_debug` writes it. Maps nested more than 500 deep are refused.
+    ///
+    /// ```rhai
+    /// debug(#{ a: [1] });
+    /// ```
+    #[rhai_fn(name = "debug", return_raw, pure)]
+    pub fn map_debug(ctx: NativeCallContext, m: &mut Map) -> ScriptResult<String> {
+        let _measured = measure("debug", || map_deeper(m, MAX_NESTING))?;
+        Ok(map_text(&ctx, m))
+    }
+
+    /// The map as JSON text, `{"a":[1]}` (values JSON cannot hold are written as Rhai shows
+    /// them). Maps nested more than 500 deep are refused.
+    ///
+    /// ```rhai
+    /// assert_eq(#{ a: [1, 2.5] }.to_json(), "{\"a\":[1,2.5]}");
+    /// ```
+    #[rhai_fn(name = "to_json", return_raw, pure)]
+    pub fn map_to_json(m: &mut Map) -> ScriptResult<String> {
+        let _measured = measure("to_json", || map_deeper(m, MAX_NESTING))?;
+        Ok(rhai::format_map_as_json(m))
     }
 
     /// The map as text, `#{"a": 1}` (values as `debug` shows them), also as `to_debug`. Maps

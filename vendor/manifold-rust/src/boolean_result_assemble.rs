@@ -649,11 +649,18 @@ pub fn boolean_result_with_token_and_stage(
     out_r.remove_unreferenced_verts();
     crate::timing::print("Simplification", t);
     report_stage(stage, stage_marks::AFTER_SIMPLIFY);
+    // blocksmith patch (PATCHES.md, 6): a cancel landing in the simplification is seen before
+    // the sort, and the sort checks the token between its steps.
+    if is_cancelled(token) {
+        return crate::boolean3::cancelled_impl();
+    }
 
     // Finalize
     let t = crate::timing::start();
     out_r.calculate_bbox();
-    out_r.sort_geometry();
+    if !crate::sort::sort_geometry_with_token(&mut out_r, token) {
+        return crate::boolean3::cancelled_impl();
+    }
     out_r.increment_mesh_ids();
     crate::timing::print("Sorting", t);
 

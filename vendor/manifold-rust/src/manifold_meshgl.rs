@@ -478,8 +478,25 @@ impl Manifold {
             crate::edge_op::cleanup_topology(&mut imp);
             crate::edge_op::collapse_short_edges(&mut imp, 0);
             crate::face_op::calculate_vert_normals(&mut imp);
-        } else {
+        } else if token.is_none() {
             crate::edge_op::remove_degenerates(&mut imp, 0);
+        } else {
+            // remove_degenerates, its steps apart so that a cancel is seen between them.
+            if !imp.halfedge.is_empty() {
+                crate::edge_op::cleanup_topology(&mut imp);
+                if cancelled() {
+                    return cancelled_result();
+                }
+                crate::edge_op::collapse_short_edges(&mut imp, 0);
+                if cancelled() {
+                    return cancelled_result();
+                }
+                crate::edge_op::swap_degenerates(&mut imp, 0);
+                if cancelled() {
+                    return cancelled_result();
+                }
+                crate::face_op::calculate_vert_normals(&mut imp);
+            }
         }
         crate::timing::print("  Import: degenerates", t);
         if cancelled() {
@@ -487,7 +504,9 @@ impl Manifold {
         }
         let t = crate::timing::start();
         imp.remove_unreferenced_verts();
-        imp.sort_geometry();
+        if !crate::sort::sort_geometry_with_token(&mut imp, token) {
+            return cancelled_result();
+        }
         crate::timing::print("  Import: sort", t);
         crate::timing::print("Import", t_import);
         if cancelled() {

@@ -312,6 +312,43 @@ pub fn compact_props(mesh: &mut ManifoldImpl) {
 /// `create_halfedges()` to finalize the mesh topology.
 ///
 /// Note: Collider construction is done in Phase 10.
+/// [`sort_geometry`] checking `token` between its steps (vertices, face boxes, faces, the
+/// collider); `false` when it was cancelled, the mesh then half sorted (to be discarded).
+// blocksmith patch (PATCHES.md, 6): the import's sort is stoppable.
+pub fn sort_geometry_with_token(mesh: &mut ManifoldImpl, token: Option<&crate::cancel::CancelToken>) -> bool {
+    if token.is_none() {
+        sort_geometry(mesh);
+        return true;
+    }
+    let cancelled = || crate::cancel::is_cancelled(token);
+    if mesh.halfedge.is_empty() {
+        mesh.collider = crate::collider::Collider::default();
+        return !cancelled();
+    }
+    sort_verts(mesh);
+    if cancelled() {
+        return false;
+    }
+    let (mut face_box, mut face_morton) = get_face_box_morton(mesh);
+    if cancelled() {
+        return false;
+    }
+    sort_faces(mesh, &mut face_box, &mut face_morton);
+    if cancelled() {
+        return false;
+    }
+    if mesh.halfedge.is_empty() {
+        mesh.collider = crate::collider::Collider::default();
+        return true;
+    }
+    mesh.collider = crate::collider::Collider::new(face_box, face_morton);
+    if cancelled() {
+        return false;
+    }
+    compact_props(mesh);
+    !cancelled()
+}
+
 pub fn sort_geometry(mesh: &mut ManifoldImpl) {
     if mesh.halfedge.is_empty() {
         mesh.collider = crate::collider::Collider::default();
