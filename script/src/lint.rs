@@ -279,10 +279,11 @@ impl Lint {
     /// method called function-style (`translate(c, v);`), or an edit of a temporary value
     /// (`crease(cube(1), e);`).
     fn dropped_call(&mut self, call: &FnCallExpr, pos: Position) {
-        if !call.namespace.is_empty() {
+        let name = call.name.as_str();
+        // `print` and `debug` return the text they write, which Rhai sends to the output.
+        if !call.namespace.is_empty() || matches!(name, "print" | "debug") {
             return;
         }
-        let name = call.name.as_str();
         let receiver = call.args.first().and_then(|a| self.type_of(a));
         let decls: Vec<&Declared> = candidates(name, call.args.len(), receiver).collect();
         if decls.is_empty() {
