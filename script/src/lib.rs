@@ -65,12 +65,16 @@ pub fn new_engine(options: EngineOptions) -> Engine {
     let mut engine = Engine::new();
     engine.set_max_call_levels(96);
     engine.set_max_expr_depths(128, 128);
-    // No size limits of Rhai's: they walk every array after each call that may change it
-    // (quadratic pushes). Data is held to the memory budget by the heap check of every step
-    // below and by the functions of `api::data`, which grow by a requested size.
-    engine.set_max_string_size(0);
-    engine.set_max_array_size(0);
-    engine.set_max_map_size(0);
+    if limits::heap_in_use().is_some() {
+        // No size limits of Rhai's: they walk every array after each call that may change it
+        // (quadratic pushes). Data is held to the memory budget by the heap check of every step
+        // below and by the functions of `api::data`, which grow by a requested size.
+        engine.set_max_string_size(0);
+        engine.set_max_array_size(0);
+        engine.set_max_map_size(0);
+    } else {
+        limit_data_sizes(&mut engine, limits::memory_limit());
+    }
     // `+` and `+=` of strings, arrays and BLOBs go to the budget-checked versions of
     // `api::data` rather than Rhai's built-in ones.
     engine.set_fast_operators(false);
@@ -81,6 +85,26 @@ pub fn new_engine(options: EngineOptions) -> Engine {
     engine.set_default_tag(options.context.clone().into_tag());
     set_limits(&mut engine, &options);
     engine
+}
+
+/// Bytes a script value is taken to hold per element of an array or a map, for
+/// [`limit_data_sizes`]: the 16-byte `Dynamic` with room for the containers around it.
+const BYTES_PER_ELEMENT: u64 = 64;
+
+/// Holds `engine`'s data to `budget` bytes with Rhai's own size limits: strings to `budget`
+/// bytes, arrays and maps (nested ones counted whole) to `budget / 64` elements.
+///
+/// [`new_engine`] uses them when the program embedding it counts no heap (it has not installed
+/// [`limits::CountingAllocator`] as its global allocator, so the heap check of every step cannot
+/// see the script's data): without them a script doubling an array would grow until an
+/// allocation fails and aborts the process. Rhai checks them by walking the data after each call
+/// that may change it, so appending in a loop is quadratic there; the `blocksmith` binary counts
+/// its heap and needs none of them.
+pub fn limit_data_sizes(engine: &mut Engine, budget: u64) {
+    let size = |n: u64| usize::try_from(n.max(1)).unwrap_or(usize::MAX);
+    engine.set_max_string_size(size(budget));
+    engine.set_max_array_size(size(budget / BYTES_PER_ELEMENT));
+    engine.set_max_map_size(size(budget / BYTES_PER_ELEMENT));
 }
 
 /// (Re)starts the limits of `options` on `engine`: a fresh operation count and deadline.

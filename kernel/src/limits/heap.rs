@@ -3,10 +3,12 @@
 //! of letting a failed allocation abort the process.
 //!
 //! Counting costs one relaxed atomic add per allocation and per free. Without the counting
-//! allocator nothing is counted and [`check_heap`] never refuses.
+//! allocator (a program embedding the kernel with an allocator of its own), [`check_heap`] reads
+//! the process's resident memory instead, every [`RESIDENT_SAMPLE_EVERY`]th call (Linux's
+//! `/proc/self/status`; elsewhere nothing is checked).
 
 use std::alloc::{GlobalAlloc, Layout};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicU32, AtomicU64, AtomicUsize, Ordering};
 
 use super::{memory_limit, LimitError};
 
@@ -71,15 +73,47 @@ pub fn heap_in_use() -> Option<u64> {
     }
 }
 
+/// How many calls of [`check_heap`] without a counting allocator read the resident memory once:
+/// reading it is a system call of some microseconds, a script step some tens of nanoseconds.
+pub const RESIDENT_SAMPLE_EVERY: u32 = 4096;
+
 /// Refuses to go on when the heap in use is over the memory budget.
+///
+/// The heap is the count of [`CountingAllocator`] when it is installed, else the process's
+/// resident memory, read every [`RESIDENT_SAMPLE_EVERY`]th call (the last reading stands in
+/// between), so that data growing a little at every step is stopped near the budget either way.
 ///
 /// # Errors
 /// [`LimitError::HeapOverBudget`] with the bytes in use and the budget.
 pub fn check_heap() -> Result<(), LimitError> {
-    match heap_in_use() {
-        Some(bytes) if bytes > memory_limit() => Err(LimitError::HeapOverBudget { bytes, limit: memory_limit() }),
-        _ => Ok(()),
+    let bytes = match heap_in_use() {
+        Some(bytes) => bytes,
+        None => sampled_resident_memory(),
+    };
+    let limit = memory_limit();
+    if bytes > limit {
+        return Err(LimitError::HeapOverBudget { bytes, limit });
     }
+    Ok(())
+}
+
+/// The resident memory last read, read again on every [`RESIDENT_SAMPLE_EVERY`]th call; 0 where
+/// it cannot be read.
+fn sampled_resident_memory() -> u64 {
+    static CALLS: AtomicU32 = AtomicU32::new(0);
+    static LAST: AtomicU64 = AtomicU64::new(0);
+    if CALLS.fetch_add(1, Ordering::Relaxed).is_multiple_of(RESIDENT_SAMPLE_EVERY) {
+        LAST.store(resident_memory().unwrap_or(0), Ordering::Relaxed);
+    }
+    LAST.load(Ordering::Relaxed)
+}
+
+/// The process's resident memory in bytes: `VmRSS` of `/proc/self/status` (Linux).
+fn resident_memory() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmRSS:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    kib.checked_mul(1024)
 }
 
 /// Refuses `extra` more bytes (an estimate, in `f64` so that it cannot overflow) for `what` when
@@ -112,6 +146,8 @@ mod tests {
         }
         assert_eq!(LIVE.load(Ordering::Relaxed), before);
         assert!(check_heap().is_ok());
+        // Without the counting allocator (this test binary) the resident memory stands in.
+        assert!(resident_memory().is_some_and(|n| n > 1 << 20));
         let e = check_growth(|| "a padded array".into(), 1e30).unwrap_err().to_string();
         assert!(e.starts_with("a padded array needs an estimated"), "{e}");
     }
