@@ -18,6 +18,21 @@ fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
+/// The REPL's output for `entries` piped to it, without a history file.
+fn repl_piped(entries: &str) -> Output {
+    use std::io::Write;
+    let mut child = blocksmith()
+        .arg("repl")
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .env("BLOCKSMITH_HISTORY", "/dev/null")
+        .spawn()
+        .unwrap();
+    child.stdin.take().unwrap().write_all(entries.as_bytes()).unwrap();
+    child.wait_with_output().unwrap()
+}
+
 fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
@@ -74,17 +89,7 @@ fn a_block_chain_on_a_variable_edits_it_and_an_edit_of_a_model_s_copy_is_reporte
 
 #[test]
 fn the_repl_warns_of_a_dropped_result() {
-    use std::io::Write;
-    let mut child = blocksmith()
-        .arg("repl")
-        .stdin(std::process::Stdio::piped())
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .env("BLOCKSMITH_HISTORY", "/dev/null")
-        .spawn()
-        .unwrap();
-    child.stdin.take().unwrap().write_all(b"let c = cube(2);\nc.scale(2);\nc = c.scale(2);\n").unwrap();
-    let o = child.wait_with_output().unwrap();
+    let o = repl_piped("let c = cube(2);\nc.scale(2);\nc = c.scale(2);\n");
     let out = stdout(&o);
     assert_eq!(out.matches("warning: the result of `scale` is dropped").count(), 1, "{out}");
 }
@@ -120,17 +125,7 @@ fn unknown_names_are_suggested_in_run_test_and_the_repl() {
     );
     let o = blocksmith().arg("test").arg(&p).output().unwrap();
     assert!(stdout(&o).contains("unknown function `tours` (did you mean `torus`?)"), "{}", stdout(&o));
-    let mut child = blocksmith()
-        .arg("repl")
-        .stdin(std::process::Stdio::piped())
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .env("BLOCKSMITH_HISTORY", "/dev/null")
-        .spawn()
-        .unwrap();
-    use std::io::Write;
-    child.stdin.take().unwrap().write_all(b"let m = cube(1);\nm.volum\nm.subdivide(\"+z\", 2, 2)\n").unwrap();
-    let out = stdout(&child.wait_with_output().unwrap());
+    let out = stdout(&repl_piped("let m = cube(1);\nm.volum\nm.subdivide(\"+z\", 2, 2)\n"));
     assert!(out.contains("Mesh has no property `volum` (did you mean the method `.volume()`?)"), "{out}");
     assert!(out.contains("`subdivide` is a method of Block, not of Mesh; for a Mesh see `loop_subdivide`"), "{out}");
 }
@@ -265,19 +260,9 @@ fn blocks_touching_without_connecting_are_reported_by_mesh() {
     let o = blocksmith().arg("test").arg(&taken).output().unwrap();
     assert!(o.status.success(), "{}", stdout(&o));
     // The REPL shows them after the entry, as it shows the lint's.
-    use std::io::Write;
-    let mut child = blocksmith()
-        .arg("repl")
-        .stdin(std::process::Stdio::piped())
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .env("BLOCKSMITH_HISTORY", "/dev/null")
-        .spawn()
-        .unwrap();
     let entries = "let m = blocks();\nm.allow(0, 0);\nm.add(block([0, 0, 1], [2, 2, 1.2]));\n\
                    m.add(block([0, 0, 0], [0.2, 0.2, 1]));\nlet s = m.mesh();\nlet t = m.mesh();\n";
-    child.stdin.take().unwrap().write_all(entries.as_bytes()).unwrap();
-    let o = child.wait_with_output().unwrap();
+    let o = repl_piped(entries);
     let out = stdout(&o);
     assert_eq!(out.matches(":11: warning: mesh: block 1 touches block 0").count(), 2, "{out}");
     assert!(out.contains("<stdin>:5:11: warning: mesh: block 1") && out.contains("| let t = m.mesh();"), "{out}");

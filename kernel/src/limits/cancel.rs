@@ -158,6 +158,36 @@ pub fn current() -> CancelToken {
     CURRENT.with(|c| c.borrow().clone()).unwrap_or_default()
 }
 
+/// Whether the calling thread's current token has stopped (interrupt, deadline or operation
+/// count), without charging any work: for the inner loops of work already charged as a whole,
+/// called every [`POLL_EVERY`] items so that a stop lands within milliseconds.
+///
+/// # Errors
+/// [`LimitError::Stopped`] with the reason.
+pub fn poll() -> Result<(), LimitError> {
+    CURRENT.with(|c| match c.borrow().as_ref().and_then(CancelToken::stopped) {
+        Some(reason) => Err(LimitError::Stopped(reason)),
+        None => Ok(()),
+    })
+}
+
+/// How many items of an inner loop go between two [`poll`]s: 65,536 (a millisecond or less of
+/// work per item of microseconds down to nanoseconds).
+pub const POLL_EVERY: usize = 1 << 16;
+
+/// [`poll`] when item `i` of a loop starts a new run of [`POLL_EVERY`] items.
+///
+/// # Errors
+/// As [`poll`].
+#[inline]
+pub fn poll_at(i: usize) -> Result<(), LimitError> {
+    if i.is_multiple_of(POLL_EVERY) && i > 0 {
+        poll()
+    } else {
+        Ok(())
+    }
+}
+
 /// Checks the calling thread's current token for one unit of work.
 ///
 /// # Errors
@@ -181,6 +211,21 @@ pub fn charge(units: u64) -> Result<(), LimitError> {
 mod tests {
     use super::*;
     use std::time::Duration;
+
+    #[test]
+    fn polls_see_a_stop_without_charging_and_only_every_poll_every_items() {
+        use std::sync::atomic::AtomicU64;
+        let counter = Arc::new(AtomicU64::new(0));
+        let flag = Arc::new(AtomicBool::new(false));
+        let _g = install(CancelToken::with(Some(flag.clone()), None, Some((counter.clone(), 10))));
+        poll().unwrap();
+        flag.store(true, Ordering::Relaxed);
+        assert_eq!(poll(), Err(LimitError::Stopped(StopReason::Interrupted)));
+        poll_at(1).unwrap();
+        poll_at(0).unwrap();
+        assert_eq!(poll_at(POLL_EVERY), Err(LimitError::Stopped(StopReason::Interrupted)));
+        assert_eq!(counter.load(Ordering::Relaxed), 0, "a poll charges nothing");
+    }
 
     #[test]
     fn no_token_never_stops() {

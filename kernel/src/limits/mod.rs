@@ -12,6 +12,6 @@ mod error;
 mod heap;
 
 pub use budget::{check_memory, memory_limit, set_memory_limit, DEFAULT_MEMORY_SHARE};
-pub use cancel::{charge, check, current, install, make_current, CancelToken, InstallGuard};
+pub use cancel::{charge, check, current, install, make_current, poll, poll_at, CancelToken, InstallGuard, POLL_EVERY};
 pub use error::{human_bytes, LimitError, StopReason};
 pub use heap::{check_growth, check_heap, heap_in_use, CountingAllocator};

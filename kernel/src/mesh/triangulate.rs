@@ -240,6 +240,7 @@ impl Mesh {
         let mut ids: Vec<u32> = Vec::with_capacity(8);
         let mut corners: Vec<Vec3> = Vec::with_capacity(8);
         for f in 0..self.face_count() as u32 {
+            crate::limits::poll_at(f as usize)?;
             ids.clear();
             ids.extend(self.face_vertices(f));
             let k = ids.len();

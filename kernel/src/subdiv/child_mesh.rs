@@ -69,6 +69,7 @@ pub(crate) fn child_mesh(lv: &Level, loop_scheme: bool, positions: Vec<Vec3>) ->
     let mut twins = vec![NONE; nfh];
     let mut sharp = vec![0.0f64; nfh];
     for f in 0..lv.face_count() {
+        crate::limits::poll_at(f)?;
         let r = lv.face_range(f);
         let (s, n) = (r.start, r.len());
         let fp = nv + ne + f as u32;
@@ -102,6 +103,7 @@ pub(crate) fn child_mesh(lv: &Level, loop_scheme: bool, positions: Vec<Vec3>) ->
     // the next corner there arrives at its end; the same in face 1, the other way round.
     let corners = edge_corners(lv);
     for (e, &[c0, c1]) in corners.iter().enumerate() {
+        crate::limits::poll_at(e)?;
         let f0 = lv.edge_faces[e][0];
         let n0 = next_corner(lv, f0, c0);
         let [sa, sb] = half_sharpness(lv, e);

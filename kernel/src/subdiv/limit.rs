@@ -49,7 +49,7 @@ fn limit_level(mesh: &Mesh, scheme: Scheme) -> Result<(Cow<'_, Mesh>, Option<Ste
         return Ok((Cow::Borrowed(mesh), None));
     }
     let r = Refiner::new(mesh, scheme, levels)?;
-    let p = r.refine_positions(mesh.positions());
+    let p = r.try_refine_positions(mesh.positions())?;
     Ok((Cow::Owned(r.to_mesh(p)?), Some(r.composed_stencils())))
 }
 
@@ -130,12 +130,15 @@ pub fn loop_limit_stencils(mesh: &Mesh) -> Result<StencilTable, SubdivError> {
     })
 }
 
-fn limit_positions(mesh: &Mesh, count: usize, scheme: MaskScheme) -> Vec<Vec3> {
+/// The limit position of each of the first `count` vertices, polling the current cancellation
+/// token every [`crate::limits::POLL_EVERY`] vertices.
+fn limit_positions(mesh: &Mesh, count: usize, scheme: MaskScheme) -> Result<Vec<Vec3>, SubdivError> {
     (0..count as u32)
         .map(|v| {
+            crate::limits::poll_at(v as usize)?;
             let ring = mesh_ring(mesh, v);
             let (c, e, f) = ring_points(mesh, v, &ring);
-            position_mask(scheme, &ring.topo).apply(c, &e, &f)
+            Ok(position_mask(scheme, &ring.topo).apply(c, &e, &f))
         })
         .collect()
 }
@@ -143,6 +146,7 @@ fn limit_positions(mesh: &Mesh, count: usize, scheme: MaskScheme) -> Vec<Vec3> {
 fn limit_normals(mesh: &Mesh, count: usize, scheme: MaskScheme) -> Result<Vec<Vec3>, SubdivError> {
     (0..count as u32)
         .map(|v| {
+            crate::limits::poll_at(v as usize)?;
             let ring = mesh_ring(mesh, v);
             if ring.edges.is_empty() {
                 return Ok(Vec3::ZERO);
@@ -170,7 +174,7 @@ impl Mesh {
     /// §4 (the eigenanalysis behind the mask); OpenSubdiv `Sdc::Scheme<CATMARK>` limit masks.
     pub fn catmull_clark_limit(&self) -> Result<Mesh, SubdivError> {
         let (q, _) = quad_level(self)?;
-        let p = limit_positions(&q, self.vertex_count(), MaskScheme::CatmullClark);
+        let p = limit_positions(&q, self.vertex_count(), MaskScheme::CatmullClark)?;
         let mut out = self.clone();
         out.set_positions(p).map_err(|e| SubdivError::Internal(e.to_string()))?;
         Ok(out)
@@ -201,7 +205,7 @@ impl Mesh {
     pub fn loop_limit(&self) -> Result<Mesh, SubdivError> {
         check_triangles(self)?;
         let (q, _) = limit_level(self, Scheme::Loop)?;
-        let p = limit_positions(&q, self.vertex_count(), MaskScheme::Loop);
+        let p = limit_positions(&q, self.vertex_count(), MaskScheme::Loop)?;
         let mut out = self.clone();
         out.set_positions(p).map_err(|e| SubdivError::Internal(e.to_string()))?;
         Ok(out)
@@ -224,6 +228,25 @@ mod tests {
     use super::super::test_meshes::{assert_close, cube_crease_loop, grid, mixed_torus, tetrahedron};
     use super::super::SubdivError;
     use super::*;
+
+    #[test]
+    fn a_stop_lands_inside_the_limit_of_a_large_mesh() {
+        // 98,306 vertices, all of quads: no refinement and no per-level check before the masks,
+        // so only the poll inside the loop over vertices can stop it.
+        use crate::limits::{install, CancelToken, LimitError, StopReason};
+        use std::sync::atomic::AtomicBool;
+        use std::sync::Arc;
+        let m = Mesh::cube(2.0).catmull_clark(7).unwrap();
+        assert!(m.vertex_count() > crate::limits::POLL_EVERY);
+        {
+            let _g = install(CancelToken::with(Some(Arc::new(AtomicBool::new(true))), None, None));
+            let stopped = SubdivError::Limit(LimitError::Stopped(StopReason::Interrupted));
+            assert_eq!(m.catmull_clark_limit().unwrap_err(), stopped);
+            assert_eq!(m.catmull_clark_limit_normals().unwrap_err(), stopped);
+            assert_eq!(m.triangulate().unwrap_err().to_string(), "interrupted");
+        }
+        assert_eq!(m.catmull_clark_limit().unwrap().vertex_count(), m.vertex_count());
+    }
 
     #[test]
     fn cube_limits_match_the_closed_forms() {

@@ -114,7 +114,7 @@ impl Refiner {
         for _ in 1..depth {
             let last = levels.last().expect("at least the base level");
             crate::limits::charge(last.face_verts.len() as u64)?;
-            let next = if is_loop { last.refine_loop() } else { last.refine_catmull_clark() };
+            let next = if is_loop { last.refine_loop()? } else { last.refine_catmull_clark()? };
             levels.push(next);
         }
         Ok(Refiner { scheme, options: SubdivOptions::default(), levels, depth })

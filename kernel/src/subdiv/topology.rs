@@ -449,7 +449,7 @@ impl Level {
     }
 
     /// The topology of one Catmull–Clark step (see [`super::refiner`] for the id layout).
-    pub(crate) fn refine_catmull_clark(&self) -> Level {
+    pub(crate) fn refine_catmull_clark(&self) -> Result<Level, crate::limits::LimitError> {
         let (nv, ne, nf) = (self.num_vertices, self.edge_count(), self.face_count());
         let ncorner = self.face_verts.len();
         let child_nv = nv + ne + nf;
@@ -469,6 +469,7 @@ impl Level {
         let mut face_verts = Vec::with_capacity(4 * ncorner);
         let mut face_edges = Vec::with_capacity(4 * ncorner);
         for f in 0..nf {
+            crate::limits::poll_at(f)?;
             let r = self.face_range(f);
             let (s, n) = (r.start, r.len());
             let fp = (nv + ne + f) as u32;
@@ -517,11 +518,11 @@ impl Level {
             ..Level::default()
         };
         level.derive();
-        level
+        Ok(level)
     }
 
     /// The topology of one Loop step of a triangle mesh (see [`super::refiner`] for the id layout).
-    pub(crate) fn refine_loop(&self) -> Level {
+    pub(crate) fn refine_loop(&self) -> Result<Level, crate::limits::LimitError> {
         let (nv, ne, nf) = (self.num_vertices, self.edge_count(), self.face_count());
         let child_nv = nv + ne;
         let child_ne = 2 * ne + 3 * nf;
@@ -539,6 +540,7 @@ impl Level {
         let mut face_verts = Vec::with_capacity(12 * nf);
         let mut face_edges = Vec::with_capacity(12 * nf);
         for f in 0..nf {
+            crate::limits::poll_at(f)?;
             let s = 3 * f;
             let v = [self.face_verts[s], self.face_verts[s + 1], self.face_verts[s + 2]];
             let e = [self.face_edges[s] as usize, self.face_edges[s + 1] as usize, self.face_edges[s + 2] as usize];
@@ -580,7 +582,7 @@ impl Level {
             ..Level::default()
         };
         level.derive();
-        level
+        Ok(level)
     }
 
     /// The faces one step below this level as one flat index list and an arity per face, without

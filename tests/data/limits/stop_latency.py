@@ -1,0 +1,101 @@
+#!/usr/bin/env python3
+"""How soon `--timeout` stops long kernel work: for each operation, a recipe whose setup runs
+first and whose one long call the deadline lands in; prints the operation's whole time and how
+long after the deadline the process ended (the stop latency the README's Limits section promises
+to keep near 100 ms).
+
+    cargo build --release --bin blocksmith
+    python3 tests/data/limits/stop_latency.py [path/to/blocksmith]
+
+Each recipe is first run without a deadline (setup alone, then setup and the call, each cut at
+30 s) to time it; the deadline is then set 40 % into the call (1 s into a call cut at 30 s). Start-up is measured once with an empty recipe
+and taken off. Times are wall-clock seconds, best of three runs.
+"""
+
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
+BIN = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "target", "release", "blocksmith")
+
+# (name, setup, call): the call is the one long kernel operation under test.
+CASES = [
+    ("icosphere(1, 9)", "", "let m = icosphere(1, 9);"),
+    ("catmull_clark, 6.3M faces", "let c = cube(1);", "let m = c.catmull_clark(10);"),
+    ("loop_subdivide, 5.2M faces", "let c = icosphere(1, 4);", "let m = c.loop_subdivide(5);"),
+    ("catmull_clark_limit", "let c = cube(1).catmull_clark(9);", "let m = c.catmull_clark_limit();"),
+    ("loop_limit", "let c = icosphere(1, 8);", "let m = c.loop_limit();"),
+    ("triangulate, 1.6M quads", "let c = cube(1).catmull_clark(9);", "let m = c.triangulate();"),
+    ("normals, 1.6M quads", "let c = cube(1).catmull_clark(9);", "let n = c.normals();"),
+    ("volume, 5.2M triangles", "let c = icosphere(1, 9);", "let v = c.volume();"),
+    ("boolean, 2 x 1.3M triangles",
+     "let a = icosphere(1, 8); let b = a.translate([0.3, 0.2, 0.1]);", "let m = a - b;"),
+    ("block meshing (tolerance 1e-12)",
+     "let b = blocks(); b.add(block([-1, -1, -1], [1, 1, 1]));",
+     "let m = b.mesh(#{ tolerance: 1e-12, max_depth: 14 });"),
+    ("marching cubes, 512^3",
+     "let v = voxels(512); v.fill_sphere([256, 256, 256], 250.0);", "let m = v.to_mesh();"),
+    ("voxel fill_sphere, 512^3", "let v = voxels(512);", "v.fill_sphere([256, 256, 256], 250.0);"),
+    ("polar to_mesh, 3000 x 3000", "let p = polar_sphere(1, 3000, 3000);", "let m = p.to_mesh();"),
+    ("polar skeleton, 3000 x 3000", "let p = polar_sphere(1, 3000, 3000);", "let s = p.skeleton();"),
+    ("save .glb, 5.2M triangles", "let c = icosphere(1, 9);", "c.save(\"{dir}/big.glb\");"),
+    ("save .stl, 5.2M triangles", "let c = icosphere(1, 9);", "c.save(\"{dir}/big.stl\");"),
+    ("load .stl, 5.2M triangles", "", "let m = load(\"{dir}/big.stl\");"),
+]
+
+
+CAP = 30.0  # seconds an untimed run may take (block meshing at 1e-12 would take minutes)
+
+
+def run(recipe, dir, timeout=None):
+    path = os.path.join(dir, "r.rhai")
+    with open(path, "w") as f:
+        f.write(recipe.replace("{dir}", dir))
+    args = [BIN, "run", path]
+    if timeout is not None:
+        args += ["--timeout", f"{timeout:.3f}"]
+    best = None
+    out = None
+    for _ in range(3 if timeout is not None else 1):
+        start = time.perf_counter()
+        try:
+            out = subprocess.run(args, capture_output=True, text=True, timeout=CAP)
+        except subprocess.TimeoutExpired:
+            return CAP, None
+        t = time.perf_counter() - start
+        best = t if best is None else min(best, t)
+    return best, out
+
+
+def main():
+    with tempfile.TemporaryDirectory() as dir:
+        startup, _ = run("", dir)
+        # The files the load case reads.
+        run("icosphere(1, 9).save(\"{dir}/big.stl\");", dir)
+        print(f"start-up {startup * 1000:.0f} ms; deadline 40 % into each call")
+        print(f"{'operation':34} {'call s':>8} {'stop after deadline ms':>24}  message")
+        for name, setup, call in CASES:
+            t_setup, _ = run(setup, dir)
+            t_all, out = run(setup + "\n" + call, dir)
+            if out is not None and out.returncode != 0:
+                print(f"{name:34} failed without a deadline: {out.stderr.strip()[:100]}")
+                continue
+            t_call = max(t_all - t_setup, 0.0) if t_all < CAP else 2.5
+            deadline = max(t_setup - startup + 0.4 * t_call, 0.05)
+            t_stopped, out = run(setup + "\n" + call, dir, deadline)
+            late = t_stopped - startup - deadline
+            if out is None:
+                msg = "(not stopped)"
+            elif out.returncode != 0:
+                msg = out.stderr.strip().splitlines()[0].split("error: ")[-1][:60]
+            else:
+                msg = "(finished first)"
+            call = f"{t_call:8.2f}" if t_all < CAP else f"{'>' + str(int(CAP)):>8}"
+            print(f"{name:34} {call} {late * 1000:24.0f}  {msg}")
+
+
+if __name__ == "__main__":
+    main()
