@@ -234,3 +234,23 @@ fn vertex_used_by_no_face_keeps_its_id_in_gltf() {
     assert_eq!(back.positions(), m.positions());
     assert_eq!(back.to_polygons(), vec![vec![0, 1, 2, 3]]);
 }
+
+#[test]
+fn a_stop_lands_inside_loading_a_large_file_in_every_format() {
+    // 81,920 triangles: the weld and the mesh build each poll or charge the token more than once.
+    use blocksmith_kernel::limits::{install, CancelToken};
+    use std::sync::atomic::AtomicBool;
+    use std::sync::Arc;
+    let m = Mesh::icosphere(1.0, 6);
+    let d = tempfile::tempdir().unwrap();
+    for ext in ["stl", "glb", "ply", "obj", "3mf"] {
+        let p = d.path().join(format!("big.{ext}"));
+        save(&m, &p).unwrap();
+        {
+            let _g = install(CancelToken::with(Some(Arc::new(AtomicBool::new(true))), None, None));
+            let e = load(&p).unwrap_err().to_string();
+            assert!(e.ends_with("interrupted"), "{ext}: {e}");
+        }
+        assert_eq!(load(&p).unwrap().face_count(), m.face_count(), "{ext}");
+    }
+}

@@ -940,7 +940,7 @@ impl Soup {
     /// Welds by `rule` and builds the mesh, with colours and tags carried to the kept
     /// vertices.
     fn build(self, rule: Weld, path: &Path) -> Result<Mesh, IoError> {
-        let (map, kept) = super::weld::weld(&self.positions, rule);
+        let (map, kept) = super::weld::weld(&self.positions, rule).map_err(|e| IoError::from_mesh(path, e.into()))?;
         let Soup {
             mut positions,
             mut colors,
@@ -969,8 +969,8 @@ impl Soup {
                 *v = map[*v as usize];
             }
         }
-        let mut mesh =
-            Mesh::from_indexed(positions, &indices, &arities).map_err(|e| IoError::from_welded(path, e, merged))?;
+        let mut mesh = Mesh::from_indexed_stoppable(positions, &indices, &arities)
+            .map_err(|e| IoError::from_welded(path, e, merged))?;
         if any_color {
             colors.resize(mesh.vertex_count(), [1.0; 4]);
             mesh.set_vertex_colors(Some(colors)).map_err(|e| IoError::from_mesh(path, e))?;

@@ -438,7 +438,8 @@ pub fn read_obj(bytes: &[u8], path: &Path) -> Result<Mesh, IoError> {
     }
     let positions: Vec<Vec3> = m.positions.chunks_exact(3).map(|p| Vec3::new(p[0], p[1], p[2])).collect();
     let arities = &m.face_arities[n..];
-    let mut mesh = Mesh::from_indexed(positions, &m.indices[n..], arities).map_err(|e| IoError::from_mesh(path, e))?;
+    let mut mesh =
+        Mesh::from_indexed_stoppable(positions, &m.indices[n..], arities).map_err(|e| IoError::from_mesh(path, e))?;
     if scan.has_colors {
         let colors = m.vertex_color.chunks_exact(3).map(|c| [c[0] as f32, c[1] as f32, c[2] as f32, 1.0]).collect();
         mesh.set_vertex_colors(Some(colors)).map_err(|e| IoError::from_mesh(path, e))?;

@@ -303,7 +303,7 @@ fn build(
         let p = positions[v];
         return Err(IoError::NonFinite { path: path.into(), vertex: v, x: p.x, y: p.y, z: p.z });
     }
-    let (map, kept) = super::weld::weld(&positions, rule);
+    let (map, kept) = super::weld::weld(&positions, rule).map_err(|e| IoError::from_mesh(path, e.into()))?;
     let merged = kept.len() < positions.len();
     if merged {
         positions = kept.iter().map(|&i| positions[i as usize]).collect();
@@ -312,8 +312,8 @@ fn build(
         }
         (indices, arities, _) = super::weld::remap_faces(&indices, &arities, &map);
     }
-    let mut mesh =
-        Mesh::from_indexed(positions, &indices, &arities).map_err(|e| IoError::from_welded(path, e, merged))?;
+    let mut mesh = Mesh::from_indexed_stoppable(positions, &indices, &arities)
+        .map_err(|e| IoError::from_welded(path, e, merged))?;
     if colors.is_some() {
         mesh.set_vertex_colors(colors).map_err(|e| IoError::from_mesh(path, e))?;
     }

@@ -202,13 +202,13 @@ fn read_facets<'a>(
 
 /// Welds the corners by `rule` and builds the mesh of the triangles that keep three corners.
 fn build(corners: &[Vec3], rule: Weld, path: &Path) -> Result<Mesh, IoError> {
-    let (map, kept) = super::weld::weld(corners, rule);
+    let (map, kept) = super::weld::weld(corners, rule).map_err(|e| IoError::from_mesh(path, e.into()))?;
     let indices: Vec<u32> =
         map.chunks_exact(3).filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2]).flatten().copied().collect();
     let merged = kept.len() < corners.len();
     let positions = kept.iter().map(|&i| corners[i as usize]).collect();
     let arities = vec![3; indices.len() / 3];
-    Mesh::from_indexed(positions, &indices, &arities).map_err(|e| IoError::from_welded(path, e, merged))
+    Mesh::from_indexed_stoppable(positions, &indices, &arities).map_err(|e| IoError::from_welded(path, e, merged))
 }
 
 #[cfg(test)]

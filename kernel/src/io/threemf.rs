@@ -647,7 +647,7 @@ fn build_mesh(parts: &Parts, root: &str, scale: f64, path: &Path) -> Result<Mesh
     let any_color = out.colors.iter().any(Option::is_some);
     let arities = vec![3u32; out.indices.len() / 3];
     let mut mesh =
-        Mesh::from_indexed(out.positions, &out.indices, &arities).map_err(|e| IoError::from_mesh(path, e))?;
+        Mesh::from_indexed_stoppable(out.positions, &out.indices, &arities).map_err(|e| IoError::from_mesh(path, e))?;
     if any_color {
         let colors = out.colors.iter().map(|c| c.unwrap_or([1.0; 4])).collect();
         mesh.set_vertex_colors(Some(colors)).map_err(|e| IoError::from_mesh(path, e))?;

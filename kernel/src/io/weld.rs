@@ -12,6 +12,7 @@
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 
+use crate::limits::LimitError;
 use crate::math::Vec3;
 
 use super::options::Weld;
@@ -45,10 +46,13 @@ pub(crate) type FastMap<K, V> = HashMap<K, V, BuildHasherDefault<FastHasher>>;
 
 /// The weld of `positions`: for each file vertex its new id, and for each new id the file
 /// vertex it keeps (in increasing order). `Weld::Off` keeps every vertex.
-#[must_use]
-pub(crate) fn weld(positions: &[Vec3], rule: Weld) -> (Vec<u32>, Vec<u32>) {
+///
+/// # Errors
+/// [`LimitError::Stopped`] when the current cancellation token stops (polled every
+/// [`crate::limits::POLL_EVERY`] vertices).
+pub(crate) fn weld(positions: &[Vec3], rule: Weld) -> Result<(Vec<u32>, Vec<u32>), LimitError> {
     let tol = match rule {
-        Weld::Off => return ((0..positions.len() as u32).collect(), (0..positions.len() as u32).collect()),
+        Weld::Off => return Ok(((0..positions.len() as u32).collect(), (0..positions.len() as u32).collect())),
         Weld::Relative(r) => r.max(0.0) * diagonal(positions),
     };
     let mut map = Vec::with_capacity(positions.len());
@@ -59,13 +63,14 @@ pub(crate) fn weld(positions: &[Vec3], rule: Weld) -> (Vec<u32>, Vec<u32>) {
         let mut ids: FastMap<[u64; 3], u32> = FastMap::default();
         ids.reserve(positions.len() / 2);
         for (i, &p) in positions.iter().enumerate() {
+            crate::limits::poll_at(i)?;
             let id = *ids.entry(key(p)).or_insert_with(|| {
                 kept.push(i as u32);
                 (kept.len() - 1) as u32
             });
             map.push(id);
         }
-        return (map, kept);
+        return Ok((map, kept));
     }
     let width = tol * CELL;
     let cell_of = |c: f64| (c / width).floor() as i64;
@@ -76,6 +81,7 @@ pub(crate) fn weld(positions: &[Vec3], rule: Weld) -> (Vec<u32>, Vec<u32>) {
     let near = |a: Vec3, b: Vec3| (a.x - b.x).abs() <= tol && (a.y - b.y).abs() <= tol && (a.z - b.z).abs() <= tol;
     let mut neighbours: Vec<[i64; 3]> = Vec::with_capacity(27);
     for (i, &p) in positions.iter().enumerate() {
+        crate::limits::poll_at(i)?;
         let cell = [cell_of(p.x), cell_of(p.y), cell_of(p.z)];
         // Offsets per axis: 0, and −1 / +1 when p lies within tol of that side of its cell.
         let steps = [p.x, p.y, p.z].map(|c| {
@@ -114,7 +120,7 @@ pub(crate) fn weld(positions: &[Vec3], rule: Weld) -> (Vec<u32>, Vec<u32>) {
         };
         map.push(id);
     }
-    (map, kept)
+    Ok((map, kept))
 }
 
 /// The length of the diagonal of the bounding box of the finite `positions` (0 if none).
@@ -189,7 +195,7 @@ mod tests {
     #[test]
     fn exact_weld_joins_equal_coordinates_and_signed_zeros() {
         let p = [Vec3::new(0.0, 1.0, 2.0), Vec3::new(-0.0, 1.0, 2.0), Vec3::new(1e-300, 1.0, 2.0)];
-        let (map, kept) = weld(&p, Weld::Relative(0.0));
+        let (map, kept) = weld(&p, Weld::Relative(0.0)).unwrap();
         assert_eq!(map, vec![0, 0, 1]);
         assert_eq!(kept, vec![0, 2]);
     }
@@ -203,13 +209,13 @@ mod tests {
             Vec3::new(-3.79e-33, -6.147e-17, 1.0),
             Vec3::new(1.0, 1e-9, 0.0),
         ];
-        let (map, kept) = weld(&p, Weld::DEFAULT);
+        let (map, kept) = weld(&p, Weld::DEFAULT).unwrap();
         assert_eq!(map, vec![0, 1, 0, 1]);
         assert_eq!(kept, vec![0, 1]);
         // 1e-9 apart in a model of diagonal √2 is more than 1e-10 × √2: kept apart.
-        let (map, _) = weld(&p, Weld::Relative(1e-10));
+        let (map, _) = weld(&p, Weld::Relative(1e-10)).unwrap();
         assert_eq!(map, vec![0, 1, 0, 2]);
-        let (map, _) = weld(&p, Weld::Off);
+        let (map, _) = weld(&p, Weld::Off).unwrap();
         assert_eq!(map, vec![0, 1, 2, 3]);
     }
 
@@ -228,7 +234,7 @@ mod tests {
             let base = Vec3::new((rnd() * 8.0).floor(), (rnd() * 8.0).floor(), (rnd() * 8.0).floor()) * 0.05;
             p.push(base + Vec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5) * 0.002);
         }
-        let (map, kept) = weld(&p, Weld::Relative(tol_rel));
+        let (map, kept) = weld(&p, Weld::Relative(tol_rel)).unwrap();
         let tol = tol_rel * diagonal(&p);
         let mut want_kept: Vec<u32> = Vec::new();
         for (i, &q) in p.iter().enumerate() {

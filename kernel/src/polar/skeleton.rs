@@ -73,16 +73,18 @@ impl PolarMesh {
 }
 
 impl Skeleton {
-    /// See [`PolarMesh::skeleton`].
+    /// See [`PolarMesh::skeleton`]. Polls the current cancellation token every
+    /// [`crate::limits::POLL_EVERY`] elements of each pass.
     ///
     /// # Errors
-    /// As [`PolarMesh::skeleton`].
+    /// As [`PolarMesh::skeleton`], and [`PolarError::Limit`] when the token stops the work.
     pub fn infer(pm: &PolarMesh, root: Option<u32>) -> Result<Skeleton, PolarError> {
         let m = pm.mesh();
         let (nv, nf) = (m.vertex_count(), m.face_count());
         // 1. Loop complexes.
         let mut loops = Dsu::new(nv);
-        for h in m.edges() {
+        for (i, h) in m.edges().enumerate() {
+            crate::limits::poll_at(i)?;
             if pm.is_loop(h) {
                 loops.union(m.origin(h), m.target(h));
             }
@@ -93,6 +95,7 @@ impl Skeleton {
         let mut pole_vertex: Vec<Option<u32>> = Vec::new();
         let mut node_vertices: Vec<Vec<u32>> = Vec::new();
         for v in 0..nv as u32 {
+            crate::limits::poll_at(v as usize)?;
             let n = if pm.is_pole(v) {
                 pole_vertex.push(Some(v));
                 node_vertices.push(Vec::new());
@@ -113,6 +116,7 @@ impl Skeleton {
         let mut positions = Vec::with_capacity(nn);
         let mut normals = Vec::with_capacity(nn);
         for n in 0..nn {
+            crate::limits::poll_at(n)?;
             let vs = &node_vertices[n];
             positions.push(crate::math::mean_point(vs.iter().map(|&v| m.position(v))));
             let normal = match pole_vertex[n] {
@@ -128,7 +132,8 @@ impl Skeleton {
         }
         // 3. Regions (faces joined across backbones) are the segments, numbered by lowest face.
         let mut regions = Dsu::new(nf);
-        for h in m.edges() {
+        for (i, h) in m.edges().enumerate() {
+            crate::limits::poll_at(i)?;
             if !pm.is_loop(h) {
                 regions.union(m.face(h), m.face(m.twin(h)));
             }
@@ -138,6 +143,7 @@ impl Skeleton {
         let mut segments: Vec<[u32; 2]> = Vec::new();
         let mut segment_faces: Vec<Vec<u32>> = Vec::new();
         for f in 0..nf as u32 {
+            crate::limits::poll_at(f as usize)?;
             let r = regions.find(f) as usize;
             if region_of_root[r] == NONE {
                 region_of_root[r] = segments.len() as u32;
@@ -464,6 +470,21 @@ impl Skeleton {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_stop_lands_inside_inferring_a_large_skeleton() {
+        use crate::limits::{install, CancelToken, LimitError, StopReason};
+        use std::sync::atomic::AtomicBool;
+        use std::sync::Arc;
+        let pm = PolarMesh::uv_sphere(1.0, 300, 300);
+        assert!(pm.mesh().vertex_count() > crate::limits::POLL_EVERY);
+        {
+            let _g = install(CancelToken::with(Some(Arc::new(AtomicBool::new(true))), None, None));
+            let e = pm.skeleton(None).unwrap_err();
+            assert!(matches!(e, PolarError::Limit(LimitError::Stopped(StopReason::Interrupted))), "{e}");
+        }
+        assert_eq!(pm.skeleton(None).unwrap().node_count(), 301);
+    }
 
     #[test]
     fn sphere_skeleton_is_a_chain_pole_loops_pole() {
