@@ -5,12 +5,33 @@
 //! old file or the new one, never a partial file; when anything fails before the rename (the
 //! writer's own error, a full disk, a file-size limit) the temporary file is removed and the
 //! old file is left as it was.
+//!
+//! Writing a large file stops with the current cancellation token: every buffer handed to the
+//! file (a megabyte) first polls it ([`crate::limits::poll`]), so a save stopped by a deadline
+//! or Ctrl-C ends as quickly, with the old file intact.
 
 use std::fs::File;
-use std::io::BufWriter;
+use std::io::{BufWriter, Write};
 use std::path::Path;
 
 use super::IoError;
+use crate::mesh::MeshError;
+
+/// The temporary file a save writes, polling the current cancellation token before each write
+/// (see the module documentation).
+#[derive(Debug)]
+pub struct StoppableFile(File);
+
+impl Write for StoppableFile {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        crate::limits::poll().map_err(std::io::Error::other)?;
+        self.0.write(buf)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.0.flush()
+    }
+}
 
 /// Writes the file at `path` atomically: runs `write` on a buffered writer to a temporary file
 /// in the same folder, then flushes, syncs and renames it into place.
@@ -19,14 +40,15 @@ use super::IoError;
 /// replaced file keeps its permissions. A symbolic link at `path` is replaced by the file.
 ///
 /// # Errors
-/// `write`'s own error as it is; [`IoError::Write`] naming `path` when the temporary file
-/// cannot be created, written, synced or renamed. In every case the old file (if any) is
+/// `write`'s own error as it is; [`IoError::Mesh`] with [`MeshError::Limit`] when the
+/// current cancellation token stopped the writing; [`IoError::Write`] naming `path` when the
+/// temporary file cannot be created, written, synced or renamed. In every case the old file (if any) is
 /// intact and no temporary file remains.
 ///
 /// See also [`super::save`], which writes every mesh format through this function.
 pub fn write_atomic(
     path: &Path,
-    write: impl FnOnce(&mut BufWriter<File>) -> Result<(), IoError>,
+    write: impl FnOnce(&mut BufWriter<StoppableFile>) -> Result<(), IoError>,
 ) -> Result<(), IoError> {
     let io_error = |source: std::io::Error| IoError::Write { path: path.into(), source };
     let dir = match path.parent() {
@@ -47,9 +69,16 @@ pub fn write_atomic(
     }
     // Dropping `temp_path` on any early return removes the temporary file.
     let (file, temp_path) = builder.tempfile_in(dir).map_err(io_error)?.into_parts();
-    let mut w = BufWriter::with_capacity(1 << 20, file);
-    write(&mut w)?;
-    let file = w.into_inner().map_err(|e| io_error(e.into_error()))?;
+    let mut w = BufWriter::with_capacity(1 << 20, StoppableFile(file));
+    let written = write(&mut w).and_then(|()| w.flush().map_err(io_error));
+    if let Err(e) = written {
+        // A stop shows as the writer's error on the way out; name it as the stop it is.
+        return Err(match crate::limits::poll() {
+            Err(stop) => IoError::Mesh { path: path.into(), source: MeshError::Limit(stop) },
+            Ok(()) => e,
+        });
+    }
+    let file = w.into_inner().map_err(|e| io_error(e.into_error()))?.0;
     file.sync_all().map_err(io_error)?;
     drop(file);
     temp_path.persist(path).map_err(|e| io_error(e.error))?;
@@ -86,6 +115,32 @@ mod tests {
         assert!(e.to_string().contains("failed half-way"), "{e}");
         assert_eq!(std::fs::read(&path).unwrap(), b"the old contents");
         assert_eq!(entries(dir.path()), ["old.obj"]);
+    }
+
+    #[test]
+    fn a_save_stopped_while_writing_names_the_stop_and_leaves_the_old_file() {
+        use crate::limits::{install, CancelToken};
+        use std::sync::atomic::{AtomicBool, Ordering};
+        use std::sync::Arc;
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("old.glb");
+        std::fs::write(&path, b"the old contents").unwrap();
+        let flag = Arc::new(AtomicBool::new(false));
+        let _g = install(CancelToken::with(Some(flag.clone()), None, None));
+        // The stop comes after the first megabyte: the next buffer handed to the file sees it.
+        let e = write_atomic(&path, |w| {
+            for i in 0..8 {
+                if i == 1 {
+                    flag.store(true, Ordering::Relaxed);
+                }
+                w.write_all(&vec![b'x'; 1 << 20]).map_err(|e| IoError::Write { path: path.clone(), source: e })?;
+            }
+            Ok(())
+        })
+        .unwrap_err();
+        assert_eq!(e.to_string(), format!("{}: interrupted", path.display()));
+        assert_eq!(std::fs::read(&path).unwrap(), b"the old contents");
+        assert_eq!(entries(dir.path()), ["old.glb"]);
     }
 
     #[test]

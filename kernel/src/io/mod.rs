@@ -43,7 +43,7 @@ use std::borrow::Cow;
 use std::io::Write;
 use std::path::Path;
 
-pub use atomic::write_atomic;
+pub use atomic::{write_atomic, StoppableFile};
 pub use error::{IoError, KNOWN_EXTENSIONS};
 pub use options::{LoadOptions, SaveOptions, UpAxis, Weld};
 pub use ply::PlyEncoding;

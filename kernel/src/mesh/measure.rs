@@ -179,7 +179,7 @@ impl Mesh {
     fn measured_triangles(&self) -> (Vec<u32>, impl Fn(u32) -> Vec3 + '_) {
         let (tris, centres) = if (0..self.face_count() as u32).all(|f| self.face_arity(f) == 3) {
             ((0..self.face_count() as u32).flat_map(|f| self.face_vertices(f)).collect(), Vec::new())
-        } else if let Ok(plan) = self.plan_triangles() {
+        } else if let Ok(plan) = self.plan_triangles_polling(false) {
             (plan.tris, plan.centres.into_iter().map(|(_, c)| c).collect())
         } else {
             let mut tris = Vec::new();

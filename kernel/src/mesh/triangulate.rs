@@ -231,8 +231,15 @@ impl Mesh {
     /// # Errors
     /// [`MeshError::Triangulation`] naming the first planar face that crosses itself (or whose
     /// centre is not finite); [`MeshError::TooLarge`] for more than 2³² − 1 triangles or
-    /// vertices.
+    /// vertices; [`MeshError::Limit`] when the current cancellation token stops (polled every
+    /// [`crate::limits::POLL_EVERY`] faces).
     pub(crate) fn plan_triangles(&self) -> Result<FaceTriangles, MeshError> {
+        self.plan_triangles_polling(true)
+    }
+
+    /// [`Mesh::plan_triangles`], polling the cancellation token or not: measures, which cannot
+    /// fail, plan without polling so that a stop never changes what they return.
+    pub(crate) fn plan_triangles_polling(&self, poll: bool) -> Result<FaceTriangles, MeshError> {
         let mut centres: Vec<(u32, Vec3)> = Vec::new();
         let mut tris = Vec::with_capacity(3 * self.face_count() * 2);
         let mut arities = Vec::with_capacity(self.face_count());
@@ -240,7 +247,9 @@ impl Mesh {
         let mut ids: Vec<u32> = Vec::with_capacity(8);
         let mut corners: Vec<Vec3> = Vec::with_capacity(8);
         for f in 0..self.face_count() as u32 {
-            crate::limits::poll_at(f as usize)?;
+            if poll {
+                crate::limits::poll_at(f as usize)?;
+            }
             ids.clear();
             ids.extend(self.face_vertices(f));
             let k = ids.len();
