@@ -98,13 +98,14 @@ impl Mesh {
         budget(|| format!("a {segments} × {rings} UV sphere"), f, 4.0 * f, f)
     }
 
-    /// [`Mesh::uv_sphere`] after [`Mesh::check_uv_sphere`].
+    /// [`Mesh::uv_sphere`] after [`Mesh::check_uv_sphere`], stopping with the current
+    /// cancellation token (polled every row, charged while the mesh is built).
     ///
     /// # Errors
-    /// As [`Mesh::check_uv_sphere`].
+    /// As [`Mesh::check_uv_sphere`]; [`MeshError::Limit`] when the token stops the work.
     pub fn try_uv_sphere(radius: f64, segments: u32, rings: u32) -> Result<Mesh, MeshError> {
         Mesh::check_uv_sphere(radius, segments, rings)?;
-        Ok(Mesh::uv_sphere(radius, segments, rings))
+        Mesh::uv_sphere_with(radius, segments, rings, true)
     }
 
     /// [`Mesh::cylinder`] with `radius` and `height` checked by [`check_length`].
@@ -119,13 +120,14 @@ impl Mesh {
     /// `major_segments` × `minor_segments` mesh by the memory budget.
     ///
     /// # Errors
-    /// [`MeshError::OutOfRange`] for `major` or `minor`; [`MeshError::Limit`] over the budget.
+    /// [`MeshError::OutOfRange`] for `major` or `minor`; [`MeshError::Limit`] over the budget or
+    /// when the current cancellation token stops the work (polled every row).
     pub fn try_torus(major: f64, minor: f64, major_segments: u32, minor_segments: u32) -> Result<Mesh, MeshError> {
         check_length("major", major)?;
         check_length("minor", minor)?;
         let f = f64::from(major_segments.max(3)) * f64::from(minor_segments.max(3));
         budget(|| format!("a {major_segments} × {minor_segments} torus"), f, 4.0 * f, f)?;
-        Ok(Mesh::torus(major, minor, major_segments, minor_segments))
+        Mesh::torus_with(major, minor, major_segments, minor_segments, true)
     }
 }
 
@@ -134,16 +136,22 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_stopped_token_stops_an_icosphere_and_the_same_call_then_succeeds() {
+    fn a_stopped_token_stops_the_checked_primitives_and_the_same_calls_then_succeed() {
         use crate::limits::{install, CancelToken, LimitError, StopReason};
         use std::sync::atomic::AtomicBool;
         use std::sync::Arc;
         {
             let _g = install(CancelToken::with(Some(Arc::new(AtomicBool::new(true))), None, None));
-            let e = Mesh::try_icosphere(1.0, 3).unwrap_err();
-            assert_eq!(e, MeshError::Limit(LimitError::Stopped(StopReason::Interrupted)));
+            let stopped = MeshError::Limit(LimitError::Stopped(StopReason::Interrupted));
+            assert_eq!(Mesh::try_icosphere(1.0, 3).unwrap_err(), stopped);
+            assert_eq!(Mesh::try_uv_sphere(1.0, 16, 8).unwrap_err(), stopped);
+            assert_eq!(Mesh::try_torus(2.0, 1.0, 16, 8).unwrap_err(), stopped);
+            // The plain constructors never stop, and build the same meshes.
+            assert!(Mesh::uv_sphere(1.0, 16, 8).is_closed());
         }
         assert_eq!(Mesh::try_icosphere(1.0, 3).unwrap(), Mesh::icosphere(1.0, 3));
+        assert_eq!(Mesh::try_uv_sphere(1.0, 16, 8).unwrap(), Mesh::uv_sphere(1.0, 16, 8));
+        assert_eq!(Mesh::try_torus(2.0, 1.0, 16, 8).unwrap(), Mesh::torus(2.0, 1.0, 16, 8));
     }
     use crate::limits::LimitError;
 

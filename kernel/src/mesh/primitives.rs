@@ -15,6 +15,26 @@ fn built(positions: Vec<Vec3>, faces: &[Vec<u32>]) -> Mesh {
     Mesh::from_polygons(positions, faces).expect("primitive construction is manifold by design")
 }
 
+/// [`built`], or when `stoppable` the same build charging the current cancellation token
+/// ([`Mesh::from_indexed_stoppable`]), whose only error is then a stop.
+fn built_with(positions: Vec<Vec3>, faces: &[Vec<u32>], stoppable: bool) -> Result<Mesh, MeshError> {
+    if !stoppable {
+        return Ok(built(positions, faces));
+    }
+    let indices: Vec<u32> = faces.iter().flatten().copied().collect();
+    let arities: Vec<u32> = faces.iter().map(|f| f.len() as u32).collect();
+    Mesh::from_indexed_stoppable(positions, &indices, &arities)
+}
+
+/// Polls the current cancellation token once per row of a primitive being generated, when
+/// `stoppable` (rows hold at most 100,000 faces, a millisecond of work).
+fn poll_row(stoppable: bool) -> Result<(), MeshError> {
+    if stoppable {
+        crate::limits::poll()?;
+    }
+    Ok(())
+}
+
 impl Mesh {
     /// An axis-aligned cube of side `size` centred at the origin: 8 vertices, 6 quads.
     ///
@@ -134,9 +154,16 @@ impl Mesh {
     /// pole (−z) to the north pole; triangle fans at the poles, quads between.
     #[must_use]
     pub fn uv_sphere(radius: f64, segments: u32, rings: u32) -> Mesh {
+        Mesh::uv_sphere_with(radius, segments, rings, false).expect("primitive construction is manifold by design")
+    }
+
+    /// The UV sphere, polling and charging the current token when `stoppable` (else it never
+    /// fails).
+    pub(crate) fn uv_sphere_with(radius: f64, segments: u32, rings: u32, stoppable: bool) -> Result<Mesh, MeshError> {
         let (s, r) = (segments.max(3), rings.max(2));
         let mut positions = vec![Vec3::new(0.0, 0.0, -radius)];
         for j in 1..r {
+            poll_row(stoppable)?;
             let theta = PI * f64::from(j) / f64::from(r) - PI / 2.0;
             for i in 0..s {
                 let phi = TAU * f64::from(i) / f64::from(s);
@@ -151,6 +178,7 @@ impl Mesh {
             faces.push(vec![0, ring(1, i + 1), ring(1, i)]);
         }
         for j in 1..r - 1 {
+            poll_row(stoppable)?;
             for i in 0..s {
                 faces.push(vec![ring(j, i), ring(j, i + 1), ring(j + 1, i + 1), ring(j + 1, i)]);
             }
@@ -158,7 +186,7 @@ impl Mesh {
         for i in 0..s {
             faces.push(vec![ring(r - 1, i), ring(r - 1, i + 1), north]);
         }
-        built(positions, &faces)
+        built_with(positions, &faces, stoppable)
     }
 
     /// A closed cylinder of `radius` around the z axis from z = −height/2 to +height/2, with
@@ -183,9 +211,23 @@ impl Mesh {
     /// `minor`, `major_segments` × `minor_segments` quads. Genus 1.
     #[must_use]
     pub fn torus(major: f64, minor: f64, major_segments: u32, minor_segments: u32) -> Mesh {
+        Mesh::torus_with(major, minor, major_segments, minor_segments, false)
+            .expect("primitive construction is manifold by design")
+    }
+
+    /// The torus, polling and charging the current token when `stoppable` (else it never
+    /// fails).
+    pub(crate) fn torus_with(
+        major: f64,
+        minor: f64,
+        major_segments: u32,
+        minor_segments: u32,
+        stoppable: bool,
+    ) -> Result<Mesh, MeshError> {
         let (n, m) = (major_segments.max(3), minor_segments.max(3));
         let mut positions = Vec::with_capacity((n * m) as usize);
         for i in 0..n {
+            poll_row(stoppable)?;
             let u = TAU * f64::from(i) / f64::from(n);
             for j in 0..m {
                 let v = TAU * f64::from(j) / f64::from(m);
@@ -196,11 +238,12 @@ impl Mesh {
         let id = |i: u32, j: u32| (i % n) * m + j % m;
         let mut faces = Vec::with_capacity((n * m) as usize);
         for i in 0..n {
+            poll_row(stoppable)?;
             for j in 0..m {
                 faces.push(vec![id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
             }
         }
-        built(positions, &faces)
+        built_with(positions, &faces, stoppable)
     }
 }
 

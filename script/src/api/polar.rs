@@ -170,8 +170,10 @@ pub mod polar_api {
         }
         let s = count("polar_sphere", "segments", segments, 100_000)?;
         let n = count("polar_sphere", "rings", rings, 100_000)?;
-        kernel("polar_sphere", blocksmith_kernel::Mesh::check_uv_sphere(r, s, n))?;
-        Ok(PolarMesh(Rc::new(KernelPolar::uv_sphere(r, s, n))))
+        // Built as the kernel's UV sphere is, stopping with the run's token while it is.
+        let mesh = kernel("polar_sphere", blocksmith_kernel::Mesh::try_uv_sphere(r, s, n))?;
+        let north = mesh.vertex_count() as u32 - 1;
+        kernel("polar_sphere", KernelPolar::from_mesh(mesh, &[0, north], &[])).map(|pm| PolarMesh(Rc::new(pm)))
     }
 
     /// Marks a closed mesh as a polar mesh: option `poles` (vertex ids) and `loops` (loop edges

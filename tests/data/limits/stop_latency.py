@@ -26,6 +26,9 @@ BIN = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "target", "releas
 # (name, setup, call): the call is the one long kernel operation under test.
 CASES = [
     ("icosphere(1, 9)", "", "let m = icosphere(1, 9);"),
+    ("uv_sphere(1, 3000, 3000)", "", "let m = uv_sphere(1, 3000, 3000);"),
+    ("torus(2, 1, 3000, 3000)", "", "let m = torus(2, 1, 3000, 3000);"),
+    ("polar_sphere(1, 3000, 3000)", "", "let p = polar_sphere(1, 3000, 3000);"),
     ("catmull_clark, 6.3M faces", "let c = cube(1);", "let m = c.catmull_clark(10);"),
     ("loop_subdivide, 5.2M faces", "let c = icosphere(1, 4);", "let m = c.loop_subdivide(5);"),
     ("catmull_clark_limit", "let c = cube(1).catmull_clark(9);", "let m = c.catmull_clark_limit();"),
