@@ -25,7 +25,7 @@ impl PolarMesh {
             faces.push([a, b, 5]);
         }
         let mesh = Mesh::from_polygons(positions, &faces).expect("the octahedron is manifold by construction");
-        PolarMesh::from_mesh(mesh, &[0, 5], &[]).expect("the octahedron is polar by construction")
+        PolarMesh::marked(mesh, &[0, 5], &[], false).expect("the octahedron is polar by construction")
     }
 
     /// A latitude–longitude sphere ([`Mesh::uv_sphere`]) as a polar mesh: poles at −z (vertex 0)
@@ -35,7 +35,7 @@ impl PolarMesh {
     pub fn uv_sphere(radius: f64, segments: u32, rings: u32) -> PolarMesh {
         let mesh = Mesh::uv_sphere(radius, segments, rings);
         let north = mesh.vertex_count() as u32 - 1;
-        PolarMesh::from_mesh(mesh, &[0, north], &[]).expect("the UV sphere is polar by construction")
+        PolarMesh::marked(mesh, &[0, north], &[], false).expect("the UV sphere is polar by construction")
     }
 
     /// Marks an imported closed mesh as a polar mesh.
@@ -53,6 +53,21 @@ impl PolarMesh {
     /// [`PolarError::UnmarkedFace`] when a face's roles stay unknown; any invariant error of
     /// [`PolarMesh::check`].
     pub fn from_mesh(mesh: Mesh, poles: &[u32], loops: &[[u32; 2]]) -> Result<PolarMesh, PolarError> {
+        PolarMesh::marked(mesh, poles, loops, true)
+    }
+
+    /// [`PolarMesh::from_mesh`], polling the current cancellation token every
+    /// [`crate::limits::POLL_EVERY`] faces of the propagation when `poll` (the primitives, which
+    /// cannot fail, do not poll).
+    fn marked(mesh: Mesh, poles: &[u32], loops: &[[u32; 2]], poll: bool) -> Result<PolarMesh, PolarError> {
+        let mut polled = 0usize;
+        let mut tick = || -> Result<(), PolarError> {
+            polled += 1;
+            if poll {
+                crate::limits::poll_at(polled)?;
+            }
+            Ok(())
+        };
         if let Some(h) = (0..mesh.halfedge_count() as u32).find(|&h| mesh.is_boundary_halfedge(h)) {
             return Err(PolarError::NotClosed { halfedge: h });
         }
@@ -113,6 +128,7 @@ impl PolarMesh {
             }
         }
         while let Some(f) = queue.pop_front() {
+            tick()?;
             let hs: Vec<u32> = mesh.face_halfedges(f).collect();
             if hs.len() != 4 {
                 continue;
@@ -125,6 +141,7 @@ impl PolarMesh {
             }
         }
         for f in 0..mesh.face_count() as u32 {
+            tick()?;
             let n = mesh.face_arity(f);
             let poles_in = mesh.face_vertices(f).filter(|&v| pole[v as usize]).count();
             match (n, poles_in) {
@@ -178,6 +195,23 @@ impl PolarMesh {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_stop_lands_inside_marking_a_large_mesh_and_never_in_the_primitives() {
+        use crate::limits::{install, CancelToken, LimitError, StopReason};
+        use std::sync::atomic::AtomicBool;
+        use std::sync::Arc;
+        let mesh = Mesh::uv_sphere(1.0, 300, 300);
+        let north = mesh.vertex_count() as u32 - 1;
+        {
+            let _g = install(CancelToken::with(Some(Arc::new(AtomicBool::new(true))), None, None));
+            let e = PolarMesh::from_mesh(mesh.clone(), &[0, north], &[]).unwrap_err();
+            assert!(matches!(e, PolarError::Limit(LimitError::Stopped(StopReason::Interrupted))), "{e}");
+            // The primitive's own marking does not poll: it cannot fail, so it cannot stop.
+            assert_eq!(PolarMesh::uv_sphere(1.0, 300, 300).mesh().face_count(), 90_000);
+        }
+        assert_eq!(PolarMesh::from_mesh(mesh, &[0, north], &[]).unwrap().mesh().face_count(), 90_000);
+    }
 
     #[test]
     fn octahedron_is_polar_with_one_loop_of_four() {
