@@ -115,7 +115,9 @@ pub fn limit_data_sizes(engine: &mut Engine, budget: u64) {
 /// work it calls checks the same token in its long loops ([`limits::check`]) and stops with it.
 /// Without limits the token never stops anything (and still replaces one left by other work).
 pub fn set_limits(engine: &mut Engine, options: &EngineOptions) {
-    let deadline = options.timeout.map(|t| (Instant::now() + t, t.as_secs_f64()));
+    // The seconds as given (to the microsecond): 1.793 s is held as 1.793000000 s, whose f64
+    // reads 1.7930000000000001.
+    let deadline = options.timeout.map(|t| (Instant::now() + t, (t.as_secs_f64() * 1e6).round() / 1e6));
     let operations = options.max_operations.map(|max| (Arc::new(AtomicU64::new(0)), max));
     let token = CancelToken::with(options.interrupt.clone(), deadline, operations);
     engine.on_progress(move |_| {
