@@ -23,7 +23,16 @@ fn built_with(positions: Vec<Vec3>, faces: &[Vec<u32>], stoppable: bool) -> Resu
     }
     let indices: Vec<u32> = faces.iter().flatten().copied().collect();
     let arities: Vec<u32> = faces.iter().map(|f| f.len() as u32).collect();
-    Mesh::from_indexed_stoppable(positions, &indices, &arities)
+    indexed(positions, &indices, &arities, true)
+}
+
+/// The mesh of a flat index list, built charging the current token when `stoppable`.
+fn indexed(positions: Vec<Vec3>, indices: &[u32], arities: &[u32], stoppable: bool) -> Result<Mesh, MeshError> {
+    if stoppable {
+        Mesh::from_indexed_stoppable(positions, indices, arities)
+    } else {
+        Mesh::from_indexed(positions, indices, arities)
+    }
 }
 
 /// Polls the current cancellation token once per row of a primitive being generated, when
@@ -143,11 +152,7 @@ impl Mesh {
         }
         let indices: Vec<u32> = faces.iter().flatten().copied().collect();
         let arities = vec![3; faces.len()];
-        if stoppable {
-            Mesh::from_indexed_stoppable(positions, &indices, &arities)
-        } else {
-            Mesh::from_indexed(positions, &indices, &arities)
-        }
+        indexed(positions, &indices, &arities, stoppable)
     }
 
     /// A latitude–longitude sphere: `segments` ≥ 3 around z, `rings` ≥ 2 bands from the south

@@ -114,9 +114,7 @@ pub mod data_api {
     /// ```
     #[rhai_fn(name = "push", return_raw)]
     pub fn push(array: &mut Array, item: Dynamic) -> ScriptResult<()> {
-        check_array_growth("push", array, array.len() + 1)?;
-        array.push(item);
-        Ok(())
+        push_checked("push", array, item)
     }
 
     /// `a += x`: adds `x` at the end of the array, as `push` does (refused in the same way).
@@ -128,9 +126,7 @@ pub mod data_api {
     /// ```
     #[rhai_fn(name = "+=", return_raw)]
     pub fn push_op(array: &mut Array, item: Dynamic) -> ScriptResult<()> {
-        check_array_growth("+=", array, array.len() + 1)?;
-        array.push(item);
-        Ok(())
+        push_checked("+=", array, item)
     }
 
     /// Adds the elements of `other` at the end of the array. Refused, before allocating, when
@@ -209,9 +205,7 @@ pub mod data_api {
     /// ```
     #[rhai_fn(name = "append", return_raw)]
     pub fn append_blob(blob: &mut Blob, other: Blob) -> ScriptResult<()> {
-        check_bytes_growth("append", "BLOB", blob.capacity(), blob.len() + other.len())?;
-        blob.extend(other);
-        Ok(())
+        append_blob_checked("append", blob, other)
     }
 
     /// `b += c`: adds the bytes of `c` at the end of the BLOB, as `append` does.
@@ -223,9 +217,7 @@ pub mod data_api {
     /// ```
     #[rhai_fn(name = "+=", return_raw)]
     pub fn append_blob_op(blob: &mut Blob, other: Blob) -> ScriptResult<()> {
-        check_bytes_growth("+=", "BLOB", blob.capacity(), blob.len() + other.len())?;
-        blob.extend(other);
-        Ok(())
+        append_blob_checked("+=", blob, other)
     }
 
     /// `b + c`: a new BLOB of the bytes of `b` then those of `c`, refused before allocating
@@ -236,9 +228,8 @@ pub mod data_api {
     /// ```
     #[rhai_fn(name = "+", return_raw)]
     pub fn concat_blob(a: Blob, b: Blob) -> ScriptResult<Blob> {
-        check_bytes_growth("+", "BLOB", 0, a.len() + b.len())?;
         let mut a = a;
-        a.extend(b);
+        append_blob_checked("+", &mut a, b)?;
         Ok(a)
     }
 
@@ -363,6 +354,20 @@ pub mod data_api {
         *string = string.replace(find, substitute).into();
         Ok(())
     }
+}
+
+/// Pushes `item` onto `array` after checking the grown buffer (`func` names the caller).
+fn push_checked(func: &str, array: &mut Array, item: Dynamic) -> ScriptResult<()> {
+    check_array_growth(func, array, array.len() + 1)?;
+    array.push(item);
+    Ok(())
+}
+
+/// Appends `other` to `blob` after checking the grown buffer (`func` names the caller).
+fn append_blob_checked(func: &str, blob: &mut Blob, other: Blob) -> ScriptResult<()> {
+    check_bytes_growth(func, "BLOB", blob.capacity(), blob.len() + other.len())?;
+    blob.extend(other);
+    Ok(())
 }
 
 /// Appends `other` to `array` after checking the grown buffer (`func` names the caller).

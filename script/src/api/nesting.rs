@@ -115,6 +115,18 @@ fn element_text(ctx: &NativeCallContext, v: &mut Dynamic) -> String {
     }
 }
 
+/// `array_text` of `a` after refusing nesting over [`MAX_NESTING`] (`func` names the caller).
+fn checked_array_text(func: &str, ctx: &NativeCallContext, a: &mut Array) -> ScriptResult<String> {
+    let _measured = measure(func, || array_deeper(a, MAX_NESTING))?;
+    Ok(array_text(ctx, a))
+}
+
+/// `map_text` of `m` after refusing nesting over [`MAX_NESTING`] (`func` names the caller).
+fn checked_map_text(func: &str, ctx: &NativeCallContext, m: &mut Map) -> ScriptResult<String> {
+    let _measured = measure(func, || map_deeper(m, MAX_NESTING))?;
+    Ok(map_text(ctx, m))
+}
+
 fn array_text(ctx: &NativeCallContext, a: &mut Array) -> String {
     let items: Vec<String> = a.iter_mut().map(|x| element_text(ctx, x)).collect();
     format!("[{}]", items.join(", "))
@@ -187,8 +199,7 @@ pub mod nesting_api {
     /// ```
     #[rhai_fn(name = "to_string", name = "to_debug", return_raw, pure)]
     pub fn array_to_string(ctx: NativeCallContext, a: &mut Array) -> ScriptResult<String> {
-        let _measured = measure("to_string", || array_deeper(a, MAX_NESTING))?;
-        Ok(array_text(&ctx, a))
+        checked_array_text("to_string", &ctx, a)
     }
 
     /// Prints the array as `to_string` writes it. Arrays nested more than 500 deep are refused.
@@ -198,8 +209,7 @@ pub mod nesting_api {
     /// ```
     #[rhai_fn(name = "print", return_raw, pure)]
     pub fn array_print(ctx: NativeCallContext, a: &mut Array) -> ScriptResult<String> {
-        let _measured = measure("print", || array_deeper(a, MAX_NESTING))?;
-        Ok(array_text(&ctx, a))
+        checked_array_text("print", &ctx, a)
     }
 
     /// Prints the array as `to_debug` writes it. Arrays nested more than 500 deep are refused.
@@ -209,8 +219,7 @@ pub mod nesting_api {
     /// ```
     #[rhai_fn(name = "debug", return_raw, pure)]
     pub fn array_debug(ctx: NativeCallContext, a: &mut Array) -> ScriptResult<String> {
-        let _measured = measure("debug", || array_deeper(a, MAX_NESTING))?;
-        Ok(array_text(&ctx, a))
+        checked_array_text("debug", &ctx, a)
     }
 
     /// Prints the map as `to_string` writes it. Maps nested more than 500 deep are refused.
@@ -220,8 +229,7 @@ pub mod nesting_api {
     /// ```
     #[rhai_fn(name = "print", return_raw, pure)]
     pub fn map_print(ctx: NativeCallContext, m: &mut Map) -> ScriptResult<String> {
-        let _measured = measure("print", || map_deeper(m, MAX_NESTING))?;
-        Ok(map_text(&ctx, m))
+        checked_map_text("print", &ctx, m)
     }
 
     /// Prints the map as `to_debug` writes it. Maps nested more than 500 deep are refused.
@@ -231,8 +239,7 @@ pub mod nesting_api {
     /// ```
     #[rhai_fn(name = "debug", return_raw, pure)]
     pub fn map_debug(ctx: NativeCallContext, m: &mut Map) -> ScriptResult<String> {
-        let _measured = measure("debug", || map_deeper(m, MAX_NESTING))?;
-        Ok(map_text(&ctx, m))
+        checked_map_text("debug", &ctx, m)
     }
 
     /// The map as JSON text, `{"a":[1]}` (values JSON cannot hold are written as Rhai shows
@@ -255,7 +262,6 @@ pub mod nesting_api {
     /// ```
     #[rhai_fn(name = "to_string", name = "to_debug", return_raw, pure)]
     pub fn map_to_string(ctx: NativeCallContext, m: &mut Map) -> ScriptResult<String> {
-        let _measured = measure("to_string", || map_deeper(m, MAX_NESTING))?;
-        Ok(map_text(&ctx, m))
+        checked_map_text("to_string", &ctx, m)
     }
 }
