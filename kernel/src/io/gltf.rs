@@ -44,6 +44,7 @@ use json::validation::{Checked::Valid, USize64};
 
 use super::error::IoError;
 use super::options::{UpAxis, Weld};
+use crate::limits::LimitError;
 use crate::math::{Mat4, Vec3};
 use crate::mesh::{Mesh, MeshError};
 use crate::subdiv::{BoundaryInterpolation, CreaseMethod, SubdivOptions, TriangleSubdivision};
@@ -194,13 +195,15 @@ fn push_u32s(out: &mut Vec<u8>, values: &[u32]) {
 /// Area-weighted unit vertex normals in f32, from the faces' triangles: each face's vector area
 /// (the sum of its triangles', which for any triangulation of a polygon is the polygon's) is
 /// added to each of its corners, as [`Mesh::vertex_normals`] does. A vertex no face uses gets +Z
-/// (glTF requires unit normals).
-fn vertex_normals_f32(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> Vec<[f32; 3]> {
+/// (glTF requires unit normals). Polls the current cancellation token every
+/// [`crate::limits::POLL_EVERY`] faces.
+fn vertex_normals_f32(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> Result<Vec<[f32; 3]>, LimitError> {
     let p = mesh.positions();
     let mut sums = vec![Vec3::ZERO; p.len()];
     let mut start = 0;
     let mut corners: Vec<u32> = Vec::new();
-    for &a in arities {
+    for (f, &a) in arities.iter().enumerate() {
+        crate::limits::poll_at(f)?;
         let t = &tris[start..start + 3 * (a as usize - 2)];
         start += t.len();
         let mut area = Vec3::ZERO;
@@ -228,7 +231,9 @@ fn vertex_normals_f32(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> Vec<[f32; 3
             }
         }
     }
-    sums.iter()
+    crate::limits::poll()?;
+    Ok(sums
+        .iter()
         .map(|s| {
             let n = glam::Vec3::new(s.x as f32, s.y as f32, s.z as f32).normalize_or_zero();
             if n == glam::Vec3::ZERO {
@@ -237,7 +242,7 @@ fn vertex_normals_f32(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> Vec<[f32; 3
                 n.to_array()
             }
         })
-        .collect()
+        .collect())
 }
 
 /// The blocksmith `extras` of `mesh` (arity runs, creases, corners), `None` when there is
@@ -294,6 +299,14 @@ fn extras_json(mesh: &Mesh, arities: &[u32], vertex_extras: bool) -> Option<Stri
 }
 
 /// The glTF document of `mesh` and its binary buffer.
+///
+/// Building it stops on the current cancellation token (see [`crate::limits::poll`]): the
+/// token is polled between the stages (triangles, source split, positions, normals, colours,
+/// extras, indices) and every [`crate::limits::POLL_EVERY`] items inside the long ones, so a
+/// save of a multi-million-triangle mesh stops within milliseconds, before its file is written.
+///
+/// # Errors
+/// As [`write_glb`]; [`IoError::Mesh`] with [`MeshError::Limit`] when stopped.
 pub(crate) fn document(
     mesh: &Mesh,
     uri: Option<String>,
@@ -309,21 +322,23 @@ pub(crate) fn document(
     if mesh.face_count() == 0 {
         return Ok((root, None));
     }
+    let stopped = |e: LimitError| IoError::from_mesh(path, MeshError::Limit(e));
     let (mesh, tris, arities) = super::face_triangles(mesh).map_err(|e| IoError::from_mesh(path, e))?;
     let mesh = &*mesh;
+    crate::limits::poll().map_err(stopped)?;
     // A boolean result is coloured by source: its vertices split where sources meet.
-    let split = super::source_colors::split_by_source(mesh, &tris, &arities);
+    let split = super::source_colors::split_by_source(mesh, &tris, &arities).map_err(stopped)?;
     let n = split.as_ref().map_or(mesh.vertex_count(), |s| s.from.len());
     let mut bin = Vec::with_capacity(n * 24 + tris.len() * 4 + mesh.vertex_colors().map_or(0, |_| n * 16));
 
     // Positions, rounded to f32 first so that min/max are those of the stored values.
     let file_vertex = |i: usize| split.as_ref().map_or(i, |s| s.from[i] as usize);
-    let pos32: Vec<f32> = (0..n)
-        .flat_map(|i| {
-            let p = UpAxis::Y.to_file(mesh.positions()[file_vertex(i)]);
-            [p.x as f32, p.y as f32, p.z as f32]
-        })
-        .collect();
+    let mut pos32: Vec<f32> = Vec::with_capacity(3 * n);
+    for i in 0..n {
+        crate::limits::poll_at(i).map_err(stopped)?;
+        let p = UpAxis::Y.to_file(mesh.positions()[file_vertex(i)]);
+        pos32.extend([p.x as f32, p.y as f32, p.z as f32]);
+    }
     let mut lo = [f32::INFINITY; 3];
     let mut hi = [f32::NEG_INFINITY; 3];
     for p in pos32.chunks_exact(3) {
@@ -334,12 +349,13 @@ pub(crate) fn document(
     }
     let view = push_view(&mut root, &mut bin, Some(json::buffer::Target::ArrayBuffer), |b| push_f32s(b, &pos32));
     drop(pos32);
+    crate::limits::poll().map_err(stopped)?;
     let positions =
         root.push(accessor(view, n, json::accessor::ComponentType::F32, json::accessor::Type::Vec3, Some((lo, hi))));
 
     let mut normals: Vec<[f32; 3]> = match &split {
         Some(s) => s.normals.clone(),
-        None => vertex_normals_f32(mesh, &tris, &arities),
+        None => vertex_normals_f32(mesh, &tris, &arities).map_err(stopped)?,
     };
     for n in &mut normals {
         *n = [n[0], n[2], -n[1]];
@@ -348,6 +364,7 @@ pub(crate) fn document(
         push_f32s(b, normals.as_flattened())
     });
     drop(normals);
+    crate::limits::poll().map_err(stopped)?;
     let normals = root.push(accessor(view, n, json::accessor::ComponentType::F32, json::accessor::Type::Vec3, None));
 
     let mut attributes = std::collections::BTreeMap::new();
@@ -358,16 +375,19 @@ pub(crate) fn document(
         let view = push_view(&mut root, &mut bin, Some(json::buffer::Target::ArrayBuffer), |b| push_f32s(b, &clamped));
         let colors = root.push(accessor(view, n, json::accessor::ComponentType::F32, json::accessor::Type::Vec4, None));
         attributes.insert(Valid(json::mesh::Semantic::Colors(0)), colors);
+        crate::limits::poll().map_err(stopped)?;
     }
     // Crease and corner extras name mesh vertex ids: they do not apply to split vertices.
     let tris = match split {
         Some(s) => {
             let extras = extras_json(mesh, &arities, false);
+            crate::limits::poll().map_err(stopped)?;
             return finish(root, bin, uri, attributes, &s.tris, extras, path);
         }
         None => tris,
     };
     let extras = extras_json(mesh, &arities, true);
+    crate::limits::poll().map_err(stopped)?;
     finish(root, bin, uri, attributes, &tris, extras, path)
 }
 
@@ -1061,13 +1081,44 @@ fn rejoin(tris: &[[u32; 3]], runs: &[(u32, u64)]) -> Option<(Vec<u32>, Vec<u32>)
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     fn glb(mesh: &Mesh) -> Vec<u8> {
         let mut bytes = Vec::new();
         write_glb(mesh, &mut bytes, Path::new("mem.glb")).unwrap();
         bytes
+    }
+
+    /// One triangle and 200,000 vertices no face uses: planning its one face never polls, so
+    /// only the encoding's own polls can see a stop.
+    pub(crate) fn few_faces_many_vertices() -> Mesh {
+        let positions = (0..200_003).map(|i| Vec3::new(f64::from(i), 0.5 * f64::from(i % 7), 1.0)).collect();
+        Mesh::from_indexed(positions, &[0, 1, 2], &[3]).unwrap()
+    }
+
+    #[test]
+    fn a_stop_lands_inside_the_encoding_before_a_byte_is_written() {
+        use crate::limits::{install, CancelToken, StopReason};
+        use std::sync::atomic::AtomicBool;
+        use std::sync::Arc;
+        let m = few_faces_many_vertices();
+        {
+            let _g = install(CancelToken::with(Some(Arc::new(AtomicBool::new(true))), None, None));
+            let mut bytes = Vec::new();
+            let e = write_glb(&m, &mut bytes, Path::new("mem.glb")).unwrap_err();
+            assert!(
+                matches!(
+                    e,
+                    IoError::Mesh { source: MeshError::Limit(LimitError::Stopped(StopReason::Interrupted)), .. }
+                ),
+                "{e}"
+            );
+            assert!(bytes.is_empty());
+            assert!(gltf_json_and_buffer(&m, "mem.bin", Path::new("mem.gltf")).is_err());
+        }
+        let back = read_gltf_with(&glb(&m), None, Path::new("mem.glb"), Weld::Off).unwrap();
+        assert_eq!(back.face_count(), 1);
     }
 
     fn f32_exact(m: &Mesh) -> Mesh {
@@ -1212,7 +1263,7 @@ mod tests {
         faces.extend((0..6u32).map(|i| vec![i, (i + 1) % 6, 6 + (i + 1) % 6, 6 + i]));
         for m in [Mesh::from_polygons(p, &faces).unwrap(), Mesh::torus(2.0, 0.5, 10, 6), Mesh::icosphere(1.0, 1)] {
             let (_, tris, arities) = crate::io::face_triangles(&m).unwrap();
-            let ours = vertex_normals_f32(&m, &tris, &arities);
+            let ours = vertex_normals_f32(&m, &tris, &arities).unwrap();
             for (a, b) in ours.iter().zip(m.vertex_normals()) {
                 let d = (glam::Vec3::from_array(*a) - b.as_vec3()).length();
                 assert!(d < 1e-6, "{a:?} vs {b:?}, difference {d}");

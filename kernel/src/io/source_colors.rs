@@ -6,6 +6,7 @@
 
 use std::collections::HashMap;
 
+use crate::limits::LimitError;
 use crate::math::hsv_rgba;
 use crate::mesh::{FaceSource, Mesh};
 
@@ -35,10 +36,14 @@ pub fn source_color(source: &FaceSource) -> [f32; 4] {
 /// The split for `mesh` whose polygons triangulate to `tris` (with `arities`, as
 /// `face_triangles` gives them); `None` when the mesh has no face sources or has its
 /// own vertex colours (those win).
-pub(crate) fn split_by_source(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> Option<SourceSplit> {
-    let sources = mesh.face_sources()?;
+///
+/// # Errors
+/// [`LimitError::Stopped`] when the current cancellation token stops (polled every
+/// [`crate::limits::POLL_EVERY`] faces).
+pub(crate) fn split_by_source(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> Result<Option<SourceSplit>, LimitError> {
+    let Some(sources) = mesh.face_sources() else { return Ok(None) };
     if mesh.vertex_colors().is_some() {
-        return None;
+        return Ok(None);
     }
     let mut palette: HashMap<[u32; 4], u32> = HashMap::new();
     let mut index: HashMap<(u32, u32), u32> = HashMap::with_capacity(mesh.vertex_count() * 5 / 4);
@@ -48,6 +53,7 @@ pub(crate) fn split_by_source(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> Opt
     let p = mesh.positions();
     let mut start = 0;
     for (f, &a) in arities.iter().enumerate() {
+        crate::limits::poll_at(f)?;
         let color = source_color(&sources[f]);
         let n = palette.len() as u32;
         let c = *palette.entry(color.map(f32::to_bits)).or_insert(n);
@@ -79,7 +85,7 @@ pub(crate) fn split_by_source(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> Opt
             }
         })
         .collect();
-    Some(out)
+    Ok(Some(out))
 }
 
 #[cfg(test)]

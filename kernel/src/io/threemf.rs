@@ -35,8 +35,9 @@ use std::path::Path;
 use quick_xml::events::{BytesStart, Event};
 
 use super::error::IoError;
+use crate::limits::LimitError;
 use crate::math::Vec3;
-use crate::mesh::Mesh;
+use crate::mesh::{Mesh, MeshError};
 
 const CORE_NS: &str = "http://schemas.microsoft.com/3dmanufacturing/core/2015/02";
 const MATERIAL_NS: &str = "http://schemas.microsoft.com/3dmanufacturing/material/2015/02";
@@ -59,7 +60,8 @@ fn tmf_error(path: &Path, reason: impl Into<String>) -> IoError {
 pub fn write_3mf<W: Write>(mesh: &Mesh, out: &mut W, path: &Path) -> Result<(), IoError> {
     let (mesh, tris, arities) = super::face_triangles(mesh).map_err(|e| IoError::from_mesh(path, e))?;
     let mesh = &*mesh;
-    let model = model_xml(mesh, &tris, &arities);
+    let stopped = |e: LimitError| IoError::from_mesh(path, MeshError::Limit(e));
+    let model = model_xml(mesh, &tris, &arities).map_err(stopped)?;
     let write_err = |e: std::io::Error| IoError::Write { path: path.into(), source: e };
     let zip_err = |e: zip::result::ZipError| IoError::Write { path: path.into(), source: std::io::Error::other(e) };
     let mut zip = zip::ZipWriter::new(Cursor::new(Vec::new()));
@@ -75,7 +77,11 @@ pub fn write_3mf<W: Write>(mesh: &Mesh, out: &mut W, path: &Path) -> Result<(), 
     ];
     for (name, data) in parts {
         zip.start_file(name, options).map_err(zip_err)?;
-        zip.write_all(data).map_err(write_err)?;
+        // Deflate runs at tens of megabytes a second: a stop is seen between chunks.
+        for chunk in data.chunks(DEFLATE_CHUNK) {
+            crate::limits::poll().map_err(stopped)?;
+            zip.write_all(chunk).map_err(write_err)?;
+        }
     }
     let bytes = zip.finish().map_err(zip_err)?.into_inner();
     out.write_all(&bytes).map_err(write_err)
@@ -99,8 +105,15 @@ fn hex(c: [f32; 4]) -> String {
     format!("#{:02X}{:02X}{:02X}{:02X}", b[0], b[1], b[2], b[3])
 }
 
+/// Bytes of the model part compressed between two polls of the cancellation token.
+const DEFLATE_CHUNK: usize = 1 << 20;
+
 /// The model part's XML.
-fn model_xml(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> String {
+///
+/// # Errors
+/// [`LimitError::Stopped`] when the current cancellation token stops (polled every
+/// [`crate::limits::POLL_EVERY`] vertices and triangles).
+fn model_xml(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> Result<String, LimitError> {
     use std::fmt::Write as _;
     let mut s = String::with_capacity(64 * mesh.vertex_count() + 48 * tris.len() / 3 + 1024);
     let _ = write!(
@@ -139,7 +152,8 @@ fn model_xml(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> String {
     let object_pid = if colors.is_some() || face_material.is_some() { " pid=\"2\" pindex=\"0\"" } else { "" };
     let _ = write!(s, "<object id=\"1\" type=\"model\"{object_pid}>\n<mesh>\n<vertices>\n");
     let mut fbuf = zmij::Buffer::new();
-    for p in mesh.positions() {
+    for (i, p) in mesh.positions().iter().enumerate() {
+        crate::limits::poll_at(i)?;
         s += "<vertex x=\"";
         s += fbuf.format(p.x);
         s += "\" y=\"";
@@ -151,7 +165,8 @@ fn model_xml(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> String {
     s += "</vertices>\n<triangles>\n";
     let mut face = 0usize;
     let mut left = arities.first().map_or(0, |&a| a - 2);
-    for t in tris.chunks_exact(3) {
+    for (i, t) in tris.chunks_exact(3).enumerate() {
+        crate::limits::poll_at(i)?;
         while left == 0 {
             face += 1;
             left = arities[face] - 2;
@@ -166,7 +181,7 @@ fn model_xml(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> String {
         s += "/>\n";
     }
     s += "</triangles>\n</mesh>\n</object>\n</resources>\n<build>\n<item objectid=\"1\"/>\n</build>\n</model>\n";
-    s
+    Ok(s)
 }
 
 /// An affine map as 3MF writes it: `p' = p · M + t` with row vectors (core §3.4.2).
@@ -664,6 +679,28 @@ mod tests {
         let mut bytes = Vec::new();
         write_3mf(mesh, &mut bytes, Path::new("mem.3mf")).unwrap();
         bytes
+    }
+
+    #[test]
+    fn a_stop_lands_inside_the_model_text_before_a_byte_is_written() {
+        use crate::limits::{install, CancelToken, StopReason};
+        use std::sync::atomic::AtomicBool;
+        use std::sync::Arc;
+        let m = crate::io::gltf::tests::few_faces_many_vertices();
+        {
+            let _g = install(CancelToken::with(Some(Arc::new(AtomicBool::new(true))), None, None));
+            let mut bytes = Vec::new();
+            let e = write_3mf(&m, &mut bytes, Path::new("mem.3mf")).unwrap_err();
+            assert!(
+                matches!(
+                    e,
+                    IoError::Mesh { source: MeshError::Limit(LimitError::Stopped(StopReason::Interrupted)), .. }
+                ),
+                "{e}"
+            );
+            assert!(bytes.is_empty());
+        }
+        assert!(!written(&m).is_empty());
     }
 
     /// A package of `model` XML with the standard parts.

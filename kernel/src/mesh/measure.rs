@@ -2,6 +2,7 @@
 //! bounds.
 
 use super::{Mesh, NONE};
+use crate::limits::LimitError;
 use crate::math::{Aabb, Vec3};
 
 /// Every measure at once, computed in one pass over the mesh.
@@ -32,14 +33,25 @@ impl Mesh {
     /// Meshes built by [`Mesh::from_indexed`] always are; this re-verifies the invariants.
     #[must_use]
     pub fn is_manifold(&self) -> bool {
+        self.is_manifold_polling(false).unwrap_or(false)
+    }
+
+    /// [`Mesh::is_manifold`], polling the current cancellation token every
+    /// [`crate::limits::POLL_EVERY`] half-edges and vertices when `poll` (never stopped otherwise).
+    ///
+    /// # Errors
+    /// [`LimitError::Stopped`] when polled and the token stops.
+    pub(crate) fn is_manifold_polling(&self, poll: bool) -> Result<bool, LimitError> {
+        let tick = |i: usize| if poll { crate::limits::poll_at(i) } else { Ok(()) };
         let nh = self.halfedge_count() as u32;
         for h in 0..nh {
+            tick(h as usize)?;
             let (t, n, p) = (self.twin(h), self.next(h), self.prev(h));
             if t >= nh || n >= nh || p >= nh || self.twin(t) != h || self.prev(n) != h || self.next(p) != h {
-                return false;
+                return Ok(false);
             }
             if t == h || self.origin(t) != self.origin(n) {
-                return false;
+                return Ok(false);
             }
         }
         let mut out_count = vec![0usize; self.vertex_count()];
@@ -47,18 +59,19 @@ impl Mesh {
             out_count[o as usize] += 1;
         }
         for v in 0..self.vertex_count() as u32 {
+            tick(v as usize)?;
             if self.vertex_out[v as usize] == NONE {
                 if out_count[v as usize] != 0 {
-                    return false;
+                    return Ok(false);
                 }
                 continue;
             }
             let ring = self.outgoing(v).take(self.halfedge_count() + 1).count();
             if ring != out_count[v as usize] || self.outgoing(v).filter(|&h| self.is_boundary_halfedge(h)).count() > 1 {
-                return false;
+                return Ok(false);
             }
         }
-        true
+        Ok(true)
     }
 
     /// The Euler characteristic V − E + F (counting only vertices used by a face).

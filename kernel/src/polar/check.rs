@@ -11,11 +11,20 @@ impl PolarMesh {
     /// pole whose edges alternate backbone, loop, backbone, loop (annular region) or a triangle
     /// with exactly one pole, a loop edge opposite it and backbones at it (pole region); the
     /// loop/backbone connectivity of §3.2.3 holds; poles have valence ≥ 3 and other vertices
-    /// ≥ 4; no two edges join the same two vertices. Time O(E log valence).
+    /// ≥ 4; no two edges join the same two vertices. Time O(E log valence). Polls the current
+    /// cancellation token every [`crate::limits::POLL_EVERY`] elements of each pass.
     ///
     /// # Errors
-    /// The [`PolarError`] variant of the first broken invariant, naming the element.
+    /// The [`PolarError`] variant of the first broken invariant, naming the element;
+    /// [`PolarError::Limit`] when the token stops.
     pub fn check(&self) -> Result<(), PolarError> {
+        self.check_polling(true)
+    }
+
+    /// [`PolarMesh::check`], polling the cancellation token or not: the primitives, whose
+    /// marking cannot fail, check without polling so that a stop never lands in them.
+    pub(crate) fn check_polling(&self, poll: bool) -> Result<(), PolarError> {
+        let tick = |i: usize| if poll { crate::limits::poll_at(i) } else { Ok(()) };
         let m = &self.mesh;
         if self.pole.len() != m.vertex_count() || self.is_loop.len() != m.halfedge_count() {
             return Err(PolarError::Internal(format!(
@@ -26,22 +35,33 @@ impl PolarMesh {
                 m.halfedge_count()
             )));
         }
-        if let Some(h) = (0..m.halfedge_count() as u32).find(|&h| m.is_boundary_halfedge(h)) {
-            return Err(PolarError::NotClosed { halfedge: h });
+        for h in 0..m.halfedge_count() as u32 {
+            tick(h as usize)?;
+            if m.is_boundary_halfedge(h) {
+                return Err(PolarError::NotClosed { halfedge: h });
+            }
         }
-        if !m.is_manifold() {
+        if !m.is_manifold_polling(poll)? {
             return Err(PolarError::NotManifold);
         }
-        if let Some(v) = (0..m.vertex_count() as u32).find(|&v| m.vertex_halfedge(v) == NONE) {
-            return Err(PolarError::IsolatedVertex { vertex: v });
+        for v in 0..m.vertex_count() as u32 {
+            tick(v as usize)?;
+            if m.vertex_halfedge(v) == NONE {
+                return Err(PolarError::IsolatedVertex { vertex: v });
+            }
         }
-        if let Some(h) = (0..m.halfedge_count() as u32).find(|&h| self.is_loop(h) != self.is_loop(m.twin(h))) {
-            return Err(PolarError::LoopMarkAsymmetric { halfedge: h });
+        for h in 0..m.halfedge_count() as u32 {
+            tick(h as usize)?;
+            if self.is_loop(h) != self.is_loop(m.twin(h)) {
+                return Err(PolarError::LoopMarkAsymmetric { halfedge: h });
+            }
         }
         for f in 0..m.face_count() as u32 {
+            tick(f as usize)?;
             self.check_face(f)?;
         }
         for h in 0..m.halfedge_count() as u32 {
+            tick(h as usize)?;
             let n = m.next(h);
             if self.is_loop(h) && self.is_loop(n) {
                 return Err(PolarError::Connectivity {
@@ -58,6 +78,7 @@ impl PolarMesh {
         }
         let mut neighbours = Vec::new();
         for v in 0..m.vertex_count() as u32 {
+            tick(v as usize)?;
             let valence = m.valence(v);
             if self.is_pole(v) && valence < 3 {
                 return Err(PolarError::PoleValence { pole: v, valence });
@@ -117,6 +138,21 @@ mod tests {
     use super::*;
     use crate::math::Vec3;
     use crate::mesh::Mesh;
+
+    #[test]
+    fn a_stop_lands_inside_the_check_of_a_large_mesh_but_not_in_the_primitives_check() {
+        use crate::limits::{install, CancelToken, LimitError, StopReason};
+        use std::sync::atomic::AtomicBool;
+        use std::sync::Arc;
+        // 90,000 faces: every pass polls more than once.
+        let pm = PolarMesh::uv_sphere(1.0, 300, 300);
+        let _g = install(CancelToken::with(Some(Arc::new(AtomicBool::new(true))), None, None));
+        let e = pm.check().unwrap_err();
+        assert!(matches!(e, PolarError::Limit(LimitError::Stopped(StopReason::Interrupted))), "{e}");
+        pm.check_polling(false).unwrap();
+        assert!(matches!(pm.mesh.is_manifold_polling(true), Err(LimitError::Stopped(_))));
+        assert!(pm.mesh.is_manifold());
+    }
 
     /// The error `check` gives for a copy of `pm` changed by `change`.
     fn broken(pm: &PolarMesh, change: impl FnOnce(&mut PolarMesh)) -> PolarError {

@@ -68,10 +68,13 @@ impl PolarMesh {
             }
             Ok(())
         };
-        if let Some(h) = (0..mesh.halfedge_count() as u32).find(|&h| mesh.is_boundary_halfedge(h)) {
-            return Err(PolarError::NotClosed { halfedge: h });
+        for h in 0..mesh.halfedge_count() as u32 {
+            tick()?;
+            if mesh.is_boundary_halfedge(h) {
+                return Err(PolarError::NotClosed { halfedge: h });
+            }
         }
-        if !mesh.is_manifold() {
+        if !mesh.is_manifold_polling(poll)? {
             return Err(PolarError::NotManifold);
         }
         let nv = mesh.vertex_count();
@@ -160,7 +163,7 @@ impl PolarMesh {
         }
         let is_loop = kind.iter().map(|&k| k == LOOP).collect();
         let pm = PolarMesh { mesh, pole, is_loop };
-        pm.check()?;
+        pm.check_polling(poll)?;
         Ok(pm)
     }
 
