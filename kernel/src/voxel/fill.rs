@@ -2,7 +2,7 @@
 //! its unit cube inside the shape, combined with what is there by taking the maximum (a union
 //! that is idempotent: filling the same shape twice changes nothing).
 
-use super::{for_each_chunk, VoxelError, Voxels};
+use super::{VoxelError, Voxels};
 use crate::math::{is_finite, Vec3};
 
 /// Sub-samples per voxel side across which sphere coverage is integrated (the third axis is
@@ -46,7 +46,9 @@ impl Voxels {
     /// `[min, max)` become 255. Parts outside the grid are ignored.
     ///
     /// # Errors
-    /// [`VoxelError::NonFinite`] for a NaN or infinite corner (the grid is unchanged).
+    /// [`VoxelError::NonFinite`] for a NaN or infinite corner; [`VoxelError::Limit`] when the
+    /// current cancellation token stops the fill or the undo copy passes the memory budget (see
+    /// [`Voxels::edit_slices`]). The grid is unchanged on any error.
     pub fn fill_box(&mut self, min: Vec3, max: Vec3) -> Result<(), VoxelError> {
         check_point("box corner", min)?;
         check_point("box corner", max)?;
@@ -61,19 +63,15 @@ impl Voxels {
         }
         let wx: Vec<f64> = (x0..x1).map(|i| overlap(lo.x, hi.x, i)).collect();
         let wy: Vec<f64> = (y0..y1).map(|i| overlap(lo.y, hi.y, i)).collect();
-        let parallel = self.parallel;
-        self.edit_region([x0, y0, z0], [x1, y1, z1], |data, n| {
-            let slab = &mut data[z0 * n * n..z1 * n * n];
-            for_each_chunk(parallel, slab, n * n, |dz, slice| {
-                let wz = overlap(lo.z, hi.z, z0 + dz);
-                for (y, &fy) in (y0..y1).zip(&wy) {
-                    let row = &mut slice[y * n..y * n + n];
-                    for (x, &fx) in (x0..x1).zip(&wx) {
-                        row[x] = row[x].max(density(fx * fy * wz));
-                    }
+        self.edit_slices([x0, y0, z0], [x1, y1, z1], |z, slice| {
+            let wz = overlap(lo.z, hi.z, z);
+            for (y, &fy) in (y0..y1).zip(&wy) {
+                let row = &mut slice[y * n..y * n + n];
+                for (x, &fx) in (x0..x1).zip(&wx) {
+                    row[x] = row[x].max(density(fx * fy * wz));
                 }
-            });
-        });
+            }
+        })?;
         Ok(())
     }
 
@@ -84,7 +82,8 @@ impl Voxels {
     ///
     /// # Errors
     /// [`VoxelError::NonFinite`] for a NaN or infinite centre or radius,
-    /// [`VoxelError::InvalidArgument`] for a radius that is not positive (the grid is unchanged).
+    /// [`VoxelError::InvalidArgument`] for a radius that is not positive; [`VoxelError::Limit`]
+    /// as for [`Voxels::fill_box`]. The grid is unchanged on any error.
     pub fn fill_sphere(&mut self, center: Vec3, radius: f64) -> Result<(), VoxelError> {
         check_point("sphere centre", center)?;
         if !radius.is_finite() {
@@ -105,20 +104,15 @@ impl Voxels {
         if x0 >= x1 || y0 >= y1 || z0 >= z1 {
             return Ok(());
         }
-        let parallel = self.parallel;
-        self.edit_region([x0, y0, z0], [x1, y1, z1], |data, n| {
-            let slab = &mut data[z0 * n * n..z1 * n * n];
-            for_each_chunk(parallel, slab, n * n, |dz, slice| {
-                let z = z0 + dz;
-                for y in y0..y1 {
-                    let row = &mut slice[y * n..y * n + n];
-                    for (x, v) in row.iter_mut().enumerate().take(x1).skip(x0) {
-                        let d = sphere_coverage(c, r, [x, y, z]);
-                        *v = (*v).max(d);
-                    }
+        self.edit_slices([x0, y0, z0], [x1, y1, z1], |z, slice| {
+            for y in y0..y1 {
+                let row = &mut slice[y * n..y * n + n];
+                for (x, v) in row.iter_mut().enumerate().take(x1).skip(x0) {
+                    let d = sphere_coverage(c, r, [x, y, z]);
+                    *v = (*v).max(d);
                 }
-            });
-        });
+            }
+        })?;
         Ok(())
     }
 }

@@ -1,12 +1,13 @@
 //! The voxel grid: an n³ array of 0–255 densities with a world mapping, and the bookkeeping that
 //! keeps its Haar hierarchy and surface caches in step with every edit.
 
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 use super::haar3d::HaarHierarchy;
 use super::lod_cache::SurfaceCache;
 use super::sculpt::ToolCache;
-use super::VoxelError;
+use super::{for_each_chunk, VoxelError};
+use crate::limits::LimitError;
 use crate::math::{is_finite, Vec3};
 
 /// The largest grid side accepted: 512³ voxels are 128 MiB of densities and 256 MiB of Haar
@@ -194,11 +195,13 @@ impl Voxels {
     /// Sets the density of voxel `(x, y, z)`.
     ///
     /// # Errors
-    /// [`VoxelError::OutOfRange`] outside the grid (nothing changes).
+    /// [`VoxelError::OutOfRange`] outside the grid; [`VoxelError::Limit`] when the current
+    /// cancellation token has stopped (nothing changes).
     pub fn set(&mut self, x: i64, y: i64, z: i64, value: u8) -> Result<(), VoxelError> {
         let i = self.checked(x, y, z)?;
         let (x, y, z) = (x as usize, y as usize, z as usize);
-        self.edit_region([x, y, z], [x + 1, y + 1, z + 1], |data, _| data[i] = value);
+        let n = self.n;
+        self.edit_slices([x, y, z], [x + 1, y + 1, z + 1], |_, slice| slice[i - z * n * n] = value)?;
         Ok(())
     }
 
@@ -263,17 +266,61 @@ impl Voxels {
         self.tool_cache = None;
     }
 
-    /// Runs `edit(data, n)`, which must change densities only inside the box `[lo, hi)`, then
-    /// brings the hierarchy and the surface caches up to date for that box.
-    pub(super) fn edit_region(&mut self, lo: [usize; 3], hi: [usize; 3], edit: impl FnOnce(&mut [u8], usize)) {
+    /// Runs `edit(z, slice)` for every z-slice `z` of the box `[lo, hi)` (`slice` the slice's
+    /// n² densities, x fastest; `edit` must change densities only inside the box), on rayon's
+    /// pool when the grid is parallel; then brings the hierarchy and the surface caches up to
+    /// date for that box.
+    ///
+    /// An edit is a transaction. The calling thread's cancellation token is read before each
+    /// slice (a slice of a 512³ grid is milliseconds of work); once it stops, the remaining
+    /// slices are skipped and the box is restored from the copy taken before the edit, so a
+    /// stopped edit leaves the grid and its caches as they were. The copy (one byte per voxel of
+    /// the box) is taken when the token can stop or a hierarchy needs the edit's delta.
+    ///
+    /// # Errors
+    /// [`LimitError::Stopped`] when the token stops; [`LimitError::OverBudget`] when the copy
+    /// would pass the memory budget. Either way the grid is unchanged.
+    pub(super) fn edit_slices(
+        &mut self,
+        lo: [usize; 3],
+        hi: [usize; 3],
+        edit: impl Fn(usize, &mut [u8]) + Sync + Send,
+    ) -> Result<(), LimitError> {
         let n = self.n;
         let (lo, hi) = ([lo[0].min(n), lo[1].min(n), lo[2].min(n)], [hi[0].min(n), hi[1].min(n), hi[2].min(n)]);
         if (0..3).any(|a| lo[a] >= hi[a]) {
-            return;
+            return Ok(());
         }
         let dims = [hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]];
-        let old = self.hierarchy.as_ref().map(|_| copy_box(&self.data, n, lo, dims));
-        edit(&mut self.data, n);
+        let token = crate::limits::current();
+        let old = if token.is_active() || self.hierarchy.is_some() {
+            let bytes = dims[0] * dims[1] * dims[2];
+            crate::limits::check_growth(
+                || format!("the copy of the {} × {} × {} voxels an edit may change", dims[0], dims[1], dims[2]),
+                bytes as f64,
+            )?;
+            Some(copy_box(&self.data, n, lo, dims))
+        } else {
+            None
+        };
+        let stopped = AtomicBool::new(false);
+        let slab = &mut self.data[lo[2] * n * n..hi[2] * n * n];
+        for_each_chunk(self.parallel, slab, n * n, |dz, slice| {
+            if stopped.load(Ordering::Relaxed) {
+                return;
+            }
+            if token.stopped().is_some() {
+                stopped.store(true, Ordering::Relaxed);
+                return;
+            }
+            edit(lo[2] + dz, slice);
+        });
+        if let Some(reason) = token.stopped() {
+            if let Some(old) = &old {
+                paste_box(&mut self.data, n, lo, dims, old);
+            }
+            return Err(LimitError::Stopped(reason));
+        }
         let mut changed = true;
         if let (Some(h), Some(old)) = (self.hierarchy.as_mut(), old) {
             let now = copy_box(&self.data, n, lo, dims);
@@ -289,6 +336,7 @@ impl Voxels {
             }
             self.revision = next_revision();
         }
+        Ok(())
     }
 }
 
@@ -304,9 +352,70 @@ pub(super) fn copy_box(data: &[u8], n: usize, lo: [usize; 3], dims: [usize; 3]) 
     out
 }
 
+/// Writes `values` (as [`copy_box`] gives them) back into the box at `lo` with `dims`.
+fn paste_box(data: &mut [u8], n: usize, lo: [usize; 3], dims: [usize; 3], values: &[u8]) {
+    for (i, row) in values.chunks_exact(dims[0]).enumerate() {
+        let (y, z) = (lo[1] + i % dims[1], lo[2] + i / dims[1]);
+        let s = (z * n + y) * n + lo[0];
+        data[s..s + dims[0]].copy_from_slice(row);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_edit_stopped_half_way_restores_its_box_and_keeps_the_caches() {
+        use crate::limits::{install, CancelToken, StopReason};
+        use std::sync::Arc;
+        for parallel in [false, true] {
+            let mut v = Voxels::new(32).unwrap();
+            v.set_parallel(parallel);
+            v.fill_box(Vec3::splat(2.0), Vec3::splat(20.0)).unwrap();
+            v.hierarchy();
+            let (before, revision) = (v.clone(), v.revision());
+            let flag = Arc::new(AtomicBool::new(false));
+            {
+                let _g = install(CancelToken::with(Some(flag.clone()), None, None));
+                // The edit raises the interrupt itself after writing slice 10: the slices
+                // before it are written, the rest skipped, and all of them restored.
+                let e = v
+                    .edit_slices([0, 0, 4], [32, 32, 28], |z, slice| {
+                        slice.fill(200);
+                        if z == 10 {
+                            flag.store(true, Ordering::Relaxed);
+                        }
+                    })
+                    .unwrap_err();
+                assert_eq!(e, LimitError::Stopped(StopReason::Interrupted));
+            }
+            assert_eq!(v, before);
+            assert_eq!(v.revision(), revision);
+            // The hierarchy was not given the stopped edit's delta: it still sums the grid.
+            let h = HaarHierarchy::build_with(v.data(), 32, v.max_level(), false);
+            assert_eq!(v.hierarchy().extract(2, false).unwrap(), h.extract(2, false).unwrap());
+            // Without a stop the same edit goes through.
+            v.edit_slices([0, 0, 4], [32, 32, 28], |_, slice| slice.fill(200)).unwrap();
+            assert_eq!(v.get(0, 0, 27).unwrap(), 200);
+        }
+    }
+
+    #[test]
+    fn every_fill_and_a_set_are_refused_whole_once_stopped() {
+        use crate::limits::{install, CancelToken, StopReason};
+        use std::sync::Arc;
+        let mut v = Voxels::new(16).unwrap();
+        v.fill_sphere(Vec3::splat(8.0), 4.0).unwrap();
+        let before = v.clone();
+        let stopped = VoxelError::Limit(LimitError::Stopped(StopReason::Interrupted));
+        let _g = install(CancelToken::with(Some(Arc::new(AtomicBool::new(true))), None, None));
+        assert_eq!(v.fill_box(Vec3::ZERO, Vec3::splat(16.0)), Err(stopped.clone()));
+        assert_eq!(v.fill_sphere(Vec3::splat(3.0), 5.0), Err(stopped.clone()));
+        assert_eq!(v.fill_mesh(&crate::mesh::Mesh::cube(6.0).translate(Vec3::splat(8.0))), Err(stopped.clone()));
+        assert_eq!(v.set(0, 0, 0, 9), Err(stopped));
+        assert_eq!(v, before);
+    }
 
     #[test]
     fn sizes_must_be_powers_of_two_within_the_limit() {

@@ -233,41 +233,40 @@ impl Voxels {
 
         // Pass 2: add or subtract the filling percentage, clamped (§3.3).
         let counts = (AtomicUsize::new(0), AtomicUsize::new(0));
-        let parallel = self.parallel;
         let (lo, hi) = (clo.map(|v| v as usize), chi.map(|v| v as usize));
-        {
+        let edited = {
             let values = &cache.values;
-            self.edit_region(lo, hi, |data, n| {
-                let slab = &mut data[lo[2] * n * n..hi[2] * n * n];
-                for_each_chunk(parallel, slab, n * n, |dz, slice| {
-                    let (mut touched, mut changed) = (0, 0);
-                    let cz = (lo[2] + dz) as i64 - glo[2];
-                    for y in lo[1]..hi[1] {
-                        let cy = y as i64 - glo[1];
-                        let crow = (cz as usize * dims[1] + cy as usize) * dims[0];
-                        let row = &mut slice[y * n..y * n + n];
-                        for x in lo[0]..hi[0] {
-                            let v = row[x];
-                            if subtract && v == 0 {
-                                continue;
-                            }
-                            touched += 1;
-                            let t = values[crow + (x as i64 - glo[0]) as usize];
-                            debug_assert!(t != UNSET, "pass 1 rotated every voxel in contact");
-                            let t = t.min(255) as u8;
-                            let new = if subtract { v.saturating_sub(t) } else { v.saturating_add(t) };
-                            if new != v {
-                                row[x] = new;
-                                changed += 1;
-                            }
+            let n = self.n;
+            self.edit_slices(lo, hi, |z, slice| {
+                let (mut touched, mut changed) = (0, 0);
+                let cz = z as i64 - glo[2];
+                for y in lo[1]..hi[1] {
+                    let cy = y as i64 - glo[1];
+                    let crow = (cz as usize * dims[1] + cy as usize) * dims[0];
+                    let row = &mut slice[y * n..y * n + n];
+                    for x in lo[0]..hi[0] {
+                        let v = row[x];
+                        if subtract && v == 0 {
+                            continue;
+                        }
+                        touched += 1;
+                        let t = values[crow + (x as i64 - glo[0]) as usize];
+                        debug_assert!(t != UNSET, "pass 1 rotated every voxel in contact");
+                        let t = t.min(255) as u8;
+                        let new = if subtract { v.saturating_sub(t) } else { v.saturating_add(t) };
+                        if new != v {
+                            row[x] = new;
+                            changed += 1;
                         }
                     }
-                    counts.0.fetch_add(touched, Ordering::Relaxed);
-                    counts.1.fetch_add(changed, Ordering::Relaxed);
-                });
-            });
-        }
+                }
+                counts.0.fetch_add(touched, Ordering::Relaxed);
+                counts.1.fetch_add(changed, Ordering::Relaxed);
+            })
+        };
+        // The rotated tool is kept even when the stroke stopped: it is right for the next one.
         self.tool_cache = Some(cache);
+        edited?;
         let contact = counts.0.into_inner();
         Ok(SculptReport { contact, rotated, reused: contact - rotated.min(contact), changed: counts.1.into_inner() })
     }

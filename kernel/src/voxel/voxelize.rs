@@ -13,7 +13,7 @@
 //! (the rule is the sign of a single infinitesimally shifted ray).
 
 use super::fill::{density, overlap, voxel_range};
-use super::{for_each_chunk, VoxelError, Voxels};
+use super::{VoxelError, Voxels};
 use crate::math::Vec3;
 use crate::mesh::Mesh;
 
@@ -93,13 +93,15 @@ impl Voxels {
     /// ignored.
     ///
     /// # Errors
-    /// [`VoxelError::BadMesh`] for a mesh with no faces or with boundary edges (the grid is
-    /// unchanged).
+    /// [`VoxelError::BadMesh`] for a mesh with no faces or with boundary edges;
+    /// [`VoxelError::Limit`] when the current cancellation token stops the fill or its undo copy
+    /// passes the memory budget (see [`Voxels::edit_slices`]). The grid is unchanged on any error.
     pub fn fill_mesh(&mut self, mesh: &Mesh) -> Result<(), VoxelError> {
         check_mesh(mesh)?;
         let n = self.n;
         let mut tris: Vec<[Vec3; 3]> = Vec::with_capacity(mesh.face_count() * 2);
         for f in 0..mesh.face_count() as u32 {
+            crate::limits::poll_at(f as usize)?;
             let vs: Vec<Vec3> = mesh.face_vertices(f).map(|v| self.to_grid(mesh.position(v))).collect();
             for i in 1..vs.len() - 1 {
                 tris.push([vs[0], vs[i], vs[i + 1]]);
@@ -123,7 +125,8 @@ impl Voxels {
             (ya < yb && za < zb).then_some(((ya, yb), (za, zb)))
         };
         let mut start = vec![0u32; ny * nz + 1];
-        for t in &tris {
+        for (ti, t) in tris.iter().enumerate() {
+            crate::limits::poll_at(ti)?;
             if let Some(((ya, yb), (za, zb))) = rows_of(t) {
                 for z in za..zb {
                     for y in ya..yb {
@@ -138,6 +141,7 @@ impl Voxels {
         let mut fill = start.clone();
         let mut list = vec![0u32; start[ny * nz] as usize];
         for (ti, t) in tris.iter().enumerate() {
+            crate::limits::poll_at(ti)?;
             if let Some(((ya, yb), (za, zb))) = rows_of(t) {
                 for z in za..zb {
                     for y in ya..yb {
@@ -148,49 +152,43 @@ impl Voxels {
                 }
             }
         }
-        let parallel = self.parallel;
         let tris = &tris;
-        self.edit_region([x0, y0, z0], [x1, y1, z1], |data, n| {
-            let slab = &mut data[z0 * n * n..z1 * n * n];
-            for_each_chunk(parallel, slab, n * n, |dz, slice| {
-                let z = z0 + dz;
-                let mut cover = vec![0.0f64; n];
-                let mut hits: Vec<(f64, i32)> = Vec::new();
-                for y in y0..y1 {
-                    let r = dz * ny + (y - y0);
-                    let bin = &list[start[r] as usize..start[r + 1] as usize];
-                    if bin.is_empty() {
-                        continue;
-                    }
-                    cover.iter_mut().for_each(|c| *c = 0.0);
-                    for b in 0..RAYS {
-                        for a in 0..RAYS {
-                            let q =
-                                [y as f64 + (a as f64 + 0.5) / RAYS as f64, z as f64 + (b as f64 + 0.5) / RAYS as f64];
-                            hits.clear();
-                            hits.extend(bin.iter().filter_map(|&ti| crossing(&tris[ti as usize], q)));
-                            hits.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.cmp(&q.1)));
-                            let mut winding = 0;
-                            let mut from = f64::NEG_INFINITY;
-                            for &(x, dw) in &hits {
-                                if winding != 0 {
-                                    let (xa, xb) = voxel_range(from, x, n);
-                                    for (i, c) in cover.iter_mut().enumerate().take(xb).skip(xa) {
-                                        *c += overlap(from, x, i);
-                                    }
+        self.edit_slices([x0, y0, z0], [x1, y1, z1], |z, slice| {
+            let mut cover = vec![0.0f64; n];
+            let mut hits: Vec<(f64, i32)> = Vec::new();
+            for y in y0..y1 {
+                let r = (z - z0) * ny + (y - y0);
+                let bin = &list[start[r] as usize..start[r + 1] as usize];
+                if bin.is_empty() {
+                    continue;
+                }
+                cover.iter_mut().for_each(|c| *c = 0.0);
+                for b in 0..RAYS {
+                    for a in 0..RAYS {
+                        let q = [y as f64 + (a as f64 + 0.5) / RAYS as f64, z as f64 + (b as f64 + 0.5) / RAYS as f64];
+                        hits.clear();
+                        hits.extend(bin.iter().filter_map(|&ti| crossing(&tris[ti as usize], q)));
+                        hits.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.cmp(&q.1)));
+                        let mut winding = 0;
+                        let mut from = f64::NEG_INFINITY;
+                        for &(x, dw) in &hits {
+                            if winding != 0 {
+                                let (xa, xb) = voxel_range(from, x, n);
+                                for (i, c) in cover.iter_mut().enumerate().take(xb).skip(xa) {
+                                    *c += overlap(from, x, i);
                                 }
-                                winding += dw;
-                                from = x;
                             }
+                            winding += dw;
+                            from = x;
                         }
                     }
-                    let row = &mut slice[y * n..y * n + n];
-                    for (v, &c) in row.iter_mut().zip(&cover) {
-                        *v = (*v).max(density(c / (RAYS * RAYS) as f64));
-                    }
                 }
-            });
-        });
+                let row = &mut slice[y * n..y * n + n];
+                for (v, &c) in row.iter_mut().zip(&cover) {
+                    *v = (*v).max(density(c / (RAYS * RAYS) as f64));
+                }
+            }
+        })?;
         Ok(())
     }
 }
