@@ -33,4 +33,4 @@ for t in test_cpp_complex_craycloud test_cpp_complex_generic_twin_7863 test_cpp_
   test_cpp_generic_twin_7863 test_cpp_havocglass8_bool test_cpp_hull_mask test_cpp_self_intersect; do
   skips+=(--skip "$t")
 done
-CARGO_TARGET_DIR="$root/target/engine-upstream" cargo test --release --features parallel --lib -- "${skips[@]}"
+CARGO_TARGET_DIR="$root/target/engine-upstream" cargo test --release --features parallel --lib -- "${skips[@]}" "$@"

@@ -150,6 +150,9 @@ impl Solid {
         stop: &Stop,
     ) -> Result<Solid, EngineError> {
         debug_assert_eq!(triangles.len(), tags.len());
+        if stop.is_stopped() {
+            return Err(EngineError::Stopped);
+        }
         let mesh = MeshGLP::<f64, u32> {
             num_prop: 3,
             vert_properties: positions.iter().flat_map(|p| [p.x, p.y, p.z]).collect(),

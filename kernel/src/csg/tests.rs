@@ -282,7 +282,7 @@ fn the_engine_gets_one_face_per_flat_region_of_one_source() {
                 [v[0], v[1], v[2]]
             })
             .collect();
-        let (faces, face_sources, creases) = coplanar_faces(m, &tris, sources, any);
+        let (faces, face_sources, creases) = coplanar_faces(m, &tris, sources, any).unwrap();
         assert_eq!(faces.len(), tris.len());
         assert_eq!(face_sources.len() as u32, faces.iter().max().unwrap() + 1);
         (face_sources.len(), creases.len())

@@ -166,8 +166,11 @@ impl Csg {
         let out = without_flat_shells(solid.triangles());
         token.charge(out.triangles.len() as u64)?;
         let flat: Vec<u32> = out.triangles.as_flattened().to_vec();
-        let mut mesh = Mesh::from_indexed(out.positions, &flat, &vec![3; out.triangles.len()])
-            .map_err(|e| CsgError::Engine { reason: e.to_string() })?;
+        let mut mesh =
+            Mesh::from_indexed_stoppable(out.positions, &flat, &vec![3; out.triangles.len()]).map_err(|e| match e {
+                MeshError::Limit(l) => CsgError::Limit(l),
+                e => CsgError::Engine { reason: e.to_string() },
+            })?;
         let face_sources: Vec<FaceSource> =
             out.tags.iter().map(|&t| sources.get(t as usize).copied().unwrap_or(FaceSource::Unknown)).collect();
         // An output edge between two input faces is a crease when it lies along a crease those
@@ -415,7 +418,13 @@ fn run(
                 if number.len() < p.positions.len() {
                     number.resize(p.positions.len(), NONE);
                 }
-                for &t in &p.components[c] {
+                for (i, &t) in p.components[c].iter().enumerate() {
+                    // This runs on any worker of the pool: read the token itself.
+                    if i % crate::limits::POLL_EVERY == 0 {
+                        if let Some(reason) = token.stopped() {
+                            return Err(LimitError::Stopped(reason).into());
+                        }
+                    }
                     triangles.push(p.triangles[t as usize].map(|v| {
                         let slot = &mut number[v as usize];
                         if *slot == NONE {
@@ -608,7 +617,7 @@ fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
     crate::limits::charge(triangles.len() as u64)?;
     check_solid(&mesh, &triangles, &components, !earlier_result, side, leaf_no)?;
     crate::limits::charge(triangles.len() as u64)?;
-    let (faces, face_sources, creases) = coplanar_faces(&mesh, &triangles, &sources, raw);
+    let (faces, face_sources, creases) = coplanar_faces(&mesh, &triangles, &sources, raw)?;
     crate::limits::charge(triangles.len() as u64)?;
     let corners = (0..mesh.vertex_count() as u32)
         .filter(|&v| mesh.is_corner(v))
@@ -635,12 +644,17 @@ const COPLANAR_SINE: f64 = 1e-10;
 /// face sources (a face's first triangle's) and the crease edges between faces with their
 /// sharpness.
 #[allow(clippy::type_complexity)]
+///
+/// # Errors
+/// [`LimitError::Stopped`] when the current cancellation token stops (polled every
+/// [`crate::limits::POLL_EVERY`] triangles and edges).
 pub(super) fn coplanar_faces(
     mesh: &Mesh,
     triangles: &[[u32; 3]],
     sources: &[FaceSource],
     any_source: bool,
-) -> (Vec<u32>, Vec<FaceSource>, Vec<(u32, u32, [Vec3; 2], f64)>) {
+) -> Result<(Vec<u32>, Vec<FaceSource>, Vec<(u32, u32, [Vec3; 2], f64)>), LimitError> {
+    use crate::limits::poll_at;
     // A zero-area triangle (three corners on a line, as a block's T-vertices make along a
     // sharp edge) has no plane: it joins the face of a neighbour, after the others are joined.
     let normal = |t: usize| {
@@ -663,7 +677,8 @@ pub(super) fn coplanar_faces(
         // The smaller triangle is the root, so a face is named by its first triangle.
         parent[a.max(b) as usize] = a.min(b);
     };
-    for (f, g) in mesh.edges().filter_map(joinable) {
+    for (i, (f, g)) in mesh.edges().filter_map(joinable).enumerate() {
+        poll_at(i)?;
         let (nf, ng) = (normals[f], normals[g]);
         let scale = nf.length() * ng.length();
         if nf.dot(ng) > 0.0 && nf.cross(ng).length() <= COPLANAR_SINE * scale {
@@ -671,7 +686,8 @@ pub(super) fn coplanar_faces(
         }
     }
     let mut attached = vec![false; triangles.len()];
-    for (f, g) in mesh.edges().filter_map(joinable) {
+    for (i, (f, g)) in mesh.edges().filter_map(joinable).enumerate() {
+        poll_at(i)?;
         for (lone, other) in [(f, g), (g, f)] {
             if normals[lone] == Vec3::ZERO && !attached[lone] {
                 attached[lone] = true;
@@ -686,6 +702,7 @@ pub(super) fn coplanar_faces(
     let mut face_sources = Vec::new();
     let mut faces = Vec::with_capacity(triangles.len());
     for t in 0..triangles.len() as u32 {
+        poll_at(t as usize)?;
         let r = root(&mut parent, t) as usize;
         if number[r] == u32::MAX {
             number[r] = face_sources.len() as u32;
@@ -701,7 +718,7 @@ pub(super) fn coplanar_faces(
             (f, g, [mesh.position(mesh.origin(h)), mesh.position(mesh.target(h))], mesh.edge_sharpness(h))
         })
         .collect();
-    (faces, face_sources, creases)
+    Ok((faces, face_sources, creases))
 }
 
 /// Refuses an input that bounds no solid: open, or touching itself (two vertices of one of its
@@ -723,25 +740,38 @@ fn check_solid(
         let p = mesh.position(v);
         [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]
     };
-    for tris in components.iter().filter(|_| check_touching) {
-        let mut order: Vec<u32> = tris.iter().flat_map(|&t| triangles[t as usize]).collect();
-        order.sort_unstable();
-        order.dedup();
-        order.sort_unstable_by_key(|&v| key(v));
-        if let Some(w) = order.windows(2).find(|w| key(w[0]) == key(w[1])) {
-            let p = mesh.position(w[0]);
-            return Err(CsgError::NonManifold {
-                side,
-                leaf,
-                reason: format!(
-                    "vertices {} and {} are both at ({}, {}, {}): the surface touches itself there",
-                    w[0].min(w[1]),
-                    w[0].max(w[1]),
-                    p.x,
-                    p.y,
-                    p.z
-                ),
-            });
+    if !check_touching {
+        return Ok(());
+    }
+    // Each component's vertices by position, in the order its triangles first use them: the
+    // first vertex found at a position another one holds touches it. Linear, and stoppable.
+    let mut seen_in = vec![usize::MAX; mesh.vertex_count()];
+    let mut at: HashMap<[u64; 3], u32> = HashMap::new();
+    for (c, tris) in components.iter().enumerate() {
+        at.clear();
+        for (i, &t) in tris.iter().enumerate() {
+            crate::limits::poll_at(i)?;
+            for v in triangles[t as usize] {
+                if std::mem::replace(&mut seen_in[v as usize], c) == c {
+                    continue;
+                }
+                if let Some(&w) = at.get(&key(v)) {
+                    let p = mesh.position(v);
+                    return Err(CsgError::NonManifold {
+                        side,
+                        leaf,
+                        reason: format!(
+                            "vertices {} and {} are both at ({}, {}, {}): the surface touches itself there",
+                            v.min(w),
+                            v.max(w),
+                            p.x,
+                            p.y,
+                            p.z
+                        ),
+                    });
+                }
+                at.insert(key(v), v);
+            }
         }
     }
     Ok(())

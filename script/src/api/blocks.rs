@@ -297,7 +297,7 @@ fn mesh_model(ctx: &NativeCallContext, m: &mut BlockModel, options: Map) -> Scri
         run.warnings.push(ctx, format!("mesh: {}", miss_message(&miss)));
     }
     // The control mesh goes with the surface, for the studio to draw over it.
-    Ok(SharedMesh::with_control(t.mesh, std::rc::Rc::new(t.control)))
+    Ok(SharedMesh::with_control(t.mesh, std::sync::Arc::new(t.control)))
 }
 
 #[export_module]

@@ -74,7 +74,8 @@ const SUBTRACT_DOC: &str = r#"/// `a - b`: `a` with `b` cut away, as `subtract(a
 /// One operand as a CSG leaf, or an error naming the function and the side.
 fn operand(func: &str, side: &str, v: Dynamic, options: MeshOptions) -> ScriptResult<Csg> {
     if let Some(m) = v.clone().try_cast::<SharedMesh>() {
-        return Ok(Csg::Mesh(m.0.as_ref().clone().into()));
+        // The leaf shares the mesh: no copy of a large operand before the boolean starts.
+        return Ok(Csg::Mesh(std::sync::Arc::clone(&m.0)));
     }
     if let Some(b) = v.clone().try_cast::<BlockModel>() {
         return Ok(Csg::blocks(b.kernel_model().clone(), options));
@@ -115,7 +116,7 @@ fn boolean(func: &'static str, a: Dynamic, b: Dynamic, options: Map) -> ScriptRe
     if let Some(p) = spinner {
         p.finish_and_clear();
     }
-    kernel(func, result).map(|r| SharedMesh(std::rc::Rc::new(r), control))
+    kernel(func, result).map(|r| SharedMesh(std::sync::Arc::new(r), control))
 }
 
 fn source_map(s: &FaceSource) -> Map {

@@ -1,6 +1,6 @@
 //! `Mesh`: primitives, measures, transforms, triangulation and crease tags.
 
-use std::rc::Rc;
+use std::sync::Arc;
 
 use blocksmith_kernel::math::fmt_num;
 use blocksmith_kernel::subdiv::SHARPNESS_INFINITE;
@@ -20,24 +20,24 @@ use crate::convert::{
 /// triangulating keeps it, a boolean or `combine` keeps its operands' (see [`SharedMesh::controls`]);
 /// other operations that make a new mesh from it drop it.
 #[derive(Clone, Debug)]
-pub struct SharedMesh(pub Rc<Mesh>, pub Option<Rc<Mesh>>);
+pub struct SharedMesh(pub Arc<Mesh>, pub Option<Arc<Mesh>>);
 
 impl SharedMesh {
     /// Wraps a kernel mesh.
     #[must_use]
     pub fn new(mesh: Mesh) -> SharedMesh {
-        SharedMesh(Rc::new(mesh), None)
+        SharedMesh(Arc::new(mesh), None)
     }
 
     /// Wraps `mesh`, a surface made from the control mesh `control`.
     #[must_use]
-    pub fn with_control(mesh: Mesh, control: Rc<Mesh>) -> SharedMesh {
-        SharedMesh(Rc::new(mesh), Some(control))
+    pub fn with_control(mesh: Mesh, control: Arc<Mesh>) -> SharedMesh {
+        SharedMesh(Arc::new(mesh), Some(control))
     }
 
     /// The control mesh of a surface made from this mesh: this mesh's own, else this mesh.
     #[must_use]
-    pub fn control_for_derived(&self) -> Rc<Mesh> {
+    pub fn control_for_derived(&self) -> Arc<Mesh> {
         self.1.clone().unwrap_or_else(|| self.0.clone())
     }
 
@@ -45,18 +45,18 @@ impl SharedMesh {
     /// its control mesh, if any, moved the same way.
     #[must_use]
     pub fn moved(&self, mesh: Mesh, f: impl Fn(&Mesh) -> Mesh) -> SharedMesh {
-        SharedMesh(Rc::new(mesh), self.1.as_ref().map(|c| Rc::new(f(c))))
+        SharedMesh(Arc::new(mesh), self.1.as_ref().map(|c| Arc::new(f(c))))
     }
 
     /// The control meshes of `parts` that have one, side by side in one mesh (what a boolean or
     /// a combination of them shows over its surface); `None` when no part has one.
     #[must_use]
-    pub fn controls<'a>(parts: impl IntoIterator<Item = &'a SharedMesh>) -> Option<Rc<Mesh>> {
-        let controls: Vec<&Rc<Mesh>> = parts.into_iter().filter_map(|p| p.1.as_ref()).collect();
+    pub fn controls<'a>(parts: impl IntoIterator<Item = &'a SharedMesh>) -> Option<Arc<Mesh>> {
+        let controls: Vec<&Arc<Mesh>> = parts.into_iter().filter_map(|p| p.1.as_ref()).collect();
         match controls.as_slice() {
             [] => None,
-            [one] => Some(Rc::clone(one)),
-            many => Mesh::combine(&many.iter().map(|c| &***c).collect::<Vec<&Mesh>>()).ok().map(Rc::new),
+            [one] => Some(Arc::clone(one)),
+            many => Mesh::combine(&many.iter().map(|c| &***c).collect::<Vec<&Mesh>>()).ok().map(Arc::new),
         }
     }
 }
@@ -317,7 +317,7 @@ pub mod mesh_api {
             })
             .collect::<ScriptResult<Vec<_>>>()?;
         let refs: Vec<&Mesh> = parts.iter().map(|m| m.0.as_ref()).collect();
-        kernel("combine", Mesh::combine(&refs)).map(|c| SharedMesh(Rc::new(c), SharedMesh::controls(&parts)))
+        kernel("combine", Mesh::combine(&refs)).map(|c| SharedMesh(Arc::new(c), SharedMesh::controls(&parts)))
     }
 
     /// Number of vertices.
@@ -548,7 +548,7 @@ pub mod mesh_api {
     /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn triangulate(m: &mut SharedMesh) -> ScriptResult<SharedMesh> {
-        kernel("triangulate", m.0.triangulate()).map(|t| SharedMesh(Rc::new(t), m.1.clone()))
+        kernel("triangulate", m.0.triangulate()).map(|t| SharedMesh(Arc::new(t), m.1.clone()))
     }
 
     /// Tags edges as infinitely sharp creases for subdivision; `edges` is an array of `[a, b]`
@@ -567,7 +567,7 @@ pub mod mesh_api {
         }
         let mut copy = (*m.0).clone();
         kernel("crease", copy.crease_edges(&pairs))?;
-        m.0 = Rc::new(copy);
+        m.0 = Arc::new(copy);
         Ok(())
     }
     /// Sets the crease sharpness of edges for subdivision (semi-sharp creases, DeRose, Kass &
@@ -594,7 +594,7 @@ pub mod mesh_api {
         }
         let mut copy = (*m.0).clone();
         kernel("crease", copy.crease_edges_sharpness(&pairs, s))?;
-        m.0 = Rc::new(copy);
+        m.0 = Arc::new(copy);
         Ok(())
     }
     /// The crease sharpness of the edge joining vertices `a` and `b`: 0 for a smooth edge, the
@@ -658,7 +658,7 @@ pub mod mesh_api {
         if let Some((i, v)) = vs.iter().enumerate().find(|(_, &v)| v as usize >= n) {
             return fail("corner", format!("argument `verts[{i}]`: vertex {v} does not exist (the mesh has {n})"));
         }
-        let copy = Rc::make_mut(&mut m.0);
+        let copy = Arc::make_mut(&mut m.0);
         for v in vs {
             copy.set_corner_sharpness(v, s);
         }
@@ -702,7 +702,7 @@ pub mod mesh_api {
             "smooth" => T::Smooth,
             x => return fail(f, format!("option `triangles` must be \"catmull_clark\" or \"smooth\", got {x:?}")),
         };
-        Rc::make_mut(&mut m.0).set_subdiv_options(o);
+        Arc::make_mut(&mut m.0).set_subdiv_options(o);
         Ok(())
     }
     /// Tags every edge as a crease.
@@ -713,7 +713,7 @@ pub mod mesh_api {
     /// assert_eq(m.crease_count(), 12);
     /// ```
     pub fn crease_all(m: &mut SharedMesh) {
-        Rc::make_mut(&mut m.0).crease_all();
+        Arc::make_mut(&mut m.0).crease_all();
     }
     /// Number of edges tagged as creases.
     ///

@@ -1,8 +1,6 @@
 //! `Solver`: Shape-Up constraints on a mesh's vertices (Tsoi & Hui §4, after Bouaziz et al.;
 //! kernel `solve`), and `fit_cylinder` (§5).
 
-use std::rc::Rc;
-
 use blocksmith_kernel::solve::{
     fit_cylinder as kernel_fit_cylinder, retain_circular_features as kernel_retain, RadiusRule, RetainOptions, ShapeUp,
 };
@@ -17,7 +15,7 @@ use crate::convert::{fail, ids, kernel, number, vec3, Number, Options, ScriptRes
 /// the energies of its last solve.
 #[derive(Clone)]
 pub struct Solver {
-    mesh: Rc<blocksmith_kernel::Mesh>,
+    mesh: std::sync::Arc<blocksmith_kernel::Mesh>,
     system: ShapeUp,
     energies: Vec<f64>,
 }

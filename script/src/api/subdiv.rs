@@ -3,7 +3,8 @@
 //! `crease` / `crease_all` and corners with `mesh(…, #{corners})` (see `api/mesh.rs`).
 
 use std::cell::RefCell;
-use std::rc::{Rc, Weak};
+use std::rc::Rc;
+use std::sync::{Arc, Weak};
 
 use blocksmith_kernel::subdiv::{LimitEvaluator, LimitSample};
 use blocksmith_kernel::{Mesh, Vec3};
@@ -37,13 +38,13 @@ thread_local! {
 
 fn evaluator(m: &SharedMesh) -> ScriptResult<Rc<LimitEvaluator>> {
     let cached = EVALUATOR.with(|c| {
-        c.borrow().as_ref().and_then(|(w, ev)| w.upgrade().filter(|mm| Rc::ptr_eq(mm, &m.0)).map(|_| ev.clone()))
+        c.borrow().as_ref().and_then(|(w, ev)| w.upgrade().filter(|mm| Arc::ptr_eq(mm, &m.0)).map(|_| ev.clone()))
     });
     if let Some(ev) = cached {
         return Ok(ev);
     }
     let ev = Rc::new(kernel("limit_eval", LimitEvaluator::new(&m.0))?);
-    EVALUATOR.with(|c| *c.borrow_mut() = Some((Rc::downgrade(&m.0), ev.clone())));
+    EVALUATOR.with(|c| *c.borrow_mut() = Some((Arc::downgrade(&m.0), ev.clone())));
     Ok(ev)
 }
 

@@ -6,8 +6,8 @@
 //! ([`Layer::drawn`]), its colours as the page shows them.
 
 use std::path::{Path, PathBuf};
-use std::rc::Rc;
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use blocksmith_kernel::io::{self, gltf::write_glb};
@@ -143,7 +143,7 @@ impl Layer {
 /// one else holds it) or a `PolarMesh` (with its feature colours); the value back otherwise.
 fn own_mesh(value: Dynamic) -> Result<Mesh, Dynamic> {
     match value.try_cast_result::<SharedMesh>() {
-        Ok(m) => Ok(Rc::try_unwrap(m.0).unwrap_or_else(|shared| (*shared).clone())),
+        Ok(m) => Ok(Arc::try_unwrap(m.0).unwrap_or_else(|shared| (*shared).clone())),
         Err(value) => match value.try_cast_result::<PolarMesh>() {
             Ok(p) => Ok(p.0.to_colored_mesh()),
             Err(value) => Err(value),
@@ -157,10 +157,10 @@ fn own_mesh(value: Dynamic) -> Result<Mesh, Dynamic> {
 /// any other value.
 #[must_use]
 pub fn control_lines(value: &Dynamic) -> Option<Vec<f32>> {
-    let control: Rc<Mesh> = if let Some(m) = value.read_lock::<SharedMesh>() {
+    let control: Arc<Mesh> = if let Some(m) = value.read_lock::<SharedMesh>() {
         m.1.clone()?
     } else if let Some(p) = value.read_lock::<PolarMesh>() {
-        Rc::new(p.0.to_mesh())
+        Arc::new(p.0.to_mesh())
     } else {
         return None;
     };

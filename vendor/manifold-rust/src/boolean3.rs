@@ -610,6 +610,24 @@ pub fn boolean_dispatch_full(
     token: Option<&CancelToken>,
     progress: Option<&crate::progress::ProgressReporter>,
 ) -> ManifoldImpl {
+    // blocksmith patch (PATCHES.md, 7): the boolean runs as a cancellable
+    // operation, so the checkpoints inside its long stages can end it.
+    crate::cancel::cancellable(token, || {
+        boolean_dispatch_scoped(mesh_a, mesh_b, op, engine, rule, token, progress)
+    })
+    .unwrap_or_else(cancelled_impl)
+}
+
+/// The body of [`boolean_dispatch_full`], inside its cancellation scope.
+fn boolean_dispatch_scoped(
+    mesh_a: &ManifoldImpl,
+    mesh_b: &ManifoldImpl,
+    op: OpType,
+    engine: crate::types::BooleanEngine,
+    rule: crate::types::WindingRule,
+    token: Option<&CancelToken>,
+    progress: Option<&crate::progress::ProgressReporter>,
+) -> ManifoldImpl {
     use crate::types::BooleanEngine as E;
     use crate::types::WindingRule;
     let resolved = match engine {

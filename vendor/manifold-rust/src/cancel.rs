@@ -179,6 +179,101 @@ pub fn is_cancelled(token: Option<&CancelToken>) -> bool {
     }
 }
 
+// blocksmith patch (PATCHES.md, 7): cancellation inside a stage. The checks
+// above sit between stages, so a cancel landing early in a long stage (an
+// import's half-edge build of a million triangles, the final sort) waited for
+// the stage to end: up to half a second. `cancellable` runs an operation with
+// its token as the calling thread's scope; `checkpoint` (called every few
+// thousand items in the long sequential loops of those stages) sees the
+// scope's token cancelled and unwinds, without the panic hook, straight back
+// to `cancellable`, which reports `None`. Nothing after a checkpoint runs on
+// half-built data: the unwind leaves the stage at once and drops what it
+// built, and the inputs are borrowed, unchanged. Parallel sections run with
+// no scope (`outside`), so a task stolen by a waiting thread never sees the
+// token of the operation that thread was running; the section's own items
+// read the token they were handed (`scope`) and are skipped once it is
+// cancelled, and the section then unwinds on its calling thread. Without a
+// scope (every caller that passes no token) a checkpoint is a thread-local
+// read and a parallel section runs as before.
+
+/// The payload of a checkpoint's unwind.
+struct Unwound;
+
+std::thread_local! {
+    /// The token of the cancellable operation running on this thread, if any.
+    static SCOPE: std::cell::RefCell<Option<CancelToken>> = const { std::cell::RefCell::new(None) };
+}
+
+/// Sets [`SCOPE`] and puts the previous value back when dropped (unwinding too).
+struct ScopeGuard(Option<CancelToken>);
+
+impl ScopeGuard {
+    fn enter(token: Option<CancelToken>) -> ScopeGuard {
+        ScopeGuard(SCOPE.with(|s| s.replace(token)))
+    }
+}
+
+impl Drop for ScopeGuard {
+    fn drop(&mut self) {
+        let previous = self.0.take();
+        SCOPE.with(|s| *s.borrow_mut() = previous);
+    }
+}
+
+/// Runs `f` with `token` as this thread's scope: a [`checkpoint`] inside `f`
+/// that sees the token cancelled ends `f` at once, and this returns `None`.
+/// Other panics pass through unchanged. `None` for `token` runs `f` as it is.
+pub(crate) fn cancellable<R>(token: Option<&CancelToken>, f: impl FnOnce() -> R) -> Option<R> {
+    let Some(token) = token else {
+        return Some(f());
+    };
+    let _scope = ScopeGuard::enter(Some(token.clone()));
+    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)) {
+        Ok(r) => Some(r),
+        Err(payload) if payload.is::<Unwound>() => None,
+        Err(payload) => std::panic::resume_unwind(payload),
+    }
+}
+
+/// Ends the running [`cancellable`] operation when its token is cancelled.
+#[inline]
+pub(crate) fn checkpoint() {
+    let cancelled = SCOPE.with(|s| s.borrow().as_ref().is_some_and(CancelToken::is_cancelled));
+    if cancelled {
+        unwind();
+    }
+}
+
+/// [`checkpoint`] every [`CHECKPOINT_EVERY`] items of a loop (at `i` = 0,
+/// 16,384, ...): a fraction of a millisecond of work between two.
+#[inline]
+pub(crate) fn checkpoint_at(i: usize) {
+    if i % CHECKPOINT_EVERY == 0 {
+        checkpoint();
+    }
+}
+
+/// Items of a long loop between two checkpoints.
+pub(crate) const CHECKPOINT_EVERY: usize = 1 << 14;
+
+/// Runs `f` with no scope on this thread (for parallel sections: see above).
+pub(crate) fn outside<R>(f: impl FnOnce() -> R) -> R {
+    let _scope = ScopeGuard::enter(None);
+    f()
+}
+
+/// The token of this thread's scope, for a parallel section to read on its
+/// workers: they skip their items once it is cancelled, and the section ends
+/// with [`unwind`] (see `par.rs`).
+pub(crate) fn scope() -> Option<CancelToken> {
+    SCOPE.with(|s| s.borrow().clone())
+}
+
+/// Ends the running [`cancellable`] operation (its token was seen cancelled).
+pub(crate) fn unwind() -> ! {
+    std::panic::resume_unwind(Box::new(Unwound))
+}
+
 #[cfg(test)]
 #[path = "cancel_tests.rs"]
 mod tests;

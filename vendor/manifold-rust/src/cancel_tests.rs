@@ -425,3 +425,62 @@ fn add_new_edge_verts_stops_at_a_cancelled_token() {
         );
     }
 }
+
+// blocksmith patch (PATCHES.md, 7): cancellation inside a stage.
+
+#[test]
+fn a_checkpoint_ends_its_cancellable_operation_and_nothing_else() {
+    use super::{cancellable, checkpoint, outside, scope};
+    let live = CancelToken::new();
+    assert_eq!(cancellable(Some(&live), || { checkpoint(); 1 }), Some(1));
+    assert_eq!(cancellable(None, || { checkpoint(); 2 }), Some(2));
+    let dead = CancelToken::new();
+    dead.cancel();
+    let mut after = false;
+    assert_eq!(cancellable(Some(&dead), || { checkpoint(); after = true; 3 }), None);
+    assert!(!after, "nothing after the checkpoint ran");
+    assert!(scope().is_none(), "the scope is put back after an unwind");
+    // A parallel section hides the scope; the checkpoint after it ends the operation.
+    let mut inside = 0;
+    assert_eq!(cancellable(Some(&dead), || { inside = outside(|| { checkpoint(); 4 }); checkpoint(); 5 }), None);
+    assert_eq!(inside, 4);
+    // A scope nested in another's is its own: the outer one goes on.
+    assert_eq!(cancellable(Some(&live), || cancellable(Some(&dead), || { checkpoint(); 6 }).unwrap_or(7)), Some(7));
+    // Other panics pass through.
+    let other = std::panic::catch_unwind(|| cancellable(Some(&dead), || -> i32 { panic!("not a cancel") }));
+    assert!(other.is_err());
+}
+
+#[test]
+fn a_parallel_section_skips_its_items_and_unwinds_once_cancelled() {
+    use super::cancellable;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let dead = CancelToken::new();
+    dead.cancel();
+    let ran = AtomicUsize::new(0);
+    let f = |i: usize| {
+        ran.fetch_add(1, Ordering::Relaxed);
+        i
+    };
+    assert_eq!(cancellable(Some(&dead), || crate::par::maybe_par_map(100_000, 1, f)), None);
+    assert_eq!(cancellable(Some(&dead), || crate::par::maybe_par_filter(100_000, 1, |i| f(i) % 2 == 0)), None);
+    assert_eq!(ran.load(Ordering::Relaxed), 0);
+    let live = CancelToken::new();
+    let squares = cancellable(Some(&live), || crate::par::maybe_par_map(100_000, 1, |i| i * i)).unwrap();
+    assert_eq!(squares[99_999], 99_999 * 99_999);
+}
+
+#[test]
+fn an_import_cancelled_inside_its_first_stage_returns_cancelled_and_uncancelled_is_unchanged() {
+    // The polls counted from the import's start: with checkpoints inside its stages the
+    // import sees a cancel many times before its first stage ends.
+    let mesh = Manifold::sphere(1.0, 256).get_mesh_gl64(-1);
+    let whole = Manifold::from_mesh_glp_with_token(&mesh, Some(&CancelToken::new()));
+    assert_eq!(whole.status(), Error::NoError);
+    assert_eq!(whole.num_tri(), Manifold::from_mesh_glp(&mesh).num_tri());
+    for polls in [2, 5, 20] {
+        let token = CancelToken::cancel_after_polls(polls);
+        let m = Manifold::from_mesh_glp_with_token(&mesh, Some(&token));
+        assert_eq!(m.status(), Error::Cancelled, "cancel at poll {}", polls + 1);
+    }
+}

@@ -205,6 +205,8 @@ impl Collider {
             [child1, child2]
         });
         for (internal, &[child1, child2]) in children.iter().enumerate() {
+            // blocksmith patch (PATCHES.md, 7): a cancel ends a long build here.
+            crate::cancel::checkpoint_at(internal);
             self.internal_children[internal] = [child1, child2];
             let node = internal_to_node(internal as i32);
             self.node_parent[child1 as usize] = node;
@@ -223,6 +225,7 @@ impl Collider {
         let mut counter = vec![0u32; num_internal];
 
         for leaf in 0..num_leaves {
+            crate::cancel::checkpoint_at(leaf); // blocksmith patch (PATCHES.md, 7)
             let mut node = leaf_to_node(leaf as i32);
             loop {
                 let parent = self.node_parent[node as usize];

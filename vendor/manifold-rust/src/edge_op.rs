@@ -540,7 +540,8 @@ fn split_pinched_verts_with_owners(mesh: &mut ManifoldImpl) -> Option<Vec<usize>
     if let Some(owners) = orbit_owners(&mesh.halfedge, ORBIT_PAR_THRESHOLD, |h| h.start_vert >= 0) {
         let mut vert_processed = vec![false; mesh.vert_pos.len()];
         let mut split_any = false;
-        for &i in &owners {
+        for (k, &i) in owners.iter().enumerate() {
+            crate::cancel::checkpoint_at(k); // blocksmith patch (PATCHES.md, 7)
             let vert = mesh.halfedge[i].start_vert as usize;
             if vert_processed.get(vert) != Some(&true) {
                 if vert < vert_processed.len() {
@@ -572,6 +573,7 @@ fn split_pinched_verts_with_owners(mesh: &mut ManifoldImpl) -> Option<Vec<usize>
 
     let mut i = 0;
     while i < n_edges {
+        crate::cancel::checkpoint_at(i); // blocksmith patch (PATCHES.md, 7)
         if halfedge_processed[i] {
             i += 1;
             continue;
@@ -856,6 +858,8 @@ fn dedupe_edges_from(mesh: &mut ManifoldImpl, mut split_owners: Option<Vec<usize
                 let mut processed = vec![false; n_edges];
                 let mut duplicates: Vec<usize> = Vec::new();
                 for i in 0..n_edges {
+                    // blocksmith patch (PATCHES.md, 7).
+                    crate::cancel::checkpoint_at(i);
                     if processed[i] {
                         continue;
                     }
@@ -992,7 +996,8 @@ pub fn collapse_short_edges(mesh: &mut ManifoldImpl, first_new_vert: i32) {
         len_sq < max_len
     });
 
-    for &i in &flagged {
+    for (k, &i) in flagged.iter().enumerate() {
+        crate::cancel::checkpoint_at(k); // blocksmith patch (PATCHES.md, 7)
         scratch.clear();
         collapse_edge(mesh, i, &mut scratch, tol, first_new_vert);
     }
@@ -1071,7 +1076,8 @@ pub fn collapse_colinear_edges(mesh: &mut ManifoldImpl, first_new_vert: i32) {
             break;
         }
         let mut num_collapsed = 0;
-        for &i in &flagged {
+        for (k, &i) in flagged.iter().enumerate() {
+        crate::cancel::checkpoint_at(k); // blocksmith patch (PATCHES.md, 7)
             scratch.clear();
             if collapse_edge(mesh, i, &mut scratch, -1.0, 0) {
                 num_collapsed += 1;
@@ -1145,7 +1151,8 @@ pub fn swap_degenerates(mesh: &mut ManifoldImpl, first_new_vert: i32) {
     let mut scratch: Vec<usize> = Vec::new();
     let mut tag = 0i32;
 
-    for &i in &flagged {
+    for (k, &i) in flagged.iter().enumerate() {
+        crate::cancel::checkpoint_at(k); // blocksmith patch (PATCHES.md, 7)
         tag += 1;
         recursive_edge_swap(
             mesh,

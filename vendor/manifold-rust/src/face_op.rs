@@ -98,6 +98,8 @@ pub fn set_face_normals_and_coplanar(mesh: &mut ManifoldImpl) {
     // Compute face normals and priorities (sort largest faces first)
     let mut tri_priority: Vec<TriPriority> = (0..num_tri)
         .map(|tri| {
+            // blocksmith patch (PATCHES.md, 7): a cancel ends a long pass here.
+            crate::cancel::checkpoint_at(tri);
             // Mark coplanarID as unset
             if tri < mesh.mesh_relation.tri_ref.len() {
                 mesh.mesh_relation.tri_ref[tri].coplanar_id = -1;
@@ -141,7 +143,8 @@ pub fn set_face_normals_and_coplanar(mesh: &mut ManifoldImpl) {
 
     // Flood-fill coplanar groups from each unassigned face
     let mut interior_halfedges: Vec<usize> = Vec::new();
-    for tp in &tri_priority {
+    for (i, tp) in tri_priority.iter().enumerate() {
+        crate::cancel::checkpoint_at(i);
         let tri = tp.tri;
         if tri >= mesh.mesh_relation.tri_ref.len() {
             continue;
@@ -215,6 +218,8 @@ pub fn calculate_vert_normals(mesh: &mut ManifoldImpl) {
     // For each vertex, find the first halfedge that starts there
     let mut vert_first_edge = vec![i32::MAX; num_vert];
     for (i, edge) in mesh.halfedge.iter().enumerate() {
+        // blocksmith patch (PATCHES.md, 7).
+        crate::cancel::checkpoint_at(i);
         let sv = edge.start_vert;
         if sv >= 0 && (sv as usize) < num_vert {
             let sv = sv as usize;
@@ -478,6 +483,8 @@ pub fn reorder_halfedges(mesh: &mut ManifoldImpl) {
 
     // Step 1: rotate each triangle so smallest start_vert is first
     for tri in 0..num_tri {
+        // blocksmith patch (PATCHES.md, 7).
+        crate::cancel::checkpoint_at(tri);
         let base = tri * 3;
         let face = [
             mesh.halfedge[base],
@@ -500,6 +507,7 @@ pub fn reorder_halfedges(mesh: &mut ManifoldImpl) {
 
     // Step 2: fix paired_halfedge references
     for tri in 0..num_tri {
+        crate::cancel::checkpoint_at(tri);
         for i in 0..3 {
             let base = tri * 3 + i;
             let curr = mesh.halfedge[base];

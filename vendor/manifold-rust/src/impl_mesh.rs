@@ -370,6 +370,8 @@ impl ManifoldImpl {
         let (fwd_shift, min_shift) = if min_id < 0 { (63, 32) } else { (2 * id_bits, id_bits) };
 
         for tri in 0..num_tri {
+            // blocksmith patch (PATCHES.md, 7): a cancel ends a long build here.
+            crate::cancel::checkpoint_at(tri);
             for i in 0usize..3 {
                 let j = next3(i);
                 let e = 3 * tri + i;
@@ -414,6 +416,7 @@ impl ManifoldImpl {
         let mut consecutive_start = 0usize;
 
         for i in 0..num_edge {
+            crate::cancel::checkpoint_at(i);
             let pair0 = ids[i];
             let h0_sv = self.halfedge[pair0].start_vert;
             let h0_ev = self.halfedge[pair0].end_vert;
@@ -464,6 +467,7 @@ impl ManifoldImpl {
 
         // Final pairing pass
         for i in 0..num_edge {
+            crate::cancel::checkpoint_at(i);
             let pair0 = ids[i];
             let pair1 = ids[i + num_edge];
             if self.halfedge[pair0].paired_halfedge != K_REMOVED_HALFEDGE {

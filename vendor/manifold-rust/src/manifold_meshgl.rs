@@ -108,7 +108,12 @@ impl Manifold {
         mesh: &MeshGLP<P, I>,
         token: Option<&crate::cancel::CancelToken>,
     ) -> Self {
-        Self::from_mesh_impl(mesh, ImportMode::Strict, false, None, token)
+        // blocksmith patch (PATCHES.md, 7): and inside them, at the checkpoints
+        // of their long loops.
+        crate::cancel::cancellable(token, || {
+            Self::from_mesh_impl(mesh, ImportMode::Strict, false, None, token)
+        })
+        .unwrap_or_else(|| Self::make_empty(crate::types::Error::Cancelled))
     }
 
     /// Generic variant of [`Self::from_mesh_gl_robust`] /
@@ -210,7 +215,9 @@ impl Manifold {
         }
 
         // Check tri_verts are in bounds
-        for &v in &mesh.tri_verts {
+        for (i, &v) in mesh.tri_verts.iter().enumerate() {
+            // blocksmith patch (PATCHES.md, 7): a cancel ends a long import here.
+            crate::cancel::checkpoint_at(i);
             if v.to_u64() as u32 >= num_vert {
                 return Self::make_empty(crate::types::Error::VertexOutOfBounds);
             }
@@ -222,6 +229,7 @@ impl Manifold {
 
         imp.vert_pos = (0..mesh.num_vert())
             .map(|i| {
+                crate::cancel::checkpoint_at(i);
                 let p = mesh.get_vert_pos(i);
                 Vec3::new(p[0].to_f64(), p[1].to_f64(), p[2].to_f64())
             })
@@ -294,6 +302,7 @@ impl Manifold {
                 num_tri
             };
             for tri in run_start..run_end {
+                crate::cancel::checkpoint_at(tri);
                 if tri < all_tri_ref.len() {
                     all_tri_ref[tri].mesh_id = mesh_id;
                     all_tri_ref[tri].original_id = orig_id as i32;
@@ -354,6 +363,7 @@ impl Manifold {
         imp.mesh_relation.tri_ref.reserve(num_tri);
 
         for i in 0..num_tri {
+            crate::cancel::checkpoint_at(i);
             let t = mesh.get_tri_verts(i);
             // Indices truncate to u32 like the C++ import's uint32_t casts; the
             // bounds check above already ran on the truncated values.

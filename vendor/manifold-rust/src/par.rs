@@ -48,6 +48,13 @@
 // how many ran (see its doc). Shared with manifold-sharp's
 // `Par.MaybeParAnyCt` (its commit 1d9162c).
 
+// blocksmith patch (PATCHES.md, 7): every parallel section runs `outside` a
+// cancellation scope (see cancel.rs), so a task a waiting thread steals never
+// sees the scope of the operation that thread was running. The maps, filters
+// and for-eaches hand their items the scope's token instead: once it is
+// cancelled the remaining items are skipped, and the section unwinds on its
+// calling thread, so nothing reads the skipped items' results.
+
 /// Map `f` over `0..n`, in parallel when the `parallel` feature is enabled and
 /// `n >= threshold`. Results are returned in index order either way.
 #[cfg(feature = "parallel")]
@@ -58,7 +65,15 @@ where
 {
     use rayon::prelude::*;
     if n >= threshold {
-        (0..n).into_par_iter().map(f).collect()
+        match crate::cancel::scope() {
+            None => crate::cancel::outside(|| (0..n).into_par_iter().map(f).collect()),
+            Some(t) => {
+                let done: Option<Vec<T>> = crate::cancel::outside(|| {
+                    (0..n).into_par_iter().map(|i| (!t.is_cancelled()).then(|| f(i))).collect()
+                });
+                done.unwrap_or_else(|| crate::cancel::unwind())
+            }
+        }
     } else {
         (0..n).map(f).collect()
     }
@@ -84,7 +99,13 @@ where
 {
     use rayon::prelude::*;
     if n >= threshold {
-        (0..n).into_par_iter().filter(|&i| pred(i)).collect()
+        let scope = crate::cancel::scope();
+        let cancelled = || scope.as_ref().is_some_and(|t| t.is_cancelled());
+        let kept = crate::cancel::outside(|| (0..n).into_par_iter().filter(|&i| !cancelled() && pred(i)).collect());
+        if cancelled() {
+            crate::cancel::unwind();
+        }
+        kept
     } else {
         (0..n).filter(|&i| pred(i)).collect()
     }
@@ -111,7 +132,7 @@ where
 {
     use rayon::prelude::*;
     if v.len() >= threshold {
-        v.par_sort_by_key(key);
+        crate::cancel::outside(|| v.par_sort_by_key(key));
     } else {
         v.sort_by_key(key);
     }
@@ -137,7 +158,18 @@ where
 {
     use rayon::prelude::*;
     if items.len() >= threshold {
-        items.into_par_iter().for_each(f);
+        let scope = crate::cancel::scope();
+        let cancelled = || scope.as_ref().is_some_and(|t| t.is_cancelled());
+        crate::cancel::outside(|| {
+            items.into_par_iter().for_each(|x| {
+                if !cancelled() {
+                    f(x)
+                }
+            })
+        });
+        if cancelled() {
+            crate::cancel::unwind();
+        }
     } else {
         items.into_iter().for_each(f);
     }
@@ -163,7 +195,18 @@ where
 {
     use rayon::prelude::*;
     if v.len() >= threshold {
-        v.par_iter_mut().for_each(f);
+        let scope = crate::cancel::scope();
+        let cancelled = || scope.as_ref().is_some_and(|t| t.is_cancelled());
+        crate::cancel::outside(|| {
+            v.par_iter_mut().for_each(|x| {
+                if !cancelled() {
+                    f(x)
+                }
+            })
+        });
+        if cancelled() {
+            crate::cancel::unwind();
+        }
     } else {
         v.iter_mut().for_each(f);
     }
@@ -256,7 +299,7 @@ where
     // `None` in both rayon and std, so a cancel stops the remaining work
     // instead of merely skipping each element's body.
     if n >= threshold {
-        (0..n).into_par_iter().with_max_len(max_len).map(one).collect()
+        crate::cancel::outside(|| (0..n).into_par_iter().with_max_len(max_len).map(one).collect())
     } else {
         (0..n).map(one).collect()
     }
@@ -342,19 +385,21 @@ where
     }
     // Written only ever from false to true, so two racing hits are benign.
     let found = AtomicBool::new(false);
-    let stopped = (0..n)
-        .into_par_iter()
-        .try_for_each_init(local_init, |local, i| {
-            if token.is_some_and(|t| t.is_cancelled()) {
-                return Err(());
-            }
-            if predicate(i, local) {
-                found.store(true, Ordering::Relaxed);
-                return Err(());
-            }
-            Ok(())
-        })
-        .is_err();
+    let stopped = crate::cancel::outside(|| {
+        (0..n)
+            .into_par_iter()
+            .try_for_each_init(local_init, |local, i| {
+                if token.is_some_and(|t| t.is_cancelled()) {
+                    return Err(());
+                }
+                if predicate(i, local) {
+                    found.store(true, Ordering::Relaxed);
+                    return Err(());
+                }
+                Ok(())
+            })
+            .is_err()
+    });
     if found.load(Ordering::Relaxed) {
         Some(true)
     } else if stopped {

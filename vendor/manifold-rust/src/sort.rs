@@ -31,19 +31,31 @@ pub(crate) fn stable_order_by_code(codes: &[u32]) -> Vec<usize> {
 pub(crate) fn stable_order_by_key(n: usize, bits: u32, key: impl Fn(usize) -> u64) -> Vec<usize> {
     const DIGIT: u32 = 11;
     const BUCKETS: usize = 1 << DIGIT;
-    let mut order: Vec<usize> = (0..n).collect();
     if n < 64 {
+        let mut order: Vec<usize> = (0..n).collect();
         order.sort_by_key(|&i| key(i));
         return order;
     }
-    let keys: Vec<u64> = (0..n).map(&key).collect();
+    // blocksmith patch (PATCHES.md, 7): built a chunk at a time, a cancel seen between chunks.
+    let mut order: Vec<usize> = Vec::with_capacity(n);
+    let mut keys: Vec<u64> = Vec::with_capacity(n);
+    for start in (0..n).step_by(crate::cancel::CHECKPOINT_EVERY) {
+        crate::cancel::checkpoint();
+        let end = (start + crate::cancel::CHECKPOINT_EVERY).min(n);
+        order.extend(start..end);
+        keys.extend((start..end).map(&key));
+    }
     let mut next = vec![0usize; n];
     let mut count = vec![0usize; BUCKETS];
     for shift in (0..bits).step_by(DIGIT as usize) {
         let digit = |i: usize| ((keys[i] >> shift) as usize) & (BUCKETS - 1);
         count.iter_mut().for_each(|c| *c = 0);
-        for &i in &order {
-            count[digit(i)] += 1;
+        // blocksmith patch (PATCHES.md, 7): a cancel ends a long sort between chunks.
+        for part in order.chunks(crate::cancel::CHECKPOINT_EVERY) {
+            crate::cancel::checkpoint();
+            for &i in part {
+                count[digit(i)] += 1;
+            }
         }
         if count.iter().any(|&c| c == n) {
             continue;
@@ -54,10 +66,13 @@ pub(crate) fn stable_order_by_key(n: usize, bits: u32, key: impl Fn(usize) -> u6
             *c = start;
             start += k;
         }
-        for &i in &order {
-            let d = digit(i);
-            next[count[d]] = i;
-            count[d] += 1;
+        for part in order.chunks(crate::cancel::CHECKPOINT_EVERY) {
+            crate::cancel::checkpoint();
+            for &i in part {
+                let d = digit(i);
+                next[count[d]] = i;
+                count[d] += 1;
+            }
         }
         std::mem::swap(&mut order, &mut next);
     }
