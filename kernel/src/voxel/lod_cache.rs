@@ -197,6 +197,23 @@ mod tests {
     use std::f64::consts::PI;
 
     #[test]
+    fn a_stop_lands_in_the_assembly_of_a_cached_surface() {
+        use crate::limits::{install, CancelToken, LimitError, StopReason};
+        use std::sync::atomic::AtomicBool;
+        use std::sync::Arc;
+        let mut v = Voxels::new(64).unwrap();
+        v.fill_sphere(Vec3::splat(32.0), 20.0).unwrap();
+        let first = v.to_mesh(0, DEFAULT_ISO).unwrap();
+        {
+            // Nothing changed: no block is re-meshed, so only the assembly can see the stop.
+            let _g = install(CancelToken::with(Some(Arc::new(AtomicBool::new(true))), None, None));
+            let e = v.to_mesh(0, DEFAULT_ISO).unwrap_err();
+            assert_eq!(e, VoxelError::Limit(LimitError::Stopped(StopReason::Interrupted)));
+        }
+        assert_eq!(v.to_mesh(0, DEFAULT_ISO).unwrap().positions(), first.positions());
+    }
+
+    #[test]
     fn sphere_surface_is_closed_manifold_genus_zero_with_the_right_volume() {
         // Partial coverage puts the 127.5 iso-surface within a fraction of a voxel of the sphere,
         // so the enclosed volume is 4/3 π r³ to within about 1%.

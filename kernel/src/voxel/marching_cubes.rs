@@ -10,7 +10,7 @@
 //! for why it is closed and manifold).
 
 use super::mc_table::{table, EDGES};
-use super::{map_range, map_range_checked, VoxelError};
+use super::{map_range_checked, map_range_polled, VoxelError};
 use crate::math::Vec3;
 use crate::mesh::Mesh;
 
@@ -129,6 +129,8 @@ pub(super) fn mesh_block(img: Image<'_>, iso: f64, b: [usize; 3]) -> Vec<u16> {
 /// own corners and those of its 7 lower neighbours, sorts them, and numbers them after the
 /// vertices of the blocks before it; a corner is then found by binary search in its owner's
 /// short list. Vertex numbers depend only on the triangles, not on how blocks were scheduled.
+/// Every pass reads the current cancellation token before each block, and the mesh build
+/// charges it: a stop ends the assembly with [`VoxelError::Limit`].
 pub(super) fn assemble(
     img: Image<'_>,
     iso: f64,
@@ -147,7 +149,7 @@ pub(super) fn assemble(
         triangles,
     )?;
     // Each corner as (which of the 8 blocks at or above its block owns it, its key there).
-    let refs: Vec<Vec<(u8, u16)>> = map_range(parallel, count, |b| {
+    let refs: Vec<Vec<(u8, u16)>> = map_range_polled(parallel, count, |b| {
         blocks[b]
             .iter()
             .map(|&k| {
@@ -158,9 +160,9 @@ pub(super) fn assemble(
                 (d, (((z * BS + y) * BS + x) * 3 + axis) as u16)
             })
             .collect()
-    });
+    })?;
     let step = |d: u8| usize::from(d & 1) + usize::from((d >> 1) & 1) * nb + usize::from(d >> 2) * nb * nb;
-    let owned: Vec<Vec<u16>> = map_range(parallel, count, |b| {
+    let owned: Vec<Vec<u16>> = map_range_polled(parallel, count, |b| {
         let (bx, by, bz) = (b % nb, (b / nb) % nb, b / (nb * nb));
         let mut keys = Vec::new();
         for d in 0..8u8 {
@@ -173,7 +175,7 @@ pub(super) fn assemble(
         keys.sort_unstable();
         keys.dedup();
         keys
-    });
+    })?;
     let mut base = Vec::with_capacity(count + 1);
     let mut total = 0u32;
     for o in &owned {
@@ -183,7 +185,7 @@ pub(super) fn assemble(
     if total == 0 {
         return Ok(Mesh::default());
     }
-    let indices: Vec<u32> = map_range(parallel, count, |b| {
+    let indices: Vec<u32> = map_range_polled(parallel, count, |b| {
         refs[b]
             .iter()
             .map(|&(d, k)| {
@@ -191,9 +193,9 @@ pub(super) fn assemble(
                 base[o] + owned[o].binary_search(&k).expect("every corner's edge is in its owner's list") as u32
             })
             .collect::<Vec<u32>>()
-    })
+    })?
     .concat();
-    let positions: Vec<Vec3> = map_range(parallel, count, |b| {
+    let positions: Vec<Vec3> = map_range_polled(parallel, count, |b| {
         let origin = [(b % nb) * BLOCK, ((b / nb) % nb) * BLOCK, (b / (nb * nb)) * BLOCK];
         owned[b]
             .iter()
@@ -209,11 +211,13 @@ pub(super) fn assemble(
                 map(pos)
             })
             .collect::<Vec<Vec3>>()
-    })
+    })?
     .concat();
     let arities = vec![3u32; indices.len() / 3];
-    Mesh::from_indexed(positions, &indices, &arities)
-        .map_err(|e| VoxelError::Internal(format!("marching cubes produced an invalid mesh: {e}")))
+    Mesh::from_indexed_stoppable(positions, &indices, &arities).map_err(|e| match e {
+        crate::mesh::MeshError::Limit(l) => VoxelError::Limit(l),
+        e => VoxelError::Internal(format!("marching cubes produced an invalid mesh: {e}")),
+    })
 }
 
 /// Marching cubes of a density image: the closed, manifold triangle mesh of

@@ -83,6 +83,22 @@ pub(crate) fn map_range_checked<R: Send + Default>(
     }
 }
 
+/// As [`map_range`], reading the calling thread's cancellation token before each item (on the
+/// workers too) without charging work: for passes whose work was charged already. Once it
+/// stops, the remaining items are skipped and the reason is returned instead of a partial result.
+pub(crate) fn map_range_polled<R: Send + Default>(
+    parallel: bool,
+    count: usize,
+    f: impl Fn(usize) -> R + Sync + Send,
+) -> Result<Vec<R>, crate::limits::LimitError> {
+    let token = crate::limits::current();
+    let out = map_range(parallel, count, |i| if token.stopped().is_none() { f(i) } else { R::default() });
+    match token.stopped() {
+        Some(reason) => Err(crate::limits::LimitError::Stopped(reason)),
+        None => Ok(out),
+    }
+}
+
 /// `f(i)` for `i` in `0..count`, collected in order, on rayon's pool when `parallel`.
 pub(crate) fn map_range<R: Send>(parallel: bool, count: usize, f: impl Fn(usize) -> R + Sync + Send) -> Vec<R> {
     if parallel {
