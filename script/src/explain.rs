@@ -10,13 +10,20 @@ use crate::param::{did_you_mean, edit_distance};
 /// multi-line explanation keeps its first line in place and its other lines at the end.
 #[must_use]
 pub fn explain(text: &str) -> String {
+    // The catalogue is a whole engine's functions, made on first use (a tenth of a second):
+    // only a message that names a function or property to explain needs it, so a stop
+    // (Ctrl-C, --timeout) or any other error is reported at once.
+    if ![NOT_FOUND, GETTER, SETTER].iter().any(|marker| text.contains(marker)) {
+        return text.to_string();
+    }
     explain_with(standard(), text)
 }
 
+const NOT_FOUND: &str = "Function not found: ";
+const GETTER: &str = "Unknown property '";
+const SETTER: &str = "No writable property '";
+
 fn explain_with(all: &[Overload], text: &str) -> String {
-    const NOT_FOUND: &str = "Function not found: ";
-    const GETTER: &str = "Unknown property '";
-    const SETTER: &str = "No writable property '";
     if let Some(i) = text.find(NOT_FOUND) {
         let rest = &text[i + NOT_FOUND.len()..];
         if let Some(close) = rest.find(')') {

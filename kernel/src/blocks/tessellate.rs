@@ -327,15 +327,24 @@ fn flatness(s: &Surface<'_>, f: u32, r: Rect, scale: f64, tol: f64) -> Result<(b
 /// The leaves of patch `f`'s kd-tree on a grid of `r` × `r` (Fig. 10), sorted.
 ///
 /// Each split charges the cancellation `token` (this runs on worker threads, which have no
-/// current token of their own); every 2^14 leaves, the mesh they would make is checked against
-/// the memory budget.
+/// current token of their own), and every [`SPLITS_PER_CLOCK`] splits its deadline is read: a
+/// split evaluates the limit surface at several points, so the charge's own clock reading
+/// (every 1,024 units) would come a tenth of a second apart. Every 2^14 leaves, the mesh they
+/// would make is checked against the memory budget.
 fn kd_leaves(s: &Surface<'_>, f: u32, r: u32, tol: f64, token: &CancelToken) -> Result<Vec<Rect>, BlockError> {
     let scale = f64::from(r);
     let mut out = Vec::new();
     let mut stack = vec![[0, 0, r, r]];
     let mut checked = 0;
+    let mut splits = 0usize;
     while let Some(rect) = stack.pop() {
         token.charge(1)?;
+        splits += 1;
+        if splits % SPLITS_PER_CLOCK == 0 {
+            if let Some(reason) = token.stopped() {
+                return Err(LimitError::Stopped(reason).into());
+            }
+        }
         if out.len() >> 14 != checked {
             checked = out.len() >> 14;
             check_leaves(out.len() as f64)?;
@@ -355,6 +364,9 @@ fn kd_leaves(s: &Surface<'_>, f: u32, r: u32, tol: f64, token: &CancelToken) -> 
     out.sort_unstable();
     Ok(out)
 }
+
+/// Splits of [`kd_leaves`] between two readings of the token's deadline (about a millisecond).
+const SPLITS_PER_CLOCK: usize = 64;
 
 /// Refuses `leaves` sub-patches when the triangle mesh they make (about two vertices and four
 /// triangles each, with the leaves themselves) is over the memory budget.

@@ -15,15 +15,29 @@ fn built(positions: Vec<Vec3>, faces: &[Vec<u32>]) -> Mesh {
     Mesh::from_polygons(positions, faces).expect("primitive construction is manifold by design")
 }
 
-/// [`built`], or when `stoppable` the same build charging the current cancellation token
-/// ([`Mesh::from_indexed_stoppable`]), whose only error is then a stop.
-fn built_with(positions: Vec<Vec3>, faces: &[Vec<u32>], stoppable: bool) -> Result<Mesh, MeshError> {
-    if !stoppable {
-        return Ok(built(positions, faces));
+/// Faces as one flat index list with their arities, as [`Mesh::from_indexed`] takes them: the
+/// large primitives write their faces straight into it (no vector per face to flatten).
+#[derive(Default)]
+struct FlatFaces {
+    indices: Vec<u32>,
+    arities: Vec<u32>,
+}
+
+impl FlatFaces {
+    fn with_capacity(faces: usize, corners: usize) -> FlatFaces {
+        FlatFaces { indices: Vec::with_capacity(corners), arities: Vec::with_capacity(faces) }
     }
-    let indices: Vec<u32> = faces.iter().flatten().copied().collect();
-    let arities: Vec<u32> = faces.iter().map(|f| f.len() as u32).collect();
-    indexed(positions, &indices, &arities, true)
+
+    fn push<const N: usize>(&mut self, face: [u32; N]) {
+        self.indices.extend_from_slice(&face);
+        self.arities.push(N as u32);
+    }
+
+    /// The mesh of these faces, built charging the current token when `stoppable` (else it
+    /// never fails: the primitives are constructed manifold).
+    fn build(self, positions: Vec<Vec3>, stoppable: bool) -> Result<Mesh, MeshError> {
+        indexed(positions, &self.indices, &self.arities, stoppable)
+    }
 }
 
 /// The mesh of a flat index list, built charging the current token when `stoppable`.
@@ -178,20 +192,21 @@ impl Mesh {
         positions.push(Vec3::new(0.0, 0.0, radius));
         let north = positions.len() as u32 - 1;
         let ring = |j: u32, i: u32| 1 + (j - 1) * s + i % s;
-        let mut faces = Vec::new();
+        let quads = (s * (r - 2)) as usize;
+        let mut faces = FlatFaces::with_capacity(quads + 2 * s as usize, 4 * quads + 6 * s as usize);
         for i in 0..s {
-            faces.push(vec![0, ring(1, i + 1), ring(1, i)]);
+            faces.push([0, ring(1, i + 1), ring(1, i)]);
         }
         for j in 1..r - 1 {
             poll_row(stoppable)?;
             for i in 0..s {
-                faces.push(vec![ring(j, i), ring(j, i + 1), ring(j + 1, i + 1), ring(j + 1, i)]);
+                faces.push([ring(j, i), ring(j, i + 1), ring(j + 1, i + 1), ring(j + 1, i)]);
             }
         }
         for i in 0..s {
-            faces.push(vec![ring(r - 1, i), ring(r - 1, i + 1), north]);
+            faces.push([ring(r - 1, i), ring(r - 1, i + 1), north]);
         }
-        built_with(positions, &faces, stoppable)
+        faces.build(positions, stoppable)
     }
 
     /// A closed cylinder of `radius` around the z axis from z = −height/2 to +height/2, with
@@ -241,14 +256,14 @@ impl Mesh {
             }
         }
         let id = |i: u32, j: u32| (i % n) * m + j % m;
-        let mut faces = Vec::with_capacity((n * m) as usize);
+        let mut faces = FlatFaces::with_capacity((n * m) as usize, 4 * (n * m) as usize);
         for i in 0..n {
             poll_row(stoppable)?;
             for j in 0..m {
-                faces.push(vec![id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
+                faces.push([id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)]);
             }
         }
-        built_with(positions, &faces, stoppable)
+        faces.build(positions, stoppable)
     }
 }
 
