@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """How soon `--timeout` stops long kernel work: for each operation, a recipe whose setup runs
 first and whose one long call the deadline lands in; prints the operation's whole time and how
-long after the deadline the process ended (the stop latency the README's Limits section promises
-to keep near 100 ms).
+long after the deadline the stop's message came and the process ended (the stop latency the
+README's Limits section promises).
 
     cargo build --release --bin blocksmith
     python3 tests/data/limits/stop_latency.py [path/to/blocksmith]
@@ -10,8 +10,8 @@ to keep near 100 ms).
 Each recipe is first run without a deadline (setup alone, then setup and the call, each cut at
 30 s) to time it; the deadline is then set 40 % into the call (1 s into a call cut at 30 s). Start-up is measured once with an empty recipe
 and taken off. Times are wall-clock seconds, best of two runs untimed and three with the deadline.
-A row "finished first" means the deadline fell in work after the call (freeing the result);
-run again for a figure.
+A deadline that falls in the setup (a busy machine) is moved later. A row "finished first" means
+the deadline fell in work after the call (freeing the result); run again for a figure.
 """
 
 import os
@@ -48,6 +48,10 @@ CASES = [
     ("polar skeleton, 3000 x 3000", "let p = polar_sphere(1, 3000, 3000);", "let s = p.skeleton();"),
     ("save .glb, 5.2M triangles", "let c = icosphere(1, 9);", "c.save(\"{dir}/big.glb\");"),
     ("save .stl, 5.2M triangles", "let c = icosphere(1, 9);", "c.save(\"{dir}/big.stl\");"),
+    ("save .3mf, 1.3M triangles", "let c = icosphere(1, 8);", "c.save(\"{dir}/big.3mf\");"),
+    ("save .gltf, 5.2M triangles", "let c = icosphere(1, 9);", "c.save(\"{dir}/big.gltf\");"),
+    ("polar check, 3000 x 3000", "let p = polar_sphere(1, 3000, 3000);", "p.check();"),
+    ("voxelize, 512^3", "let m = icosphere(1, 7);", "let v = voxelize(m, 512);"),
     ("load .stl, 5.2M triangles", "", "let m = load(\"{dir}/big.stl\");"),
 ]
 
@@ -56,50 +60,67 @@ CAP = 30.0  # seconds an untimed run may take (block meshing at 1e-12 would take
 
 
 def run(recipe, dir, timeout=None):
+    """Best wall time of the recipe (two runs untimed, three with the deadline), with the last
+    run's outcome; with a deadline, also the best time to the first line of its message."""
     path = os.path.join(dir, "r.rhai")
     with open(path, "w") as f:
         f.write(recipe.replace("{dir}", dir))
     args = [BIN, "run", path]
     if timeout is not None:
         args += ["--timeout", f"{timeout:.3f}"]
-    best = None
+    best = best_message = None
     out = None
     for _ in range(3 if timeout is not None else 2):
         start = time.perf_counter()
+        p = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        first = p.stderr.readline()
+        message = time.perf_counter() - start
         try:
-            out = subprocess.run(args, capture_output=True, text=True, timeout=CAP)
+            rest = p.stderr.read()
+            code = p.wait(timeout=CAP)
         except subprocess.TimeoutExpired:
-            return CAP, None
+            p.kill()
+            return CAP, None, None
         t = time.perf_counter() - start
+        out = (code, first + rest)
         best = t if best is None else min(best, t)
-    return best, out
+        if first:
+            best_message = message if best_message is None else min(best_message, message)
+    return best, best_message, out
 
 
 def main():
     with tempfile.TemporaryDirectory() as dir:
-        startup, _ = run("", dir)
+        startup, _, _ = run("", dir)
         # The files the load case reads.
         run("icosphere(1, 9).save(\"{dir}/big.stl\");", dir)
         print(f"start-up {startup * 1000:.0f} ms; deadline 40 % into each call")
-        print(f"{'operation':34} {'call s':>8} {'stop after deadline ms':>24}  message")
+        print(f"{'operation':34} {'call s':>8} {'message ms':>11} {'exit ms':>8}  message")
         for name, setup, call in CASES:
-            t_setup, _ = run(setup, dir)
-            t_all, out = run(setup + "\n" + call, dir)
-            if out is not None and out.returncode != 0:
-                print(f"{name:34} failed without a deadline: {out.stderr.strip()[:100]}")
+            t_setup, _, _ = run(setup, dir)
+            t_all, _, out = run(setup + "\n" + call, dir)
+            if out is not None and out[0] != 0:
+                print(f"{name:34} failed without a deadline: {out[1].strip()[:100]}")
                 continue
             t_call = max(t_all - t_setup, 0.0) if t_all < CAP else 2.5
             deadline = max(t_setup - startup + 0.4 * t_call, 0.05)
-            t_stopped, out = run(setup + "\n" + call, dir, deadline)
+            # A deadline that falls in the setup (line 1; the call is line 2) on a busy machine
+            # is moved later, up to three times.
+            for _ in range(4):
+                t_stopped, t_message, out = run(setup + "\n" + call, dir, deadline)
+                if out is None or out[0] == 0 or ":1:" not in out[1].splitlines()[0]:
+                    break
+                deadline += 0.1 * t_call + 0.05
             late = t_stopped - startup - deadline
             if out is None:
-                msg = "(not stopped)"
-            elif out.returncode != 0:
-                msg = out.stderr.strip().splitlines()[0].split("error: ")[-1][:60]
+                msg, shown = "(not stopped)", "-"
+            elif out[0] != 0:
+                msg = out[1].strip().splitlines()[0].split("error: ")[-1][:60]
+                shown = f"{(t_message - startup - deadline) * 1000:.0f}"
             else:
-                msg = "(finished first)"
+                msg, shown = "(finished first)", "-"
             call = f"{t_call:8.2f}" if t_all < CAP else f"{'>' + str(int(CAP)):>8}"
-            print(f"{name:34} {call} {late * 1000:24.0f}  {msg}")
+            print(f"{name:34} {call} {shown:>11} {late * 1000:8.0f}  {msg}")
 
 
 if __name__ == "__main__":
