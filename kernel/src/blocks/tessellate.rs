@@ -340,7 +340,7 @@ fn kd_leaves(s: &Surface<'_>, f: u32, r: u32, tol: f64, token: &CancelToken) -> 
     while let Some(rect) = stack.pop() {
         token.charge(1)?;
         splits += 1;
-        if splits % SPLITS_PER_CLOCK == 0 {
+        if splits.is_multiple_of(SPLITS_PER_CLOCK) {
             if let Some(reason) = token.stopped() {
                 return Err(LimitError::Stopped(reason).into());
             }

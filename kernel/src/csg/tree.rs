@@ -420,7 +420,7 @@ fn run(
                 }
                 for (i, &t) in p.components[c].iter().enumerate() {
                     // This runs on any worker of the pool: read the token itself.
-                    if i % crate::limits::POLL_EVERY == 0 {
+                    if i.is_multiple_of(crate::limits::POLL_EVERY) {
                         if let Some(reason) = token.stopped() {
                             return Err(LimitError::Stopped(reason).into());
                         }
