@@ -643,11 +643,11 @@ const COPLANAR_SINE: f64 = 1e-10;
 /// between triangles of one source (any two, when `any_source`) whose normals agree; with the
 /// face sources (a face's first triangle's) and the crease edges between faces with their
 /// sharpness.
-#[allow(clippy::type_complexity)]
 ///
 /// # Errors
 /// [`LimitError::Stopped`] when the current cancellation token stops (polled every
 /// [`crate::limits::POLL_EVERY`] triangles and edges).
+#[allow(clippy::type_complexity)]
 pub(super) fn coplanar_faces(
     mesh: &Mesh,
     triangles: &[[u32; 3]],
@@ -746,9 +746,9 @@ fn check_solid(
     // Each component's vertices by position, in the order its triangles first use them: the
     // first vertex found at a position another one holds touches it. Linear, and stoppable.
     let mut seen_in = vec![usize::MAX; mesh.vertex_count()];
-    let mut at: HashMap<[u64; 3], u32> = HashMap::new();
     for (c, tris) in components.iter().enumerate() {
-        at.clear();
+        // A map of its own per component (clearing one would cost its largest size each time).
+        let mut at: HashMap<[u64; 3], u32> = HashMap::with_capacity(tris.len());
         for (i, &t) in tris.iter().enumerate() {
             crate::limits::poll_at(i)?;
             for v in triangles[t as usize] {

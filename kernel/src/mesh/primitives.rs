@@ -17,7 +17,6 @@ fn built(positions: Vec<Vec3>, faces: &[Vec<u32>]) -> Mesh {
 
 /// Faces as one flat index list with their arities, as [`Mesh::from_indexed`] takes them: the
 /// large primitives write their faces straight into it (no vector per face to flatten).
-#[derive(Default)]
 struct FlatFaces {
     indices: Vec<u32>,
     arities: Vec<u32>,
@@ -192,7 +191,7 @@ impl Mesh {
         positions.push(Vec3::new(0.0, 0.0, radius));
         let north = positions.len() as u32 - 1;
         let ring = |j: u32, i: u32| 1 + (j - 1) * s + i % s;
-        let quads = (s * (r - 2)) as usize;
+        let quads = s as usize * (r as usize - 2);
         let mut faces = FlatFaces::with_capacity(quads + 2 * s as usize, 4 * quads + 6 * s as usize);
         for i in 0..s {
             faces.push([0, ring(1, i + 1), ring(1, i)]);
@@ -256,7 +255,8 @@ impl Mesh {
             }
         }
         let id = |i: u32, j: u32| (i % n) * m + j % m;
-        let mut faces = FlatFaces::with_capacity((n * m) as usize, 4 * (n * m) as usize);
+        let quads = n as usize * m as usize;
+        let mut faces = FlatFaces::with_capacity(quads, 4 * quads);
         for i in 0..n {
             poll_row(stoppable)?;
             for j in 0..m {
