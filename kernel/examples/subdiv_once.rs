@@ -7,12 +7,15 @@
 //! the mesh happens after it returns, as the bench and `tests/data/subdiv/osd_bench.cpp` leave
 //! freeing out. `tests/data/subdiv/callgrind_vs_osd.sh` runs it beside osd_bench's counterpart.
 //!
-//!     cargo run --release -p blocksmith-kernel --example subdiv_once -- catmark FILE.obj 3
+//!     cargo run --release -p blocksmith-kernel --example subdiv_once -- catmark FILE.obj 3 [hash]
 //!     cargo run --release -p blocksmith-kernel --example subdiv_once -- --write-inputs DIR
 //!
 //! SCHEME is `catmark` (Catmull–Clark) or `loop`, as osd_bench names them. Prints
-//! `SUBDIV_ONCE scheme=… F0=… V=… F=… H=… seconds=…`. `--write-inputs DIR` writes the bench's
-//! inputs (`ico6.obj`, `torus100k.obj`, `torus100k_semi.obj`) into DIR instead.
+//! `SUBDIV_ONCE scheme=… F0=… V=… F=… H=… seconds=…`, and with `hash` also `hash=…`, a hash of
+//! the whole result (every position's bits, every half-edge's origin, next, previous, twin,
+//! face and sharpness, every vertex's half-edge and corner sharpness), so that a speed change
+//! can be checked to leave the result bit for bit as it was. `--write-inputs DIR` writes the
+//! bench's inputs (`ico6.obj`, `torus100k.obj`, `torus100k_semi.obj`) into DIR instead.
 
 use std::hint::black_box;
 use std::path::Path;
@@ -35,6 +38,37 @@ fn blocksmith_subdiv_once_measured(mesh: &Mesh, scheme: Scheme, levels: u32) -> 
     (r, m)
 }
 
+/// FNV-1a over the whole mesh (see the module documentation).
+fn mesh_hash(m: &Mesh) -> u64 {
+    let mut h = 0xcbf2_9ce4_8422_2325u64;
+    let mut eat = |x: u64| {
+        for b in x.to_le_bytes() {
+            h = (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+        }
+    };
+    for p in m.positions() {
+        eat(p.x.to_bits());
+        eat(p.y.to_bits());
+        eat(p.z.to_bits());
+    }
+    for v in 0..m.vertex_count() as u32 {
+        eat(u64::from(m.vertex_halfedge(v)));
+        eat(m.corner_sharpness(v).to_bits());
+    }
+    for e in 0..m.halfedge_count() as u32 {
+        eat(u64::from(m.origin(e)));
+        eat(u64::from(m.next(e)));
+        eat(u64::from(m.prev(e)));
+        eat(u64::from(m.twin(e)));
+        eat(u64::from(m.face(e)));
+        eat(m.edge_sharpness(e).to_bits());
+    }
+    for f in 0..m.face_count() as u32 {
+        eat(u64::from(m.face_halfedge(f)));
+    }
+    h
+}
+
 fn fail(msg: &str) -> ! {
     eprintln!("subdiv_once: {msg}");
     std::process::exit(2);
@@ -48,8 +82,10 @@ fn main() {
             .unwrap_or_else(|e| fail(&format!("cannot write the inputs to {dir}: {e}")));
         return;
     }
-    let [scheme_name, file, levels] = &args[..] else {
-        fail("usage: subdiv_once catmark|loop FILE.obj LEVELS, or subdiv_once --write-inputs DIR")
+    let (scheme_name, file, levels, hash) = match &args[..] {
+        [s, f, l] => (s, f, l, false),
+        [s, f, l, h] if h == "hash" => (s, f, l, true),
+        _ => fail("usage: subdiv_once catmark|loop FILE.obj LEVELS [hash], or subdiv_once --write-inputs DIR"),
     };
     let scheme = match scheme_name.as_str() {
         "catmark" => Scheme::CatmullClark,
@@ -62,8 +98,9 @@ fn main() {
     let start = Instant::now();
     let (r, m) = blocksmith_subdiv_once_measured(black_box(&mesh), black_box(scheme), black_box(levels));
     let seconds = start.elapsed().as_secs_f64();
+    let hash = if hash { format!(" hash={:016x}", mesh_hash(&m)) } else { String::new() };
     println!(
-        "SUBDIV_ONCE scheme={scheme_name} F0={} V={} F={} H={} seconds={seconds:.5}",
+        "SUBDIV_ONCE scheme={scheme_name} F0={} V={} F={} H={} seconds={seconds:.5}{hash}",
         mesh.face_count(),
         m.vertex_count(),
         m.face_count(),

@@ -35,17 +35,24 @@ g++ -std=c++11 -O2 -o "$far" tests/data/subdiv/osd_bench.cpp -losdCPU
 for f in ico6 torus100k torus100k_semi; do
     [ -f "$inputs/$f.obj" ] || "$ours" --write-inputs "$inputs"
 done
-out="${KEEP:-$(mktemp -d)}"
-mkdir -p "$out"
-[ -n "${KEEP:-}" ] || trap 'rm -rf "$out"' EXIT
+# The programs run in a scratch folder whose path always has the same length (valgrind puts it
+# in the environment as PWD), with fixed short names, inputs and an otherwise empty environment,
+# so that their stacks (and so copies' alignment and the simulated cache misses) do not depend
+# on where the repository lives. KEEP gets the callgrind files at the end.
+out="$(mktemp -d /tmp/callgrind_vs_osd.XXXXXXXX)"
+trap 'rm -rf "$out"' EXIT
+ln -sf "$ours" "$out/ours"
+ln -sf "$far" "$out/far"
+for f in ico6 torus100k torus100k_semi; do ln -sf "$inputs/$f.obj" "$out/$f.obj"; done
 
+valgrind="$(command -v valgrind)"
 # count NAME FUNCTION PROGRAM ARGS...: callgrind counts inside FUNCTION; prints "Ir est".
 count() {
     local name="$1" fn="$2"
     shift 2
-    valgrind --tool=callgrind --cache-sim=yes --I1=32768,8,64 --D1=32768,8,64 --LL=8388608,16,64 \
-        --toggle-collect="*$fn*" --callgrind-out-file="$out/$name.callgrind" "$@" \
-        >"$out/$name.stdout" 2>"$out/$name.log"
+    (cd "$out" && env -i "$valgrind" --tool=callgrind --cache-sim=yes --I1=32768,8,64 --D1=32768,8,64 \
+        --LL=8388608,16,64 --toggle-collect="*$fn*" --callgrind-out-file="$name.callgrind" "$@" \
+        >"$name.stdout" 2>"$name.log")
     python3 - "$out/$name.callgrind" <<'PY'
 import sys
 ev = tot = None
@@ -72,16 +79,21 @@ for c in ${CASES:-ico6_cc ico6_loop torus_cc torus_semi_cc}; do
         torus_semi_cc) scheme=catmark file=torus100k_semi ;;
         *) echo "callgrind_vs_osd: unknown case $c" >&2; exit 2 ;;
     esac
-    read -r ir_o est_o < <(count "${c}_ours" blocksmith_subdiv_once_measured "$ours" "$scheme" "$inputs/$file.obj" 3)
-    read -r ir_f est_f < <(count "${c}_far" osd_far_once_measured "$far" "$scheme" "$inputs/$file.obj" 3 once)
+    read -r ir_o est_o < <(count "${c}_ours" blocksmith_subdiv_once_measured ./ours "$scheme" "$file.obj" 3)
+    read -r ir_f est_f < <(count "${c}_far" osd_far_once_measured ./far "$scheme" "$file.obj" 3 once)
     if [ -z "${ir_o:-}" ] || [ -z "${ir_f:-}" ]; then
-        echo "callgrind_vs_osd: $c failed; see $out/${c}_*.log" >&2
+        cat "$out/${c}"_*.log >&2
+        echo "callgrind_vs_osd: $c failed" >&2
         exit 1
     fi
     IR[$c]=$ir_o EST[$c]=$est_o
     printf '%-16s %15s %15s %7s %15s %15s %7s\n' "$c" "$ir_o" "$ir_f" "$(ratio "$ir_o" "$ir_f")" \
         "$est_o" "$est_f" "$(ratio "$est_o" "$est_f")"
 done
+if [ -n "${KEEP:-}" ]; then
+    mkdir -p "$KEEP"
+    cp "$out"/*.callgrind "$out"/*.log "$KEEP"/
+fi
 if [ -n "${IR[torus_cc]:-}" ] && [ -n "${IR[torus_semi_cc]:-}" ]; then
     python3 -c 'import sys; a = [int(x) for x in sys.argv[1:]]
 print(f"semi-sharp creases cost (creased torus over plain, ours): Ir {100 * (a[1] / a[0] - 1):+.1f} %, est. cycles {100 * (a[3] / a[2] - 1):+.1f} %")' \
