@@ -319,10 +319,11 @@ impl Level {
     fn classify(&mut self) {
         let nv = self.num_vertices;
         let mut rules = Vec::with_capacity(nv);
-        let mut ends = vec![[NONE; 2]; nv];
-        for (v, end) in ends.iter_mut().enumerate() {
+        let mut ends = Vec::with_capacity(nv);
+        for v in 0..nv {
             let edges = self.vertex_edges(v);
             let mut sharp = 0usize;
+            let mut end = [NONE; 2];
             for &e in edges {
                 if self.edge_sharpness[e as usize] > 0.0 {
                     if sharp < 2 {
@@ -332,6 +333,7 @@ impl Level {
                 }
             }
             rules.push(rule_of(self.vertex_sharpness[v], sharp, edges.len()));
+            ends.push(end);
         }
         self.vertex_rule = rules;
         self.crease_ends = ends;
@@ -372,14 +374,19 @@ impl Level {
     /// The transitions toward the next level (OpenSubdiv `Sdc::Scheme::ComputeEdgeVertexMask`,
     /// `ComputeVertexVertexMask` and `Sdc::Crease::ComputeFractionalWeightAtVertex`).
     fn transitions(&self) -> Transitions {
-        let child_edge: Vec<[f32; 2]> = self
-            .edge_verts
-            .iter()
-            .enumerate()
-            .map(|(e, &[a, b])| {
-                [self.child_edge_sharpness_at(e, a as usize), self.child_edge_sharpness_at(e, b as usize)]
-            })
-            .collect();
+        // Uniform creasing decrements each edge alike at both ends; only Chaikin's looks at the
+        // other edges at each end.
+        let child_edge: Vec<[f32; 2]> = if self.creasing == CreaseMethod::Uniform {
+            self.edge_sharpness.iter().map(|&s| [decrement(s); 2]).collect()
+        } else {
+            self.edge_verts
+                .iter()
+                .enumerate()
+                .map(|(e, &[a, b])| {
+                    [self.child_edge_sharpness_at(e, a as usize), self.child_edge_sharpness_at(e, b as usize)]
+                })
+                .collect()
+        };
         // An edge point follows the crease rule when both child halves stay sharp, and otherwise
         // blends the crease and smooth rules by the edge's sharpness.
         let edge_weight = self
@@ -448,23 +455,43 @@ impl Level {
         (0..self.face_count()).map(|f| (f, self.face_range(f).len())).find(|&(_, n)| n != arity)
     }
 
+    /// The first `2 ne` child edges of one step, both schemes: each parent edge `e` splits at its
+    /// edge point `m` into `2 e` = (a, m) and `2 e + 1` = (m, b), with their sharpness one level
+    /// down and their faces not yet known (`NONE`, which stays in the second slot of a boundary
+    /// edge's halves). Edge verts and faces come back with room for `child_ne` edges, for the
+    /// interior edges the face pass pushes in order; the sharpness list is complete (interior
+    /// edges are smooth). Written in one pass with pushes, so no list is filled first.
+    fn split_edges(&self, child_ne: usize) -> (Vec<[u32; 2]>, Vec<[u32; 2]>, Vec<f32>) {
+        let nv = self.num_vertices;
+        let mut edge_verts = Vec::with_capacity(child_ne);
+        let mut edge_faces = Vec::with_capacity(child_ne);
+        let mut edge_sharpness = Vec::with_capacity(child_ne);
+        for (e, &[a, b]) in self.edge_verts.iter().enumerate() {
+            let m = (nv + e) as u32;
+            edge_verts.extend_from_slice(&[[a, m], [m, b]]);
+            edge_faces.extend_from_slice(&[[NONE; 2]; 2]);
+            edge_sharpness.extend_from_slice(&self.child_sharpness(e));
+        }
+        edge_sharpness.resize(child_ne, 0.0);
+        (edge_verts, edge_faces, edge_sharpness)
+    }
+
+    /// The corner sharpness of the `child_nv` vertices one step down: each vertex point keeps
+    /// its vertex's, decremented; edge and face points have none.
+    fn child_vertex_sharpness(&self, child_nv: usize) -> Vec<f32> {
+        let mut out = Vec::with_capacity(child_nv);
+        out.extend(self.vertex_sharpness.iter().map(|&s| decrement(s)));
+        out.resize(child_nv, 0.0);
+        out
+    }
+
     /// The topology of one Catmull–Clark step (see [`super::refiner`] for the id layout).
     pub(crate) fn refine_catmull_clark(&self) -> Result<Level, crate::limits::LimitError> {
         let (nv, ne, nf) = (self.num_vertices, self.edge_count(), self.face_count());
         let ncorner = self.face_verts.len();
         let child_nv = nv + ne + nf;
         let child_ne = 2 * ne + ncorner;
-        let mut edge_verts = vec![[0u32; 2]; child_ne];
-        let mut edge_faces = vec![[NONE; 2]; child_ne];
-        let mut edge_sharpness = vec![0.0f32; child_ne];
-        for (e, &[a, b]) in self.edge_verts.iter().enumerate() {
-            let m = (nv + e) as u32;
-            edge_verts[2 * e] = [a, m];
-            edge_verts[2 * e + 1] = [m, b];
-            let [sa, sb] = self.child_sharpness(e);
-            edge_sharpness[2 * e] = sa;
-            edge_sharpness[2 * e + 1] = sb;
-        }
+        let (mut edge_verts, mut edge_faces, edge_sharpness) = self.split_edges(child_ne);
         let mut face_start = Vec::with_capacity(ncorner + 1);
         let mut face_verts = Vec::with_capacity(4 * ncorner);
         let mut face_edges = Vec::with_capacity(4 * ncorner);
@@ -494,17 +521,14 @@ impl Level {
                 let other_half = half_k ^ 1;
                 edge_faces[half_k][slot] = child;
                 edge_faces[other_half][slot] = (s + kn) as u32;
-                // Interior edge of corner k: edge point of ek to the face point, in children k, k+1.
-                let ie = 2 * ne + s + k;
-                edge_verts[ie] = [(nv + ek) as u32, fp];
-                edge_faces[ie] = [child, (s + kn) as u32];
+                // Interior edge of corner k (edge 2 ne + s + k, pushed in corner order): edge
+                // point of ek to the face point, in children k, k+1.
+                edge_verts.push([(nv + ek) as u32, fp]);
+                edge_faces.push([child, (s + kn) as u32]);
             }
         }
         face_start.push(face_verts.len() as u32);
-        let mut vertex_sharpness = vec![0.0f32; child_nv];
-        for (c, &p) in vertex_sharpness.iter_mut().zip(&self.vertex_sharpness) {
-            *c = decrement(p);
-        }
+        let vertex_sharpness = self.child_vertex_sharpness(child_nv);
         let mut level = Level {
             num_vertices: child_nv,
             face_start,
@@ -526,17 +550,7 @@ impl Level {
         let (nv, ne, nf) = (self.num_vertices, self.edge_count(), self.face_count());
         let child_nv = nv + ne;
         let child_ne = 2 * ne + 3 * nf;
-        let mut edge_verts = vec![[0u32; 2]; child_ne];
-        let mut edge_faces = vec![[NONE; 2]; child_ne];
-        let mut edge_sharpness = vec![0.0f32; child_ne];
-        for (e, &[a, b]) in self.edge_verts.iter().enumerate() {
-            let m = (nv + e) as u32;
-            edge_verts[2 * e] = [a, m];
-            edge_verts[2 * e + 1] = [m, b];
-            let [sa, sb] = self.child_sharpness(e);
-            edge_sharpness[2 * e] = sa;
-            edge_sharpness[2 * e + 1] = sb;
-        }
+        let (mut edge_verts, mut edge_faces, edge_sharpness) = self.split_edges(child_ne);
         let mut face_verts = Vec::with_capacity(12 * nf);
         let mut face_edges = Vec::with_capacity(12 * nf);
         for f in 0..nf {
@@ -556,19 +570,16 @@ impl Level {
                 let slot = usize::from(self.edge_faces[e[k]][0] != f as u32);
                 edge_faces[half_k][slot] = child;
                 edge_faces[half_k ^ 1][slot] = (4 * f + (k + 1) % 3) as u32;
-                // Interior edge k joins m[k] and m[k+1]: in the centre child and in child k+1.
-                let ie = interior(k) as usize;
-                edge_verts[ie] = [m[k], m[(k + 1) % 3]];
-                edge_faces[ie] = [(4 * f + 3) as u32, (4 * f + (k + 1) % 3) as u32];
+                // Interior edge k (edge 2 ne + 3 f + k, pushed in that order) joins m[k] and
+                // m[k+1]: in the centre child and in child k+1.
+                edge_verts.push([m[k], m[(k + 1) % 3]]);
+                edge_faces.push([(4 * f + 3) as u32, (4 * f + (k + 1) % 3) as u32]);
             }
             face_verts.extend_from_slice(&m);
             face_edges.extend_from_slice(&[interior(0), interior(1), interior(2)]);
         }
         let face_start = (0..=4 * nf as u32).map(|i| 3 * i).collect();
-        let mut vertex_sharpness = vec![0.0f32; child_nv];
-        for (c, &p) in vertex_sharpness.iter_mut().zip(&self.vertex_sharpness) {
-            *c = decrement(p);
-        }
+        let vertex_sharpness = self.child_vertex_sharpness(child_nv);
         let mut level = Level {
             num_vertices: child_nv,
             face_start,
