@@ -10,14 +10,13 @@ use crate::math::{is_finite, Vec3};
 
 /// [`MeshError::NonFinite`] naming the first vertex with a NaN or infinite coordinate.
 ///
-/// Blocks of positions are tested without early exit, so the test is vectorised (a few
-/// instructions per point rather than a branch per coordinate); only a failing block is searched
-/// for the culprit.
+/// Blocks of positions are tested without a branch per coordinate: `x · 0` is 0 for a finite
+/// `x` and NaN for an infinite or NaN one, so a block's sum of them is finite exactly when every
+/// coordinate is (two instructions a coordinate). Only a failing block is searched for the
+/// culprit.
 pub(super) fn check_finite(positions: &[Vec3]) -> Result<(), MeshError> {
     const BLOCK: usize = 256;
-    let all_finite = positions
-        .chunks(BLOCK)
-        .all(|b| b.iter().fold(true, |ok, p| ok & p.x.is_finite() & p.y.is_finite() & p.z.is_finite()));
+    let all_finite = positions.chunks(BLOCK).all(|b| is_finite(b.iter().fold(Vec3::ZERO, |acc, p| acc + *p * 0.0)));
     if all_finite {
         return Ok(());
     }
@@ -321,7 +320,8 @@ impl Mesh {
                 vertex_out[v as usize] = h as u32;
             }
         }
-        let in_range = twins.chunks(1024).all(|b| b.iter().fold(true, |ok, &t| ok & ((t as usize) < nfh || t == NONE)));
+        // t < nfh or t = NONE, as one unsigned comparison (NONE + 1 wraps to 0).
+        let in_range = twins.chunks(1024).all(|b| b.iter().fold(true, |ok, &t| ok & (t.wrapping_add(1) <= nfh as u32)));
         if !in_range {
             return bad("a twin out of range");
         }

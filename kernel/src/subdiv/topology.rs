@@ -62,8 +62,6 @@ pub(crate) struct Level {
     pub(crate) vert_face_start: Vec<u32>,
     pub(crate) vert_faces: Vec<u32>,
     pub(crate) vertex_rule: Vec<Rule>,
-    /// For a crease vertex, the far ends of its two sharp edges.
-    pub(crate) crease_ends: Vec<[u32; 2]>,
 }
 
 /// What changes between a level with semi-sharp values and the next.
@@ -315,31 +313,48 @@ impl Level {
         self.vert_faces = list;
     }
 
-    /// Each vertex's rule and crease ends, and the transitions when any sharpness is semi-sharp.
+    /// Each vertex's rule, and the transitions when any sharpness is semi-sharp.
+    ///
+    /// The sharp edges at each vertex are counted from one pass over the edges that scatters
+    /// only the sharp ones (counts saturate at 3: the rule tells 0–2 from more), so a level
+    /// without creases costs a sequential read of its edge sharpness and of its vertices, not a
+    /// visit of every vertex's edges.
     fn classify(&mut self) {
         let nv = self.num_vertices;
-        let mut rules = Vec::with_capacity(nv);
-        let mut ends = Vec::with_capacity(nv);
-        for v in 0..nv {
-            let edges = self.vertex_edges(v);
-            let mut sharp = 0usize;
-            let mut end = [NONE; 2];
-            for &e in edges {
-                if self.edge_sharpness[e as usize] > 0.0 {
-                    if sharp < 2 {
-                        end[sharp] = self.other_end(e as usize, v as u32);
-                    }
-                    sharp += 1;
+        let mut sharp = vec![0u8; nv];
+        let mut semi = false;
+        for (e, &s) in self.edge_sharpness.iter().enumerate() {
+            if s > 0.0 {
+                semi |= s < INFINITE;
+                for v in self.edge_verts[e] {
+                    let c = &mut sharp[v as usize];
+                    *c = (*c + 1).min(3);
                 }
             }
-            rules.push(rule_of(self.vertex_sharpness[v], sharp, edges.len()));
-            ends.push(end);
         }
-        self.vertex_rule = rules;
-        self.crease_ends = ends;
-        let semi = self.edge_sharpness.iter().any(|&s| is_semi_sharp(s))
-            || self.vertex_sharpness.iter().any(|&s| is_semi_sharp(s));
+        let start = &self.vert_edge_start;
+        self.vertex_rule = (0..nv)
+            .map(|v| rule_of(self.vertex_sharpness[v], usize::from(sharp[v]), (start[v + 1] - start[v]) as usize))
+            .collect();
+        semi |= self.vertex_sharpness.iter().any(|&s| is_semi_sharp(s));
         self.trans = if semi { self.transitions() } else { Transitions::default() };
+    }
+
+    /// For a crease vertex, the far ends of its first two sharp edges in edge order ([`NONE`]
+    /// where there are fewer): found when needed, as only crease vertices need them.
+    pub(crate) fn crease_ends(&self, v: usize) -> [u32; 2] {
+        let mut ends = [NONE; 2];
+        let mut k = 0;
+        for &e in self.vertex_edges(v) {
+            if self.edge_sharpness[e as usize] > 0.0 {
+                ends[k] = self.other_end(e as usize, v as u32);
+                k += 1;
+                if k == 2 {
+                    break;
+                }
+            }
+        }
+        ends
     }
 
     /// The child sharpness of edge `e` at its end vertex `v` (`SubdivideEdgeSharpnessAtVertex`).
