@@ -120,6 +120,12 @@ impl Refiner {
         Ok(Refiner { scheme, options: SubdivOptions::default(), levels, depth })
     }
 
+    /// The topology of levels `0..depth` (the last level's is never built).
+    #[cfg(test)]
+    pub(crate) fn levels(&self) -> &[Level] {
+        &self.levels
+    }
+
     /// The scheme this refiner applies.
     #[must_use]
     pub fn scheme(&self) -> Scheme {

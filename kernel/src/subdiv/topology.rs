@@ -3,8 +3,10 @@
 //! Notation: `nv`, `ne`, `nf` vertex, edge and face counts of a level. Faces are stored in CSR form
 //! (`face_start`, `face_verts`), with `face_edges[i]` the edge from corner `i` to the next corner.
 //! Each edge keeps its two end vertices and its one or two faces (the second is [`NONE`] on a
-//! boundary). Vertex → edges and vertex → faces adjacency is derived once per level by counting
-//! sorts, and so is each vertex's subdivision rule. Nothing here hashes or allocates per element:
+//! boundary). Vertex → edges and vertex → faces adjacency (each vertex's ids ascending) is
+//! derived by counting sorts for the base level and written from the parent's for refined ones
+//! (`super::child_adjacency`); each vertex's subdivision rule follows from it and the sharpness.
+//! Nothing here hashes or allocates per element:
 //! building a level is a handful of linear passes over flat arrays (OpenSubdiv's `Vtr::Level`
 //! plays the same part).
 //!
@@ -19,6 +21,7 @@
 
 use crate::mesh::{Mesh, NONE as MESH_NONE};
 
+use super::child_adjacency::Adjacency;
 use super::options::{BoundaryInterpolation, CreaseMethod, SubdivOptions, TriangleSubdivision};
 use super::SubdivError;
 
@@ -264,14 +267,18 @@ impl Level {
         level
     }
 
-    /// Builds vertex adjacency and classifies every vertex.
-    pub(crate) fn derive(&mut self) {
-        self.adjacency();
+    /// Takes a refined level's vertex adjacency and classifies every vertex.
+    fn derive(&mut self, adjacency: Adjacency) {
+        self.vert_edge_start = adjacency.vert_edge_start;
+        self.vert_edges = adjacency.vert_edges;
+        self.vert_face_start = adjacency.vert_face_start;
+        self.vert_faces = adjacency.vert_faces;
         self.classify();
     }
 
-    /// Builds vertex → edges and vertex → faces adjacency (counting sorts).
-    fn adjacency(&mut self) {
+    /// Builds vertex → edges and vertex → faces adjacency (counting sorts; refined levels write
+    /// theirs from their parent's, `super::child_adjacency`).
+    pub(crate) fn adjacency(&mut self) {
         let nv = self.num_vertices;
         // Vertex → edges.
         let mut start = vec![0u32; nv + 1];
@@ -507,6 +514,8 @@ impl Level {
         let child_nv = nv + ne + nf;
         let child_ne = 2 * ne + ncorner;
         let (mut edge_verts, mut edge_faces, edge_sharpness) = self.split_edges(child_ne);
+        // Each edge's corner in each of its faces, for the child adjacency.
+        let mut corners = vec![[0u32; 2]; ne];
         let mut face_start = Vec::with_capacity(ncorner + 1);
         let mut face_verts = Vec::with_capacity(4 * ncorner);
         let mut face_edges = Vec::with_capacity(4 * ncorner);
@@ -533,6 +542,7 @@ impl Level {
                 ]);
                 // The two halves of edge ek: the one at v lies in child k, the other in child k+1.
                 let slot = usize::from(self.edge_faces[ek][0] != f as u32);
+                corners[ek][slot] = (s + k) as u32;
                 let other_half = half_k ^ 1;
                 edge_faces[half_k][slot] = child;
                 edge_faces[other_half][slot] = (s + kn) as u32;
@@ -556,7 +566,7 @@ impl Level {
             creasing: self.creasing,
             ..Level::default()
         };
-        level.derive();
+        level.derive(self.child_adjacency_catmull_clark(&corners));
         Ok(level)
     }
 
@@ -566,6 +576,7 @@ impl Level {
         let child_nv = nv + ne;
         let child_ne = 2 * ne + 3 * nf;
         let (mut edge_verts, mut edge_faces, edge_sharpness) = self.split_edges(child_ne);
+        let mut corners = vec![[0u32; 2]; ne];
         let mut face_verts = Vec::with_capacity(12 * nf);
         let mut face_edges = Vec::with_capacity(12 * nf);
         for f in 0..nf {
@@ -583,6 +594,7 @@ impl Level {
                 let half_p = if self.edge_verts[e[kp]][0] == v[k] { 2 * e[kp] } else { 2 * e[kp] + 1 };
                 face_edges.extend_from_slice(&[half_k as u32, interior(kp), half_p as u32]);
                 let slot = usize::from(self.edge_faces[e[k]][0] != f as u32);
+                corners[e[k]][slot] = (s + k) as u32;
                 edge_faces[half_k][slot] = child;
                 edge_faces[half_k ^ 1][slot] = (4 * f + (k + 1) % 3) as u32;
                 // Interior edge k (edge 2 ne + 3 f + k, pushed in that order) joins m[k] and
@@ -607,7 +619,7 @@ impl Level {
             creasing: self.creasing,
             ..Level::default()
         };
-        level.derive();
+        level.derive(self.child_adjacency_loop(&corners));
         Ok(level)
     }
 
