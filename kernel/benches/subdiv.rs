@@ -9,7 +9,8 @@
 //! torus (102,400 quads, all regular); `torus100k_semi`, the same torus with 20 loops around the
 //! tube (6,400 edges) of sharpness 2.5, so every level meets semi-sharp creases and the last
 //! blends the rules (the cost of semi-sharp creases is `cc3_torus100k_semi_total` over
-//! `cc3_torus100k_total`). The inputs are written as OBJ files (crease tags included) to
+//! `cc3_torus100k_total`); they are made by `support/subdiv_inputs.rs`, which
+//! `examples/subdiv_once.rs` shares. The inputs are written as OBJ files (crease tags included) to
 //! `subdiv_inputs/` in Cargo's target tmp folder, where `tests/data/subdiv/bench_vs_osd.sh`
 //! runs OpenSubdiv's Far on the same meshes and prints the ratios. Limit evaluation: the 320 × 320 torus (every face one
 //! bicubic patch) and one Catmull–Clark step of `Mesh::icosphere(1, 3)` (3,840 quads, every one
@@ -20,10 +21,12 @@
 use std::hint::black_box;
 use std::time::Duration;
 
-use blocksmith_kernel::io::obj::write_obj;
 use blocksmith_kernel::subdiv::{LimitEvaluator, Refiner, Scheme};
 use blocksmith_kernel::{Mesh, Vec3};
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
+
+#[path = "support/subdiv_inputs.rs"]
+mod subdiv_inputs;
 
 /// 1M (face, u, v) samples from a fixed-seed xorshift generator.
 fn samples(faces: u32, count: usize) -> Vec<(u32, f64, f64)> {
@@ -44,40 +47,18 @@ fn samples(faces: u32, count: usize) -> Vec<(u32, f64, f64)> {
         .collect()
 }
 
-/// The 320 × 320 torus with the loops around the tube at every 16th step along it creased with
-/// sharpness 2.5.
-fn semi_sharp_torus() -> Mesh {
-    let mut torus = Mesh::torus(2.0, 0.5, 320, 320);
-    let id = |i: u32, j: u32| i * 320 + j % 320;
-    let loops: Vec<[u32; 2]> =
-        (0..320).step_by(16).flat_map(|i| (0..320).map(move |j| [id(i, j), id(i, j + 1)])).collect();
-    torus.crease_edges_sharpness(&loops, 2.5).unwrap();
-    torus
-}
-
-/// Writes the benchmark's inputs as OBJ files for OpenSubdiv's side of the comparison.
-fn write_inputs(inputs: &[(&str, &Mesh)]) {
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("subdiv_inputs");
-    std::fs::create_dir_all(&dir).unwrap();
-    for (name, mesh) in inputs {
-        let mut bytes = Vec::new();
-        write_obj(mesh, &mut bytes).unwrap();
-        std::fs::write(dir.join(format!("{name}.obj")), bytes).unwrap();
-    }
-}
-
 fn refinement(c: &mut Criterion) {
-    let ico6 = Mesh::icosphere(1.0, 6);
-    let torus = Mesh::torus(2.0, 0.5, 320, 320);
-    let semi = semi_sharp_torus();
-    write_inputs(&[("ico6", &ico6), ("torus100k", &torus), ("torus100k_semi", &semi)]);
+    let inputs = subdiv_inputs::inputs();
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("subdiv_inputs");
+    subdiv_inputs::write_inputs(&dir, &inputs).unwrap();
+    let [(_, ico6), (_, torus), (_, semi)] = &inputs[..] else { unreachable!("three inputs") };
     let mut g = c.benchmark_group("subdiv");
     g.sample_size(10).measurement_time(Duration::from_secs(20));
     for (name, mesh, scheme) in [
-        ("cc3_ico6", &ico6, Scheme::CatmullClark),
-        ("loop3_ico6", &ico6, Scheme::Loop),
-        ("cc3_torus100k", &torus, Scheme::CatmullClark),
-        ("cc3_torus100k_semi", &semi, Scheme::CatmullClark),
+        ("cc3_ico6", ico6, Scheme::CatmullClark),
+        ("loop3_ico6", ico6, Scheme::Loop),
+        ("cc3_torus100k", torus, Scheme::CatmullClark),
+        ("cc3_torus100k_semi", semi, Scheme::CatmullClark),
     ] {
         g.throughput(Throughput::Elements(mesh.face_count() as u64));
         // The whole operation, as Mesh::catmull_clark / loop_subdivide do it. Freeing the

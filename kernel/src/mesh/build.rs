@@ -8,7 +8,18 @@
 use super::{Mesh, MeshError, NONE};
 use crate::math::{is_finite, Vec3};
 
+/// [`MeshError::NonFinite`] naming the first vertex with a NaN or infinite coordinate.
+///
+/// Blocks of positions are tested without a branch per coordinate: `x · 0` is 0 for a finite
+/// `x` and NaN for an infinite or NaN one, so a block's sum of them is finite exactly when every
+/// coordinate is (two instructions a coordinate). Only a failing block is searched for the
+/// culprit.
 pub(super) fn check_finite(positions: &[Vec3]) -> Result<(), MeshError> {
+    const BLOCK: usize = 256;
+    let all_finite = positions.chunks(BLOCK).all(|b| is_finite(b.iter().fold(Vec3::ZERO, |acc, p| acc + *p * 0.0)));
+    if all_finite {
+        return Ok(());
+    }
     match positions.iter().position(|p| !is_finite(*p)) {
         Some(i) => {
             let p = positions[i];
@@ -204,9 +215,11 @@ impl Mesh {
             if count == 0 {
                 continue;
             }
-            let first = if boundary_out[v] != NONE { boundary_out[v] } else { out_list[out_start[v] as usize] };
+            // (No boundary list: a closed mesh.)
+            let b = boundary_out.get(v).copied().unwrap_or(NONE);
+            let first = if b != NONE { b } else { out_list[out_start[v] as usize] };
             vertex_out[v] = first;
-            let expected = count + u32::from(boundary_out[v] != NONE);
+            let expected = count + u32::from(b != NONE);
             let mut seen = 0u32;
             let mut h = first;
             loop {
@@ -294,7 +307,10 @@ impl Mesh {
             }
         }
         // The smallest face half-edge leaving each vertex (from_indexed's first of its bucket),
-        // and the twins checked: in range, mutual, and running the other way.
+        // and the twins checked in range (a branch-free pass). That they are mutual and run the
+        // other way is the caller's construction (subdivision writes each pair at once, and its
+        // tests compare the result with `from_indexed`'s); debug builds check it too, as that
+        // check reads two arrays in random order and cost as much as the rest of the build.
         let mut vertex_out = vec![NONE; nv];
         for (h, &v) in origins.iter().enumerate() {
             if v as usize >= nv {
@@ -304,14 +320,17 @@ impl Mesh {
                 vertex_out[v as usize] = h as u32;
             }
         }
-        for (h, &t) in twins.iter().enumerate() {
-            if t != NONE
-                && (t as usize >= nfh
-                    || twins[t as usize] != h as u32
-                    || origins[t as usize] != origins[he_next[h] as usize])
-            {
-                return bad("twins that do not pair");
-            }
+        // t < nfh or t = NONE, as one unsigned comparison (NONE + 1 wraps to 0).
+        let in_range = twins.chunks(1024).all(|b| b.iter().fold(true, |ok, &t| ok & (t.wrapping_add(1) <= nfh as u32)));
+        if !in_range {
+            return bad("a twin out of range");
+        }
+        if cfg!(debug_assertions)
+            && twins.iter().enumerate().any(|(h, &t)| {
+                t != NONE && (twins[t as usize] != h as u32 || origins[t as usize] != origins[he_next[h] as usize])
+            })
+        {
+            return bad("twins that do not pair");
         }
         // Boundary half-edges close every unmatched face half-edge, in half-edge order, each
         // as sharp as its twin.
@@ -319,6 +338,7 @@ impl Mesh {
         for b in nfh..origins.len() {
             sharpness.push(sharpness[twins[b] as usize]);
         }
+        // (Empty for a closed mesh.)
         for (out, &b) in vertex_out.iter_mut().zip(&boundary_out) {
             if b != NONE {
                 *out = b;
@@ -343,17 +363,27 @@ impl Mesh {
 }
 
 /// The face, next and previous half-edge of `nfh` face half-edges laid out `A` to a face, in
-/// face order (the arity a constant, so the divisions are multiplications).
+/// face order (the arity a constant, so the divisions are multiplications; for a power of two
+/// such as quads, next and previous are branch-free masks, which vectorise).
 fn face_cycles<const A: u32>(nfh: usize, face: &mut Vec<u32>, next: &mut Vec<u32>, prev: &mut Vec<u32>) {
     let n = nfh as u32;
     face.extend((0..n).map(|h| h / A));
-    next.extend((0..n).map(|h| if (h + 1) % A == 0 { h + 1 - A } else { h + 1 }));
-    prev.extend((0..n).map(|h| if h % A == 0 { h + A - 1 } else { h - 1 }));
+    if A.is_power_of_two() {
+        // The face's first half-edge plus the corner after (before) h's, modulo A.
+        let m = A - 1;
+        next.extend((0..n).map(|h| (h & !m) | ((h + 1) & m)));
+        prev.extend((0..n).map(|h| (h & !m) | (h.wrapping_add(m) & m)));
+    } else {
+        next.extend((0..n).map(|h| if (h + 1) % A == 0 { h + 1 - A } else { h + 1 }));
+        prev.extend((0..n).map(|h| if h % A == 0 { h + A - 1 } else { h - 1 }));
+    }
 }
 
 /// Adds a boundary half-edge opposite every face half-edge without a twin (in half-edge order)
 /// and links each boundary loop; returns each vertex's outgoing boundary half-edge (`NONE` for
-/// an inner vertex). Two boundary half-edges leaving one vertex make it non-manifold.
+/// an inner vertex), or no list at all when every face half-edge has a twin (a closed mesh,
+/// found by one branch-free pass). Two boundary half-edges leaving one vertex make it
+/// non-manifold.
 fn close_boundary(
     nv: usize,
     origin: &mut Vec<u32>,
@@ -363,8 +393,12 @@ fn close_boundary(
     twin: &mut Vec<u32>,
 ) -> Result<Vec<u32>, MeshError> {
     let nfh = origin.len();
+    const BLOCK: usize = 1024;
+    let Some(first_block) = twin.chunks(BLOCK).position(|b| b.iter().fold(false, |open, &t| open | (t == NONE))) else {
+        return Ok(Vec::new());
+    };
     let mut boundary_out = vec![NONE; nv];
-    for h in 0..nfh {
+    for h in first_block * BLOCK..nfh {
         if twin[h] == NONE {
             let b = origin.len() as u32;
             let from = origin[next[h] as usize];

@@ -16,9 +16,11 @@ use super::topology::{to_mesh_sharpness, Level, NONE};
 use super::SubdivError;
 
 /// For each parent edge, the corner (index into `face_verts`) at which each of its faces
-/// starts it: the edge of corner `c` runs from `face_verts[c]` to the face's next corner.
+/// starts it: the edge of corner `c` runs from `face_verts[c]` to the face's next corner. The
+/// second entry of a boundary edge (no second face) is left 0: allocated zeroed, the list needs
+/// no fill pass.
 fn edge_corners(lv: &Level) -> Vec<[u32; 2]> {
-    let mut out = vec![[NONE; 2]; lv.edge_count()];
+    let mut out = vec![[0u32; 2]; lv.edge_count()];
     for f in 0..lv.face_count() {
         for c in lv.face_range(f) {
             let e = lv.face_edges[c] as usize;
@@ -65,8 +67,10 @@ pub(crate) fn child_mesh(lv: &Level, loop_scheme: bool, positions: Vec<Vec3>) ->
     // the previous edge.
     let leave = |c: u32| if loop_scheme { 3 * (c + c / 3) } else { 4 * c };
     let arrive = |c: u32| if loop_scheme { 3 * (c + c / 3) + 2 } else { 4 * c + 3 };
+    // Every face half-edge's twin is written below (NONE where the parent edge is a boundary),
+    // so the list is allocated zeroed rather than filled first.
     let mut origins = vec![0u32; nfh];
-    let mut twins = vec![NONE; nfh];
+    let mut twins = vec![0u32; nfh];
     let mut sharp = vec![0.0f64; nfh];
     for f in 0..lv.face_count() {
         crate::limits::poll_at(f)?;
@@ -116,8 +120,12 @@ pub(crate) fn child_mesh(lv: &Level, loop_scheme: bool, positions: Vec<Vec3>) ->
             sharp[a0] = s_start;
             sharp[b0] = s_end;
         }
-        if c1 != NONE {
-            let n1 = next_corner(lv, lv.edge_faces[e][1], c1);
+        let f1 = lv.edge_faces[e][1];
+        if f1 == NONE {
+            twins[a0] = NONE;
+            twins[b0] = NONE;
+        } else {
+            let n1 = next_corner(lv, f1, c1);
             let (a1, b1) = (leave(c1) as usize, arrive(n1) as usize);
             // Face 1 leaves the edge's end and arrives at its start.
             twins[a0] = b1 as u32;

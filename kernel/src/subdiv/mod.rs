@@ -23,6 +23,7 @@
 //! (`kernel/tests/subdiv_opensubdiv.rs`).
 
 mod catmull_clark;
+mod child_adjacency;
 mod child_mesh;
 mod error;
 mod evaluator;

@@ -36,7 +36,7 @@ use crate::mesh::Mesh;
 
 use super::options::SubdivOptions;
 use super::stencil::{RowBuilder, StencilTable};
-use super::topology::{check_size, Blend, Level, Rule};
+use super::topology::{check_size, Blend, Level, Rule, NONE};
 use super::SubdivError;
 
 /// The most faces a refinement may produce (about 5 GB of output mesh).
@@ -118,6 +118,12 @@ impl Refiner {
             levels.push(next);
         }
         Ok(Refiner { scheme, options: SubdivOptions::default(), levels, depth })
+    }
+
+    /// The topology of levels `0..depth` (the last level's is never built).
+    #[cfg(test)]
+    pub(crate) fn levels(&self) -> &[Level] {
+        &self.levels
     }
 
     /// The scheme this refiner applies.
@@ -339,7 +345,7 @@ fn interpolate_catmull_clark(lv: &Level, p: &[Vec3]) -> Vec<Vec3> {
         }
         *vp = match lv.vertex_rule[v] {
             Rule::Corner => p[v],
-            Rule::Crease => crease_point(p, v, lv.crease_ends[v]),
+            Rule::Crease => crease_point(p, v, lv.crease_ends(v)),
             Rule::Smooth => {
                 // ((n − 2) v + (Σ e + Σ f) / n) / n, relative to v.
                 let edges = lv.vertex_edges(v);
@@ -398,7 +404,7 @@ fn interpolate_loop(lv: &Level, p: &[Vec3]) -> Vec<Vec3> {
         }
         *vp = match lv.vertex_rule[v] {
             Rule::Corner => p[v],
-            Rule::Crease => crease_point(p, v, lv.crease_ends[v]),
+            Rule::Crease => crease_point(p, v, lv.crease_ends(v)),
             Rule::Smooth => {
                 let edges = lv.vertex_edges(v);
                 let n = edges.len();
@@ -568,6 +574,15 @@ fn loop_rule_mask(lv: &Level, v: usize, rule: Rule, ends: [u32; 2], s: f64, sink
     }
 }
 
+/// The crease ends a rule mask reads: a crease vertex's own, nothing for the other rules.
+fn rule_ends(lv: &Level, v: usize, rule: Rule) -> [u32; 2] {
+    if rule == Rule::Crease {
+        lv.crease_ends(v)
+    } else {
+        [NONE; 2]
+    }
+}
+
 type RuleMask = fn(&Level, usize, Rule, [u32; 2], f64, &mut dyn FnMut(bool, u32, f64));
 
 /// A vertex point whose rule changes toward the next level: w · (parent rule) + (1 − w) · (child
@@ -580,7 +595,8 @@ fn blended_vertex_mask(lv: &Level, v: usize, blend: &Blend, sink: &mut impl Sink
             sink.vert(id, w);
         }
     };
-    mask(lv, v, lv.vertex_rule[v], lv.crease_ends[v], blend.weight, &mut put);
+    let rule = lv.vertex_rule[v];
+    mask(lv, v, rule, rule_ends(lv, v, rule), blend.weight, &mut put);
     mask(lv, v, blend.child_rule, blend.child_ends, 1.0 - blend.weight, &mut put);
 }
 
@@ -597,7 +613,8 @@ fn vertex_mask(lv: &Level, v: usize, sink: &mut impl Sink, mask: RuleMask) {
             sink.vert(id, w);
         }
     };
-    mask(lv, v, lv.vertex_rule[v], lv.crease_ends[v], 1.0, &mut put);
+    let rule = lv.vertex_rule[v];
+    mask(lv, v, rule, rule_ends(lv, v, rule), 1.0, &mut put);
 }
 
 /// Catmull–Clark stencils of one step, rows in child-vertex order.

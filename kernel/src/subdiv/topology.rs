@@ -3,8 +3,10 @@
 //! Notation: `nv`, `ne`, `nf` vertex, edge and face counts of a level. Faces are stored in CSR form
 //! (`face_start`, `face_verts`), with `face_edges[i]` the edge from corner `i` to the next corner.
 //! Each edge keeps its two end vertices and its one or two faces (the second is [`NONE`] on a
-//! boundary). Vertex → edges and vertex → faces adjacency is derived once per level by counting
-//! sorts, and so is each vertex's subdivision rule. Nothing here hashes or allocates per element:
+//! boundary). Vertex → edges and vertex → faces adjacency (each vertex's ids ascending) is
+//! derived by counting sorts for the base level and written from the parent's for refined ones
+//! (`super::child_adjacency`); each vertex's subdivision rule follows from it and the sharpness.
+//! Nothing here hashes or allocates per element:
 //! building a level is a handful of linear passes over flat arrays (OpenSubdiv's `Vtr::Level`
 //! plays the same part).
 //!
@@ -19,6 +21,7 @@
 
 use crate::mesh::{Mesh, NONE as MESH_NONE};
 
+use super::child_adjacency::Adjacency;
 use super::options::{BoundaryInterpolation, CreaseMethod, SubdivOptions, TriangleSubdivision};
 use super::SubdivError;
 
@@ -62,8 +65,6 @@ pub(crate) struct Level {
     pub(crate) vert_face_start: Vec<u32>,
     pub(crate) vert_faces: Vec<u32>,
     pub(crate) vertex_rule: Vec<Rule>,
-    /// For a crease vertex, the far ends of its two sharp edges.
-    pub(crate) crease_ends: Vec<[u32; 2]>,
 }
 
 /// What changes between a level with semi-sharp values and the next.
@@ -266,14 +267,18 @@ impl Level {
         level
     }
 
-    /// Builds vertex adjacency and classifies every vertex.
-    pub(crate) fn derive(&mut self) {
-        self.adjacency();
+    /// Takes a refined level's vertex adjacency and classifies every vertex.
+    fn derive(&mut self, adjacency: Adjacency) {
+        self.vert_edge_start = adjacency.vert_edge_start;
+        self.vert_edges = adjacency.vert_edges;
+        self.vert_face_start = adjacency.vert_face_start;
+        self.vert_faces = adjacency.vert_faces;
         self.classify();
     }
 
-    /// Builds vertex → edges and vertex → faces adjacency (counting sorts).
-    fn adjacency(&mut self) {
+    /// Builds vertex → edges and vertex → faces adjacency (counting sorts; refined levels write
+    /// theirs from their parent's, `super::child_adjacency`).
+    pub(crate) fn adjacency(&mut self) {
         let nv = self.num_vertices;
         // Vertex → edges.
         let mut start = vec![0u32; nv + 1];
@@ -315,29 +320,48 @@ impl Level {
         self.vert_faces = list;
     }
 
-    /// Each vertex's rule and crease ends, and the transitions when any sharpness is semi-sharp.
+    /// Each vertex's rule, and the transitions when any sharpness is semi-sharp.
+    ///
+    /// The sharp edges at each vertex are counted from one pass over the edges that scatters
+    /// only the sharp ones (counts saturate at 3: the rule tells 0–2 from more), so a level
+    /// without creases costs a sequential read of its edge sharpness and of its vertices, not a
+    /// visit of every vertex's edges.
     fn classify(&mut self) {
         let nv = self.num_vertices;
-        let mut rules = Vec::with_capacity(nv);
-        let mut ends = vec![[NONE; 2]; nv];
-        for (v, end) in ends.iter_mut().enumerate() {
-            let edges = self.vertex_edges(v);
-            let mut sharp = 0usize;
-            for &e in edges {
-                if self.edge_sharpness[e as usize] > 0.0 {
-                    if sharp < 2 {
-                        end[sharp] = self.other_end(e as usize, v as u32);
-                    }
-                    sharp += 1;
+        let mut sharp = vec![0u8; nv];
+        let mut semi = false;
+        for (e, &s) in self.edge_sharpness.iter().enumerate() {
+            if s > 0.0 {
+                semi |= s < INFINITE;
+                for v in self.edge_verts[e] {
+                    let c = &mut sharp[v as usize];
+                    *c = (*c + 1).min(3);
                 }
             }
-            rules.push(rule_of(self.vertex_sharpness[v], sharp, edges.len()));
         }
-        self.vertex_rule = rules;
-        self.crease_ends = ends;
-        let semi = self.edge_sharpness.iter().any(|&s| is_semi_sharp(s))
-            || self.vertex_sharpness.iter().any(|&s| is_semi_sharp(s));
+        let start = &self.vert_edge_start;
+        self.vertex_rule = (0..nv)
+            .map(|v| rule_of(self.vertex_sharpness[v], usize::from(sharp[v]), (start[v + 1] - start[v]) as usize))
+            .collect();
+        semi |= self.vertex_sharpness.iter().any(|&s| is_semi_sharp(s));
         self.trans = if semi { self.transitions() } else { Transitions::default() };
+    }
+
+    /// For a crease vertex, the far ends of its first two sharp edges in edge order ([`NONE`]
+    /// where there are fewer): found when needed, as only crease vertices need them.
+    pub(crate) fn crease_ends(&self, v: usize) -> [u32; 2] {
+        let mut ends = [NONE; 2];
+        let mut k = 0;
+        for &e in self.vertex_edges(v) {
+            if self.edge_sharpness[e as usize] > 0.0 {
+                ends[k] = self.other_end(e as usize, v as u32);
+                k += 1;
+                if k == 2 {
+                    break;
+                }
+            }
+        }
+        ends
     }
 
     /// The child sharpness of edge `e` at its end vertex `v` (`SubdivideEdgeSharpnessAtVertex`).
@@ -372,14 +396,19 @@ impl Level {
     /// The transitions toward the next level (OpenSubdiv `Sdc::Scheme::ComputeEdgeVertexMask`,
     /// `ComputeVertexVertexMask` and `Sdc::Crease::ComputeFractionalWeightAtVertex`).
     fn transitions(&self) -> Transitions {
-        let child_edge: Vec<[f32; 2]> = self
-            .edge_verts
-            .iter()
-            .enumerate()
-            .map(|(e, &[a, b])| {
-                [self.child_edge_sharpness_at(e, a as usize), self.child_edge_sharpness_at(e, b as usize)]
-            })
-            .collect();
+        // Uniform creasing decrements each edge alike at both ends; only Chaikin's looks at the
+        // other edges at each end.
+        let child_edge: Vec<[f32; 2]> = if self.creasing == CreaseMethod::Uniform {
+            self.edge_sharpness.iter().map(|&s| [decrement(s); 2]).collect()
+        } else {
+            self.edge_verts
+                .iter()
+                .enumerate()
+                .map(|(e, &[a, b])| {
+                    [self.child_edge_sharpness_at(e, a as usize), self.child_edge_sharpness_at(e, b as usize)]
+                })
+                .collect()
+        };
         // An edge point follows the crease rule when both child halves stay sharp, and otherwise
         // blends the crease and smooth rules by the edge's sharpness.
         let edge_weight = self
@@ -448,23 +477,45 @@ impl Level {
         (0..self.face_count()).map(|f| (f, self.face_range(f).len())).find(|&(_, n)| n != arity)
     }
 
+    /// The first `2 ne` child edges of one step, both schemes: each parent edge `e` splits at its
+    /// edge point `m` into `2 e` = (a, m) and `2 e + 1` = (m, b), with their sharpness one level
+    /// down and their faces not yet known (`NONE`, which stays in the second slot of a boundary
+    /// edge's halves). Edge verts and faces come back with room for `child_ne` edges, for the
+    /// interior edges the face pass pushes in order; the sharpness list is complete (interior
+    /// edges are smooth). Written in one pass with pushes, so no list is filled first.
+    fn split_edges(&self, child_ne: usize) -> (Vec<[u32; 2]>, Vec<[u32; 2]>, Vec<f32>) {
+        let nv = self.num_vertices;
+        let mut edge_verts = Vec::with_capacity(child_ne);
+        let mut edge_faces = Vec::with_capacity(child_ne);
+        let mut edge_sharpness = Vec::with_capacity(child_ne);
+        for (e, &[a, b]) in self.edge_verts.iter().enumerate() {
+            let m = (nv + e) as u32;
+            edge_verts.extend_from_slice(&[[a, m], [m, b]]);
+            edge_faces.extend_from_slice(&[[NONE; 2]; 2]);
+            edge_sharpness.extend_from_slice(&self.child_sharpness(e));
+        }
+        edge_sharpness.resize(child_ne, 0.0);
+        (edge_verts, edge_faces, edge_sharpness)
+    }
+
+    /// The corner sharpness of the `child_nv` vertices one step down: each vertex point keeps
+    /// its vertex's, decremented; edge and face points have none.
+    fn child_vertex_sharpness(&self, child_nv: usize) -> Vec<f32> {
+        let mut out = Vec::with_capacity(child_nv);
+        out.extend(self.vertex_sharpness.iter().map(|&s| decrement(s)));
+        out.resize(child_nv, 0.0);
+        out
+    }
+
     /// The topology of one Catmull–Clark step (see [`super::refiner`] for the id layout).
     pub(crate) fn refine_catmull_clark(&self) -> Result<Level, crate::limits::LimitError> {
         let (nv, ne, nf) = (self.num_vertices, self.edge_count(), self.face_count());
         let ncorner = self.face_verts.len();
         let child_nv = nv + ne + nf;
         let child_ne = 2 * ne + ncorner;
-        let mut edge_verts = vec![[0u32; 2]; child_ne];
-        let mut edge_faces = vec![[NONE; 2]; child_ne];
-        let mut edge_sharpness = vec![0.0f32; child_ne];
-        for (e, &[a, b]) in self.edge_verts.iter().enumerate() {
-            let m = (nv + e) as u32;
-            edge_verts[2 * e] = [a, m];
-            edge_verts[2 * e + 1] = [m, b];
-            let [sa, sb] = self.child_sharpness(e);
-            edge_sharpness[2 * e] = sa;
-            edge_sharpness[2 * e + 1] = sb;
-        }
+        let (mut edge_verts, mut edge_faces, edge_sharpness) = self.split_edges(child_ne);
+        // Each edge's corner in each of its faces, for the child adjacency.
+        let mut corners = vec![[0u32; 2]; ne];
         let mut face_start = Vec::with_capacity(ncorner + 1);
         let mut face_verts = Vec::with_capacity(4 * ncorner);
         let mut face_edges = Vec::with_capacity(4 * ncorner);
@@ -491,20 +542,18 @@ impl Level {
                 ]);
                 // The two halves of edge ek: the one at v lies in child k, the other in child k+1.
                 let slot = usize::from(self.edge_faces[ek][0] != f as u32);
+                corners[ek][slot] = (s + k) as u32;
                 let other_half = half_k ^ 1;
                 edge_faces[half_k][slot] = child;
                 edge_faces[other_half][slot] = (s + kn) as u32;
-                // Interior edge of corner k: edge point of ek to the face point, in children k, k+1.
-                let ie = 2 * ne + s + k;
-                edge_verts[ie] = [(nv + ek) as u32, fp];
-                edge_faces[ie] = [child, (s + kn) as u32];
+                // Interior edge of corner k (edge 2 ne + s + k, pushed in corner order): edge
+                // point of ek to the face point, in children k, k+1.
+                edge_verts.push([(nv + ek) as u32, fp]);
+                edge_faces.push([child, (s + kn) as u32]);
             }
         }
         face_start.push(face_verts.len() as u32);
-        let mut vertex_sharpness = vec![0.0f32; child_nv];
-        for (c, &p) in vertex_sharpness.iter_mut().zip(&self.vertex_sharpness) {
-            *c = decrement(p);
-        }
+        let vertex_sharpness = self.child_vertex_sharpness(child_nv);
         let mut level = Level {
             num_vertices: child_nv,
             face_start,
@@ -517,7 +566,7 @@ impl Level {
             creasing: self.creasing,
             ..Level::default()
         };
-        level.derive();
+        level.derive(self.child_adjacency_catmull_clark(&corners));
         Ok(level)
     }
 
@@ -526,17 +575,8 @@ impl Level {
         let (nv, ne, nf) = (self.num_vertices, self.edge_count(), self.face_count());
         let child_nv = nv + ne;
         let child_ne = 2 * ne + 3 * nf;
-        let mut edge_verts = vec![[0u32; 2]; child_ne];
-        let mut edge_faces = vec![[NONE; 2]; child_ne];
-        let mut edge_sharpness = vec![0.0f32; child_ne];
-        for (e, &[a, b]) in self.edge_verts.iter().enumerate() {
-            let m = (nv + e) as u32;
-            edge_verts[2 * e] = [a, m];
-            edge_verts[2 * e + 1] = [m, b];
-            let [sa, sb] = self.child_sharpness(e);
-            edge_sharpness[2 * e] = sa;
-            edge_sharpness[2 * e + 1] = sb;
-        }
+        let (mut edge_verts, mut edge_faces, edge_sharpness) = self.split_edges(child_ne);
+        let mut corners = vec![[0u32; 2]; ne];
         let mut face_verts = Vec::with_capacity(12 * nf);
         let mut face_edges = Vec::with_capacity(12 * nf);
         for f in 0..nf {
@@ -554,21 +594,19 @@ impl Level {
                 let half_p = if self.edge_verts[e[kp]][0] == v[k] { 2 * e[kp] } else { 2 * e[kp] + 1 };
                 face_edges.extend_from_slice(&[half_k as u32, interior(kp), half_p as u32]);
                 let slot = usize::from(self.edge_faces[e[k]][0] != f as u32);
+                corners[e[k]][slot] = (s + k) as u32;
                 edge_faces[half_k][slot] = child;
                 edge_faces[half_k ^ 1][slot] = (4 * f + (k + 1) % 3) as u32;
-                // Interior edge k joins m[k] and m[k+1]: in the centre child and in child k+1.
-                let ie = interior(k) as usize;
-                edge_verts[ie] = [m[k], m[(k + 1) % 3]];
-                edge_faces[ie] = [(4 * f + 3) as u32, (4 * f + (k + 1) % 3) as u32];
+                // Interior edge k (edge 2 ne + 3 f + k, pushed in that order) joins m[k] and
+                // m[k+1]: in the centre child and in child k+1.
+                edge_verts.push([m[k], m[(k + 1) % 3]]);
+                edge_faces.push([(4 * f + 3) as u32, (4 * f + (k + 1) % 3) as u32]);
             }
             face_verts.extend_from_slice(&m);
             face_edges.extend_from_slice(&[interior(0), interior(1), interior(2)]);
         }
         let face_start = (0..=4 * nf as u32).map(|i| 3 * i).collect();
-        let mut vertex_sharpness = vec![0.0f32; child_nv];
-        for (c, &p) in vertex_sharpness.iter_mut().zip(&self.vertex_sharpness) {
-            *c = decrement(p);
-        }
+        let vertex_sharpness = self.child_vertex_sharpness(child_nv);
         let mut level = Level {
             num_vertices: child_nv,
             face_start,
@@ -581,7 +619,7 @@ impl Level {
             creasing: self.creasing,
             ..Level::default()
         };
-        level.derive();
+        level.derive(self.child_adjacency_loop(&corners));
         Ok(level)
     }
 

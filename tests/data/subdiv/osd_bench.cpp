@@ -8,7 +8,14 @@
 //
 //   g++ -O2 -o osd_bench osd_bench.cpp -losdCPU
 //   ./osd_bench catmark mesh.obj 3 5      # scheme, mesh, levels, repetitions
+//   ./osd_bench catmark mesh.obj 3 once   # one run of osd_far_once_measured, for callgrind
 // Prints: OSD_BENCH scheme=... topology_med_s=... positions_med_s=... total_med_s=... F=...
+// or, with `once`: OSD_ONCE scheme=... F0=... V=... F=... seconds=...
+//
+// The timed work is farTopology + farPositions; `once` runs both once inside
+// osd_far_once_measured (never inlined), so that callgrind_vs_osd.sh can count its instructions
+// alone with --toggle-collect (deleting the refiner and the buffers happens after it returns, as
+// the timed loop leaves them out too).
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/topologyDescriptor.h>
 #include <opensubdiv/far/topologyRefinerFactory.h>
@@ -42,10 +49,45 @@ static double median(std::vector<double> v) {
     return v[v.size() / 2];
 }
 
+typedef Far::TopologyRefinerFactory<Far::TopologyDescriptor> Factory;
+
+// Far's topology: the refiner created from the descriptor and refined uniformly `levels` deep.
+__attribute__((noinline)) Far::TopologyRefiner* farTopology(Far::TopologyDescriptor const& desc, Sdc::SchemeType type,
+                                                            Sdc::Options options, int levels) {
+    Far::TopologyRefiner* refiner = Factory::Create(desc, Factory::Options(type, options));
+    if (refiner) refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(levels));
+    return refiner;
+}
+
+// Far's positions: the control points copied into `a`, then interpolated level by level
+// (PrimvarRefiner, double); the last level ends in `a`.
+__attribute__((noinline)) void farPositions(Far::TopologyRefiner const& refiner, std::vector<Vertex> const& verts,
+                                            int levels, std::vector<Vertex>& a, std::vector<Vertex>& b) {
+    a = verts;
+    Far::PrimvarRefinerReal<double> pv(refiner);
+    for (int l = 1; l <= levels; ++l) {
+        b.resize(refiner.GetLevel(l).GetNumVertices());
+        pv.Interpolate(l, a, b);
+        std::swap(a, b);
+    }
+}
+
+// Topology + positions once: what callgrind_vs_osd.sh counts.
+__attribute__((noinline)) Far::TopologyRefiner* osd_far_once_measured(Far::TopologyDescriptor const& desc,
+                                                                      Sdc::SchemeType type, Sdc::Options options,
+                                                                      int levels, std::vector<Vertex> const& verts,
+                                                                      std::vector<Vertex>& a, std::vector<Vertex>& b) {
+    Far::TopologyRefiner* refiner = farTopology(desc, type, options, levels);
+    if (refiner) farPositions(*refiner, verts, levels, a, b);
+    return refiner;
+}
+
 int main(int argc, char** argv) {
     if (argc < 3) { fprintf(stderr, "usage: osd_bench catmark|loop mesh.obj [levels] [reps]\n"); return 1; }
     std::string scheme = argv[1];
     int levels = argc > 3 ? atoi(argv[3]) : 3, reps = argc > 4 ? atoi(argv[4]) : 5;
+    bool once = argc > 4 && std::string(argv[4]) == "once";
+    if (!once && reps < 1) { fprintf(stderr, "osd_bench: repetitions must be a positive number or `once`\n"); return 1; }
     std::ifstream in(argv[2]);
     if (!in) { fprintf(stderr, "osd_bench: cannot read %s\n", argv[2]); return 1; }
     std::string line;
@@ -80,23 +122,28 @@ int main(int argc, char** argv) {
     desc.creaseWeights = creaseW.data();
     Sdc::Options options;
     options.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_ONLY);
-    typedef Far::TopologyRefinerFactory<Far::TopologyDescriptor> Factory;
     Sdc::SchemeType type = scheme == "loop" ? Sdc::SCHEME_LOOP : Sdc::SCHEME_CATMARK;
+    if (once) {
+        std::vector<Vertex> a, b;
+        double t0 = now();
+        Far::TopologyRefiner* refiner = osd_far_once_measured(desc, type, options, levels, verts, a, b);
+        double t1 = now();
+        if (!refiner) { fprintf(stderr, "osd_bench: OpenSubdiv refused the topology\n"); return 1; }
+        printf("OSD_ONCE scheme=%s levels=%d F0=%zu creases=%zu V=%d F=%d seconds=%.5f\n", scheme.c_str(), levels,
+               counts.size(), creaseW.size(), refiner->GetLevel(levels).GetNumVertices(),
+               refiner->GetLevel(levels).GetNumFaces(), t1 - t0);
+        delete refiner;
+        return 0;
+    }
     std::vector<double> tt, tp;
     int nf = 0;
     for (int r = 0; r < reps; ++r) {
         double t0 = now();
-        Far::TopologyRefiner* refiner = Factory::Create(desc, Factory::Options(type, options));
+        Far::TopologyRefiner* refiner = farTopology(desc, type, options, levels);
         if (!refiner) { fprintf(stderr, "osd_bench: OpenSubdiv refused the topology\n"); return 1; }
-        refiner->RefineUniform(Far::TopologyRefiner::UniformOptions(levels));
         double t1 = now();
-        std::vector<Vertex> a = verts, b;
-        Far::PrimvarRefinerReal<double> pv(*refiner);
-        for (int l = 1; l <= levels; ++l) {
-            b.resize(refiner->GetLevel(l).GetNumVertices());
-            pv.Interpolate(l, a, b);
-            std::swap(a, b);
-        }
+        std::vector<Vertex> a, b;
+        farPositions(*refiner, verts, levels, a, b);
         double t2 = now();
         nf = refiner->GetLevel(levels).GetNumFaces();
         tt.push_back(t1 - t0);
