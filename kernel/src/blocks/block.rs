@@ -58,6 +58,12 @@ impl Face {
         self as usize
     }
 
+    /// The face of index `i` (see [`Face::index`]), `None` from 6 up.
+    #[must_use]
+    pub fn from_index(i: usize) -> Option<Face> {
+        Face::ALL.get(i).copied()
+    }
+
     /// The axis the face is normal to: 0, 1 or 2.
     #[must_use]
     pub fn axis(self) -> usize {

@@ -5,6 +5,7 @@
 use std::collections::BTreeSet;
 
 use super::{Block, BlockError, Face};
+use crate::mesh::BlockSubFace;
 
 /// The default connection threshold: sub-faces connect when their distance is below
 /// `0.05 × (perimeter(A) + perimeter(B))`.
@@ -19,6 +20,27 @@ pub struct SubFaceRef {
     pub face: Face,
     /// The sub-face index `i + nu * j`.
     pub sub: u32,
+}
+
+impl From<SubFaceRef> for BlockSubFace {
+    /// The id a face's [`FaceSource::Block`](crate::mesh::FaceSource::Block) records.
+    fn from(r: SubFaceRef) -> BlockSubFace {
+        BlockSubFace { block: r.block, face: r.face.index() as u8, sub: r.sub }
+    }
+}
+
+impl TryFrom<BlockSubFace> for SubFaceRef {
+    type Error = BlockError;
+
+    /// The sub-face a face's source names.
+    ///
+    /// # Errors
+    /// [`BlockError::UnknownFace`] for a face index from 6 up.
+    fn try_from(id: BlockSubFace) -> Result<SubFaceRef, BlockError> {
+        let face = Face::from_index(usize::from(id.face))
+            .ok_or_else(|| BlockError::UnknownFace { name: format!("of index {}", id.face) })?;
+        Ok(SubFaceRef { block: id.block, face, sub: id.sub })
+    }
 }
 
 /// A connection between two sub-faces of different blocks.

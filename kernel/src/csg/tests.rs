@@ -126,7 +126,7 @@ fn block_leaves_keep_their_sub_faces() {
         .unwrap()
         .iter()
         .filter_map(|s| match s {
-            FaceSource::Block { sub_face, .. } => Some(*sub_face),
+            FaceSource::Block { sub_face, .. } => Some(SubFaceRef::try_from(*sub_face).unwrap()),
             _ => None,
         })
         .collect();
@@ -292,7 +292,7 @@ fn the_engine_gets_one_face_per_flat_region_of_one_source() {
     let model = sharp_box([-0.1, 0.2, 0.3], [0.3, 0.7, 1.1], &[(Face::PosZ, 2, 3)]);
     let t = model.tessellate(&MeshOptions::DEFAULT, None).unwrap();
     let sources: Vec<FaceSource> =
-        t.triangle_sources.iter().map(|&sub_face| FaceSource::Block { leaf: 0, sub_face }).collect();
+        t.triangle_sources.iter().map(|&r| FaceSource::Block { leaf: 0, sub_face: r.into() }).collect();
     let (faces, creases) = faces_of(&t.mesh, &sources, false);
     assert_eq!(faces, 5 + 6);
     assert_eq!(creases, t.mesh.crease_count());
@@ -320,7 +320,7 @@ fn coplanar_triangles_of_one_source_are_cut_as_one_face() {
     let out = m.face_sources().unwrap();
     let on = |face: Face, sub: u32| {
         out.iter()
-            .filter(|s| matches!(s, FaceSource::Block { sub_face, .. } if sub_face.face == face && sub_face.sub == sub))
+            .filter(|s| matches!(s, FaceSource::Block { sub_face, .. } if usize::from(sub_face.face) == face.index() && sub_face.sub == sub))
             .count()
     };
     assert!((0..4).all(|sub| on(Face::PosZ, sub) > 0));

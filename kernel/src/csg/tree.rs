@@ -569,7 +569,8 @@ fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
                 BlockError::Limit(l) => CsgError::Limit(l),
                 source => CsgError::Blocks { side, leaf: leaf_no, source },
             })?;
-            let sources = t.triangle_sources.iter().map(|&sub_face| FaceSource::Block { leaf: 0, sub_face }).collect();
+            let sources =
+                t.triangle_sources.iter().map(|&r| FaceSource::Block { leaf: 0, sub_face: r.into() }).collect();
             (Cow::Owned(t.mesh), sources, true, false)
         }
         Csg::Mesh(m) => {

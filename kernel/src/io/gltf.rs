@@ -46,8 +46,7 @@ use super::error::IoError;
 use super::options::{UpAxis, Weld};
 use crate::limits::LimitError;
 use crate::math::{Mat4, Vec3};
-use crate::mesh::{Mesh, MeshError};
-use crate::subdiv::{BoundaryInterpolation, CreaseMethod, SubdivOptions, TriangleSubdivision};
+use crate::mesh::{BoundaryInterpolation, CreaseMethod, Mesh, MeshError, SubdivOptions, TriangleSubdivision};
 
 /// The key of blocksmith's data in the mesh's `extras`.
 const EXTRAS_KEY: &str = "blocksmith";

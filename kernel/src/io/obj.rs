@@ -28,8 +28,7 @@ use std::path::Path;
 
 use super::error::IoError;
 use crate::math::Vec3;
-use crate::mesh::Mesh;
-use crate::subdiv::{BoundaryInterpolation, CreaseMethod, SubdivOptions, TriangleSubdivision};
+use crate::mesh::{BoundaryInterpolation, CreaseMethod, Mesh, SubdivOptions, TriangleSubdivision};
 
 /// Keywords of the OBJ specification that the reader accepts and ignores (besides `v`, `f`
 /// and `t`, which it reads, and comments).

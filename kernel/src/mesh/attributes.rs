@@ -1,51 +1,7 @@
 //! Per-element attributes: crease sharpness on edges, corner sharpness and colours on vertices, sources
-//! (provenance) on faces.
+//! (provenance, [`FaceSource`]) on faces.
 
-use super::{Mesh, MeshError};
-use crate::blocks::SubFaceRef;
-
-/// Where a face of a boolean result came from (seed 000 §2.4.2: the surviving patches keep
-/// their tags). `leaf` numbers the inputs of the CSG tree, left to right.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum FaceSource {
-    /// A triangle of a tessellated block model: the block sub-face it lies on.
-    Block {
-        /// The input (leaf) of the CSG tree.
-        leaf: u32,
-        /// The block, face and sub-face.
-        sub_face: SubFaceRef,
-    },
-    /// A face of an input mesh.
-    Mesh {
-        /// The input (leaf) of the CSG tree.
-        leaf: u32,
-        /// The face id in that input mesh.
-        face: u32,
-    },
-    /// A face whose source is not known (a part without sources in [`Mesh::combine`]).
-    Unknown,
-}
-
-impl FaceSource {
-    /// The leaf (input) this face came from; `None` for [`FaceSource::Unknown`].
-    #[must_use]
-    pub fn leaf(&self) -> Option<u32> {
-        match self {
-            FaceSource::Block { leaf, .. } | FaceSource::Mesh { leaf, .. } => Some(*leaf),
-            FaceSource::Unknown => None,
-        }
-    }
-
-    /// The same source with its leaf id moved up by `offset`.
-    #[must_use]
-    pub fn shifted(self, offset: u32) -> FaceSource {
-        match self {
-            FaceSource::Block { leaf, sub_face } => FaceSource::Block { leaf: leaf + offset, sub_face },
-            FaceSource::Mesh { leaf, face } => FaceSource::Mesh { leaf: leaf + offset, face },
-            FaceSource::Unknown => FaceSource::Unknown,
-        }
-    }
-}
+use super::{FaceSource, Mesh, MeshError, SubdivOptions};
 
 /// Checks a crease or corner sharpness: any value from 0 to `f64::INFINITY`.
 ///
@@ -182,12 +138,12 @@ impl Mesh {
     /// [`Mesh::loop_subdivide`] and the limit functions (OpenSubdiv's `Sdc::Options`; a USD mesh
     /// holds the same three as attributes).
     #[must_use]
-    pub fn subdiv_options(&self) -> crate::subdiv::SubdivOptions {
+    pub fn subdiv_options(&self) -> SubdivOptions {
         self.subdiv_options
     }
 
     /// Sets the subdivision options.
-    pub fn set_subdiv_options(&mut self, options: crate::subdiv::SubdivOptions) {
+    pub fn set_subdiv_options(&mut self, options: SubdivOptions) {
         self.subdiv_options = options;
     }
 

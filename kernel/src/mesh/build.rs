@@ -5,7 +5,7 @@
 //! unmatched half-edge with a boundary half-edge; link boundary loops; check that every vertex's
 //! half-edges form one fan.
 
-use super::{Mesh, MeshError, NONE};
+use super::{Mesh, MeshError, SubdivOptions, NONE};
 use crate::math::{is_finite, Vec3};
 
 /// [`MeshError::NonFinite`] naming the first vertex with a NaN or infinite coordinate.
@@ -246,7 +246,7 @@ impl Mesh {
             face_he,
             he_sharpness: vec![0.0; nh],
             vertex_sharpness: vec![0.0; nv],
-            subdiv_options: crate::subdiv::SubdivOptions::default(),
+            subdiv_options: SubdivOptions::default(),
             vertex_colors: None,
             face_sources: None,
         })
@@ -355,7 +355,7 @@ impl Mesh {
             face_he,
             he_sharpness: sharpness,
             vertex_sharpness,
-            subdiv_options: crate::subdiv::SubdivOptions::default(),
+            subdiv_options: SubdivOptions::default(),
             vertex_colors: None,
             face_sources: None,
         })

@@ -15,25 +15,27 @@ mod combine;
 pub mod edit;
 mod error;
 mod estimate;
+mod face_source;
 mod measure;
 mod primitive_checks;
 mod primitives;
+mod subdiv_options;
 mod transform;
 mod triangulate;
 
-pub use attributes::{check_sharpness, FaceSource};
+pub use attributes::check_sharpness;
 pub use error::MeshError;
 pub use estimate::{check_mesh_size, mesh_bytes};
+pub use face_source::{BlockSubFace, FaceSource};
 pub use measure::Measures;
 pub use primitive_checks::{check_length, check_point, MAX_LENGTH, MIN_LENGTH};
+pub use subdiv_options::{BoundaryInterpolation, CreaseMethod, SubdivOptions, TriangleSubdivision, SHARPNESS_INFINITE};
 
 use crate::math::Vec3;
 
 /// The id that stands for "none" (the face of a boundary half-edge, the outgoing half-edge of an
 /// isolated vertex).
 pub const NONE: u32 = u32::MAX;
-
-use crate::subdiv::SubdivOptions;
 
 /// A closed or bounded 2-manifold polygon mesh with faces of any arity.
 ///

@@ -30,7 +30,6 @@ mod evaluator;
 mod limit;
 mod loop_scheme;
 mod masks;
-mod options;
 mod patch;
 #[cfg(test)]
 mod reference_tests;
@@ -46,6 +45,7 @@ mod topology;
 pub use error::SubdivError;
 pub use evaluator::{LimitEvaluator, LimitSample};
 pub use limit::{catmull_clark_limit_stencils, loop_limit_stencils};
-pub use options::{BoundaryInterpolation, CreaseMethod, SubdivOptions, TriangleSubdivision, SHARPNESS_INFINITE};
+// The options are defined with the mesh that carries them (`mesh/subdiv_options.rs`).
+pub use crate::mesh::{BoundaryInterpolation, CreaseMethod, SubdivOptions, TriangleSubdivision, SHARPNESS_INFINITE};
 pub use refiner::{loop_beta, Refiner, Scheme, MAX_FACES};
 pub use stencil::StencilTable;

@@ -34,10 +34,10 @@
 use crate::math::Vec3;
 use crate::mesh::Mesh;
 
-use super::options::SubdivOptions;
 use super::stencil::{RowBuilder, StencilTable};
 use super::topology::{check_size, Blend, Level, Rule, NONE};
 use super::SubdivError;
+use super::SubdivOptions;
 
 /// The most faces a refinement may produce (about 5 GB of output mesh).
 pub const MAX_FACES: u64 = 50_000_000;

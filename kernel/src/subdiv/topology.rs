@@ -22,8 +22,8 @@
 use crate::mesh::{Mesh, NONE as MESH_NONE};
 
 use super::child_adjacency::Adjacency;
-use super::options::{BoundaryInterpolation, CreaseMethod, SubdivOptions, TriangleSubdivision};
 use super::SubdivError;
+use super::{BoundaryInterpolation, CreaseMethod, SubdivOptions, TriangleSubdivision};
 
 /// OpenSubdiv's infinite sharpness (`Sdc::Crease::SHARPNESS_INFINITE`).
 pub(crate) const INFINITE: f32 = 10.0;

@@ -1,5 +1,6 @@
 //! Subdivision options, as OpenSubdiv's `Sdc::Options` names them, and the names files and
-//! scripts write them with.
+//! scripts write them with. A mesh carries its options (as a USD mesh carries them as attributes),
+//! so they are defined here, beside the crease and corner tags; `subdiv` re-exports them.
 
 /// The sharpness from which a crease or corner is infinitely sharp (OpenSubdiv's
 /// `Sdc::Crease::SHARPNESS_INFINITE`): subdivision treats every value from 10 up, and
