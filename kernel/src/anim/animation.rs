@@ -4,19 +4,12 @@
 //! and the skinning that turns node states into vertex positions.
 
 use super::gravity::GravityState;
+use super::nodes::Tree;
 use super::skinning::{joint_poses, skin};
-use super::{AnimError, Gravity, Growth, JointPose, Skinning};
+use super::{AnimError, Gravity, Growth, JointPose, NodeState, Skinning};
 use crate::math::Vec3;
 use crate::mesh::Mesh;
 use crate::polar::{PolarMesh, Skeleton};
-
-/// A node's state: its position in the global frame and its thickness (the scale of its
-/// vertices' offsets from it: 0 collapses its ring on the node, 1 keeps it as modelled).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct NodeState {
-    pub position: Vec3,
-    pub thickness: f64,
-}
 
 /// One entry of the modifier stack.
 #[derive(Clone, Debug, PartialEq)]
@@ -38,17 +31,6 @@ impl Modifier {
             Modifier::Custom(_) => "custom",
         }
     }
-}
-
-/// The rooted tree the modifiers walk: parents, children, depths, a depth-first order (parents
-/// before children) and the node pairs of the segments that close cycles.
-#[derive(Clone, Debug, PartialEq)]
-pub(crate) struct Tree {
-    pub parent: Vec<Option<u32>>,
-    pub children: Vec<Vec<u32>>,
-    pub depth: Vec<u32>,
-    pub order: Vec<u32>,
-    pub cycle_pairs: Vec<[u32; 2]>,
 }
 
 /// A caller-evaluated modifier: `(caller id, node, t, state in)` → state out, or a message.
@@ -79,13 +61,7 @@ impl Animation {
             }
         }
         let skeleton = pm.skeleton(root).map_err(|e| AnimError::Skeleton(e.to_string()))?;
-        let n = skeleton.node_count();
-        let parent: Vec<Option<u32>> = (0..n as u32).map(|i| skeleton.parent(i)).collect();
-        let children = (0..n as u32).map(|i| skeleton.children(i).to_vec()).collect();
-        let depth = (0..n as u32).map(|i| skeleton.depth(i)).collect();
-        let order = skeleton.depth_first_order().to_vec();
-        let cycle_pairs = skeleton.cycle_segments().iter().map(|&s| skeleton.segments()[s as usize]).collect();
-        let tree = Tree { parent, children, depth, order, cycle_pairs };
+        let tree = Tree::of_skeleton(&skeleton);
         Ok(Animation { rest: pm.to_mesh(), skeleton, tree, skinning, modifiers: Vec::new() })
     }
 

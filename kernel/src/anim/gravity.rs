@@ -11,7 +11,7 @@
 //! placed (or is the fixed root), which makes one sweep exact for a tree; the further iterations
 //! settle the segments that close cycles.
 
-use super::animation::{NodeState, Tree};
+use super::nodes::{NodeState, Tree};
 use super::AnimError;
 use crate::math::{fmt_num, Vec3};
 

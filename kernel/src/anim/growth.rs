@@ -4,7 +4,7 @@
 //! `d` segments from the root starts growing at `d × delay`, so later parts mature later, as
 //! the thesis observes ("parts mature in sequence from base to apex").
 
-use super::animation::{NodeState, Tree};
+use super::nodes::{NodeState, Tree};
 use super::AnimError;
 use crate::math::fmt_num;
 

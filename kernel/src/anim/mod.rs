@@ -5,6 +5,7 @@
 //!
 //! - [`Animation`]: the rest state, the modifier stack, [`Animation::pose`] for time-pure stacks
 //!   and [`Animation::frames`] for simulated ones;
+//! - `nodes`: the rooted node tree the modifiers walk and each node's [`NodeState`];
 //! - `skinning`: joint transforms and vertex positions from node states;
 //! - `growth`, `gravity`: the thesis's two behaviours;
 //! - `export`: a glTF 2.0 file with the skeleton as joints, skin weights and one animation.
@@ -14,13 +15,15 @@ mod error;
 mod export;
 mod gravity;
 mod growth;
+mod nodes;
 mod skinning;
 
-pub use animation::{Animation, CustomModifier, Modifier, NodeState};
+pub use animation::{Animation, CustomModifier, Modifier};
 pub use error::AnimError;
 pub use export::write_animation_glb;
 pub use gravity::Gravity;
 pub use growth::{Curve, Growth};
+pub use nodes::NodeState;
 pub use skinning::{JointPose, Skinning};
 
 #[cfg(test)]

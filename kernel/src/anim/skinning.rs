@@ -10,7 +10,7 @@
 //!   lies in the bisecting plane of the two segments — the relative-angle blend of Fig. 7.5,
 //!   which keeps the elbow from collapsing. Both reproduce the rest pose bit for bit.
 
-use super::animation::{NodeState, Tree};
+use super::nodes::{NodeState, Tree};
 use crate::math::{Quat, Vec3};
 
 /// How vertices follow the skeleton.
