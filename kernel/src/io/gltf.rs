@@ -43,7 +43,8 @@ use gltf::json;
 use json::validation::{Checked::Valid, USize64};
 
 use super::error::IoError;
-use super::options::{UpAxis, Weld};
+use super::options::UpAxis;
+use super::weld::Weld;
 use crate::limits::LimitError;
 use crate::math::{Mat4, Vec3};
 use crate::mesh::{BoundaryInterpolation, CreaseMethod, Mesh, MeshError, SubdivOptions, TriangleSubdivision};

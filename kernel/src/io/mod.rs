@@ -45,9 +45,10 @@ use std::path::Path;
 
 pub use atomic::{write_atomic, StoppableFile};
 pub use error::{IoError, KNOWN_EXTENSIONS};
-pub use options::{LoadOptions, SaveOptions, UpAxis, Weld};
+pub use options::{LoadOptions, SaveOptions, UpAxis};
 pub use ply::PlyEncoding;
 pub use source_colors::source_color;
+pub use weld::Weld;
 
 use crate::mesh::{Mesh, MeshError};
 

@@ -1,5 +1,5 @@
 //! Options of [`load_with`](super::load_with) and [`save_with`](super::save_with): the up axis
-//! of the file and how corners are welded.
+//! of the file, how corners are welded ([`Weld`], defined with the welding) and how PLY is encoded.
 //!
 //! blocksmith is Z-up (as OpenSCAD, Manifold and Blender are). glTF is Y-up by specification
 //! (glTF 2.0 §3.4 "Coordinate System and Units"), so glTF files are always converted: kernel
@@ -9,6 +9,7 @@
 //! `up` option says the file is Y-up.
 
 use super::ply::PlyEncoding;
+use super::weld::Weld;
 use crate::math::{Quat, Vec3};
 
 /// The axis that points up in a file's coordinates.
@@ -59,31 +60,6 @@ impl UpAxis {
         let axis = self.to_file(Vec3::new(q.x, q.y, q.z));
         Quat::from_xyzw(axis.x, axis.y, axis.z, q.w)
     }
-}
-
-/// How corners that a file stores separately are joined into shared vertices.
-///
-/// Default value: `Weld::Relative(1e-8)`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Weld {
-    /// Keep every vertex of the file as it is (a glTF's split seams stay open; an STL becomes
-    /// separate triangles).
-    Off,
-    /// Join vertices at most `tol × d` apart in every coordinate, `d` the diagonal of the
-    /// bounding box of the file's vertices. `0` joins only equal coordinates (−0 = +0).
-    Relative(f64),
-}
-
-impl Default for Weld {
-    fn default() -> Self {
-        Weld::DEFAULT
-    }
-}
-
-impl Weld {
-    /// The default: `Relative(1e-8)`, far below any feature a model draws and far above the
-    /// noise of a CAD exporter's arithmetic (1e-17 and below).
-    pub const DEFAULT: Weld = Weld::Relative(1e-8);
 }
 
 /// Options of [`load_with`](super::load_with).

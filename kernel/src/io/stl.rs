@@ -10,7 +10,7 @@ use std::io::Write;
 use std::path::Path;
 
 use super::error::IoError;
-use super::options::Weld;
+use super::weld::Weld;
 use crate::math::Vec3;
 use crate::mesh::{Mesh, MeshError};
 

@@ -15,7 +15,30 @@ use std::hash::{BuildHasherDefault, Hasher};
 use crate::limits::LimitError;
 use crate::math::Vec3;
 
-use super::options::Weld;
+/// How corners that a file stores separately are joined into shared vertices.
+///
+/// Default value: `Weld::Relative(1e-8)`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Weld {
+    /// Keep every vertex of the file as it is (a glTF's split seams stay open; an STL becomes
+    /// separate triangles).
+    Off,
+    /// Join vertices at most `tol × d` apart in every coordinate, `d` the diagonal of the
+    /// bounding box of the file's vertices. `0` joins only equal coordinates (−0 = +0).
+    Relative(f64),
+}
+
+impl Default for Weld {
+    fn default() -> Self {
+        Weld::DEFAULT
+    }
+}
+
+impl Weld {
+    /// The default: `Relative(1e-8)`, far below any feature a model draws and far above the
+    /// noise of a CAD exporter's arithmetic (1e-17 and below).
+    pub const DEFAULT: Weld = Weld::Relative(1e-8);
+}
 
 /// Cell width in tolerances: wide, so that few vertices need a neighbouring cell.
 const CELL: f64 = 256.0;
