@@ -16,15 +16,7 @@
 //! the refinement rules rely on: their sums run in list order, so the refined positions stay bit for
 //! bit the same (tested against `Level::adjacency` below).
 
-use super::topology::{Level, NONE};
-
-/// A level's vertex → edges and vertex → faces relations (CSR: starts, then ids).
-pub(crate) struct Adjacency {
-    pub(crate) vert_edge_start: Vec<u32>,
-    pub(crate) vert_edges: Vec<u32>,
-    pub(crate) vert_face_start: Vec<u32>,
-    pub(crate) vert_faces: Vec<u32>,
-}
+use super::topology::{Adjacency, Level, NONE};
 
 /// Sorts a short list in place (at most six ids).
 #[inline]

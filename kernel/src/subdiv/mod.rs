@@ -5,6 +5,7 @@
 //!
 //! Layout (as OpenSubdiv separates `Sdc`, `Vtr`, `Far` and `Osd`):
 //! - `topology`: one level of connectivity as flat arrays, vertex rules (smooth, crease, corner);
+//!   `child_level` and `child_adjacency` build the level one step down from it;
 //! - [`refiner`]: [`Refiner`] refines the topology once and applies the rules to positions many
 //!   times, or hands them out as [`StencilTable`]s; [`Mesh::catmull_clark`] and
 //!   [`Mesh::loop_subdivide`] are its one-shot forms;
@@ -24,6 +25,7 @@
 
 mod catmull_clark;
 mod child_adjacency;
+mod child_level;
 mod child_mesh;
 mod error;
 mod evaluator;
