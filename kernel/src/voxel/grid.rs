@@ -5,7 +5,7 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
 use super::haar3d::HaarHierarchy;
 use super::lod_cache::SurfaceCache;
-use super::sculpt::ToolCache;
+use super::tool_cache::ToolCache;
 use super::{for_each_chunk, VoxelError};
 use crate::limits::LimitError;
 use crate::math::{is_finite, Vec3};
@@ -358,6 +358,26 @@ fn paste_box(data: &mut [u8], n: usize, lo: [usize; 3], dims: [usize; 3], values
         let (y, z) = (lo[1] + i % dims[1], lo[2] + i / dims[1]);
         let s = (z * n + y) * n + lo[0];
         data[s..s + dims[0]].copy_from_slice(row);
+    }
+}
+
+// The hierarchy's constructor from a grid lives with the grid (haar3d.rs knows densities only).
+impl HaarHierarchy {
+    /// Builds the hierarchy of an n³ grid down to `levels` levels (the paper's Table 1 builds 5
+    /// for 128³; `levels` = log₂ n goes down to one voxel).
+    ///
+    /// Input: densities `data` (n³, x fastest), n a power of two.
+    ///
+    /// # Errors
+    /// [`VoxelError::LevelOutOfRange`] when `levels` exceeds log₂ n.
+    ///
+    /// See also [`Voxels::hierarchy`], which builds every level and
+    /// keeps it in step with edits.
+    pub fn build(voxels: &Voxels, levels: u32) -> Result<HaarHierarchy, VoxelError> {
+        if levels > voxels.max_level() {
+            return Err(VoxelError::LevelOutOfRange { level: i64::from(levels), max: voxels.max_level(), n: voxels.n });
+        }
+        Ok(HaarHierarchy::build_with(&voxels.data, voxels.n, levels, voxels.parallel))
     }
 }
 

@@ -212,23 +212,6 @@ fn inverse_row<S: Store>(store: &[S], bases: &[usize; 8], parent: &[i64], rows: 
 }
 
 impl HaarHierarchy {
-    /// Builds the hierarchy of an n³ grid down to `levels` levels (the paper's Table 1 builds 5
-    /// for 128³; `levels` = log₂ n goes down to one voxel).
-    ///
-    /// Input: densities `data` (n³, x fastest), n a power of two.
-    ///
-    /// # Errors
-    /// [`VoxelError::LevelOutOfRange`] when `levels` exceeds log₂ n.
-    ///
-    /// See also [`Voxels::hierarchy`](super::Voxels::hierarchy), which builds every level and
-    /// keeps it in step with edits.
-    pub fn build(voxels: &super::Voxels, levels: u32) -> Result<HaarHierarchy, VoxelError> {
-        if levels > voxels.max_level() {
-            return Err(VoxelError::LevelOutOfRange { level: i64::from(levels), max: voxels.max_level(), n: voxels.n });
-        }
-        Ok(HaarHierarchy::build_with(&voxels.data, voxels.n, levels, voxels.parallel))
-    }
-
     /// [`HaarHierarchy::build`] on raw densities; `levels` ≤ log₂ n is the caller's promise.
     pub(crate) fn build_with(data: &[u8], n: usize, levels: u32, parallel: bool) -> HaarHierarchy {
         let mut near = vec![0i16; n * n * n];

@@ -29,11 +29,13 @@ mod fill;
 mod grid;
 mod haar1d;
 mod haar3d;
+mod lod;
 mod lod_cache;
 mod marching_cubes;
 mod mc_table;
 mod rotate;
 mod sculpt;
+mod tool_cache;
 mod voxelize;
 
 pub use error::VoxelError;

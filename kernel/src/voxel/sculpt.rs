@@ -5,6 +5,7 @@
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use super::rotate::{clip_row, frame, sample_bounds, step_row, Placement};
+use super::tool_cache::{CacheKey, ToolCache, UNSET};
 use super::{for_each_chunk, VoxelError, Voxels};
 use crate::math::Vec3;
 
@@ -93,37 +94,6 @@ pub struct SculptReport {
     pub reused: usize,
     /// Object voxels whose density changed.
     pub changed: usize,
-}
-
-/// Marks a rotated voxel not yet computed.
-const UNSET: u16 = u16::MAX;
-
-#[derive(Clone, Debug, PartialEq, Eq)]
-struct CacheKey {
-    tool: u64,
-    tool_n: usize,
-    rotation: [u64; 9],
-    ratio: u64,
-    frac: [u64; 3],
-    antialias: bool,
-}
-
-/// The rotated voxels of the last tool placement, over its whole reach, relative to its anchor:
-/// valid for any placement that differs by whole voxels only.
-#[derive(Clone, Debug)]
-pub(super) struct ToolCache {
-    key: CacheKey,
-    /// Where the tool's samples can be non-zero (tool coordinates); `None` for an empty tool.
-    bounds: Option<(Vec3, Vec3)>,
-    rel: [i64; 3],
-    dims: [usize; 3],
-    values: Vec<u16>,
-}
-
-impl ToolCache {
-    pub(super) fn memory_bytes(&self) -> usize {
-        self.values.capacity() * 2
-    }
 }
 
 impl Voxels {
