@@ -30,6 +30,7 @@ pub mod lsystem;
 pub mod math;
 pub mod mesh;
 pub mod polar;
+pub mod profile;
 pub mod solve;
 pub mod subdiv;
 pub mod voxel;

@@ -16,8 +16,10 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
+use manifold_rust::cross_section::CrossSection;
+use manifold_rust::linalg::{Vec2 as EVec2, Vec3 as EVec3};
 use manifold_rust::manifold::Manifold;
-use manifold_rust::types::{BooleanConfig, Error as EngineStatus, MeshGLP, OpType};
+use manifold_rust::types::{BooleanConfig, Error as EngineStatus, MeshGLP, OpType, Polygons};
 
 use super::CsgOp;
 use crate::limits::CancelToken;
@@ -318,6 +320,240 @@ impl Solid {
         }
         let tags = if m.face_id.len() == triangles.len() { m.face_id } else { vec![u32::MAX; triangles.len()] };
         Triangles { positions, triangles, tags }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// 2D regions and the solids made from them (the profile module's side of the seam)
+// ---------------------------------------------------------------------------------------------
+
+/// How overlapping or self-intersecting contours fill, given to [`Section::from_contours`]:
+/// a point is inside when its winding number (the sum over every contour) is
+/// non-zero ([`Fill::NonZero`]), odd ([`Fill::EvenOdd`]) or positive ([`Fill::Positive`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Fill {
+    /// Winding number ≠ 0.
+    NonZero,
+    /// Winding number odd.
+    EvenOdd,
+    /// Winding number > 0.
+    Positive,
+}
+
+/// How an offset joins the offset edges at a corner ([`Section::offset`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Join {
+    /// An arc of the offset distance.
+    Round,
+    /// The offset edges extended to meet, squared off beyond the miter limit.
+    Miter,
+    /// Squared off at the offset distance from the corner.
+    Square,
+    /// A straight cut between the ends of the two offset edges.
+    Bevel,
+}
+
+/// A 2D region inside the engine (Manifold's `CrossSection`, on Clipper2): contours with outer
+/// ones counter-clockwise and holes clockwise, coordinates on a grid of 1e-8.
+#[derive(Clone, Debug, Default)]
+pub struct Section {
+    inner: CrossSection,
+}
+
+/// Contours as the engine's polygons.
+fn engine_polygons(contours: &[Vec<glam::DVec2>]) -> Polygons {
+    contours.iter().map(|c| c.iter().map(|p| EVec2::new(p.x, p.y)).collect()).collect()
+}
+
+impl Section {
+    /// The region `contours` fill under `fill` (self-intersections and overlaps resolved).
+    ///
+    /// All contours are joined into one path by bridges walked there and back (which add
+    /// nothing to any winding number), so every fill rule sees the sum of the windings.
+    #[must_use]
+    pub fn from_contours(contours: &[Vec<glam::DVec2>], fill: Fill) -> Section {
+        let mut path: Vec<EVec2> = Vec::with_capacity(contours.iter().map(|c| c.len() + 2).sum());
+        let mut starts = Vec::new();
+        for c in contours.iter().filter(|c| !c.is_empty()) {
+            starts.push(EVec2::new(c[0].x, c[0].y));
+            path.extend(c.iter().map(|p| EVec2::new(p.x, p.y)));
+            path.push(EVec2::new(c[0].x, c[0].y));
+        }
+        // Back along the bridges, from the last contour's start through every earlier one to
+        // the first, where the path closes.
+        if starts.len() > 1 {
+            path.extend(starts[1..starts.len() - 1].iter().rev().copied());
+        } else {
+            path.pop();
+        }
+        let code = match fill {
+            Fill::EvenOdd => 0,
+            Fill::NonZero => 1,
+            Fill::Positive => 2,
+        };
+        Section { inner: CrossSection::from_polygon_with_fill_rule(path, code) }
+    }
+
+    /// The region's contours (outer ones counter-clockwise, holes clockwise).
+    #[must_use]
+    pub fn contours(&self) -> Vec<Vec<glam::DVec2>> {
+        self.inner
+            .to_polygons()
+            .into_iter()
+            .filter(|c| c.len() >= 3)
+            .map(|c| c.into_iter().map(|p| glam::DVec2::new(p.x, p.y)).collect())
+            .collect()
+    }
+
+    /// `self op other`.
+    #[must_use]
+    pub fn boolean(&self, other: &Section, op: CsgOp) -> Section {
+        let inner = match op {
+            CsgOp::Union => self.inner.union(&other.inner),
+            CsgOp::Difference => self.inner.difference(&other.inner),
+            CsgOp::Intersection => self.inner.intersection(&other.inner),
+        };
+        Section { inner }
+    }
+
+    /// The region grown by `delta` (shrunk when negative), corners joined by `join`; `miter_limit`
+    /// (in multiples of `delta`) for [`Join::Miter`], `segments` per full turn for
+    /// [`Join::Round`].
+    #[must_use]
+    pub fn offset(&self, delta: f64, join: Join, miter_limit: f64, segments: u32) -> Section {
+        let code = match join {
+            Join::Square => 0,
+            Join::Round => 1,
+            Join::Miter => 2,
+            Join::Bevel => 3,
+        };
+        let segments = i32::try_from(segments).unwrap_or(i32::MAX);
+        Section { inner: self.inner.offset_with_params(delta, code, miter_limit, segments) }
+    }
+
+    /// The region with vertices nearer than `epsilon` to the line through their neighbours
+    /// removed, and contours of area below `epsilon` times their size dropped.
+    #[must_use]
+    pub fn simplify(&self, epsilon: f64) -> Section {
+        Section { inner: self.inner.simplify(epsilon) }
+    }
+
+    /// The convex hull of `points` (Andrew's monotone chain).
+    #[must_use]
+    pub fn hull(points: &[glam::DVec2]) -> Section {
+        let pts: Vec<EVec2> = points.iter().map(|p| EVec2::new(p.x, p.y)).collect();
+        Section { inner: CrossSection::hull_points(&pts) }
+    }
+
+    /// The region's signed area (holes subtract).
+    #[must_use]
+    pub fn area(&self) -> f64 {
+        self.inner.area()
+    }
+}
+
+/// Triangles covering the region bounded by `contours` (outer counter-clockwise, holes
+/// clockwise, none crossing): corner indices into the contours' points numbered one after the
+/// other, counter-clockwise (Manifold's ear clipping).
+#[must_use]
+pub fn triangulate_contours(contours: &[Vec<glam::DVec2>]) -> Vec<[u32; 3]> {
+    manifold_rust::polygon::triangulate(&engine_polygons(contours), -1.0, true)
+        .into_iter()
+        .map(|t| [t.x as u32, t.y as u32, t.z as u32])
+        .collect()
+}
+
+/// The engine's status as a result.
+fn checked(inner: Manifold) -> Result<Solid, EngineError> {
+    match inner.status() {
+        EngineStatus::NoError => Ok(Solid { inner }),
+        EngineStatus::Cancelled => Err(EngineError::Stopped),
+        e => Err(EngineError::Failed(e.to_str().to_string())),
+    }
+}
+
+impl Solid {
+    /// The region of `contours` (clean: outer counter-clockwise, holes clockwise, none crossing,
+    /// as [`Section::contours`] gives) extruded from z = 0 to `height` through `divisions`
+    /// intermediate layers, the top turned by `twist_degrees` (counter-clockwise seen from above)
+    /// and scaled by `scale_top` (x, y) about the origin, every layer in between interpolated.
+    /// The contours go in as they are (not snapped to the section grid).
+    ///
+    /// # Errors
+    /// The engine's reason when it builds no valid solid.
+    pub fn extrude(
+        contours: &[Vec<glam::DVec2>],
+        height: f64,
+        divisions: u32,
+        twist_degrees: f64,
+        scale_top: glam::DVec2,
+    ) -> Result<Solid, EngineError> {
+        let polygons = engine_polygons(contours);
+        let divisions = i32::try_from(divisions).unwrap_or(i32::MAX);
+        checked(Manifold::extrude(&polygons, height, divisions, twist_degrees, EVec2::new(scale_top.x, scale_top.y)))
+    }
+
+    /// The region of clean `contours` (as for [`Solid::extrude`]; x ≥ 0: x the radius, y the
+    /// height) turned `degrees` about the z axis in `segments` steps, capped when partial.
+    ///
+    /// # Errors
+    /// The engine's reason when it builds no valid solid.
+    pub fn revolve(contours: &[Vec<glam::DVec2>], segments: u32, degrees: f64) -> Result<Solid, EngineError> {
+        let polygons = engine_polygons(contours);
+        let segments = i32::try_from(segments).unwrap_or(i32::MAX);
+        checked(Manifold::revolve(&polygons, segments, degrees))
+    }
+
+    /// The convex hull of `points` (quickhull).
+    ///
+    /// # Errors
+    /// The engine's reason when the points span no volume.
+    pub fn hull(points: &[Vec3]) -> Result<Solid, EngineError> {
+        let pts: Vec<EVec3> = points.iter().map(|p| EVec3::new(p.x, p.y, p.z)).collect();
+        checked(Manifold::hull(&pts))
+    }
+
+    /// The Minkowski sum `self ⊕ other` (convex parts summed by hulls, then unioned), ending early
+    /// when `stop` is set.
+    ///
+    /// # Errors
+    /// [`EngineError::Stopped`] when `stop` was set, else the engine's reason.
+    pub fn minkowski_until(&self, other: &Solid, stop: &Stop) -> Result<Solid, EngineError> {
+        if stop.is_stopped() {
+            return Err(EngineError::Stopped);
+        }
+        checked(self.inner.minkowski_sum_with_progress(&other.inner, Some(&stop.0), None))
+    }
+
+    /// The solid cut by the plane `normal · x = offset`: (the part below, the part above), above
+    /// meaning on the side `normal` points to. Either may be empty.
+    ///
+    /// # Errors
+    /// The engine's reason when a part is not a valid solid.
+    pub fn split_by_plane(&self, normal: Vec3, offset: f64) -> Result<(Solid, Solid), EngineError> {
+        let (above, below) = self.inner.split_by_plane(EVec3::new(normal.x, normal.y, normal.z), offset);
+        Ok((checked(below)?, checked(above)?))
+    }
+
+    /// The part of the solid on the side of the plane `normal · x = offset` that `normal` points
+    /// to.
+    ///
+    /// # Errors
+    /// The engine's reason when the part is not a valid solid.
+    pub fn trim_by_plane(&self, normal: Vec3, offset: f64) -> Result<Solid, EngineError> {
+        checked(self.inner.trim_by_plane(EVec3::new(normal.x, normal.y, normal.z), offset))
+    }
+
+    /// The section of the solid by the plane z = `z`.
+    #[must_use]
+    pub fn slice(&self, z: f64) -> Section {
+        Section { inner: self.inner.slice(z) }
+    }
+
+    /// The solid's shadow on the xy plane.
+    #[must_use]
+    pub fn project(&self) -> Section {
+        Section { inner: self.inner.project() }
     }
 }
 
