@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Makes docs/gallery.md and docs/gallery/NAME.png: a picture of every example recipe, drawn by
-# `blocksmith render` (CPU, the same bytes on every machine). script/tests/gallery.rs checks that
+# `blocksmith render` (CPU, the same bytes on every machine). script/cli/tests/gallery.rs checks that
 # the pictures are current; run this after changing a recipe.
 #   bash docs/gallery.sh              # builds the debug binary first
 #   BLOCKSMITH=path/to/blocksmith bash docs/gallery.sh
@@ -17,7 +17,7 @@ rm -f docs/gallery/*.png
   echo
   echo "Every recipe in \`examples/\` at its default parameters, drawn by"
   echo "\`blocksmith render examples/NAME.rhai -o docs/gallery/NAME.png --size $size\` (made by"
-  echo "\`docs/gallery.sh\`; \`script/tests/gallery.rs\` keeps it current). Colours are the studio's:"
+  echo "\`docs/gallery.sh\`; \`script/cli/tests/gallery.rs\` keeps it current). Colours are the studio's:"
   echo "one hue per boolean input or block, else a plain grey-blue."
   echo
   for recipe in examples/[!_]*.rhai; do

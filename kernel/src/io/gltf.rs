@@ -672,7 +672,7 @@ fn blocksmith_extras(m: &gltf::Mesh) -> Option<Extras> {
 /// substitution.
 fn check_accessor(
     acc: &gltf::Accessor,
-    buffers: &[gltf::buffer::Data],
+    buffers: &[Vec<u8>],
     allowed: &[(gltf::accessor::DataType, gltf::accessor::Dimensions)],
     what: &str,
 ) -> Result<(), String> {
@@ -705,7 +705,7 @@ fn check_accessor(
         check_range(&values.view(), values.offset(), n, size, buffers)
             .map_err(|e| format!("{name}'s sparse values{e}"))?;
         // The indices must increase strictly and stay below the count.
-        let data = &buffers[idx.view().buffer().index()].0;
+        let data = &buffers[idx.view().buffer().index()];
         let stride = idx.view().stride().unwrap_or(isize);
         let start = idx.view().offset() + idx.offset();
         let mut last: Option<u64> = None;
@@ -731,7 +731,7 @@ fn check_range(
     offset: usize,
     count: usize,
     size: usize,
-    buffers: &[gltf::buffer::Data],
+    buffers: &[Vec<u8>],
 ) -> Result<(), String> {
     let stride = view.stride().unwrap_or(size);
     let buffer_len = buffers.get(view.buffer().index()).map_or(0, |b| b.len());
@@ -767,7 +767,7 @@ impl Soup {
     fn add_primitive(
         &mut self,
         prim: &gltf::Primitive,
-        buffers: &[gltf::buffer::Data],
+        buffers: &[Vec<u8>],
         world: Mat4,
         extras: Option<&Extras>,
         at: &str,
@@ -797,7 +797,7 @@ impl Soup {
                 .views
                 .get(d.buffer_view)
                 .ok_or_else(|| err(format!("its Draco buffer view {} does not exist", d.buffer_view)))?;
-            let data = buffers.get(buffer).map(|b| &b.0[..]).unwrap_or_default();
+            let data = buffers.get(buffer).map(|b| &b[..]).unwrap_or_default();
             let bytes = start
                 .checked_add(length)
                 .and_then(|end| data.get(start..end))
@@ -818,7 +818,7 @@ impl Soup {
         } else {
             let pos_acc = prim.get(&gltf::Semantic::Positions).ok_or_else(|| err("no POSITION attribute".into()))?;
             check_accessor(&pos_acc, buffers, &[(D::F32, N::Vec3)], "POSITION").map_err(err)?;
-            let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+            let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d[..]));
             let nv = pos_acc.count();
             if offset + nv >= u32::MAX as usize {
                 return Err(IoError::from_mesh(

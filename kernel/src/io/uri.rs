@@ -29,7 +29,7 @@ pub(crate) fn read_buffers(
     base: Option<&Path>,
     blob: Option<Vec<u8>>,
     path: &Path,
-) -> Result<Vec<gltf::buffer::Data>, IoError> {
+) -> Result<Vec<Vec<u8>>, IoError> {
     let mut blob = blob;
     let mut out = Vec::with_capacity(doc.buffers().len());
     for buffer in doc.buffers() {
@@ -70,7 +70,7 @@ pub(crate) fn read_buffers(
         };
         data.truncate(len);
         data.resize(len.div_ceil(4) * 4, 0);
-        out.push(gltf::buffer::Data(data));
+        out.push(data);
     }
     Ok(out)
 }

@@ -1,0 +1,224 @@
+//! Script errors for people: `file:line:col: error: message`, the source line and a caret.
+
+use rhai::{Engine, EvalAltResult, ParseError, Position};
+
+use crate::context::Warning;
+
+/// The message of an error without Rhai's trailing `(line L, position P)`.
+#[must_use]
+pub fn message(err: &EvalAltResult) -> String {
+    let text = match err {
+        EvalAltResult::ErrorTerminated(token, _) => format!("script stopped: {token}"),
+        EvalAltResult::ErrorRuntime(value, _) => value.to_string(),
+        _ => err.to_string(),
+    };
+    strip_position(&text).to_string()
+}
+
+/// [`message`], with a function or property not found explained from what `engine` (the
+/// engine that gave the error) has ([`crate::explain`]).
+#[must_use]
+pub fn explained_message(engine: &Engine, err: &EvalAltResult) -> String {
+    crate::explain::explain(engine, &message(err))
+}
+
+fn strip_position(text: &str) -> &str {
+    let trimmed = text.trim_end();
+    if trimmed.ends_with(')') {
+        if let Some(i) = trimmed.rfind(" (line ") {
+            return &trimmed[..i];
+        }
+    }
+    trimmed
+}
+
+/// The innermost position that lies in the script itself (an error raised inside a called
+/// script function carries the call's position outside and the failing line inside).
+fn innermost_position(err: &EvalAltResult) -> Position {
+    match err {
+        EvalAltResult::ErrorInFunctionCall(_, src, inner, pos) if src.is_empty() => {
+            let p = innermost_position(inner);
+            if p.is_none() {
+                *pos
+            } else {
+                p
+            }
+        }
+        _ => err.position(),
+    }
+}
+
+/// Formats `err` raised in `engine` by the script `name` whose text is `source`:
+///
+/// ```text
+/// recipe.rhai:3:9: error: translate: argument `offset` must be a Vec3 ...
+///     3 | let m = cube(2).translate([1, 2]);
+///       |         ^
+/// ```
+///
+/// An error inside an imported module (a syntax error, or its top-level code failing) points
+/// into the module's file, followed by a note at the `import`.
+#[must_use]
+pub fn format_error(engine: &Engine, name: &str, source: &str, err: &EvalAltResult) -> String {
+    if let EvalAltResult::ErrorInModule(path, inner, pos) = err {
+        if let Some(module_source) = module_source(path) {
+            let inner_text = match &**inner {
+                EvalAltResult::ErrorParsing(kind, at) => {
+                    let e = ParseError(Box::new(kind.clone()), *at);
+                    format_parse_error(path, &module_source, &e)
+                }
+                other => format_error(engine, path, &module_source, other),
+            };
+            return format!("{inner_text}\n{}", format_kind(name, source, *pos, "note", "imported here"));
+        }
+    }
+    let pos = innermost_position(err);
+    format_at(name, source, pos, &explained_message(engine, err))
+}
+
+/// The text of the module file at `path` (a file, or a standard-library module written
+/// `stdlib/NAME.rhai`).
+fn module_source(path: &str) -> Option<String> {
+    if let Some(name) = path.strip_prefix("stdlib/").and_then(|p| p.strip_suffix(".rhai")) {
+        if let Some(src) = crate::resolver::Resolver::stdlib_source(name) {
+            return Some(src.to_string());
+        }
+    }
+    std::fs::read_to_string(path).ok()
+}
+
+/// Formats a parse error like [`format_error`]. Input that ends while a bracket is still open
+/// is reported at that bracket ("missing `}`"), not at the end of the file.
+#[must_use]
+pub fn format_parse_error(name: &str, source: &str, err: &ParseError) -> String {
+    let at_end = err.position().line().is_none_or(|l| l >= source.lines().count());
+    if let (true, Some((open, line, col))) = (at_end, unclosed_bracket(source)) {
+        let close = match open {
+            '(' => ')',
+            '[' => ']',
+            _ => '}',
+        };
+        let message = format!("missing `{close}`: the `{open}` here is never closed");
+        return format_at(name, source, Position::new(line as u16, col as u16), &message);
+    }
+    format_at(name, source, err.position(), strip_position(&err.to_string()))
+}
+
+/// The innermost bracket still open at the end of `text` (strings and comments skipped):
+/// the bracket, its line and column (from 1).
+#[must_use]
+pub fn unclosed_bracket(text: &str) -> Option<(char, usize, usize)> {
+    let mut open: Vec<(char, usize, usize)> = Vec::new();
+    let (mut line, mut col) = (1usize, 0usize);
+    let mut chars = text.chars().peekable();
+    let mut quote: Option<char> = None;
+    let mut comment = false;
+    while let Some(c) = chars.next() {
+        if c == '\n' {
+            line += 1;
+            col = 0;
+            comment = false;
+            continue;
+        }
+        col += 1;
+        if comment {
+            continue;
+        }
+        if let Some(q) = quote {
+            if c == '\\' {
+                chars.next();
+                col += 1;
+            } else if c == q {
+                quote = None;
+            }
+            continue;
+        }
+        match c {
+            '"' | '`' | '\'' => quote = Some(c),
+            '/' if chars.peek() == Some(&'/') => comment = true,
+            '(' | '[' | '{' => open.push((c, line, col)),
+            ')' | ']' | '}' => {
+                open.pop();
+            }
+            _ => {}
+        }
+    }
+    open.pop()
+}
+
+/// Formats a warning at `pos` like [`format_error`] (`file:line:col: warning: ...`).
+#[must_use]
+pub fn format_warning(name: &str, source: &str, pos: Position, message: &str) -> String {
+    format_kind(name, source, pos, "warning", message)
+}
+
+fn format_at(name: &str, source: &str, pos: Position, message: &str) -> String {
+    format_kind(name, source, pos, "error", message)
+}
+
+fn format_kind(name: &str, source: &str, pos: Position, kind: &str, message: &str) -> String {
+    let (Some(line), col) = (pos.line(), pos.position().unwrap_or(1)) else {
+        return format!("{name}: {kind}: {message}");
+    };
+    // A message's first line goes before the source line, its other lines after the caret.
+    let (first, more) = message.split_once('\n').map_or((message, None), |(a, b)| (a, Some(b)));
+    let mut out = format!("{name}:{line}:{col}: {kind}: {first}");
+    if let Some(text) = source.lines().nth(line - 1) {
+        let gutter = line.to_string().len() + 4;
+        out.push_str(&format!(
+            "\n{line:>w$} | {text}\n{:>w$} | {}^",
+            "",
+            " ".repeat(col.saturating_sub(1)),
+            w = gutter
+        ));
+    }
+    if let Some(more) = more {
+        out.push('\n');
+        out.push_str(more);
+    }
+    out
+}
+
+/// The warnings a run gave as it went (`warnings`, taken from its
+/// [`crate::context::Warnings`]), formatted as the lint's are (`file:line:col: warning: ...`,
+/// the source line and a caret): the script's own as `name` with its `source`, a module's with
+/// its file.
+#[must_use]
+pub fn format_run_warnings(warnings: &[Warning], name: &str, source: &str) -> Vec<String> {
+    warnings
+        .iter()
+        .map(|w| match &w.source {
+            Some(module) if module != name => {
+                let text = std::fs::read_to_string(module).unwrap_or_default();
+                format_warning(module, &text, w.position, &w.message)
+            }
+            _ => format_warning(name, source, w.position, &w.message),
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_missing_brace_is_reported_at_the_brace_left_open() {
+        let src = "let m = cube(1);\nif true {\n  m = m.scale(2);\n\nm\n";
+        let err = rhai::Engine::new().compile(src).unwrap_err();
+        let text = format_parse_error("x.rhai", src, &err);
+        assert!(text.starts_with("x.rhai:2:9: error: missing `}`: the `{` here is never closed"), "{text}");
+        assert_eq!(unclosed_bracket("let s = \"{\"; // (\nf([1, 2]"), Some(('(', 2, 2)));
+        assert_eq!(unclosed_bracket("fn f() { 1 }"), None);
+    }
+
+    #[test]
+    fn error_shows_file_line_col_source_and_caret() {
+        let engine = rhai::Engine::new();
+        let src = "let a = 1;\nlet b = a + undefined_thing;";
+        let err = engine.eval::<rhai::Dynamic>(src).unwrap_err();
+        let text = format_error(&engine, "x.rhai", src, &err);
+        assert!(text.starts_with("x.rhai:2:13: error: Variable not found: undefined_thing"), "{text}");
+        assert!(text.contains("2 | let b = a + undefined_thing;"), "{text}");
+        assert!(text.lines().last().unwrap().ends_with("            ^"), "{text}");
+    }
+}

@@ -1,0 +1,127 @@
+//! How long kernel work tells the host how far it has come. The bindings never draw anything:
+//! a host (the `blocksmith` command draws bars on a terminal) gives an engine a [`Progress`]
+//! in its [`crate::EngineOptions`], and the work a script starts reports to it.
+//!
+//! The progress of the running evaluation is the calling thread's *current* progress, made
+//! current at every step of the script as the kernel's cancellation token is
+//! (`blocksmith_kernel::limits::make_current`), so an API function reports without being
+//! handed anything.
+
+use std::cell::RefCell;
+use std::sync::Arc;
+
+/// Where a host shows progress. Implemented by the host (a terminal's bars, a page's spinner).
+pub trait ProgressSink: Send + Sync {
+    /// Work called `task` (`"mesh"`, `"union"`) starts: `total` units when known (a bar), else
+    /// none (a spinner). The task ends when the returned value is dropped.
+    fn start(&self, task: &str, total: Option<u64>) -> Box<dyn ProgressTask>;
+}
+
+/// One piece of work under way, as the host shows it; it ends when dropped.
+pub trait ProgressTask {
+    /// `done` units of the total are done.
+    fn set(&mut self, done: u64);
+}
+
+/// The progress sink of an engine: none by default (nothing is shown). Cloning shares it.
+#[derive(Clone, Default)]
+pub struct Progress(Option<Arc<dyn ProgressSink>>);
+
+impl std::fmt::Debug for Progress {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(if self.0.is_some() { "Progress(shown)" } else { "Progress(none)" })
+    }
+}
+
+impl Progress {
+    /// Progress reported to `sink`.
+    #[must_use]
+    pub fn new(sink: impl ProgressSink + 'static) -> Progress {
+        Progress(Some(Arc::new(sink)))
+    }
+
+    /// Whether `self` and `other` are the same sink (or both none).
+    fn same(&self, other: &Progress) -> bool {
+        match (&self.0, &other.0) {
+            (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+            (None, None) => true,
+            _ => false,
+        }
+    }
+}
+
+thread_local! {
+    static CURRENT: RefCell<Progress> = RefCell::new(Progress::default());
+}
+
+/// Makes `progress` the calling thread's current progress, unless it already is (called at
+/// every step of an evaluation: a pointer comparison).
+pub fn make_current(progress: &Progress) {
+    CURRENT.with(|c| {
+        if !c.borrow().same(progress) {
+            *c.borrow_mut() = progress.clone();
+        }
+    });
+}
+
+/// Starts reporting `task` to the calling thread's current progress: a task that shows
+/// nothing when there is no sink.
+#[must_use]
+pub fn start(task: &str, total: Option<u64>) -> Task {
+    Task(CURRENT.with(|c| c.borrow().0.clone()).map(|sink| sink.start(task, total)))
+}
+
+/// A task under way (see [`start`]); it ends when dropped.
+pub struct Task(Option<Box<dyn ProgressTask>>);
+
+impl Task {
+    /// `done` units of the total are done.
+    pub fn set(&mut self, done: u64) {
+        if let Some(t) = &mut self.0 {
+            t.set(done);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::Mutex;
+
+    /// A sink that writes down what it is told.
+    struct Log(Arc<Mutex<Vec<String>>>);
+    struct LogTask(Arc<Mutex<Vec<String>>>);
+
+    impl ProgressSink for Log {
+        fn start(&self, task: &str, total: Option<u64>) -> Box<dyn ProgressTask> {
+            self.0.lock().unwrap().push(format!("start {task} {total:?}"));
+            Box::new(LogTask(Arc::clone(&self.0)))
+        }
+    }
+    impl ProgressTask for LogTask {
+        fn set(&mut self, done: u64) {
+            self.0.lock().unwrap().push(format!("set {done}"));
+        }
+    }
+    impl Drop for LogTask {
+        fn drop(&mut self) {
+            self.0.lock().unwrap().push("end".into());
+        }
+    }
+
+    #[test]
+    fn a_script_reports_long_work_to_the_sink_of_its_engine_and_nothing_without_one() {
+        let log = Arc::new(Mutex::new(Vec::new()));
+        let options =
+            crate::EngineOptions { progress: Progress::new(Log(Arc::clone(&log))), ..crate::EngineOptions::default() };
+        let engine = crate::new_engine(options);
+        // A boolean is a task of unknown length (a spinner).
+        engine.run("let m = cube(2) - cube(1);").unwrap();
+        let seen = log.lock().unwrap().clone();
+        assert_eq!(seen, ["start -: evaluating the boolean None", "end"], "{seen:?}");
+        // An engine without a sink: the same work reports nowhere, and a stale sink is not used.
+        log.lock().unwrap().clear();
+        crate::new_engine(crate::EngineOptions::default()).run("let m = cube(2) - cube(1);").unwrap();
+        assert!(log.lock().unwrap().is_empty());
+    }
+}

@@ -1,0 +1,96 @@
+//! `blocksmith run FILE.rhai [-o OUT]`: evaluates a recipe through the runner
+//! ([`blocksmith_script::run::run_recipe`]) and writes its last value to a model file; with
+//! `--stats json` also prints the written model's facts, with `--manifest` writes a manifest.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Duration;
+
+use blocksmith_script::progress::Progress;
+use blocksmith_script::run::{describe, run_recipe, save_value, RecipeRun, RunError};
+use blocksmith_script::{EngineOptions, RunContext};
+
+use crate::output::{print_out, report};
+
+/// Runs `cmd`, printing its warnings and summary on standard error and its stats (if asked)
+/// on standard output.
+pub fn run(cmd: &RunCommand) -> ExitCode {
+    report(execute_with_outcome(cmd).map(|o| {
+        for w in &o.warnings {
+            eprintln!("{w}");
+        }
+        if let Some(stats) = o.stats {
+            print_out(&format!("{stats:#}\n"));
+        }
+        o.summary
+    }))
+}
+
+/// Options of `blocksmith run`.
+#[derive(Debug, Clone, Default)]
+pub struct RunCommand {
+    pub file: PathBuf,
+    pub output: Option<PathBuf>,
+    pub params: Vec<(String, String)>,
+    pub max_operations: Option<u64>,
+    /// `--timeout SECONDS`: stop the run (kernel work included) after this long.
+    pub timeout: Option<Duration>,
+    /// `--stats json`: the written model's facts ([`crate::stats::of_file`]); needs `output`.
+    pub stats: bool,
+    /// `--manifest FILE.json`: where to write the run's manifest ([`crate::manifest`]).
+    pub manifest: Option<PathBuf>,
+    /// Where long kernel work shows its progress (bars on a terminal).
+    pub progress: Progress,
+}
+
+/// What `blocksmith run` reports: a one-line summary (for standard error) and, with
+/// `--stats json`, the facts (for standard output).
+#[derive(Debug, Clone)]
+pub struct RunOutcome {
+    pub summary: String,
+    /// The recipe's warnings (dropped results), for standard error before the summary.
+    pub warnings: Vec<String>,
+    pub stats: Option<serde_json::Value>,
+}
+
+/// Runs `blocksmith run`: evaluates the recipe and writes its last value to the output file,
+/// and writes the manifest and computes the stats `cmd` asks for.
+///
+/// # Errors
+/// Any error of the run, the write, the stats or the manifest, formatted.
+pub fn execute_with_outcome(cmd: &RunCommand) -> Result<RunOutcome, RunError> {
+    if cmd.stats && cmd.output.is_none() {
+        return Err(RunError("error: --stats needs -o OUT: the facts are those of the written model".into()));
+    }
+    let context = RunContext { params: cmd.params.iter().cloned().collect(), ..RunContext::default() };
+    let options = EngineOptions {
+        context,
+        max_operations: cmd.max_operations,
+        timeout: cmd.timeout,
+        interrupt: None,
+        progress: cmd.progress.clone(),
+    };
+    let RecipeRun { engine, value, ast, record, elapsed, warnings } = run_recipe(&cmd.file, options)?;
+    let summary = describe(&engine, &value);
+    let summary = match &cmd.output {
+        Some(out) => {
+            // `-o out/model.glb` on a fresh checkout: the output's folder is made.
+            if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty() && !d.exists()) {
+                std::fs::create_dir_all(dir)
+                    .map_err(|e| RunError(format!("error: cannot make the folder {}: {e}", dir.display())))?;
+            }
+            save_value(&engine, &ast, value, out)?;
+            format!("wrote {} ({summary})", out.display())
+        }
+        None => summary,
+    };
+    let stats = match &cmd.output {
+        Some(out) if cmd.stats => Some(crate::stats::of_file(out, elapsed)?),
+        _ => None,
+    };
+    if let Some(path) = &cmd.manifest {
+        let manifest = crate::manifest::build(&cmd.file, &record, cmd.output.as_deref())?;
+        crate::manifest::write(&manifest, path)?;
+    }
+    Ok(RunOutcome { summary, warnings, stats })
+}

@@ -1,0 +1,558 @@
+//! `blocksmith watch` end to end: the server answers on 127.0.0.1 only, serves nothing outside
+//! what it shows (`/../`, absolute and percent-encoded paths), re-runs on save but not on the
+//! recipe's own saves, `view` follows a `.gltf`'s buffer, and the page shows the model (and its
+//! control mesh through moves and booleans) in a real browser (Debian's `chromium`, headless
+//! on SwiftShader; skipped when it is missing, except under CI=true, where it must be there).
+
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::TcpStream;
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// A `blocksmith watch` process, stopped when dropped.
+struct Watch {
+    child: Child,
+    addr: String,
+}
+
+impl Drop for Watch {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn watch(recipe: &Path) -> Watch {
+    watch_with(recipe, &[])
+}
+
+fn watch_with(recipe: &Path, args: &[&str]) -> Watch {
+    watch_command("watch", recipe, args)
+}
+
+/// `blocksmith COMMAND FILE ARGS...` (`watch` or `view`), once it has printed its address.
+fn watch_command(command: &str, file: &Path, args: &[&str]) -> Watch {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_blocksmith"))
+        .arg(command)
+        .arg(file)
+        .args(args)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut lines = BufReader::new(child.stderr.take().unwrap()).lines();
+    // Stopped even when what follows fails.
+    let mut w = Watch { child, addr: String::new() };
+    // The address line (a quick first run may say it was shown before it).
+    let first = lines.by_ref().map_while(Result::ok).find(|l| l.contains("http://")).expect("the address");
+    let addr = first.split("http://").nth(1).unwrap().trim_end_matches(|c| c != '/').trim_end_matches('/');
+    w.addr = addr.split_whitespace().next().unwrap().to_string();
+    // Keep draining its messages so it never blocks on a full pipe.
+    std::thread::spawn(move || lines.for_each(drop));
+    w
+}
+
+/// A raw GET of `path` as sent (no normalisation): status and body.
+fn get(addr: &str, path: &str) -> (u16, Vec<u8>) {
+    let mut s = TcpStream::connect(addr).unwrap();
+    write!(s, "GET {path} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\r\n").unwrap();
+    let mut out = Vec::new();
+    s.read_to_end(&mut out).unwrap();
+    let status = std::str::from_utf8(&out[9..12]).unwrap().parse().unwrap();
+    let body = out.windows(4).position(|w| w == b"\r\n\r\n").map_or(Vec::new(), |i| out[i + 4..].to_vec());
+    (status, body)
+}
+
+/// The session's state once `ready` holds of it, within `limit`.
+fn state_when(addr: &str, limit: Duration, ready: impl Fn(&serde_json::Value) -> bool) -> serde_json::Value {
+    let start = Instant::now();
+    loop {
+        let (status, body) = get(addr, "/api/state");
+        assert_eq!(status, 200);
+        let v: serde_json::Value = serde_json::from_slice(&body).unwrap();
+        if ready(&v) {
+            return v;
+        }
+        assert!(start.elapsed() < limit, "not ready after {limit:?}: {v}");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+fn triangles(v: &serde_json::Value) -> Option<u64> {
+    v["model"]["layers"][0]["facts"]["triangles"].as_u64()
+}
+
+#[test]
+fn watch_serves_only_what_it_shows_and_runs_again_on_save() {
+    let dir = tempfile::tempdir().unwrap();
+    let recipe = dir.path().join("part.rhai");
+    std::fs::write(&recipe, "cube(1)").unwrap();
+    std::fs::write(dir.path().join("secret.txt"), "not for the page").unwrap();
+    let w = watch(&recipe);
+    assert!(w.addr.starts_with("127.0.0.1:"), "{}", w.addr);
+    // Bound to 127.0.0.1 itself, not to every address: another loopback address of the same
+    // port (all of 127/8 reaches this machine) is refused.
+    let port = w.addr.split(':').nth(1).unwrap();
+    let other = format!("127.0.0.2:{port}").parse().unwrap();
+    assert!(TcpStream::connect_timeout(&other, Duration::from_secs(2)).is_err(), "answered on {other}");
+    let v = state_when(&w.addr, Duration::from_secs(30), |v| triangles(v).is_some());
+    assert_eq!(triangles(&v), Some(12));
+    let (status, page) = get(&w.addr, "/");
+    assert_eq!(status, 200);
+    assert!(String::from_utf8_lossy(&page).contains("importmap"));
+    let url = v["model"]["layers"][0]["url"].as_str().unwrap();
+    assert_eq!(&get(&w.addr, url).1[..4], b"glTF");
+    for (ext, magic) in [("glb", &b"glTF"[..]), ("obj", b"# "), ("stl", b"")] {
+        let (status, body) = get(&w.addr, &format!("/download/0.{ext}"));
+        assert_eq!(status, 200, ".{ext}");
+        assert!(body.starts_with(magic), ".{ext}");
+    }
+    for bad in [
+        "/../secret.txt",
+        "/secret.txt",
+        "/part.rhai",
+        "/..%2fsecret.txt",
+        "/%2e%2e/%2e%2e/etc/passwd",
+        "//etc/passwd",
+        "/vendor/three/../../../secret.txt",
+        &format!("/{}", dir.path().join("secret.txt").display()),
+        "/model/1/../../secret.txt",
+        "/download/../secret.txt",
+        "/%2e%2e%2fsecret.txt",
+        "/..%5csecret.txt",
+        &format!("/{}", dir.path().join("secret.txt").display().to_string().replace('/', "%2F")),
+        "/model/1/%2e%2e%2f%2e%2e%2fsecret.txt",
+    ] {
+        let (status, body) = get(&w.addr, bad);
+        assert_eq!(status, 404, "{bad}");
+        assert!(!String::from_utf8_lossy(&body).contains("not for the page"), "{bad}");
+    }
+    // A save shows the new model; a syntax error keeps it and says where.
+    std::fs::write(&recipe, "icosphere(1, 1)").unwrap();
+    state_when(&w.addr, Duration::from_secs(10), |v| triangles(v) == Some(80));
+    std::fs::write(&recipe, "let a = ;\nicosphere(1, 1)").unwrap();
+    let v = state_when(&w.addr, Duration::from_secs(10), |v| v["error"].is_string());
+    assert!(v["error"].as_str().unwrap().contains("part.rhai:1:"), "{v}");
+    assert_eq!(triangles(&v), Some(80), "the last good model stays");
+    // A parameter from the page's controls runs the recipe with it.
+    std::fs::write(&recipe, "cube(param(\"size\", 1, #{ min: 0.1 }))").unwrap();
+    state_when(&w.addr, Duration::from_secs(10), |v| v["model"]["params"][0]["name"] == "size");
+    let mut s = TcpStream::connect(&w.addr).unwrap();
+    write!(s, "POST /api/params HTTP/1.1\r\nHost: x\r\nContent-Length: 6\r\nConnection: close\r\n\r\nsize=2").unwrap();
+    s.read_to_end(&mut Vec::new()).unwrap();
+    let v = state_when(&w.addr, Duration::from_secs(10), |v| v["model"]["params"][0]["value"] == 2);
+    assert!((v["model"]["layers"][0]["facts"]["volume"].as_f64().unwrap() - 8.0).abs() < 1e-6, "{v}");
+    assert_eq!(v["model"]["params"][0]["min"], 0.1);
+}
+
+fn version(v: &serde_json::Value) -> u64 {
+    v["model"]["version"].as_u64().unwrap_or(0)
+}
+
+#[test]
+fn watch_runs_again_when_an_imported_module_or_a_loaded_file_is_saved() {
+    let dir = tempfile::tempdir().unwrap();
+    let (home, lib) = (dir.path().join("part"), dir.path().join("lib"));
+    std::fs::create_dir_all(home.join("data")).unwrap();
+    std::fs::create_dir_all(&lib).unwrap();
+    std::fs::write(lib.join("sizes.rhai"), "fn side() { 1 }").unwrap();
+    std::fs::write(lib.join("other.rhai"), "fn unused() { 1 }").unwrap();
+    let tetra = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    std::fs::write(home.join("data/shape.obj"), tetra).unwrap();
+    let recipe = home.join("part.rhai");
+    std::fs::write(&recipe, "import \"../lib/sizes\" as s;\n[cube(s::side()), load(\"data/shape.obj\")]").unwrap();
+    let w = watch(&recipe);
+    let layer = |v: &serde_json::Value, i: usize, fact: &str| v["model"]["layers"][i]["facts"][fact].as_f64();
+    let v = state_when(&w.addr, Duration::from_secs(30), |v| triangles(v).is_some());
+    assert_eq!((layer(&v, 0, "volume"), layer(&v, 1, "triangles")), (Some(1.0), Some(4.0)), "{v}");
+    // The imported module, in another folder, is saved: the recipe runs again with it.
+    std::fs::write(lib.join("sizes.rhai"), "fn side() { 2 }").unwrap();
+    let v = state_when(&w.addr, Duration::from_secs(10), |v| layer(v, 0, "volume") == Some(8.0));
+    let after_module = version(&v);
+    // The loaded file, in a folder below, is saved: a square pyramid (a quad and four triangles).
+    let pyramid = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 1\nf 1 4 3 2\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n";
+    std::fs::write(home.join("data/shape.obj"), pyramid).unwrap();
+    let v = state_when(&w.addr, Duration::from_secs(10), |v| {
+        layer(v, 1, "triangles") == Some(6.0) && version(v) > after_module
+    });
+    let before = version(&v);
+    // A module the recipe does not import, in the imported one's folder, is not an input.
+    std::fs::write(lib.join("other.rhai"), "fn unused() { 2 }").unwrap();
+    std::thread::sleep(Duration::from_millis(600));
+    let v = state_when(&w.addr, Duration::from_secs(1), |_| true);
+    assert_eq!(version(&v), before, "saving a file the recipe does not read runs nothing");
+}
+
+#[test]
+fn a_recipe_that_saves_what_it_loads_runs_once_per_edit_not_forever() {
+    let dir = tempfile::tempdir().unwrap();
+    let (stl, gltf) = (dir.path().join("copy.stl"), dir.path().join("copy.gltf"));
+    let recipe = dir.path().join("part.rhai");
+    let text = |size: u32| {
+        format!(
+            "let c = cube({size});\nc.save({stl:?});\nc.save({gltf:?});\n[load({stl:?}), load({gltf:?})]",
+            stl = stl.display().to_string(),
+            gltf = gltf.display().to_string()
+        )
+    };
+    std::fs::write(&recipe, text(1)).unwrap();
+    let w = watch(&recipe);
+    state_when(&w.addr, Duration::from_secs(30), |v| version(v) == 1);
+    // Its own saves (the .stl, the .gltf and its .bin, all files it loads) run nothing.
+    std::thread::sleep(Duration::from_millis(1500));
+    assert_eq!(version(&state_when(&w.addr, Duration::from_secs(1), |_| true)), 1, "ran itself again");
+    // An edit of the recipe runs it once.
+    std::fs::write(&recipe, text(2)).unwrap();
+    let v = state_when(&w.addr, Duration::from_secs(10), |v| version(v) == 2);
+    assert!((v["model"]["layers"][1]["facts"]["volume"].as_f64().unwrap() - 8.0).abs() < 1e-6, "{v}");
+    std::thread::sleep(Duration::from_millis(1500));
+    assert_eq!(version(&state_when(&w.addr, Duration::from_secs(1), |_| true)), 2, "ran itself again");
+    // An edit by hand of a file it loads (and writes) still runs it.
+    std::fs::write(&stl, b"not an stl, for a moment").unwrap();
+    state_when(&w.addr, Duration::from_secs(10), |v| version(v) == 3);
+    std::thread::sleep(Duration::from_millis(1000));
+    assert_eq!(version(&state_when(&w.addr, Duration::from_secs(1), |_| true)), 3);
+}
+
+#[test]
+fn view_of_a_gltf_shows_it_again_when_its_bin_is_saved() {
+    let dir = tempfile::tempdir().unwrap();
+    let (recipe, small, big) = (dir.path().join("r.rhai"), dir.path().join("m.gltf"), dir.path().join("b.gltf"));
+    for (size, out) in [(1, &small), (2, &big)] {
+        std::fs::write(&recipe, format!("cube({size})")).unwrap();
+        let o =
+            Command::new(env!("CARGO_BIN_EXE_blocksmith")).arg("run").arg(&recipe).arg("-o").arg(out).output().unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let w = watch_command("view", &small, &[]);
+    let volume = |v: &serde_json::Value| v["model"]["layers"][0]["facts"]["volume"].as_f64().unwrap_or(0.0);
+    let v = state_when(&w.addr, Duration::from_secs(30), |v| version(v) == 1);
+    assert!((volume(&v) - 1.0).abs() < 1e-6, "{v}");
+    // The buffer alone is saved (the bigger cube's, the same layout): the page shows it.
+    std::fs::copy(dir.path().join("b.bin"), dir.path().join("m.bin")).unwrap();
+    let v = state_when(&w.addr, Duration::from_secs(10), |v| version(v) == 2);
+    assert!((volume(&v) - 8.0).abs() < 1e-6, "{v}");
+}
+
+/// Sends `line` to the REPL and returns the next output line that contains `want`.
+fn repl_says(
+    stdin: &mut std::process::ChildStdin,
+    out: &mut impl Iterator<Item = String>,
+    line: &str,
+    want: &str,
+) -> String {
+    writeln!(stdin, "{line}").unwrap();
+    stdin.flush().unwrap();
+    out.find(|l| l.contains(want)).unwrap_or_else(|| panic!("no line with `{want}` after `{line}`"))
+}
+
+#[test]
+fn the_repl_shows_values_on_one_studio_page_started_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_blocksmith"))
+        .arg("repl")
+        .current_dir(dir.path())
+        .env("BLOCKSMITH_HISTORY", dir.path().join("history"))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut stdin = child.stdin.take().unwrap();
+    let mut out = BufReader::new(child.stdout.take().unwrap()).lines().map_while(Result::ok);
+    let said = repl_says(&mut stdin, &mut out, ":show", "nothing to show");
+    assert!(said.contains(":show cube(1)"), "{said}");
+    let said = repl_says(&mut stdin, &mut out, ":show cube(2)", "shown at");
+    assert!(said.ends_with("(12 triangles)"), "{said}");
+    let addr = said.split("http://").nth(1).unwrap().split('/').next().unwrap().to_string();
+    assert!(addr.starts_with("127.0.0.1:"), "{addr}");
+    let v = state_when(&addr, Duration::from_secs(5), |v| version(v) == 1);
+    assert!((v["model"]["layers"][0]["facts"]["volume"].as_f64().unwrap() - 8.0).abs() < 1e-9, "{v}");
+    // show() in code updates the same page; the last value stays the entry's own.
+    let said = repl_says(&mut stdin, &mut out, "let b = show(icosphere(1, 1)); 5", "shown at");
+    assert!(said.contains(&addr) && said.ends_with("(80 triangles)"), "{said}");
+    state_when(&addr, Duration::from_secs(5), |v| version(v) == 2 && triangles(v) == Some(80));
+    // `:show` alone shows the last value; an array is layers; an error shows nothing.
+    let said = repl_says(&mut stdin, &mut out, "[b, cube(1)]", "=>");
+    assert!(said.contains("=>"), "{said}");
+    let said = repl_says(&mut stdin, &mut out, ":show", "shown at");
+    assert!(said.ends_with("(2 layers, 92 triangles)"), "{said}");
+    let said = repl_says(&mut stdin, &mut out, ":show 5", "cannot be saved");
+    assert!(said.contains("cannot"), "{said}");
+    let v = state_when(&addr, Duration::from_secs(5), |v| version(v) == 3);
+    assert_eq!(v["model"]["layers"].as_array().unwrap().len(), 2);
+    drop(stdin);
+    assert!(child.wait().unwrap().success());
+}
+
+#[test]
+fn show_outside_the_studio_does_nothing_and_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let recipe = dir.path().join("r.rhai");
+    std::fs::write(&recipe, "let c = show(cube(1)); show(c); c").unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_blocksmith"))
+        .arg("run")
+        .arg(&recipe)
+        .arg("-o")
+        .arg(dir.path().join("r.stl"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert_eq!(err.matches("show(...)").count(), 1, "said once: {err}");
+}
+
+/// chromium, or None where it is missing (an error under CI, which installs it).
+fn chromium() -> Option<&'static str> {
+    let found = Command::new("chromium").arg("--version").output().is_ok_and(|o| o.status.success());
+    if !found {
+        assert!(std::env::var("CI").as_deref() != Ok("true"), "CI must install chromium for the browser tests");
+        eprintln!("chromium not found: browser test skipped");
+        return None;
+    }
+    Some("chromium")
+}
+
+#[test]
+fn the_page_shows_the_model_in_a_real_browser() {
+    let Some(browser) = chromium() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let recipe = dir.path().join("gear.rhai");
+    std::fs::copy(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/gear.rhai"), &recipe).unwrap();
+    let w = watch(&recipe);
+    state_when(&w.addr, Duration::from_secs(30), |v| triangles(v).is_some());
+    let shot = dir.path().join("page.png");
+    // A profile of its own: a browser already running on the default one would take the page.
+    let profile = tempfile::tempdir().unwrap();
+    let o = Command::new(browser)
+        .args(["--headless", "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader"])
+        .args(["--window-size=800,600", "--virtual-time-budget=10000", "--dump-dom", "--no-first-run"])
+        .arg(format!("--user-data-dir={}", profile.path().display()))
+        .arg(format!("--screenshot={}", shot.display()))
+        .arg(format!("http://{}/", w.addr))
+        .output()
+        .unwrap();
+    let dom = String::from_utf8_lossy(&o.stdout);
+    assert!(dom.contains("<title>blocksmith: 840 triangles</title>"), "{dom}");
+    // The screenshot shows the model, not a blank canvas: in the view (left of the panel),
+    // enough pixels far from the background's colour.
+    let shot = image::open(&shot).unwrap().to_rgb8();
+    let background = shot.get_pixel(2, 2).0;
+    let far =
+        |p: [u8; 3]| p.iter().zip(background).map(|(&a, b)| i32::from(a).abs_diff(i32::from(b))).sum::<u32>() > 60;
+    let view: Vec<[u8; 3]> =
+        (0..shot.height()).flat_map(|y| (0..480).map(move |x| (x, y))).map(|(x, y)| shot.get_pixel(x, y).0).collect();
+    let share = view.iter().filter(|&&p| far(p)).count() as f64 / view.len() as f64;
+    assert!(share > 0.05, "only {:.1} % of the view differs from the background", share * 100.0);
+}
+
+/// A headless chromium driven over the DevTools protocol: one WebSocket to the browser, the
+/// page attached as a flat session, `Runtime.evaluate` for everything. Stopped when dropped.
+struct Browser {
+    child: Child,
+    socket: tungstenite::WebSocket<TcpStream>,
+    session: String,
+    next: u64,
+    _profile: tempfile::TempDir,
+}
+
+impl Drop for Browser {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+impl Browser {
+    /// chromium showing `url`, or None where chromium is missing (see [`chromium`]).
+    fn open(url: &str) -> Option<Browser> {
+        let browser = chromium()?;
+        let profile = tempfile::tempdir().unwrap();
+        let mut child = Command::new(browser)
+            .args(["--headless", "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader"])
+            .args(["--window-size=800,600", "--remote-debugging-port=0", "--no-first-run"])
+            .arg(format!("--user-data-dir={}", profile.path().display()))
+            .arg(url)
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut lines = BufReader::new(child.stderr.take().unwrap()).lines().map_while(Result::ok);
+        let ws = lines
+            .find_map(|l| l.split_once("DevTools listening on ").map(|(_, u)| u.trim().to_string()))
+            .expect("chromium prints its DevTools address");
+        std::thread::spawn(move || lines.for_each(drop));
+        let host = ws.trim_start_matches("ws://").split('/').next().unwrap().to_string();
+        let (socket, _) = tungstenite::client(ws.as_str(), TcpStream::connect(&host).unwrap()).unwrap();
+        let mut b = Browser { child, socket, session: String::new(), next: 0, _profile: profile };
+        let start = Instant::now();
+        let target = loop {
+            let targets = b.call("Target.getTargets", serde_json::json!({}));
+            let page = targets["targetInfos"].as_array().unwrap().iter().find(|t| t["type"] == "page").cloned();
+            if let Some(p) = page {
+                break p["targetId"].as_str().unwrap().to_string();
+            }
+            assert!(start.elapsed() < Duration::from_secs(10), "no page target");
+            std::thread::sleep(Duration::from_millis(50));
+        };
+        let attached = b.call("Target.attachToTarget", serde_json::json!({ "targetId": target, "flatten": true }));
+        b.session = attached["sessionId"].as_str().unwrap().to_string();
+        Some(b)
+    }
+
+    /// Sends a command (to the page once attached) and returns its result.
+    fn call(&mut self, method: &str, params: serde_json::Value) -> serde_json::Value {
+        self.next += 1;
+        let mut message = serde_json::json!({ "id": self.next, "method": method, "params": params });
+        if !self.session.is_empty() {
+            message["sessionId"] = serde_json::json!(self.session);
+        }
+        self.socket.send(tungstenite::Message::text(message.to_string())).unwrap();
+        loop {
+            let reply = self.socket.read().unwrap();
+            let Ok(text) = reply.to_text() else { continue };
+            let v: serde_json::Value = serde_json::from_str(text).unwrap();
+            if v["id"] == self.next {
+                assert!(v["error"].is_null(), "{method}: {v}");
+                return v["result"].clone();
+            }
+        }
+    }
+
+    /// The value of a JavaScript expression in the page (promises awaited).
+    fn eval(&mut self, expression: &str) -> serde_json::Value {
+        let params = serde_json::json!({ "expression": expression, "returnByValue": true, "awaitPromise": true });
+        let r = self.call("Runtime.evaluate", params);
+        assert!(r["exceptionDetails"].is_null(), "{expression}: {r}");
+        r["result"]["value"].clone()
+    }
+
+    /// Waits until `expression` is true in the page; returns how long that took.
+    fn wait(&mut self, expression: &str, limit: Duration) -> Duration {
+        let start = Instant::now();
+        while self.eval(&format!("!!({expression})")) != serde_json::json!(true) {
+            let page = self
+                .eval("JSON.stringify({ ...window.studio, status: document.getElementById('status')?.textContent })");
+            assert!(start.elapsed() < limit, "not `{expression}` after {limit:?}: {page}");
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        start.elapsed()
+    }
+}
+
+#[test]
+fn the_page_follows_saves_errors_parameters_and_shows_control_meshes_without_reloading() {
+    let dir = tempfile::tempdir().unwrap();
+    let recipe = dir.path().join("part.rhai");
+    let size = "let s = param(\"size\", 1, #{ min: 0.5, max: 4, step: 0.5 });";
+    std::fs::write(&recipe, format!("{size}\ncube(s)")).unwrap();
+    let w = watch(&recipe);
+    state_when(&w.addr, Duration::from_secs(30), |v| triangles(v).is_some());
+    let Some(mut b) = Browser::open(&format!("http://{}/", w.addr)) else { return };
+    b.wait("window.studio && studio.triangles === 12", Duration::from_secs(20));
+    b.eval("window.loadedOnce = 'this page'");
+    // An idle page draws nothing: no frame while nothing changes.
+    b.wait("studio.shown", Duration::from_secs(5));
+    let frames = b.eval("studio.frames()");
+    std::thread::sleep(Duration::from_millis(300));
+    assert_eq!(b.eval("studio.frames()"), frames, "frames drawn while idle");
+    // A save shows the new model within 2 s, in the same page.
+    let start = Instant::now();
+    std::fs::write(&recipe, format!("{size}\nicosphere(s, 1)")).unwrap();
+    b.wait("studio.triangles === 80", Duration::from_secs(10));
+    let took = start.elapsed();
+    assert!(took < Duration::from_secs(2), "the new model took {took:?}");
+    assert_eq!(b.eval("window.loadedOnce"), "this page", "the page was not reloaded");
+    // A syntax error shows its place and line in the page; the model stays.
+    std::fs::write(&recipe, format!("{size}\nlet broken = ;\nicosphere(s, 1)")).unwrap();
+    b.wait("studio.error", Duration::from_secs(10));
+    let shown = b.eval("document.getElementById('error').textContent").as_str().unwrap().to_string();
+    assert!(shown.contains("part.rhai:2:") && shown.contains("let broken = ;") && shown.contains('^'), "{shown}");
+    assert_eq!(b.eval("studio.triangles"), 80, "the last model stays");
+    assert_eq!(b.eval("document.getElementById('error').hidden"), false);
+    // Fixed: the error goes. A parameter control changed in the page runs the recipe with it.
+    std::fs::write(&recipe, format!("{size}\ncube(s)")).unwrap();
+    b.wait("studio.triangles === 12 && !studio.error", Duration::from_secs(10));
+    b.eval(
+        "(() => { const i = document.querySelector('#params input[name=size]'); i.value = '2'; \
+         i.dispatchEvent(new Event('change')); })()",
+    );
+    b.wait("document.getElementById('fact-volume')?.textContent === '8'", Duration::from_secs(10));
+    assert!(b.eval("location.search").as_str().unwrap().contains("size=2"));
+    assert_eq!(b.eval("window.loadedOnce"), "this page");
+    // A subdivision surface brings its control mesh; the toggle draws it over the surface.
+    std::fs::write(&recipe, format!("{size}\ncube(s).catmull_clark(2)")).unwrap();
+    b.wait("studio.triangles === 192", Duration::from_secs(10));
+    assert_eq!(b.eval("document.getElementById('control-label').hidden"), false);
+    assert_eq!(b.eval("studio.controlEdges"), 0, "off until asked for");
+    b.eval("document.getElementById('control').click()");
+    assert_eq!(b.eval("studio.controlEdges"), 12, "the cube's edges over the surface");
+    assert_eq!(b.eval("document.getElementById('control-note').hidden"), true);
+    // Moved, the control mesh moves with the surface; unioned with a plain box, it stays.
+    let save = |b: &mut Browser, body: &str| {
+        let before = b.eval("studio.version").as_u64().unwrap();
+        std::fs::write(&recipe, format!("{size}\n{body}")).unwrap();
+        b.wait(&format!("studio.version > {before}"), Duration::from_secs(10));
+    };
+    save(&mut b, "cube(s).catmull_clark(2).translate([3, 0, 0])");
+    assert_eq!(b.eval("studio.controlEdges"), 12);
+    assert_eq!(b.eval("studio.controlBounds()[0]").as_f64(), Some(2.0), "the cage's -x side at 3 - 1");
+    save(&mut b, "union(cube(s).catmull_clark(2).rotate([0, 0, 1], 90), box([0, 0, 0], [2, 2, 2]))");
+    assert_eq!(b.eval("studio.controlEdges"), 12, "the subdivided operand's cage over the union");
+    assert_eq!(b.eval("document.getElementById('control-label').hidden"), false);
+    // A model with no control mesh: no overlay, and the page says why.
+    save(&mut b, "cube(s).translate([1, 0, 0])");
+    assert_eq!(b.eval("studio.controlEdges"), 0);
+    assert_eq!(b.eval("document.getElementById('control-label').hidden"), true);
+    assert_eq!(b.eval("document.getElementById('control-note').hidden"), false);
+    assert!(b
+        .eval("document.getElementById('control-note').textContent")
+        .as_str()
+        .unwrap()
+        .contains("No control mesh"));
+}
+
+#[test]
+fn an_animation_plays_in_the_page() {
+    let dir = tempfile::tempdir().unwrap();
+    let recipe = dir.path().join("grow.rhai");
+    std::fs::write(&recipe, "let a = animation(polar_sphere(0.5, 8, 6));\na.add(growth());\na").unwrap();
+    let w = watch(&recipe);
+    state_when(&w.addr, Duration::from_secs(30), |v| triangles(v).is_some());
+    let Some(mut b) = Browser::open(&format!("http://{}/", w.addr)) else { return };
+    b.wait("window.studio && studio.version === 1 && studio.time > 0", Duration::from_secs(20));
+    assert_eq!(b.eval("document.getElementById('animation').hidden"), false);
+    let (t0, box0) = (b.eval("studio.time").as_f64().unwrap(), b.eval("studio.bounds()"));
+    b.wait(&format!("studio.time > {t0} + 0.5"), Duration::from_secs(10));
+    let box1 = b.eval("studio.bounds()");
+    assert_ne!(box0, box1, "the vertices moved between {t0} s and later");
+    // Pause stops the clock; scrubbing sets it.
+    b.eval("document.getElementById('play').click()");
+    let paused = b.eval("studio.time").as_f64().unwrap();
+    std::thread::sleep(Duration::from_millis(300));
+    assert!((b.eval("studio.time").as_f64().unwrap() - paused).abs() < 1e-9, "paused");
+    b.eval("(() => { const t = document.getElementById('timeline'); t.value = '0.25'; t.dispatchEvent(new Event('input')); })()");
+    b.wait("Math.abs(studio.time - 0.25) < 1e-6", Duration::from_secs(2));
+}
+
+#[test]
+fn a_page_left_open_reconnects_after_the_server_restarts() {
+    let dir = tempfile::tempdir().unwrap();
+    let recipe = dir.path().join("part.rhai");
+    std::fs::write(&recipe, "cube(1)").unwrap();
+    let w = watch(&recipe);
+    state_when(&w.addr, Duration::from_secs(30), |v| triangles(v).is_some());
+    let Some(mut b) = Browser::open(&format!("http://{}/", w.addr)) else { return };
+    b.wait("window.studio && studio.triangles === 12", Duration::from_secs(20));
+    b.eval("window.loadedOnce = 'this page'");
+    let port = w.addr.split(':').nth(1).unwrap().to_string();
+    drop(w);
+    b.wait("document.getElementById('status').textContent === 'offline'", Duration::from_secs(5));
+    // The server comes back on the same port with a changed recipe: its model 1 is news.
+    std::fs::write(&recipe, "icosphere(1, 1)").unwrap();
+    let w = watch_with(&recipe, &["--port", &port]);
+    state_when(&w.addr, Duration::from_secs(30), |v| triangles(v).is_some());
+    b.wait("studio.triangles === 80 && studio.connections === 2", Duration::from_secs(10));
+    assert_eq!(b.eval("window.loadedOnce"), "this page");
+    assert_eq!(b.eval("document.getElementById('status').textContent"), "live");
+}

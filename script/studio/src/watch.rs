@@ -1,0 +1,182 @@
+//! Re-running on save: the folders of every file the last run read (the recipe, the modules
+//! it imported, the files it loaded — the run's record, see [`blocksmith_script::record::RunRecord`]) are
+//! watched (`notify`), and the set follows the runs: a new import's folder is added, a folder
+//! no run reads any more is dropped. A change to the contents or name of one of those files,
+//! or of a `.rhai` file beside the recipe (a module the recipe is about to import), is told
+//! to the session once the files have been quiet for [`DEBOUNCE`] and their sizes are what
+//! they were at their last event, so an editor's burst of writes — truncate, write, rename —
+//! makes one run, and never one on a half-written file. Reads (the runs' own) and other files
+//! in those folders do not count, and the session tells a run's own saves from edits (see
+//! [`Session::files_changed`]), so a run never starts another.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+use std::sync::mpsc;
+use std::sync::Arc;
+use std::time::Duration;
+
+use notify::event::{EventKind, ModifyKind};
+use notify::{RecursiveMode, Watcher};
+
+use super::session::Session;
+
+/// The quiet time after the last change before a run: editors write a file in one burst
+/// (well under this), and it is part of every save-to-screen latency.
+pub const DEBOUNCE: Duration = Duration::from_millis(20);
+
+/// What the watching thread hears.
+enum Heard {
+    /// A file changed.
+    Changed(PathBuf),
+    /// A run read these files.
+    Inputs(Vec<PathBuf>),
+}
+
+/// Whether a change to `changed` should run the recipe at `recipe` again, `inputs` being the
+/// files the last run read. All paths absolute, symbolic links resolved.
+#[must_use]
+pub fn triggers(recipe: &Path, inputs: &BTreeSet<PathBuf>, changed: &Path) -> bool {
+    let beside =
+        changed.parent() == recipe.parent() && changed.extension().is_some_and(|e| e.eq_ignore_ascii_case("rhai"));
+    changed == recipe || inputs.contains(changed) || beside
+}
+
+/// The size of the file at `path` (`None`: no file).
+fn size(path: &Path) -> Option<u64> {
+    std::fs::metadata(path).ok().map(|m| m.len())
+}
+
+/// Whether an event of `kind` changes what a file holds (not a read, not its metadata).
+#[must_use]
+pub fn is_change(kind: &EventKind) -> bool {
+    match kind {
+        EventKind::Create(_) | EventKind::Remove(_) => true,
+        EventKind::Modify(m) => !matches!(m, ModifyKind::Metadata(_)),
+        _ => false,
+    }
+}
+
+/// The folders to watch for `recipe` and `inputs`: each one's parent, once.
+#[must_use]
+pub fn folders(recipe: &Path, inputs: &BTreeSet<PathBuf>) -> BTreeSet<PathBuf> {
+    std::iter::once(recipe)
+        .chain(inputs.iter().map(PathBuf::as_path))
+        .filter_map(Path::parent)
+        .map(Path::to_path_buf)
+        .collect()
+}
+
+/// Watches the files of the session's runs for as long as the process lives.
+///
+/// # Errors
+/// The recipe's folder cannot be watched.
+pub fn watch(session: &Arc<Session>) -> Result<(), String> {
+    let recipe = std::fs::canonicalize(session.source.path())
+        .map_err(|e| format!("error: cannot watch {}: {e}", session.source.path().display()))?;
+    let (heard, hearing) = mpsc::channel::<Heard>();
+    let events = heard.clone();
+    let mut watcher = notify::recommended_watcher(move |event: notify::Result<notify::Event>| {
+        if let Ok(event) = event {
+            if is_change(&event.kind) {
+                for p in event.paths {
+                    let _ = events.send(Heard::Changed(p));
+                }
+            }
+        }
+    })
+    .map_err(|e| format!("error: cannot watch {}: {e}", recipe.display()))?;
+    let mut watched = BTreeSet::new();
+    for dir in folders(&recipe, &BTreeSet::new()) {
+        watcher
+            .watch(&dir, RecursiveMode::NonRecursive)
+            .map_err(|e| format!("error: cannot watch {}: {e}", dir.display()))?;
+        watched.insert(dir);
+    }
+    session.on_inputs(move |inputs| {
+        let _ = heard.send(Heard::Inputs(inputs.to_vec()));
+    });
+    let target = Arc::clone(session);
+    std::thread::spawn(move || {
+        let mut inputs = BTreeSet::new();
+        let mut follow = |now: Vec<PathBuf>, inputs: &mut BTreeSet<PathBuf>| {
+            *inputs = now.into_iter().collect();
+            let wanted = folders(&recipe, inputs);
+            for gone in watched.difference(&wanted) {
+                let _ = watcher.unwatch(gone);
+            }
+            for new in wanted.difference(&watched) {
+                if let Err(e) = watcher.watch(new, RecursiveMode::NonRecursive) {
+                    eprintln!("warning: cannot watch {}: {e}", new.display());
+                }
+            }
+            watched = wanted;
+        };
+        // One run per burst: wait for a change that counts, then for the quiet after it, with
+        // every changed file the size it had at its last event.
+        while let Ok(h) = hearing.recv() {
+            match h {
+                Heard::Inputs(now) => follow(now, &mut inputs),
+                Heard::Changed(p) if triggers(&recipe, &inputs, &p) => {
+                    let mut changed: BTreeMap<PathBuf, Option<u64>> = BTreeMap::new();
+                    changed.insert(p.clone(), size(&p));
+                    loop {
+                        match hearing.recv_timeout(DEBOUNCE) {
+                            Ok(Heard::Changed(p)) => {
+                                if triggers(&recipe, &inputs, &p) {
+                                    changed.insert(p.clone(), size(&p));
+                                }
+                            }
+                            Ok(Heard::Inputs(now)) => follow(now, &mut inputs),
+                            Err(mpsc::RecvTimeoutError::Timeout) => {
+                                let growing: Vec<PathBuf> =
+                                    changed.iter().filter(|(p, &n)| size(p) != n).map(|(p, _)| p.clone()).collect();
+                                if growing.is_empty() {
+                                    break;
+                                }
+                                for p in growing {
+                                    changed.insert(p.clone(), size(&p));
+                                }
+                            }
+                            Err(mpsc::RecvTimeoutError::Disconnected) => return,
+                        }
+                    }
+                    target.files_changed(&changed.into_keys().collect::<Vec<_>>());
+                }
+                Heard::Changed(_) => {}
+            }
+        }
+    });
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use notify::event::{AccessKind, CreateKind, DataChange, MetadataKind};
+
+    use super::*;
+
+    #[test]
+    fn the_recipe_its_inputs_and_scripts_beside_it_trigger_and_other_files_do_not() {
+        let r = Path::new("/a/gear.rhai");
+        let inputs: BTreeSet<PathBuf> =
+            [r, Path::new("/lib/teeth.rhai"), Path::new("/a/data/profile.stl")].map(PathBuf::from).into();
+        assert!(triggers(r, &inputs, r));
+        assert!(triggers(r, &inputs, Path::new("/a/_parts.RHAI")));
+        assert!(triggers(r, &inputs, Path::new("/lib/teeth.rhai")));
+        assert!(triggers(r, &inputs, Path::new("/a/data/profile.stl")));
+        assert!(!triggers(r, &inputs, Path::new("/lib/other.rhai")), "only the imported module of another folder");
+        assert!(!triggers(r, &inputs, Path::new("/a/data/other.stl")));
+        assert!(!triggers(r, &inputs, Path::new("/a/gear.glb")));
+        assert!(!triggers(r, &inputs, Path::new("/a/notes.txt")));
+        let dirs: Vec<PathBuf> = folders(r, &inputs).into_iter().collect();
+        assert_eq!(dirs, ["/a", "/a/data", "/lib"].map(PathBuf::from));
+    }
+
+    #[test]
+    fn writes_count_and_reads_do_not() {
+        assert!(is_change(&EventKind::Modify(ModifyKind::Data(DataChange::Any))));
+        assert!(is_change(&EventKind::Create(CreateKind::File)));
+        assert!(!is_change(&EventKind::Access(AccessKind::Any)));
+        assert!(!is_change(&EventKind::Modify(ModifyKind::Metadata(MetadataKind::Any))));
+    }
+}
