@@ -5,7 +5,7 @@
 
 use blocksmith_kernel::blocks::{Block, BlockModel, MeshOptions};
 use blocksmith_kernel::csg::Csg;
-use blocksmith_kernel::lsystem::SplitMix64;
+use blocksmith_kernel::math::SplitMix64;
 use blocksmith_kernel::{Mesh, Vec3};
 
 /// A coordinate on the grid of quarters in [-1, 1].

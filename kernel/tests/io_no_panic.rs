@@ -3,44 +3,30 @@
 //! (binary and ASCII), PLY (three encodings), glTF (GLB and JSON) and 3MF (the zip damaged, and
 //! the model XML inside damaged then zipped again).
 //!
-//! The random source is a fixed-seed xorshift, so a failure reproduces. Set `IO_FUZZ_CASES` to
+//! The random source is the kernel's fixed-seed SplitMix64, so a failure reproduces. Set `IO_FUZZ_CASES` to
 //! run more cases than the default 300 per input (e.g. 100000), and `IO_FUZZ_SEED` for other ones.
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::Path;
 
 use blocksmith_kernel::io::{gltf, obj, ply, stl, threemf, PlyEncoding};
+use blocksmith_kernel::math::SplitMix64;
 use blocksmith_kernel::{Mesh, Vec3};
 
-/// xorshift64*: small, deterministic, good enough to make junk.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-}
-
-fn random_bytes(rng: &mut Rng, text_like: bool) -> Vec<u8> {
+fn random_bytes(rng: &mut SplitMix64, text_like: bool) -> Vec<u8> {
     let len = rng.below(300);
     (0..len)
-        .map(|_| if text_like { b"vft0123456789 .-/#\nenaglTFsolid"[rng.below(31)] } else { rng.next() as u8 })
+        .map(|_| if text_like { b"vft0123456789 .-/#\nenaglTFsolid"[rng.below(31)] } else { rng.next_u64() as u8 })
         .collect()
 }
 
-fn damaged(rng: &mut Rng, valid: &[u8]) -> Vec<u8> {
+fn damaged(rng: &mut SplitMix64, valid: &[u8]) -> Vec<u8> {
     let mut b = valid.to_vec();
     match rng.below(4) {
         0 => {
             for _ in 0..1 + rng.below(4) {
                 let i = rng.below(b.len());
-                b[i] = rng.next() as u8;
+                b[i] = rng.next_u64() as u8;
             }
         }
         1 => b.truncate(rng.below(b.len())),
@@ -53,7 +39,7 @@ fn damaged(rng: &mut Rng, valid: &[u8]) -> Vec<u8> {
         _ => {
             // Damage a little-endian u32 somewhere (counts, lengths, indices).
             let i = rng.below(b.len().saturating_sub(4));
-            let v = [0u32, 1, 3, 0xFFFF, 0xFFFF_FFFF, rng.next() as u32][rng.below(6)];
+            let v = [0u32, 1, 3, 0xFFFF, 0xFFFF_FFFF, rng.next_u64() as u32][rng.below(6)];
             b[i..i + 4].copy_from_slice(&v.to_le_bytes());
         }
     }
@@ -62,8 +48,7 @@ fn damaged(rng: &mut Rng, valid: &[u8]) -> Vec<u8> {
 
 fn never_panics(name: &str, valid: &[u8], text_like: bool, read: impl Fn(&[u8]) -> bool) {
     let seed: u64 = std::env::var("IO_FUZZ_SEED").ok().and_then(|v| v.parse().ok()).unwrap_or(0x9E37_79B9_7F4A_7C15);
-    // Odd, so never the all-zero state xorshift cannot leave.
-    let mut rng = Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15).wrapping_add(name.len() as u64) | 1);
+    let mut rng = SplitMix64::new(seed.wrapping_add(name.len() as u64));
     let cases: usize = std::env::var("IO_FUZZ_CASES").ok().and_then(|v| v.parse().ok()).unwrap_or(300);
     let mut accepted = 0;
     for i in 0..cases {

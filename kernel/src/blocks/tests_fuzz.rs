@@ -14,7 +14,7 @@
 use std::path::PathBuf;
 
 use super::{Block, BlockError, BlockModel, Edge, Face, MeshOptions};
-use crate::lsystem::SplitMix64;
+use crate::math::SplitMix64;
 use crate::math::{Quat, Vec3};
 
 fn uniform(rng: &mut SplitMix64, lo: f64, hi: f64) -> f64 {

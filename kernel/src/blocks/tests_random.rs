@@ -5,12 +5,7 @@
 
 use super::test_models::boxed;
 use super::{BlockError, BlockModel, Edge, Face, MeshOptions};
-use crate::lsystem::SplitMix64;
-
-/// Seeded (the kernel's SplitMix64), so failures replay.
-fn below(rng: &mut SplitMix64, n: u64) -> u64 {
-    rng.next_u64() % n
-}
+use crate::math::SplitMix64;
 
 /// Unit cubes on random cells of a 3 × 3 × 2 lattice with random sharp edges and, when `grids`,
 /// some random sub-face grids; every group allowed.
@@ -20,18 +15,18 @@ fn random_model(rng: &mut SplitMix64, grids: bool) -> BlockModel {
     for i in 0..3 {
         for j in 0..3 {
             for k in 0..2 {
-                if below(rng, 2) == 0 {
+                if rng.below(2) == 0 {
                     continue;
                 }
                 let (x, y, z) = (f64::from(i), f64::from(j), f64::from(k));
                 let mut b = boxed([x, y, z], [x + 1.0, y + 1.0, z + 1.0]);
                 for f in Face::ALL {
-                    if grids && below(rng, 4) == 0 {
-                        b.subdivide(f, 1 + below(rng, 3) as i64, 1 + below(rng, 3) as i64).unwrap();
+                    if grids && rng.below(4) == 0 {
+                        b.subdivide(f, 1 + rng.below(3) as i64, 1 + rng.below(3) as i64).unwrap();
                     }
                 }
                 for e in Edge::all() {
-                    b.set_sharp(e, below(rng, 3) == 0);
+                    b.set_sharp(e, rng.below(3) == 0);
                 }
                 m.add(b);
             }

@@ -9,11 +9,8 @@
 //! own cell, and in a neighbouring one only when it lies within the tolerance of that side, so
 //! the cost is one hash lookup per vertex (linear) unless many vertices crowd one cell.
 
-use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
-
 use crate::limits::LimitError;
-use crate::math::Vec3;
+use crate::math::{IdMap, Vec3};
 
 /// How corners that a file stores separately are joined into shared vertices.
 ///
@@ -43,30 +40,6 @@ impl Weld {
 /// Cell width in tolerances: wide, so that few vertices need a neighbouring cell.
 const CELL: f64 = 256.0;
 
-/// A multiply-rotate hash for integer keys (the standard SipHash is several times slower here,
-/// and the keys are not attacker-chosen in a way that matters: a crowded cell only costs time).
-#[derive(Default)]
-pub(crate) struct FastHasher(u64);
-
-impl Hasher for FastHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-    fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.write_u64(u64::from(b));
-        }
-    }
-    fn write_u64(&mut self, x: u64) {
-        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
-    }
-    fn write_i64(&mut self, x: i64) {
-        self.write_u64(x as u64);
-    }
-}
-
-pub(crate) type FastMap<K, V> = HashMap<K, V, BuildHasherDefault<FastHasher>>;
-
 /// The weld of `positions`: for each file vertex its new id, and for each new id the file
 /// vertex it keeps (in increasing order). `Weld::Off` keeps every vertex.
 ///
@@ -83,7 +56,7 @@ pub(crate) fn weld(positions: &[Vec3], rule: Weld) -> Result<(Vec<u32>, Vec<u32>
     if tol.is_nan() || tol <= f64::MIN_POSITIVE || tol.is_infinite() {
         // Equal coordinates only (−0 = +0).
         let key = |p: Vec3| [p.x, p.y, p.z].map(|c| if c == 0.0 { 0u64 } else { c.to_bits() });
-        let mut ids: FastMap<[u64; 3], u32> = FastMap::default();
+        let mut ids: IdMap<[u64; 3], u32> = IdMap::default();
         ids.reserve(positions.len() / 2);
         for (i, &p) in positions.iter().enumerate() {
             crate::limits::poll_at(i)?;
@@ -98,7 +71,7 @@ pub(crate) fn weld(positions: &[Vec3], rule: Weld) -> Result<(Vec<u32>, Vec<u32>
     let width = tol * CELL;
     let cell_of = |c: f64| (c / width).floor() as i64;
     // The kept vertices of each cell, as a linked list through `next` (by new id).
-    let mut heads: FastMap<[i64; 3], u32> = FastMap::default();
+    let mut heads: IdMap<[i64; 3], u32> = IdMap::default();
     heads.reserve(positions.len() / 2);
     let mut next: Vec<u32> = Vec::with_capacity(positions.len() / 2);
     let near = |a: Vec3, b: Vec3| (a.x - b.x).abs() <= tol && (a.y - b.y).abs() <= tol && (a.z - b.z).abs() <= tol;

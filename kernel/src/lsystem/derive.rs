@@ -10,8 +10,8 @@
 use std::fmt::Display;
 
 use super::grammar::{Lsystem, Module, Prob, Rule};
-use super::rng::SplitMix64;
 use super::LsystemError;
+use crate::math::SplitMix64;
 
 /// A probability callback: `(choice id, step, predecessor parameters) → probability`.
 pub type ProbabilityFn<'a, E> = dyn FnMut(u32, u32, &[f64]) -> Result<f64, E> + 'a;

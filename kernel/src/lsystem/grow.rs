@@ -1316,7 +1316,7 @@ impl Grower {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::lsystem::SplitMix64;
+    use crate::math::SplitMix64;
 
     /// The run by brute force: every length from `w_max` down, every start, each centroid summed
     /// afresh (O(n²·w)).

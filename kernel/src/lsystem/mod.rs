@@ -8,14 +8,13 @@
 //! representation: one skeleton node per drawn module (§7.1).
 //!
 //! Files, one concept each: `grammar` (modules, expressions, rules), `derive` (rewriting with
-//! contexts and seeded choices), `rng` (SplitMix64), `turtle` (the 3D turtle of §10.3), `grow`
-//! (the polar interpretation), `error`.
+//! contexts and seeded choices, drawn from [`SplitMix64`](crate::math::SplitMix64)), `turtle`
+//! (the 3D turtle of §10.3), `grow` (the polar interpretation), `error`.
 
 mod derive;
 mod error;
 mod grammar;
 mod grow;
-mod rng;
 #[cfg(test)]
 mod tests_grow;
 #[cfg(test)]
@@ -28,5 +27,4 @@ pub use grammar::{
     modules_to_string, parse_modules, ChoiceSpec, Lsystem, Module, Probability, RuleSpec, DEFAULT_MAX_MODULES,
 };
 pub use grow::{grow, grow_with, sigmoid, GrowOptions, Grown, Size, MAX_SIZE};
-pub use rng::SplitMix64;
 pub use turtle::Turtle;

@@ -1,20 +1,25 @@
-//! Vectors and bounds: glam's f64 types and an axis-aligned box; display colours.
+//! Vectors and bounds: glam's f64 types and an axis-aligned box; display colours; the seeded
+//! generator ([`SplitMix64`]) and the integer hasher ([`IdHasher`]) the other modules share.
 
 mod aabb;
 mod closest_point;
 mod color;
 mod direction;
 mod fmt_num;
+mod id_hash;
 mod lerp;
 mod mean;
+mod rng;
 
 pub use aabb::Aabb;
 pub use closest_point::closest_on_triangle;
 pub use color::hsv_rgba;
 pub use direction::direction;
 pub use fmt_num::fmt_num;
+pub use id_hash::{IdHasher, IdMap, IdSet};
 pub use lerp::lerp;
 pub use mean::mean_point;
+pub use rng::SplitMix64;
 
 /// A point or direction in 3D, in double precision.
 pub type Vec3 = glam::DVec3;

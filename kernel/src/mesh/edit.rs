@@ -20,13 +20,12 @@
 //! the result has a face on both sides). New edges get no crease tag; the edges the patch keeps
 //! keep theirs. New vertices are not corners and, when the mesh has colours, are white.
 
-use std::collections::{HashMap, HashSet};
-use std::hash::{BuildHasherDefault, Hasher};
+use std::collections::HashMap;
 
 use thiserror::Error;
 
 use super::{Mesh, NONE};
-use crate::math::{is_finite, Vec3};
+use crate::math::{is_finite, IdMap, IdSet, Vec3};
 
 /// Why a local edit was refused. The mesh is unchanged whenever one is returned.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -72,48 +71,6 @@ pub enum EditError {
     #[error("the mesh would be too large for 32-bit ids")]
     TooLarge,
 }
-
-/// A fast hasher for small integer keys (the multiply–rotate hash of rustc's `FxHasher`): edits
-/// hash element ids, where SipHash's protection against crafted keys costs time and buys nothing.
-#[derive(Clone, Copy, Default)]
-pub struct IdHasher(u64);
-
-impl IdHasher {
-    #[inline]
-    fn add(&mut self, x: u64) {
-        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x517c_c1b7_2722_0a95);
-    }
-}
-
-impl Hasher for IdHasher {
-    #[inline]
-    fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.add(u64::from(b));
-        }
-    }
-    #[inline]
-    fn write_u32(&mut self, x: u32) {
-        self.add(u64::from(x));
-    }
-    #[inline]
-    fn write_u64(&mut self, x: u64) {
-        self.add(x);
-    }
-    #[inline]
-    fn write_usize(&mut self, x: usize) {
-        self.add(x as u64);
-    }
-    #[inline]
-    fn finish(&self) -> u64 {
-        self.0
-    }
-}
-
-/// A hash map keyed by element ids, with [`IdHasher`].
-pub type IdMap<K, V> = HashMap<K, V, BuildHasherDefault<IdHasher>>;
-/// A hash set of element ids, with [`IdHasher`].
-pub type IdSet<K> = HashSet<K, BuildHasherDefault<IdHasher>>;
 
 /// What an edit changed: the final ids of what it added, and every move of an existing element.
 ///
@@ -970,6 +927,7 @@ fn dedup_cyclic(mut p: Vec<u32>) -> Vec<u32> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::SplitMix64;
 
     fn assert_sound(m: &Mesh) {
         assert!(m.is_manifold(), "not manifold");
@@ -1123,18 +1081,6 @@ mod tests {
         assert!(!is_single_fan(&mut [(1, 2), (2, 1), (3, 4), (4, 3)]));
     }
 
-    /// SplitMix64 for the randomised test below.
-    struct Rng(u64);
-    impl Rng {
-        fn below(&mut self, n: usize) -> usize {
-            self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = self.0;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            ((z ^ (z >> 31)) % n.max(1) as u64) as usize
-        }
-    }
-
     /// The fan check by sorting and binary search alone (the path fans over 12 corners take).
     fn single_fan_by_sorting(corners: &[Corner]) -> bool {
         let mut c = corners.to_vec();
@@ -1160,7 +1106,7 @@ mod tests {
     /// two, open fans and repeated corners, in every order.
     #[test]
     fn small_fans_are_judged_as_the_sorted_check_judges_them() {
-        let mut rng = Rng(11);
+        let mut rng = SplitMix64::new(11);
         let (mut yes, mut no) = (0, 0);
         for case in 0..4000 {
             let n = 1 + rng.below(20);
@@ -1204,7 +1150,7 @@ mod tests {
         // — still χ-preserving on a closed surface); a refusal changes nothing.
         let mut successes = [0usize; 7];
         for seed in 0..40u64 {
-            let mut rng = Rng(seed * 7919 + 1);
+            let mut rng = SplitMix64::new(seed * 7919 + 1);
             let mut m = if seed % 2 == 0 { Mesh::icosphere(1.0, 1) } else { Mesh::cube(2.0) };
             for _ in 0..60 {
                 let before = m.clone();

@@ -2,8 +2,8 @@
 //! of loop edges.
 
 use super::{PolarError, PolarMesh, PolyList};
+use crate::math::IdMap;
 use crate::math::Vec3;
-use crate::mesh::edit::IdMap;
 
 /// What [`PolarMesh::add_refinement`] created.
 #[derive(Clone, Debug, Default, PartialEq)]

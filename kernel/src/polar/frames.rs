@@ -184,7 +184,7 @@ impl PolarMesh {
         if verts.is_empty() {
             return Err(PolarError::EmptySelection);
         }
-        let mut seen: crate::mesh::edit::IdSet<u32> = crate::mesh::edit::IdSet::default();
+        let mut seen: crate::math::IdSet<u32> = crate::math::IdSet::default();
         let mut out = Vec::with_capacity(verts.len());
         for &v in verts {
             self.vertex_id(i64::from(v))?;

@@ -11,7 +11,8 @@
 //! the part it bridged in two.
 
 use super::{PolarError, PolarMesh};
-use crate::mesh::edit::{EditError, IdMap, IdSet};
+use crate::math::{IdMap, IdSet};
+use crate::mesh::edit::EditError;
 
 impl PolarMesh {
     /// Remove feature (seed 004, §4.5): removes the feature of face `f` (see

@@ -1,7 +1,7 @@
 //! Remove refinement (§4.2): delete a loop or a backbone, merging the faces on its two sides.
 
 use super::{PolarError, PolarMesh, Poly};
-use crate::mesh::edit::IdSet;
+use crate::math::IdSet;
 
 impl PolarMesh {
     /// Remove refinement (seed 004, §4.2): removes the loop or backbone through half-edge `h`

@@ -8,7 +8,7 @@
 //! pass a split vertex or neither does.
 
 use super::{PolarError, PolarMesh};
-use crate::mesh::edit::{IdMap, IdSet};
+use crate::math::{IdMap, IdSet};
 
 /// A union–find over dense ids.
 pub(crate) struct Dsu(Vec<u32>);

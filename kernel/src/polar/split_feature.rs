@@ -1,7 +1,7 @@
 //! Split feature (§4.7): replace a loop and the two rings beside it by two pole fans.
 
 use super::{PolarError, PolarMesh, Poly};
-use crate::mesh::edit::IdSet;
+use crate::math::IdSet;
 
 impl PolarMesh {
     /// Split feature (seed 004, §4.7): removes the loop through half-edge `h0` (the split loop)

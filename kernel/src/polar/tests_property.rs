@@ -7,26 +7,7 @@
 //! debug suite; `--nocapture` prints the tally of applied and refused operations).
 
 use super::{Frame, PolarError, PolarMesh};
-use crate::math::Vec3;
-
-/// SplitMix64: a tiny seeded generator, enough for choosing targets.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n.max(1) as u64) as usize
-    }
-    fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
+use crate::math::{SplitMix64, Vec3};
 
 /// Counts of what a run did, to make sure the sequences exercise every operation.
 #[derive(Default, Debug)]
@@ -49,14 +30,14 @@ fn assert_polar(pm: &PolarMesh, what: &str) {
     assert!(pm.mesh().is_closed() && pm.mesh().is_manifold(), "{what}: not closed manifold");
 }
 
-fn random_loop_halfedge(pm: &PolarMesh, rng: &mut Rng) -> Option<u32> {
+fn random_loop_halfedge(pm: &PolarMesh, rng: &mut SplitMix64) -> Option<u32> {
     let n = pm.halfedge_count();
     (0..16).map(|_| rng.below(n) as u32).find(|&h| pm.is_loop(h))
 }
 
 /// One valid-looking random operation. Returns the op index and whether it succeeded; panics on
 /// any broken invariant.
-fn random_op(pm: &mut PolarMesh, rng: &mut Rng, tally: &mut Tally) -> (usize, bool) {
+fn random_op(pm: &mut PolarMesh, rng: &mut SplitMix64, tally: &mut Tally) -> (usize, bool) {
     let big = pm.face_count() > 2500;
     let op = loop {
         let op = rng.below(8);
@@ -70,7 +51,7 @@ fn random_op(pm: &mut PolarMesh, rng: &mut Rng, tally: &mut Tally) -> (usize, bo
     let (result, delta): (Result<(), PolarError>, i64) = match op {
         0 => {
             let h = rng.below(pm.halfedge_count()) as i64;
-            let t = 0.1 + 0.8 * rng.unit();
+            let t = 0.1 + 0.8 * rng.next_f64();
             let r = pm.add_refinement_at(h, t).map(|_| ());
             assert!(r.is_ok(), "add_refinement has no limitation (§4.1.4) but failed: {r:?}");
             (r, 0)
@@ -119,7 +100,7 @@ fn random_op(pm: &mut PolarMesh, rng: &mut Rng, tally: &mut Tally) -> (usize, bo
         _ => {
             let k = 1 + rng.below(6);
             let verts: Vec<u32> = (0..k).map(|_| rng.below(pm.vertex_count()) as u32).collect();
-            let d = Vec3::new(rng.unit() - 0.5, rng.unit() - 0.5, rng.unit() - 0.5) * 0.1;
+            let d = Vec3::new(rng.next_f64() - 0.5, rng.next_f64() - 0.5, rng.next_f64() - 0.5) * 0.1;
             let frame = if rng.below(2) == 0 { Frame::Global } else { Frame::Local };
             (pm.move_vertices(&verts, d, frame), 0)
         }
@@ -146,10 +127,10 @@ fn random_op(pm: &mut PolarMesh, rng: &mut Rng, tally: &mut Tally) -> (usize, bo
 
 /// One random invalid call; it must be refused (or, rarely, succeed validly) and a refusal must
 /// leave the mesh unchanged.
-fn random_invalid_call(pm: &mut PolarMesh, rng: &mut Rng) {
+fn random_invalid_call(pm: &mut PolarMesh, rng: &mut SplitMix64) {
     let before = pm.clone();
     let nv = pm.vertex_count() as i64;
-    let bad = |rng: &mut Rng, n: i64| -> i64 {
+    let bad = |rng: &mut SplitMix64, n: i64| -> i64 {
         match rng.below(3) {
             0 => -1 - rng.below(5) as i64,
             1 => n + rng.below(5) as i64,
@@ -187,7 +168,7 @@ fn random_invalid_call(pm: &mut PolarMesh, rng: &mut Rng) {
 fn run_sequences(count: u64, ops: usize) -> Tally {
     let mut tally = Tally::default();
     for seed in 0..count {
-        let mut rng = Rng(seed.wrapping_mul(0x2545_F491_4F6C_DD1D) ^ 0x1234_5678);
+        let mut rng = SplitMix64::new(seed.wrapping_mul(0x2545_F491_4F6C_DD1D) ^ 0x1234_5678);
         let mut pm = if seed % 2 == 0 { PolarMesh::octahedron() } else { PolarMesh::uv_sphere(1.0, 6, 5) };
         for _ in 0..ops {
             if rng.below(4) == 0 {

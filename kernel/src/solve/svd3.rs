@@ -86,13 +86,8 @@ mod tests {
     #[test]
     fn newton_polar_and_svd_agree() {
         // Pseudo-random covariances with det > 0: both paths give the same rotation.
-        let mut seed = 0x2545_F491_4F6C_DD1Du64;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut rng = crate::math::SplitMix64::new(0x2545_F491_4F6C_DD1D);
+        let mut next = || rng.next_f64() * 2.0 - 1.0;
         let mut checked = 0;
         for _ in 0..500 {
             let c = Mat3::from_cols(

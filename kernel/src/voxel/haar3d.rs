@@ -494,20 +494,13 @@ pub(crate) fn sums_to_densities(sums: &[i64], level: u32) -> Vec<u8> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::math::Vec3;
+    use crate::math::{SplitMix64, Vec3};
     use crate::voxel::Voxels;
 
-    /// A seeded xorshift stream of bytes (the tests must not depend on an RNG crate).
+    /// Seeded random bytes (the top byte of each number of the kernel's SplitMix64).
     fn random_bytes(len: usize, seed: u64) -> Vec<u8> {
-        let mut s = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
-        (0..len)
-            .map(|_| {
-                s ^= s << 13;
-                s ^= s >> 7;
-                s ^= s << 17;
-                (s >> 24) as u8
-            })
-            .collect()
+        let mut rng = SplitMix64::new(seed);
+        (0..len).map(|_| (rng.next_u64() >> 56) as u8).collect()
     }
 
     #[test]

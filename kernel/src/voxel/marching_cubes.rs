@@ -251,18 +251,12 @@ pub fn marching_cubes(values: &[u8], side: usize, iso: f64) -> Result<Mesh, Voxe
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::SplitMix64;
 
-    /// Seeded xorshift bytes.
+    /// Seeded random bytes (the top byte of each number of the kernel's SplitMix64).
     fn random_bytes(len: usize, seed: u64) -> Vec<u8> {
-        let mut s = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
-        (0..len)
-            .map(|_| {
-                s ^= s << 13;
-                s ^= s >> 7;
-                s ^= s << 17;
-                (s >> 24) as u8
-            })
-            .collect()
+        let mut rng = SplitMix64::new(seed);
+        (0..len).map(|_| (rng.next_u64() >> 56) as u8).collect()
     }
 
     #[test]
