@@ -36,7 +36,7 @@ pub mod ply;
 mod source_colors;
 pub mod stl;
 pub mod threemf;
-mod uri;
+pub mod uri;
 mod weld;
 
 use std::borrow::Cow;

@@ -2,16 +2,17 @@
 //! may name — its own GLB chunk, a `data:` URI, or a regular file inside the glTF's own folder —
 //! and read only up to the declared length.
 //!
-//! A URI is relative-reference text (RFC 3986 §4.2): it is percent-decoded, then refused when
-//! it has a scheme other than `data:` (`file:`, `http:`…), is absolute (`/etc/passwd`, `\\x`,
-//! `C:`), or has a `..` segment; the resolved file must then lie inside the folder once
-//! symbolic links are followed (a link pointing out is refused), and be a regular file (no
-//! device, FIFO or folder) at least as long as the buffer's `byteLength`, of which exactly that
+//! A URI is relative-reference text (RFC 3986 §4.2): it is percent-decoded ([`percent_decode`]),
+//! then refused when it has a scheme other than `data:` (`file:`, `http:`…), is absolute
+//! (`/etc/passwd`, `\\x`, `C:`), or has a `..` segment; the resolved file must then lie inside the
+//! folder once symbolic links are followed (a link pointing out is refused), and be a regular file
+//! (no device, FIFO or folder) at least as long as the buffer's `byteLength`, of which exactly that
 //! many bytes are read (glTF 2.0 §3.6.1.1, §3.6.1.2: "byteLength … the length of the buffer").
 
 use std::fs::File;
 use std::io::Read;
 use std::path::{Component, Path, PathBuf};
+use std::string::FromUtf8Error;
 
 use super::IoError;
 
@@ -86,7 +87,7 @@ fn strip_prefix_ignore_case<'a>(s: &'a str, prefix: &str) -> Option<&'a str> {
 /// The reason it is refused (see the module).
 pub(crate) fn resolve(base: Option<&Path>, uri: &str) -> Result<PathBuf, String> {
     let shown = format!("{uri:.80}");
-    let decoded = percent_decode(uri).ok_or_else(|| format!("the URI {shown} does not decode to UTF-8"))?;
+    let decoded = percent_decode(uri).map_err(|_| format!("the URI {shown} does not decode to UTF-8"))?;
     // A scheme is letters, digits, `+ - .` before the first `:` (RFC 3986 §3.1); a one-letter
     // one is a Windows drive.
     if let Some((scheme, _)) = uri.split_once(':') {
@@ -135,16 +136,32 @@ pub(crate) fn resolve(base: Option<&Path>, uri: &str) -> Result<PathBuf, String>
     Ok(real)
 }
 
-/// Percent-decoding (RFC 3986 §2.1); `None` when the result is not UTF-8.
-fn percent_decode(uri: &str) -> Option<String> {
-    let bytes = uri.as_bytes();
+/// Decodes the percent escapes of `text` (RFC 3986 §2.1): each `%` followed by two hexadecimal
+/// digits (either case) stands for the byte they spell; everything else, a `%` without two
+/// hexadecimal digits after it included, is kept as it is. `+` stays `+` (a space only in HTML
+/// forms, not in URIs).
+///
+/// # Errors
+/// When the decoded bytes are not UTF-8 (`%FF`, half of a two-byte character): the
+/// [`FromUtf8Error`], whose [`FromUtf8Error::as_bytes`] are the decoded bytes, for a caller that
+/// wants a lossy reading (`String::from_utf8_lossy`).
+///
+/// ```
+/// use blocksmith_kernel::io::uri::percent_decode;
+///
+/// assert_eq!(percent_decode("my%20model%2Ebin").unwrap(), "my model.bin");
+/// assert_eq!(percent_decode("100%").unwrap(), "100%");
+/// assert!(percent_decode("%FF").is_err());
+/// ```
+pub fn percent_decode(text: &str) -> Result<String, FromUtf8Error> {
+    let hex = |b: u8| char::from(b).to_digit(16);
+    let bytes = text.as_bytes();
     let mut decoded = Vec::with_capacity(bytes.len());
     let mut i = 0;
     while i < bytes.len() {
-        if bytes[i] == b'%' {
-            let hex = bytes.get(i + 1..i + 3).and_then(|h| std::str::from_utf8(h).ok());
-            if let Some(b) = hex.and_then(|h| u8::from_str_radix(h, 16).ok()) {
-                decoded.push(b);
+        if let (b'%', Some(&[hi, lo])) = (bytes[i], bytes.get(i + 1..i + 3)) {
+            if let (Some(hi), Some(lo)) = (hex(hi), hex(lo)) {
+                decoded.push((hi * 16 + lo) as u8);
                 i += 3;
                 continue;
             }
@@ -152,7 +169,7 @@ fn percent_decode(uri: &str) -> Option<String> {
         decoded.push(bytes[i]);
         i += 1;
     }
-    String::from_utf8(decoded).ok()
+    String::from_utf8(decoded)
 }
 
 /// Why [`read_exactly`] failed: the file system's error, or a file that is not what it must be.
@@ -284,6 +301,30 @@ mod tests {
         std::fs::write(dir.path().join("sub/b.bin"), b"1234").unwrap();
         assert!(resolve(Some(dir.path()), "sub/b.bin").unwrap().ends_with("sub/b.bin"));
         assert!(resolve(Some(dir.path()), "./sub/%62.bin").unwrap().ends_with("sub/b.bin"));
+    }
+
+    #[test]
+    fn escapes_decode_in_either_case_and_invalid_ones_stay_as_they_are() {
+        assert_eq!(percent_decode("a%2fb%2Fc%20d").unwrap(), "a/b/c d");
+        assert_eq!(percent_decode("%C3%A9t%c3%a9").unwrap(), "été");
+        // Not two hexadecimal digits after the `%` (a sign is not a digit, `+` is not a space):
+        // nothing is decoded there.
+        for kept in ["%", "100%", "%2", "a%2", "%zz", "%g0", "%+1", "%-1", "% 1", "1+1", "%%41"] {
+            let want = kept.replace("%%41", "%A");
+            assert_eq!(percent_decode(kept).unwrap(), want, "{kept}");
+        }
+        // A multi-byte character right after an unfinished escape is not split.
+        assert_eq!(percent_decode("%é").unwrap(), "%é");
+        assert_eq!(percent_decode("").unwrap(), "");
+    }
+
+    #[test]
+    fn escapes_that_do_not_make_utf8_are_an_error_holding_the_bytes() {
+        // 0xFF is never UTF-8; 0xC3 starts a two-byte character that does not follow.
+        for (text, bytes) in [("%FF", &b"\xFF"[..]), ("a%C3", b"a\xC3"), ("%C3x", b"\xC3x"), ("%80", b"\x80")] {
+            let e = percent_decode(text).unwrap_err();
+            assert_eq!(e.as_bytes(), bytes, "{text}");
+        }
     }
 
     #[test]
