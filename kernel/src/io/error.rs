@@ -49,6 +49,14 @@ pub enum IoError {
     /// an accessor of the wrong type or reaching past its buffer, a missing buffer.
     #[error("{}: malformed glTF: {reason}", path.display())]
     Gltf { path: PathBuf, reason: String },
+    /// A malformed SVG document (for 2D profiles): invalid XML, malformed path data, number
+    /// lists or transforms, non-finite coordinates, or nothing drawn with area.
+    #[error("{}: malformed SVG: {reason}", path.display())]
+    Svg { path: PathBuf, reason: String },
+    /// A malformed DXF file (for 2D profiles): an odd number of lines, a group code that is not
+    /// a number, a coordinate that does not parse, or no closed contour with area.
+    #[error("{}{}: malformed DXF: {reason}", path.display(), line_suffix(*line))]
+    Dxf { path: PathBuf, line: usize, reason: String },
     /// A well-formed file that uses a feature blocksmith does not read, such as a required glTF
     /// extension that compresses or quantizes geometry (`KHR_draco_mesh_compression`), or
     /// options that do not apply to the format (an up axis for glTF, which is Y-up by
@@ -101,6 +109,8 @@ impl IoError {
             | IoError::Ply { path, .. }
             | IoError::ThreeMf { path, .. }
             | IoError::Gltf { path, .. }
+            | IoError::Svg { path, .. }
+            | IoError::Dxf { path, .. }
             | IoError::Unsupported { path, .. }
             | IoError::IndexOutOfRange { path, .. }
             | IoError::NonFinite { path, .. }

@@ -28,6 +28,7 @@
 
 mod atomic;
 mod draco;
+pub mod dxf;
 mod error;
 pub mod gltf;
 pub mod obj;
@@ -35,6 +36,7 @@ mod options;
 pub mod ply;
 mod source_colors;
 pub mod stl;
+pub mod svg;
 pub mod threemf;
 pub mod uri;
 mod weld;

@@ -46,6 +46,7 @@ pub use error::ProfileError;
 pub use extrude::{extrude, ExtrudeOptions};
 pub use hull::{hull_meshes, hull_points};
 pub use loft::{loft, LoftOptions, Placement};
+pub use measure::contour_area;
 pub use minkowski::minkowski;
 pub use offset::{JoinType, OffsetOptions};
 pub use revolve::{revolve, RevolveOptions};

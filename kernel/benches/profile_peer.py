@@ -1,0 +1,137 @@
+"""Peers for kernel/benches/profile.rs and the 2D file formats.
+
+  python profile_peer.py bench   # manifold3d on the bench's inputs: best and median times (ms)
+  python profile_peer.py values  # manifold3d's volumes/areas on the inputs the kernel tests use
+  python profile_peer.py dxf     # ezdxf reads target/peers/profile/plate.dxf (written by
+                                 # `cargo test -p blocksmith-kernel --lib -- --ignored write_peer_samples`)
+                                 # and compares its contours with plate.txt
+
+Run with ~/.cache/blocksmith-peers/venv/bin/python (ezdxf: pip install ezdxf into that venv).
+"""
+import math, os, statistics, sys, time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SAMPLES = os.path.join(HERE, "..", "..", "target", "peers", "profile")
+
+
+def timed(f, reps):
+    ts = []
+    for _ in range(reps):
+        t0 = time.perf_counter()
+        f()
+        ts.append(time.perf_counter() - t0)
+    return min(ts) * 1e3, statistics.median(ts) * 1e3
+
+
+def sphere_points(n):
+    # The bench's linear congruential sequence, bit for bit.
+    state = 0x2545F4914F6CDD1D
+    mask = (1 << 64) - 1
+    out = []
+
+    def nxt():
+        nonlocal state
+        state = (state * 6364136223846793005 + 1442695040888963407) & mask
+        return (state >> 11) / float(1 << 53)
+
+    for _ in range(n):
+        z = 2.0 * nxt() - 1.0
+        a = 2.0 * math.pi * nxt()
+        r = math.sqrt(1.0 - z * z)
+        out.append((r * math.cos(a), r * math.sin(a), z))
+    return out
+
+
+def bench():
+    from manifold3d import CrossSection, Manifold, JoinType
+
+    def rect(x0, y0, x1, y1):
+        return CrossSection([[(x0, y0), (x1, y0), (x1, y1), (x0, y1)]])
+
+    c64 = CrossSection.circle(1.0, 64)
+    disc = CrossSection.circle(0.5, 64).translate((2.0, 0.0))
+    pts = sphere_points(100_000)
+    ell = rect(0, 0, 2, 1) + rect(0, 0, 1, 2)
+    prism = Manifold.extrude(ell, 1.0)
+    ball = Manifold.sphere(0.2, 32)
+    sq = rect(0, 0, 10, 10)
+    cases = {
+        "extrude_twist_64gon": (lambda: Manifold.extrude(c64, 2.0, 31, 90.0).num_tri(), 200),
+        "revolve_torus_64x128": (lambda: Manifold.revolve(disc, 128, 360.0).num_tri(), 200),
+        "hull_100k_sphere_points": (lambda: Manifold.hull_points(pts).num_tri(), 20),
+        "minkowski_l_prism_sphere": (lambda: prism.minkowski_sum(ball).num_tri(), 10),
+        "offset_round_square": (lambda: sq.offset(1.0, JoinType.Round, 2.0, 32).area(), 500),
+    }
+    for name, (f, reps) in cases.items():
+        best, med = timed(f, reps)
+        print(f"PROFILE_PEER {name} best_ms={best:.3f} median_ms={med:.3f}")
+
+
+def values():
+    from manifold3d import CrossSection, Manifold, JoinType
+    import math, time
+    def rect(x0,y0,x1,y1): return CrossSection([[(x0,y0),(x1,y0),(x1,y1),(x0,y1)]])
+    # twisted ring
+    p = rect(-2,-2,2,2) - rect(-1,-1,1,1)
+    m = Manifold.extrude(p, 2.0, n_divisions=17, twist_degrees=90.0)
+    print("twist_ring volume", repr(m.volume()), "genus", m.genus())
+    c64 = CrossSection.circle(1.0, 64)
+    m = Manifold.extrude(c64, 2.0, n_divisions=31, twist_degrees=90.0)
+    print("twist_c64 volume", repr(m.volume()))
+    # frustum
+    c40 = CrossSection.circle(1.5, 40)
+    m = Manifold.extrude(c40, 3.0, n_divisions=0, scale_top=(1.7,1.7))
+    print("frustum_c40 volume", repr(m.volume()))
+    # annulus revolve
+    m = Manifold.revolve(rect(1,0,2,1), 48, 360)
+    print("annulus48 volume", repr(m.volume()), "genus", m.genus())
+    # pappus
+    disc = CrossSection.circle(0.5, 32).translate((2,0))
+    m = Manifold.revolve(disc, 64, 360)
+    print("pappus volume", repr(m.volume()))
+    # partial revolve
+    m = Manifold.revolve(rect(1,0,3,1), 8, 90)
+    print("partial volume", repr(m.volume()))
+    # hull cube corners
+    pts=[(x,y,z) for x in (-1,1) for y in (-1,1) for z in (-1,1)]+[(0,0,0)]
+    print("hull volume", Manifold.hull_points(pts).volume())
+    # minkowski
+    a = Manifold.cube((2,2,2), True)
+    b = Manifold.cube((1,1,2)).translate((-0.5,0,0))
+    print("mink boxes", a.minkowski_sum(b).volume())
+    L = Manifold.extrude(rect(0,0,2,1) + rect(0,0,1,2), 1.0)
+    print("mink L", repr(L.minkowski_sum(Manifold.cube((1,1,1), True)).volume()))
+    # offsets
+    s = rect(0,0,10,10)
+    print("offset round32", repr(s.offset(1.0, JoinType.Round, 2.0, 32).area()))
+    print("offset square", repr(s.offset(1.0, JoinType.Square).area()))
+    print("offset miter", repr(s.offset(1.0, JoinType.Miter).area()))
+    # split/trim
+    cube = Manifold.cube((2,2,2), True)
+    up, down = cube.split_by_plane((0,0,1), 0.5)
+    print("split", up.volume(), down.volume())
+    print("trim", cube.trim_by_plane((1,1,1), 0.0).volume())
+    ring = Manifold.revolve(rect(1,0,2,1), 48, 360)
+    print("slice ring", repr(ring.slice(0.5).area()))
+    print("project box", Manifold.cube((3,2,1)).project().area())
+
+
+def dxf():
+    import ezdxf
+
+    doc = ezdxf.readfile(os.path.join(SAMPLES, "plate.dxf"))
+    audit = doc.audit()
+    polys = [e for e in doc.modelspace() if e.dxftype() == "POLYLINE"]
+    ours = [line.split() for line in open(os.path.join(SAMPLES, "plate.txt")) if line.strip()]
+    assert len(polys) == len(ours), (len(polys), len(ours))
+    worst = 0.0
+    for p, (n, area) in zip(polys, ours):
+        pts = [(v.dxf.location.x, v.dxf.location.y) for v in p.vertices]
+        a = 0.5 * sum(pts[i][0] * pts[(i + 1) % len(pts)][1] - pts[(i + 1) % len(pts)][0] * pts[i][1] for i in range(len(pts)))
+        assert p.is_closed and len(pts) == int(n), (p.is_closed, len(pts), n)
+        worst = max(worst, abs(a - float(area)))
+    print(f"PROFILE_DXF ezdxf={ezdxf.__version__} audit_errors={len(audit.errors)} contours={len(polys)} closed=all max_area_diff={worst:.3e}")
+
+
+if __name__ == "__main__":
+    {"bench": bench, "values": values, "dxf": dxf}[sys.argv[1] if len(sys.argv) > 1 else "bench"]()
