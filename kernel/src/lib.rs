@@ -1,22 +1,19 @@
 //! blocksmith-kernel: the pure-Rust geometry behind blocksmith.
 //!
-//! A short tour of the pipeline:
-//! - [`math`]: `Vec3` (glam's `DVec3`) and axis-aligned bounds.
-//! - [`mesh`]: the half-edge polygon [`Mesh`] every other module produces or consumes — building
-//!   from indexed polygons (rejecting non-manifold input), circulators, measures, primitives,
-//!   transforms and triangulation.
-//! - [`io`]: OBJ, binary STL and glTF 2.0 files.
-//! - [`anim`]: skeleton-driven animation of polar meshes (Brazzolotto part II) — skinning, growth,
-//!   gravity, script modifiers, rigged glTF export.
-//! - [`blocks`]: modeling with blocks (Leblanc et al.) — blocks with sub-face grids and sharp
-//!   edges, connections, the control mesh, and its adaptive crack-free tessellation.
-//! - [`csg`]: union, difference and intersection of block models and meshes (Leblanc et al.
-//!   §2.4.2), with the source of every output face.
-//! - [`lsystem`]: L-systems (Brazzolotto part III) — grammars, seeded derivation, and growth
-//!   carried out directly as polar-mesh operations.
-//!
-//! - [`solve`]: Shape-Up constraints (Tsoi & Hui, Bouaziz et al.) — a prefactored local/global
-//!   solver, rigid/circle/plane/anchor projections, closeness and Laplacian energies, cylinder fits.
+//! A short tour, foundations first:
+//! - [`math`]: `Vec3` and the other glam f64 types, bounds, colours, the seeded RNG and the id hasher.
+//! - [`limits`]: the memory budget and the cancellation token long operations check.
+//! - [`mesh`]: the half-edge polygon [`Mesh`] — build, circulate, measure, edit, triangulate, tags, provenance.
+//! - [`subdiv`]: Catmull–Clark and Loop subdivision with semi-sharp creases, limit points, limit surface.
+//! - [`polar`]: polar meshes (Brazzolotto) — rings and poles, the seven operations, the inferred skeleton.
+//! - [`blocks`]: modeling with blocks (Leblanc et al.) — blocks, connections, control mesh, tessellation.
+//! - [`voxel`]: voxel sculpting (Heurtebise & Thon) — Haar levels of detail, marching cubes, rotated tools.
+//! - [`solve`]: Shape-Up constraints (Bouaziz et al.) — the local/global solver, projections, cylinder fits.
+//! - [`anim`]: skeleton-driven animation of polar meshes — skinning, growth, gravity, rigged glTF export.
+//! - [`lsystem`]: L-systems (Brazzolotto part III) — grammars, seeded derivation, growth as polar operations.
+//! - [`csg`]: union, difference and intersection of block models and meshes, through the one engine seam.
+//! - [`profile`]: 2D regions and the solids made from them — extrude, revolve, sweep, loft, hulls, cuts.
+//! - [`io`]: mesh files — OBJ, STL, glTF 2.0 (with Draco-compressed reading), PLY and 3MF; welding.
 //!
 //! The kernel knows nothing of the scripting language: errors are typed here and turned into
 //! script errors at the binding edge.
