@@ -13,7 +13,7 @@
 //! - [`lsystem`]: L-systems (Brazzolotto part III) — grammars, seeded derivation, growth as polar operations.
 //! - [`csg`]: union, difference and intersection of block models and meshes, through the one engine seam.
 //! - [`profile`]: 2D regions and the solids made from them — extrude, revolve, sweep, loft, hulls, cuts.
-//! - [`io`]: mesh files — OBJ, STL, glTF 2.0 (with Draco-compressed reading), PLY and 3MF; welding.
+//! - [`io`]: files — meshes in OBJ, STL, glTF 2.0 (Draco read too), PLY, 3MF; profiles in SVG, DXF.
 //!
 //! The kernel knows nothing of the scripting language: errors are typed here and turned into
 //! script errors at the binding edge.
