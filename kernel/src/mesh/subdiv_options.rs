@@ -4,8 +4,8 @@
 
 /// The sharpness from which a crease or corner is infinitely sharp (OpenSubdiv's
 /// `Sdc::Crease::SHARPNESS_INFINITE`): subdivision treats every value from 10 up, and
-/// `f64::INFINITY`, alike. Scripts see infinitely sharp creases as this value, since Rhai's
-/// comparisons of infinity are false.
+/// `f64::INFINITY`, alike. Scripts see infinitely sharp creases as this value, since the
+/// scripting language's comparisons of infinity are false.
 pub const SHARPNESS_INFINITE: f64 = 10.0;
 
 /// How boundary vertices are interpolated (OpenSubdiv's `VtxBoundaryInterpolation`).
