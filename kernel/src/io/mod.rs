@@ -2,6 +2,9 @@
 //! and `.gltf` with a separate `.bin` buffer, read and write), PLY (ASCII and binary, read and
 //! write), 3MF (read and write).
 //!
+//! 2D profiles have their own: SVG and DXF ([`svg`], [`dxf`]; [`load_profile`] and
+//! [`save_profile`] by extension).
+//!
 //! [`load`] and [`save`] pick the format by the extension (case-insensitive). Each format also
 //! has functions that read from bytes and write to any [`std::io::Write`], so that they can be
 //! used without files; they take the path only to name it in errors.
@@ -34,6 +37,7 @@ pub mod gltf;
 pub mod obj;
 mod options;
 pub mod ply;
+mod profile_files;
 mod source_colors;
 pub mod stl;
 pub mod svg;
@@ -49,6 +53,7 @@ pub use atomic::{write_atomic, StoppableFile};
 pub use error::{IoError, KNOWN_EXTENSIONS};
 pub use options::{LoadOptions, SaveOptions, UpAxis};
 pub use ply::PlyEncoding;
+pub use profile_files::{load_profile, save_profile, ProfileFormat};
 pub use source_colors::source_color;
 pub use weld::Weld;
 

@@ -76,16 +76,11 @@ impl Profile {
     /// corner on +x (exact on the axes), counter-clockwise.
     ///
     /// # Errors
-    /// [`ProfileError::BadValue`] for a radius not positive and finite, or fewer than 3 segments.
+    /// [`ProfileError::BadValue`] for a radius not positive and finite, fewer than 3 segments or
+    /// more than [`MAX_SEGMENTS`](super::MAX_SEGMENTS).
     pub fn circle(radius: f64, segments: u32) -> Result<Profile, ProfileError> {
         check_number("the radius", radius, true)?;
-        if segments < 3 {
-            return Err(ProfileError::BadValue {
-                name: "the number of segments",
-                value: f64::from(segments),
-                expected: "at least 3",
-            });
-        }
+        super::offset::check_segments(segments)?;
         let contour = (0..segments)
             .map(|i| {
                 let (c, s) = cos_sin_degrees(360.0 * f64::from(i) / f64::from(segments));

@@ -102,3 +102,18 @@ pub(super) fn check_number(name: &'static str, value: f64, positive: bool) -> Re
     }
     Ok(value)
 }
+
+/// The engine's memory per triangle while it builds a solid (as the CSG estimate).
+const ENGINE_BYTES_PER_TRIANGLE: f64 = 1024.0;
+
+/// Refuses a solid of about `vertices` vertices and `triangles` triangles when building it
+/// would pass the memory budget; `what` describes the request.
+pub(super) fn check_solid_size(
+    what: impl FnOnce() -> String,
+    vertices: f64,
+    triangles: f64,
+) -> Result<(), ProfileError> {
+    let bytes = crate::mesh::mesh_bytes(vertices, 3.0 * triangles, triangles) + triangles * ENGINE_BYTES_PER_TRIANGLE;
+    crate::limits::check_memory(what, bytes)?;
+    Ok(())
+}

@@ -1,7 +1,7 @@
 //! Linear extrusion: a profile pulled up along z, optionally twisted and scaled towards the top
 //! (OpenSCAD's `linear_extrude`, Manifold's `Extrude`).
 
-use super::convert::{check_finite, check_number, engine_error, mesh_from_solid};
+use super::convert::{check_finite, check_number, check_solid_size, engine_error, mesh_from_solid};
 use super::{Profile, ProfileError, Vec2};
 use crate::csg::engine::Solid;
 use crate::math::Vec3;
@@ -98,6 +98,13 @@ pub fn extrude(profile: &Profile, height: f64, options: &ExtrudeOptions) -> Resu
     if layers == 0 {
         return Err(ProfileError::BadValue { name: "the number of slices", value: 0.0, expected: "at least 1" });
     }
+    let points = profile.point_count() as f64;
+    let layers_f = f64::from(layers);
+    check_solid_size(
+        || format!("an extrusion of {points} points in {layers} layers"),
+        points * (layers_f + 1.0),
+        2.0 * points * (layers_f + 1.0),
+    )?;
     crate::limits::charge(profile.point_count() as u64 * u64::from(layers))?;
     let solid = Solid::extrude(profile.contours(), height, layers - 1, options.twist, s).map_err(engine_error)?;
     let mesh = mesh_from_solid(&solid)?;

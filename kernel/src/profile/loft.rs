@@ -6,7 +6,7 @@
 //! profile's start's) and resampled at the union of all its contours' arc-length parameters —
 //! every corner of every profile is kept, and all rings of a chain get one point count.
 
-use super::convert::mesh_error;
+use super::convert::{check_solid_size, mesh_error};
 use super::measure::contour_area;
 use super::{Profile, ProfileError, Vec2};
 use crate::csg::engine::triangulate_contours;
@@ -239,6 +239,11 @@ pub fn loft(profiles: &[Profile], options: &LoftOptions) -> Result<Mesh, Profile
         }
     }
     let per_ring: usize = rings[0].iter().map(Vec::len).sum();
+    check_solid_size(
+        || format!("a loft of {} rings of {per_ring} points", profiles.len()),
+        (per_ring * profiles.len()) as f64,
+        2.0 * (per_ring * profiles.len()) as f64,
+    )?;
     crate::limits::charge((per_ring * profiles.len()) as u64)?;
     let mut positions = Vec::with_capacity(per_ring * profiles.len());
     for (ring, m) in rings.iter().zip(&transforms) {

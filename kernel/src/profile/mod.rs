@@ -10,6 +10,7 @@
 //! - 3D operations on meshes: [`hull_points`] / [`hull_meshes`], [`minkowski`], [`split`] /
 //!   [`trim`], [`slice`] / [`project`] (back to a [`Profile`]).
 //! - `error`: [`ProfileError`], naming the input at fault.
+//! - Files: SVG and DXF in [`crate::io::svg`] and [`crate::io::dxf`].
 //!
 //! Regions and the solids of extrude, revolve, hulls, Minkowski sums and cuts come from the
 //! boolean engine through its one seam ([`crate::csg::engine`]): Manifold's `CrossSection`
@@ -48,7 +49,7 @@ pub use hull::{hull_meshes, hull_points};
 pub use loft::{loft, LoftOptions, Placement};
 pub use measure::contour_area;
 pub use minkowski::minkowski;
-pub use offset::{JoinType, OffsetOptions};
+pub use offset::{JoinType, OffsetOptions, MAX_SEGMENTS};
 pub use revolve::{revolve, RevolveOptions};
 pub use slice::{project, slice};
 pub use split::{split, trim};

@@ -48,7 +48,8 @@ pub struct OffsetOptions {
     /// For [`JoinType::Miter`]: the farthest a mitred corner may reach, in multiples of the
     /// offset distance (greater than 1). Default value: 2.
     pub miter_limit: f64,
-    /// For [`JoinType::Round`]: segments per full turn of an arc (at least 3). Default value: 32.
+    /// For [`JoinType::Round`]: segments per full turn of an arc (3 to [`MAX_SEGMENTS`]).
+    /// Default value: 32.
     pub segments: u32,
 }
 
@@ -96,13 +97,16 @@ impl Default for OffsetOptions {
     }
 }
 
-/// Refuses fewer than 3 segments per turn.
+/// The most segments per full turn an arc may have.
+pub const MAX_SEGMENTS: u32 = 1_000_000;
+
+/// Refuses fewer than 3 segments per turn, or more than [`MAX_SEGMENTS`].
 pub(super) fn check_segments(segments: u32) -> Result<(), ProfileError> {
-    if segments < 3 {
+    if !(3..=MAX_SEGMENTS).contains(&segments) {
         return Err(ProfileError::BadValue {
             name: "the number of segments",
             value: f64::from(segments),
-            expected: "at least 3",
+            expected: "from 3 to 1000000",
         });
     }
     Ok(())

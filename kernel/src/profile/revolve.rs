@@ -1,7 +1,7 @@
 //! Revolution: a profile turned about the z axis, its x the radius and its y the height
 //! (OpenSCAD's `rotate_extrude`, Manifold's `Revolve`).
 
-use super::convert::{check_number, engine_error, mesh_from_solid};
+use super::convert::{check_number, check_solid_size, engine_error, mesh_from_solid};
 use super::offset::check_segments;
 use super::{Profile, ProfileError};
 use crate::csg::engine::Solid;
@@ -76,6 +76,12 @@ pub fn revolve(profile: &Profile, options: &RevolveOptions) -> Result<Mesh, Prof
         }
     }
     let steps = options.steps();
+    let points = profile.point_count() as f64;
+    check_solid_size(
+        || format!("a revolution of {points} points in {steps} steps"),
+        points * (f64::from(steps) + 1.0),
+        2.0 * points * (f64::from(steps) + 1.0),
+    )?;
     crate::limits::charge(profile.point_count() as u64 * u64::from(steps))?;
     let solid = Solid::revolve(profile.contours(), steps, options.angle).map_err(engine_error)?;
     let mesh = mesh_from_solid(&solid)?;

@@ -10,7 +10,7 @@
 //! the path, by arc length.
 
 use super::construct::cos_sin_degrees;
-use super::convert::{check_number, mesh_error};
+use super::convert::{check_number, check_solid_size, mesh_error};
 use super::frames;
 use super::{Profile, ProfileError, Vec2};
 use crate::csg::engine::triangulate_contours;
@@ -200,6 +200,11 @@ pub fn sweep(profile: &Profile, path: &[Vec3], options: &SweepOptions) -> Result
     // The rings.
     let contours = profile.contours();
     let per_ring = profile.point_count();
+    check_solid_size(
+        || format!("a sweep of {per_ring} points along {n} path points"),
+        (per_ring * n) as f64,
+        2.0 * (per_ring * n) as f64,
+    )?;
     crate::limits::charge((per_ring * n) as u64)?;
     let mut positions = Vec::with_capacity(per_ring * n);
     for i in 0..n {

@@ -324,3 +324,51 @@ fn results_match_manifold3d_on_the_same_inputs() {
     let l = extrude(&rect(0.0, 0.0, 2.0, 1.0).union(&rect(0.0, 0.0, 1.0, 2.0)), 1.0, &ExtrudeOptions::DEFAULT).unwrap();
     assert_near(minkowski(&l, &Mesh::cube(1.0)).unwrap().volume(), 16.0, 1e-9);
 }
+
+#[test]
+fn requests_too_large_for_memory_are_refused_before_building() {
+    // Four billion layers of a square: far over any memory budget, refused by estimate.
+    let e = extrude(&rect(0.0, 0.0, 1.0, 1.0), 1.0, &ExtrudeOptions::DEFAULT.with_slices(4_000_000_000)).unwrap_err();
+    assert!(matches!(e, ProfileError::Limit(_)), "{e}");
+    assert!(e.to_string().starts_with("an extrusion of 4 points in 4000000000 layers"), "{e}");
+    assert!(Profile::circle(1.0, 2_000_000).is_err(), "more than MAX_SEGMENTS");
+}
+
+#[test]
+fn sweep_refuses_an_up_along_the_path() {
+    let e =
+        sweep(&rect(0.0, 0.0, 1.0, 1.0), &[Vec3::ZERO, Vec3::Z], &SweepOptions::DEFAULT.with_up(Vec3::Z)).unwrap_err();
+    assert!(matches!(e, ProfileError::BadValue { .. }), "{e}");
+    // The default up turns to +y for a path along z: the profile's y faces +y.
+    let m = sweep(&rect(0.0, 0.0, 1.0, 2.0), &[Vec3::ZERO, Vec3::Z], &SweepOptions::DEFAULT).unwrap();
+    let b = m.bounds();
+    assert!((b.max.y - 2.0).abs() < 1e-12 && b.min.y.abs() < 1e-12, "{b:?}");
+}
+
+#[test]
+fn a_closed_loft_through_placed_profiles_is_a_ring() {
+    // Eight unit squares stood up around the z axis at radius 3 (each in the plane through the
+    // axis), joined round: a closed ring of genus 1.
+    let transforms: Vec<Mat4> = (0..8)
+        .map(|i| {
+            let a = std::f64::consts::TAU * f64::from(i) / 8.0;
+            Mat4::from_rotation_z(a)
+                * Mat4::from_translation(Vec3::new(3.0, 0.0, 0.0))
+                * Mat4::from_rotation_x(PI / 2.0)
+        })
+        .collect();
+    let squares = vec![rect(-0.5, -0.5, 0.5, 0.5); 8];
+    let m = loft(&squares, &LoftOptions::DEFAULT.with_transforms(transforms).with_closed(true)).unwrap();
+    // The octagonal ring's volume by Pappus for the polygonal solid: 8·sin(2π/8)·A·x̄ = 8·sin(π/4)·1·3.
+    assert_near(solid(&m, 1), 8.0 * (PI / 4.0).sin() * 3.0, 1e-9);
+}
+
+#[test]
+fn profiles_touching_at_a_corner_extrude_to_a_closed_solid() {
+    // Two squares meeting at one corner: the engine keeps two vertices there, so the mesh stays
+    // a 2-manifold (two components touching at an edge in space, not in topology).
+    let p = rect(0.0, 0.0, 1.0, 1.0).union(&rect(1.0, 1.0, 2.0, 2.0));
+    let m = extrude(&p, 1.0, &ExtrudeOptions::DEFAULT).unwrap();
+    assert!(m.is_closed() && m.is_manifold());
+    assert_near(m.volume(), 2.0, 1e-12);
+}
