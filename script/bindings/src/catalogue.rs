@@ -74,6 +74,8 @@ pub fn script_type(rust: &str) -> String {
         "Number" => "number",
         "Integer" => "int",
         "Vector" => "Vec3",
+        "Point2" => "[x, y]",
+        "NumberOrPoint2" => "number|[x, y]",
         "NumberOrVector" => "number|Vec3",
         "Solid" => "Mesh|BlockModel",
         "Dynamic" | "?" | "" => "any",
@@ -102,6 +104,8 @@ pub fn a(script_type: &str) -> String {
         "number" => "a number".into(),
         "number|Vec3" => "a number or a Vec3".into(),
         "Mesh|BlockModel" => "a Mesh or a BlockModel".into(),
+        "[x, y]" => "a point [x, y]".into(),
+        "number|[x, y]" => "a number or a point [x, y]".into(),
         "any" => "any value".into(),
         "bool" => "a bool".into(),
         "char" => "a character".into(),
@@ -265,7 +269,7 @@ mod tests {
             .map(Overload::signature)
             .collect();
         assert!(
-            any.iter().all(|s| ["assert_eq(", "show(", "param(", "parent(", "pad(", "push(", "+=(array"]
+            any.iter().all(|s| ["assert_eq(", "show(", "param(", "parent(", "pad(", "push(", "+=(array", "hull(items"]
                 .iter()
                 .any(|n| s.starts_with(n))),
             "{any:?}"

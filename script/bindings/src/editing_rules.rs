@@ -44,6 +44,14 @@ pub const KINDS: &[Kind] = &[
                subdiv_options) mark this mesh itself, and they return nothing.",
     },
     Kind {
+        name: "Profile",
+        rust: "Profile",
+        rule: Rule::Value,
+        text: "A Profile is a value: every operation (+, -, intersect, offset, fillet, chamfer, hull, \
+               translate, rotate, scale, mirror, simplify) returns a new profile and leaves this one as it was, \
+               so keep the result: `p = p.offset(1);`.",
+    },
+    Kind {
         name: "Vec3",
         rust: "Vec3",
         rule: Rule::Value,

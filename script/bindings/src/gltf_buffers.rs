@@ -5,6 +5,8 @@
 
 use std::path::{Component, Path, PathBuf};
 
+use blocksmith_kernel::io::uri::percent_decode;
+
 /// The buffer files of the `.gltf` at `path`, in the order its `buffers` list them: each URI
 /// percent-decoded and taken relative to the file's folder. URIs that leave the folder
 /// (absolute, `..`) are skipped, as the reader refuses them. Empty when the file cannot be
@@ -30,36 +32,15 @@ fn referred(path: &Path, list: &str) -> Vec<PathBuf> {
         .iter()
         .filter_map(|b| b["uri"].as_str())
         .filter(|uri| !uri.starts_with("data:"))
-        .map(percent_decode)
+        // Decoded as the loader decodes them (one decoder, the kernel's): a URI that does not
+        // decode to UTF-8 names no file the loader would read.
+        .filter_map(|uri| percent_decode(uri).ok())
         .map(PathBuf::from)
         .filter(|p| p.components().all(|c| matches!(c, Component::Normal(_) | Component::CurDir)))
         .map(|p| dir.join(p))
         .collect()
 }
 
-/// `%XX` sequences decoded (RFC 3986 §2.1); anything else as it is.
-fn percent_decode(uri: &str) -> String {
-    let bytes = uri.as_bytes();
-    let mut out = Vec::with_capacity(bytes.len());
-    let mut i = 0;
-    while i < bytes.len() {
-        let hex = bytes
-            .get(i + 1..i + 3)
-            .and_then(|h| std::str::from_utf8(h).ok())
-            .and_then(|h| u8::from_str_radix(h, 16).ok());
-        match (bytes[i], hex) {
-            (b'%', Some(b)) => {
-                out.push(b);
-                i += 3;
-            }
-            (b, _) => {
-                out.push(b);
-                i += 1;
-            }
-        }
-    }
-    String::from_utf8_lossy(&out).into_owned()
-}
 
 #[cfg(test)]
 mod tests {

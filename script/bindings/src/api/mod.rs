@@ -11,6 +11,7 @@ pub mod lsystem;
 pub mod mesh;
 pub mod nesting;
 pub mod polar;
+pub mod profile;
 pub mod registry;
 pub mod runtime;
 pub mod solve;
@@ -36,6 +37,7 @@ pub fn register_all(engine: &mut Engine) {
     solve::register(engine);
     blocks::register(engine);
     csg::register(engine);
+    profile::register(engine);
     engine.register_global_module(exported_module!(runtime::runtime_api).into());
     engine.register_global_module(exported_module!(data::data_api).into());
     engine.register_global_module(exported_module!(nesting::nesting_api).into());
