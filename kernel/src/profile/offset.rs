@@ -121,6 +121,35 @@ fn raw_offset(p: &Profile, delta: f64, join: Join, miter_limit: f64, segments: u
 /// chamfer): far beyond any corner a later step keeps.
 const SHARP: f64 = 1e6;
 
+/// The farthest from the origin an offset may reach, in model units. The engine holds
+/// coordinates as integers on a grid of 1e-8 and Clipper2 keeps them below 2⁶¹ ≈ 2.3e18 (so
+/// 2.3e10 units); 1e9 leaves room for its intermediate sums.
+pub const MAX_REACH: f64 = 1e9;
+
+/// The largest |coordinate| of the profile.
+fn extent(p: &Profile) -> f64 {
+    p.contours().iter().flatten().map(|q| q.x.abs().max(q.y.abs())).fold(0.0, f64::max)
+}
+
+/// Refuses an offset by `delta` whose corners may reach `reach` × |delta| beyond the profile
+/// when that passes [`MAX_REACH`]: the engine's integers would overflow.
+fn check_reach(p: &Profile, name: &'static str, delta: f64, reach: f64) -> Result<(), ProfileError> {
+    if extent(p) + delta.abs() * reach > MAX_REACH {
+        return Err(ProfileError::BadValue {
+            name,
+            value: delta,
+            expected: "small enough that the result stays within 1e9 of the origin",
+        });
+    }
+    Ok(())
+}
+
+/// The miter limit of a fillet's or chamfer's sharp steps by `r`: [`SHARP`], or less where a
+/// corner that far out would pass [`MAX_REACH`].
+fn sharp_for(p: &Profile, r: f64) -> f64 {
+    SHARP.min(((MAX_REACH - extent(p)) / r).max(2.0))
+}
+
 impl Profile {
     /// The region grown by `delta` (shrunk when negative: every point at distance ≤ |delta| from
     /// the outside removed), corners joined as `options` say. Shrinking may leave nothing (an
@@ -135,6 +164,12 @@ impl Profile {
         if delta == 0.0 {
             return Ok(self.clone());
         }
+        let reach = match options.join {
+            JoinType::Round => 1.0,
+            JoinType::Square => std::f64::consts::SQRT_2,
+            JoinType::Miter => options.miter_limit.max(1.0),
+        };
+        check_reach(self, "the offset", delta, reach)?;
         let join = match options.join {
             JoinType::Round => Join::Round,
             JoinType::Miter => Join::Miter,
@@ -158,8 +193,10 @@ impl Profile {
         if r == 0.0 {
             return Ok(self.clone());
         }
-        let opened = raw_offset(&raw_offset(self, -r, Join::Miter, SHARP, segments), r, Join::Round, 2.0, segments);
-        let closed = raw_offset(&raw_offset(&opened, r, Join::Miter, SHARP, segments), -r, Join::Round, 2.0, segments);
+        check_reach(self, "the fillet radius", r, 2.0)?;
+        let sharp = sharp_for(self, r);
+        let opened = raw_offset(&raw_offset(self, -r, Join::Miter, sharp, segments), r, Join::Round, 2.0, segments);
+        let closed = raw_offset(&raw_offset(&opened, r, Join::Miter, sharp, segments), -r, Join::Round, 2.0, segments);
         Ok(closed)
     }
 
@@ -177,8 +214,36 @@ impl Profile {
         if d == 0.0 {
             return Ok(self.clone());
         }
-        let opened = raw_offset(&raw_offset(self, -d, Join::Miter, SHARP, 32), d, Join::Bevel, 2.0, 32);
-        let closed = raw_offset(&raw_offset(&opened, d, Join::Miter, SHARP, 32), -d, Join::Bevel, 2.0, 32);
+        check_reach(self, "the chamfer distance", d, 2.0)?;
+        let sharp = sharp_for(self, d);
+        let opened = raw_offset(&raw_offset(self, -d, Join::Miter, sharp, 32), d, Join::Bevel, 2.0, 32);
+        let closed = raw_offset(&raw_offset(&opened, d, Join::Miter, sharp, 32), -d, Join::Bevel, 2.0, 32);
         Ok(closed)
+    }
+}
+
+#[cfg(test)]
+mod reach_tests {
+    use super::*;
+    use crate::profile::Vec2;
+
+    #[test]
+    fn an_offset_that_would_leave_the_engine_s_range_is_refused_not_overflowed() {
+        // 1e300 passes every finiteness check; the engine's integers (grid 1e-8) would
+        // overflow, so each operation refuses it by name instead.
+        let p = Profile::rect(Vec2::ZERO, Vec2::new(2.0, 1.0)).unwrap();
+        for delta in [1e300, -1e300, 2e9] {
+            let e = p.offset(delta, &OffsetOptions::DEFAULT).unwrap_err().to_string();
+            assert!(e.contains("the offset") && e.contains("within 1e9"), "{e}");
+        }
+        assert!(p.fillet(1e300, 32).unwrap_err().to_string().contains("the fillet radius"));
+        assert!(p.chamfer(1e300).unwrap_err().to_string().contains("the chamfer distance"));
+        // A miter join reaches miter_limit × delta: checked with it.
+        let miter = OffsetOptions::DEFAULT.with_join(JoinType::Miter).with_miter_limit(1e6);
+        assert!(p.offset(1e4, &miter).is_err());
+        // Large but in range: fine, and the sharp steps of a fillet shorten to stay in range.
+        assert!(p.offset(1e6, &OffsetOptions::DEFAULT).is_ok());
+        let f = p.fillet(1e4, 32).unwrap();
+        assert!(f.is_empty() || f.area() <= p.area());
     }
 }

@@ -41,7 +41,6 @@ fn referred(path: &Path, list: &str) -> Vec<PathBuf> {
         .collect()
 }
 
-
 #[cfg(test)]
 mod tests {
     use super::*;

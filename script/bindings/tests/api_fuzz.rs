@@ -32,6 +32,7 @@ const RECEIVERS: &[(&str, &str)] = &[
     ("Modifier", "growth()"),
     ("Solver", "shape_up(cube(2))"),
     ("Blob", "blob(4, 1)"),
+    ("Profile", "(rect([0, 0], [2, 1]) - circle(0.2, 8).translate([1, 0.5]))"),
 ];
 
 /// The hostile values, as scope variables (`h0`, `h1`...) or script text.
@@ -74,6 +75,8 @@ fn plausible(t: &str) -> String {
         "any" => "1.0".into(),
         "number" => "0.5".into(),
         "number|Vec3" => "2".into(),
+        "[x, y]" => "[1, 2]".into(),
+        "number|[x, y]" => "2".into(),
         // One of several types (`Mesh|BlockModel`): the first.
         t if t.contains('|') => plausible(t.split('|').next().unwrap_or(t)),
         t => RECEIVERS.iter().find(|(n, _)| *n == t).map_or_else(|| "()".into(), |(_, s)| s.to_string()),

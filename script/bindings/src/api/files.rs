@@ -1,4 +1,5 @@
-//! `load` and `save`: mesh files by extension (`.obj`, `.glb`, `.gltf`, `.stl`, `.ply`, `.3mf`).
+//! `load` and `save`: mesh files by extension (`.obj`, `.glb`, `.gltf`, `.stl`, `.ply`, `.3mf`), and
+//! 2D profile files (`.svg`, `.dxf`), whose `save` is in `api/profile.rs`.
 
 use std::fs;
 use std::path::PathBuf;
@@ -9,8 +10,9 @@ use rhai::plugin::*;
 use rhai::Map;
 
 use super::mesh::SharedMesh;
+use super::profile::Profile;
 use crate::context::RunContext;
-use crate::convert::{fail, type_name, Options, ScriptResult};
+use crate::convert::{fail, kernel, type_name, Options, ScriptResult};
 
 /// The file a script names by `path` for writing: a relative path goes under the run's output
 /// directory; missing parent directories are created; the run's list of writes, if it keeps
@@ -33,6 +35,20 @@ pub fn output_file(ctx: &NativeCallContext, func: &str, path: &str) -> ScriptRes
         writes.push(&p);
     }
     Ok(p)
+}
+
+/// Reads the 2D file (`.svg`, `.dxf`) the script names by `path` (from the working directory,
+/// else next to the script), recording it as an input of the run.
+///
+/// # Errors
+/// The kernel's file error, naming `load` and the path.
+fn read_profile_file(ctx: &NativeCallContext, path: &str) -> ScriptResult<Profile> {
+    let run = RunContext::of(ctx);
+    let p = run.input_path(path);
+    if p.exists() {
+        run.record.input(&p);
+    }
+    kernel("load", io::load_profile(&p)).map(|p| Profile(std::rc::Rc::new(p)))
 }
 
 /// Writes `mesh` to the script path `path` by extension: a relative path goes under the run's
@@ -106,14 +122,19 @@ pub mod files_api {
     /// corners and glTF and PLY vertices split at seams are welded by position (see
     /// `load(path, #{weld})`).
     ///
+    /// A `.svg` or `.dxf` file is read as a 2D `Profile` (SVG paths, polygons and basic shapes
+    /// with their transforms; DXF LWPOLYLINE, POLYLINE, LINE, ARC and CIRCLE).
+    ///
     /// ```rhai
     /// let c = cube(2);
     /// c.save("doc_example_cube.obj");
     /// let back = load("doc_example_cube.obj");
     /// assert_eq(back.face_count, 6);
+    /// (rect([0, 0], [3, 2]) - circle(0.5, 16).translate([1, 1])).save("doc_example_plate.dxf");
+    /// assert_near(load("doc_example_plate.dxf").area(), 6.0 - 8.0 * sin(2.0 * PI() / 16.0) * 0.25, 1e-9);
     /// ```
     #[rhai_fn(return_raw)]
-    pub fn load(ctx: NativeCallContext, path: &str) -> ScriptResult<SharedMesh> {
+    pub fn load(ctx: NativeCallContext, path: &str) -> ScriptResult<Dynamic> {
         load_with_options(ctx, path, Map::new())
     }
 
@@ -133,7 +154,11 @@ pub mod files_api {
     /// assert_eq(load("doc_example_tall.stl", #{ weld: false }).vertex_count, 36);
     /// ```
     #[rhai_fn(name = "load", return_raw)]
-    pub fn load_with_options(ctx: NativeCallContext, path: &str, options: Map) -> ScriptResult<SharedMesh> {
+    pub fn load_with_options(ctx: NativeCallContext, path: &str, options: Map) -> ScriptResult<Dynamic> {
+        if io::ProfileFormat::from_path(std::path::Path::new(path)).is_ok() {
+            Options::new("load", options, &[])?;
+            return read_profile_file(&ctx, path).map(Dynamic::from);
+        }
         let o = Options::new("load", options, &["up", "weld"])?;
         let mut opts = LoadOptions::DEFAULT.with_weld(weld_option(&o)?);
         if let Some(up) = up_option(&o, "load")? {
@@ -151,7 +176,7 @@ pub mod files_api {
             }
         }
         match io::load_with(&p, &opts) {
-            Ok(m) => Ok(SharedMesh::new(m)),
+            Ok(m) => Ok(Dynamic::from(SharedMesh::new(m))),
             Err(e) => fail("load", e),
         }
     }
@@ -213,5 +238,21 @@ pub mod files_api {
             }
         }
         write_mesh_with(&ctx, "save", &mesh.0, path, &opts)
+    }
+
+    /// Writes the profile by extension: `.svg` (one even-odd path, y up as drawn; millimetres
+    /// per unit) or `.dxf` (closed polylines), for laser cutters, plotters and CAD. A relative
+    /// path goes under the output directory; parent directories are created; the file is
+    /// replaced only once the new one is complete. `load` reads both back.
+    ///
+    /// ```rhai
+    /// let p = rect([0, 0], [4, 2]) - circle(0.5, 24).translate([1, 1]);
+    /// p.save("doc_example_part.svg");
+    /// assert_near(load("doc_example_part.svg").area(), p.area(), 1e-6);
+    /// ```
+    #[rhai_fn(name = "save", return_raw)]
+    pub fn save_profile(ctx: NativeCallContext, p: &mut Profile, path: &str) -> ScriptResult<()> {
+        let out = output_file(&ctx, "save", path)?;
+        kernel("save", blocksmith_kernel::io::save_profile(&p.0, &out))
     }
 }
