@@ -1,17 +1,30 @@
 //! 2D profiles and the solids made from them, on the inputs `profile_peer.py` (below) gives
 //! manifold3d: a 64-gon of radius 1 extruded 2 with a 90° twist over 32 layers; a 64-gon of
 //! radius 0.5 at x = 2 revolved in 128 steps; the hull of 100,000 points on a sphere of radius 1
-//! (a fixed pseudo-random sequence); the Minkowski sum of an L prism and a 32-segment sphere
-//! (non-convex ⊕ convex); a 10×10 square offset by 1 with 32-segment round joins.
+//! (a fixed pseudo-random sequence); the Minkowski sum of an L prism and Manifold's 32-segment
+//! sphere of radius 0.2 (non-convex ⊕ convex); a 10×10 square offset by 1 with 32-segment round joins.
 //!
 //! Ours includes building the result's half-edge `Mesh`; manifold3d's stops at its lazy result's
-//! `num_tri()`. Run: `cargo bench -p blocksmith-kernel --bench profile`.
+//! `num_tri()`. Run: `cargo bench -p blocksmith-kernel --bench profile`; the peer:
+//! `~/.cache/blocksmith-peers/venv/bin/python kernel/benches/profile_peer.py bench`.
+//!
+//! Measured (release, this 2-core machine with a load of about 3 from other builds, 2026-12-04,
+//! `--quick` then the peer straight after; ours criterion's middle estimate, manifold3d's median
+//! and best of 10–500). Runs minutes apart differed by up to 1.8×, so only ratios are quoted:
+//! | case | ours / manifold3d median | ours / manifold3d best |
+//! |---|---|---|
+//! | extrude, 64-gon, 90° twist, 32 layers (1.0 ms) | 0.85× | 0.88× |
+//! | revolve, 64-gon in 128 steps (6.4 ms) | 1.0× | 1.5× |
+//! | hull of 100,000 sphere points (259 ms) | 0.92× | 1.1× |
+//! | Minkowski, L prism ⊕ sphere (83 ms; engine alone 86 ms) | 0.54× | 0.96× |
+//! | offset, round joins (2.9 µs) | 1.0× | 1.0× |
 
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
 
 use std::hint::black_box;
 
+use blocksmith_kernel::csg::engine::{Solid, Stop};
 use blocksmith_kernel::profile::{
     extrude, hull_points, minkowski, revolve, ExtrudeOptions, OffsetOptions, Profile, RevolveOptions, Vec2,
 };
@@ -48,8 +61,20 @@ fn bench(c: &mut Criterion) {
         .unwrap()
         .union(&Profile::rect(Vec2::ZERO, Vec2::new(1.0, 2.0)).unwrap());
     let prism = extrude(&ell, 1.0, &ExtrudeOptions::DEFAULT).unwrap();
-    let ball = Mesh::uv_sphere(0.2, 32, 16);
+    // Manifold's own sphere (32 segments), the very mesh manifold3d sums with.
+    let t = Solid::manifold_sphere(0.2, 32).triangles();
+    let ball = Mesh::from_indexed(t.positions, t.triangles.as_flattened(), &vec![3; t.triangles.len()]).unwrap();
     c.bench_function("profile/minkowski_l_prism_sphere", |b| b.iter(|| black_box(minkowski(&prism, &ball).unwrap())));
+    // The engine alone on the same operands, already imported (what manifold3d's figure times).
+    let import = |m: &Mesh| {
+        let tris: Vec<[u32; 3]> = m.to_polygons().iter().map(|f| [f[0], f[1], f[2]]).collect();
+        let tags: Vec<u32> = (0..tris.len() as u32).collect();
+        Solid::new(m.positions(), &tris, &tags).unwrap()
+    };
+    let (sa, sb) = (import(&prism), import(&ball));
+    c.bench_function("profile/minkowski_engine_only", |b| {
+        b.iter(|| black_box(sa.minkowski_until(&sb, &Stop::new()).unwrap().triangle_count()))
+    });
     let square = Profile::rect(Vec2::ZERO, Vec2::new(10.0, 10.0)).unwrap();
     let round = OffsetOptions::DEFAULT.with_segments(32);
     c.bench_function("profile/offset_round_square", |b| b.iter(|| black_box(square.offset(1.0, &round).unwrap())));

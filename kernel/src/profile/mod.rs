@@ -40,6 +40,8 @@ mod transform;
 #[cfg(test)]
 mod tests;
 #[cfg(test)]
+mod tests_property;
+#[cfg(test)]
 mod tests_solids;
 
 pub use construct::FillRule;

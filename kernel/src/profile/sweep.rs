@@ -25,7 +25,8 @@ pub struct SweepOptions {
     /// path there); `None` for +z, or +y when the path starts along z. Default value: `None`.
     pub up: Option<Vec3>,
     /// The turn of the profile about the path from start to end, degrees, spread by arc length.
-    /// Default value: 0.
+    /// On a closed path a multiple of 360 closes smoothly; any other turn is taken back across
+    /// the last segment. Default value: 0.
     pub twist: f64,
     /// The profile's scale (x, y) at the end of an open path, blended linearly by arc length
     /// from (1, 1). Default value: (1, 1).
