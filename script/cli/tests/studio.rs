@@ -10,16 +10,49 @@ use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
+/// A studio server's address (`127.0.0.1:PORT`) and token.
+#[derive(Clone, Debug)]
+struct Server {
+    addr: String,
+    token: String,
+}
+
+impl Server {
+    /// The server of an address line `... http://127.0.0.1:PORT/?token=T ...`.
+    fn of(line: &str) -> Server {
+        let url = line.split("http://").nth(1).expect("an address").split_whitespace().next().unwrap();
+        let (addr, rest) = url.split_once('/').unwrap();
+        let token = rest.strip_prefix("?token=").expect("a token in the address").to_string();
+        Server { addr: addr.to_string(), token }
+    }
+
+    /// The page's address as printed.
+    fn url(&self) -> String {
+        format!("http://{}/?token={}", self.addr, self.token)
+    }
+
+    fn port(&self) -> u16 {
+        self.addr.split(':').nth(1).unwrap().parse().unwrap()
+    }
+}
+
 /// A `blocksmith watch` process, stopped when dropped.
 struct Watch {
     child: Child,
-    addr: String,
+    server: Server,
 }
 
 impl Drop for Watch {
     fn drop(&mut self) {
         let _ = self.child.kill();
         let _ = self.child.wait();
+    }
+}
+
+impl std::ops::Deref for Watch {
+    type Target = Server;
+    fn deref(&self) -> &Server {
+        &self.server
     }
 }
 
@@ -33,7 +66,13 @@ fn watch_with(recipe: &Path, args: &[&str]) -> Watch {
 
 /// `blocksmith COMMAND FILE ARGS...` (`watch` or `view`), once it has printed its address.
 fn watch_command(command: &str, file: &Path, args: &[&str]) -> Watch {
+    watch_env(command, file, args, &[])
+}
+
+/// As [`watch_command`], with environment variables `env`.
+fn watch_env(command: &str, file: &Path, args: &[&str], env: &[(&str, &str)]) -> Watch {
     let mut child = Command::new(env!("CARGO_BIN_EXE_blocksmith"))
+        .envs(env.iter().copied())
         .arg(command)
         .arg(file)
         .args(args)
@@ -41,33 +80,61 @@ fn watch_command(command: &str, file: &Path, args: &[&str]) -> Watch {
         .spawn()
         .unwrap();
     let mut lines = BufReader::new(child.stderr.take().unwrap()).lines();
-    // Stopped even when what follows fails.
-    let mut w = Watch { child, addr: String::new() };
     // The address line (a quick first run may say it was shown before it).
-    let first = lines.by_ref().map_while(Result::ok).find(|l| l.contains("http://")).expect("the address");
-    let addr = first.split("http://").nth(1).unwrap().trim_end_matches(|c| c != '/').trim_end_matches('/');
-    w.addr = addr.split_whitespace().next().unwrap().to_string();
+    let first = lines.by_ref().map_while(Result::ok).find(|l| l.contains("http://"));
+    let Some(first) = first else {
+        let _ = child.kill();
+        panic!("no address printed");
+    };
     // Keep draining its messages so it never blocks on a full pipe.
     std::thread::spawn(move || lines.for_each(drop));
-    w
+    Watch { child, server: Server::of(&first) }
 }
 
-/// A raw GET of `path` as sent (no normalisation): status and body.
-fn get(addr: &str, path: &str) -> (u16, Vec<u8>) {
+/// Sends `request` as it is on a new connection; the status (0: none) and body of the answer.
+fn raw(addr: &str, request: &[u8]) -> (u16, Vec<u8>) {
     let mut s = TcpStream::connect(addr).unwrap();
-    write!(s, "GET {path} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\r\n").unwrap();
+    s.set_read_timeout(Some(Duration::from_secs(30))).unwrap();
+    let _ = s.write_all(request);
     let mut out = Vec::new();
-    s.read_to_end(&mut out).unwrap();
-    let status = std::str::from_utf8(&out[9..12]).unwrap().parse().unwrap();
+    let _ = s.read_to_end(&mut out);
+    let status = out.get(9..12).and_then(|c| std::str::from_utf8(c).ok()).and_then(|c| c.parse().ok()).unwrap_or(0);
     let body = out.windows(4).position(|w| w == b"\r\n\r\n").map_or(Vec::new(), |i| out[i + 4..].to_vec());
     (status, body)
 }
 
-/// The session's state once `ready` holds of it, within `limit`.
-fn state_when(addr: &str, limit: Duration, ready: impl Fn(&serde_json::Value) -> bool) -> serde_json::Value {
+/// A raw GET of `path` as sent (no normalisation), with the token in its header: status and body.
+fn get(server: &Server, path: &str) -> (u16, Vec<u8>) {
+    let Server { addr, token } = server;
+    raw(
+        addr,
+        format!("GET {path} HTTP/1.1\r\nHost: {addr}\r\nX-Blocksmith-Token: {token}\r\nConnection: close\r\n\r\n")
+            .as_bytes(),
+    )
+}
+
+/// A POST of JSON `body` to `path` as the page's own script would send it.
+fn post_json(server: &Server, path: &str, body: &str) -> u16 {
+    let Server { addr, token } = server;
+    let request = format!(
+        "POST {path} HTTP/1.1\r\nHost: {addr}\r\nOrigin: http://{addr}\r\nX-Blocksmith-Token: {token}\r\n\
+         Content-Type: application/json\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
+        body.len()
+    );
+    raw(addr, request.as_bytes()).0
+}
+
+/// The session's state (of the variant with the parameters of `query`, `name=value&...`) once
+/// `ready` holds of it, within `limit`.
+fn state_of(
+    server: &Server,
+    query: &str,
+    limit: Duration,
+    ready: impl Fn(&serde_json::Value) -> bool,
+) -> serde_json::Value {
     let start = Instant::now();
     loop {
-        let (status, body) = get(addr, "/api/state");
+        let (status, body) = get(server, &format!("/api/state?{query}"));
         assert_eq!(status, 200);
         let v: serde_json::Value = serde_json::from_slice(&body).unwrap();
         if ready(&v) {
@@ -76,6 +143,11 @@ fn state_when(addr: &str, limit: Duration, ready: impl Fn(&serde_json::Value) ->
         assert!(start.elapsed() < limit, "not ready after {limit:?}: {v}");
         std::thread::sleep(Duration::from_millis(20));
     }
+}
+
+/// The state of the page without parameters once `ready` holds of it, within `limit`.
+fn state_when(server: &Server, limit: Duration, ready: impl Fn(&serde_json::Value) -> bool) -> serde_json::Value {
+    state_of(server, "", limit, ready)
 }
 
 fn triangles(v: &serde_json::Value) -> Option<u64> {
@@ -90,20 +162,21 @@ fn watch_serves_only_what_it_shows_and_runs_again_on_save() {
     std::fs::write(dir.path().join("secret.txt"), "not for the page").unwrap();
     let w = watch(&recipe);
     assert!(w.addr.starts_with("127.0.0.1:"), "{}", w.addr);
+    assert_eq!(w.token.len(), 32, "a 128-bit token in the address");
     // Bound to 127.0.0.1 itself, not to every address: another loopback address of the same
     // port (all of 127/8 reaches this machine) is refused.
     let port = w.addr.split(':').nth(1).unwrap();
     let other = format!("127.0.0.2:{port}").parse().unwrap();
     assert!(TcpStream::connect_timeout(&other, Duration::from_secs(2)).is_err(), "answered on {other}");
-    let v = state_when(&w.addr, Duration::from_secs(30), |v| triangles(v).is_some());
+    let v = state_when(&w, Duration::from_secs(30), |v| triangles(v).is_some());
     assert_eq!(triangles(&v), Some(12));
-    let (status, page) = get(&w.addr, "/");
+    let (status, page) = get(&w, "/");
     assert_eq!(status, 200);
     assert!(String::from_utf8_lossy(&page).contains("importmap"));
     let url = v["model"]["layers"][0]["url"].as_str().unwrap();
-    assert_eq!(&get(&w.addr, url).1[..4], b"glTF");
+    assert_eq!(&get(&w, url).1[..4], b"glTF");
     for (ext, magic) in [("glb", &b"glTF"[..]), ("obj", b"# "), ("stl", b"")] {
-        let (status, body) = get(&w.addr, &format!("/download/0.{ext}"));
+        let (status, body) = get(&w, &format!("/download/{}/0.{ext}", version(&v)));
         assert_eq!(status, 200, ".{ext}");
         assert!(body.starts_with(magic), ".{ext}");
     }
@@ -123,26 +196,264 @@ fn watch_serves_only_what_it_shows_and_runs_again_on_save() {
         &format!("/{}", dir.path().join("secret.txt").display().to_string().replace('/', "%2F")),
         "/model/1/%2e%2e%2f%2e%2e%2fsecret.txt",
     ] {
-        let (status, body) = get(&w.addr, bad);
+        let (status, body) = get(&w, bad);
         assert_eq!(status, 404, "{bad}");
         assert!(!String::from_utf8_lossy(&body).contains("not for the page"), "{bad}");
     }
     // A save shows the new model; a syntax error keeps it and says where.
     std::fs::write(&recipe, "icosphere(1, 1)").unwrap();
-    state_when(&w.addr, Duration::from_secs(10), |v| triangles(v) == Some(80));
+    state_when(&w, Duration::from_secs(10), |v| triangles(v) == Some(80));
     std::fs::write(&recipe, "let a = ;\nicosphere(1, 1)").unwrap();
-    let v = state_when(&w.addr, Duration::from_secs(10), |v| v["error"].is_string());
+    let v = state_when(&w, Duration::from_secs(10), |v| v["error"].is_string());
     assert!(v["error"].as_str().unwrap().contains("part.rhai:1:"), "{v}");
     assert_eq!(triangles(&v), Some(80), "the last good model stays");
     // A parameter from the page's controls runs the recipe with it.
     std::fs::write(&recipe, "cube(param(\"size\", 1, #{ min: 0.1 }))").unwrap();
-    state_when(&w.addr, Duration::from_secs(10), |v| v["model"]["params"][0]["name"] == "size");
-    let mut s = TcpStream::connect(&w.addr).unwrap();
-    write!(s, "POST /api/params HTTP/1.1\r\nHost: x\r\nContent-Length: 6\r\nConnection: close\r\n\r\nsize=2").unwrap();
-    s.read_to_end(&mut Vec::new()).unwrap();
-    let v = state_when(&w.addr, Duration::from_secs(10), |v| v["model"]["params"][0]["value"] == 2);
+    state_when(&w, Duration::from_secs(10), |v| v["model"]["params"][0]["name"] == "size");
+    assert_eq!(post_json(&w, "/api/params", r#"{"size": "2"}"#), 202);
+    let v = state_of(&w, "size=2", Duration::from_secs(10), |v| v["model"]["params"][0]["value"] == 2);
     assert!((v["model"]["layers"][0]["facts"]["volume"].as_f64().unwrap() - 8.0).abs() < 1e-6, "{v}");
     assert_eq!(v["model"]["params"][0]["min"], 0.1);
+    // ... for that variant only: the page without parameters still shows size 1.
+    let v = state_when(&w, Duration::from_secs(1), |_| true);
+    assert!((v["model"]["layers"][0]["facts"]["volume"].as_f64().unwrap() - 1.0).abs() < 1e-6, "{v}");
+}
+
+/// An upgrade to a WebSocket at `path` with `headers`, sent raw: the status of the answer.
+fn upgrade(server: &Server, path: &str, headers: &str) -> u16 {
+    let addr = &server.addr;
+    let request = format!(
+        "GET {path} HTTP/1.1\r\nHost: {addr}\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n\
+         Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n{headers}\r\n"
+    );
+    let mut s = TcpStream::connect(addr).unwrap();
+    s.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
+    s.write_all(request.as_bytes()).unwrap();
+    let mut head = [0u8; 12];
+    s.read_exact(&mut head).map_or(0, |()| std::str::from_utf8(&head[9..12]).unwrap().parse().unwrap())
+}
+
+/// A page's socket as a tool opens it: `query` after the token.
+fn socket(server: &Server, query: &str) -> tungstenite::Result<tungstenite::WebSocket<TcpStream>> {
+    let url = format!("ws://{}/ws?token={}{query}", server.addr, server.token);
+    let stream = TcpStream::connect(&server.addr)?;
+    stream.set_read_timeout(Some(Duration::from_secs(3)))?;
+    tungstenite::client(url.as_str(), stream).map(|(s, _)| s).map_err(|e| match e {
+        tungstenite::HandshakeError::Failure(e) => e,
+        tungstenite::HandshakeError::Interrupted(_) => tungstenite::Error::ConnectionClosed,
+    })
+}
+
+#[test]
+fn only_the_printed_page_may_read_or_drive_the_studio() {
+    let dir = tempfile::tempdir().unwrap();
+    let recipe = dir.path().join("part.rhai");
+    std::fs::write(&recipe, "cube(param(\"size\", 1))").unwrap();
+    let w = watch(&recipe);
+    let v = state_when(&w, Duration::from_secs(30), |v| triangles(v).is_some());
+    let (addr, token, port) = (w.addr.clone(), w.token.clone(), w.port());
+    let n = version(&v);
+    let paths = [
+        "/".to_string(),
+        "/app.js".into(),
+        "/api/state".into(),
+        format!("/model/{n}/0.glb"),
+        format!("/download/{n}/0.glb"),
+    ];
+    // A DNS-rebinding page names its own host: nothing is answered, not even the page.
+    for host in
+        ["evil.example:PORT", "evil.example", "127.0.0.1", "localhost", "127.0.0.1:1", "127.0.0.1.evil.example:PORT"]
+    {
+        let host = host.replace("PORT", &port.to_string());
+        for path in &paths {
+            let request =
+                format!("GET {path}?token={token} HTTP/1.1\r\nHost: {host}\r\nX-Blocksmith-Token: {token}\r\n\r\n");
+            let (status, body) = raw(&addr, request.as_bytes());
+            assert_eq!((status, body.len()), (421, 0), "Host: {host} {path}");
+        }
+    }
+    let no_host = raw(&addr, b"GET / HTTP/1.0\r\n\r\n");
+    assert_eq!(no_host, (421, Vec::new()));
+    for host in [format!("localhost:{port}"), format!("127.0.0.1:{port}"), format!("[::1]:{port}")] {
+        let (status, _) = raw(&addr, format!("GET / HTTP/1.1\r\nHost: {host}\r\nConnection: close\r\n\r\n").as_bytes());
+        assert_eq!(status, 200, "{host}");
+    }
+    // The page itself needs no token; everything else does, right or in no form.
+    let plain = |path: &str, extra: &str| {
+        raw(&addr, format!("GET {path} HTTP/1.1\r\nHost: {addr}\r\n{extra}Connection: close\r\n\r\n").as_bytes())
+    };
+    assert_eq!(plain("/", "").0, 200);
+    let wrong = format!("{}0", &token[..31]);
+    for path in &paths[2..] {
+        assert_eq!(plain(path, ""), (403, Vec::new()), "{path} without a token");
+        assert_eq!(plain(&format!("{path}?token={wrong}"), "").0, 403, "{path} with a wrong token");
+        assert_eq!(plain(path, &format!("X-Blocksmith-Token: {wrong}\r\n")).0, 403, "{path} with a wrong token");
+        assert_eq!(plain(&format!("{path}?token={token}"), "").0, 200, "{path} with the token");
+    }
+    // A socket needs the token and, from a browser, the page's own origin.
+    assert_eq!(upgrade(&w, "/ws", ""), 403, "no token");
+    let with_token = format!("/ws?token={token}");
+    assert_eq!(upgrade(&w, &with_token, "Origin: http://evil.example\r\n"), 403);
+    assert_eq!(upgrade(&w, &with_token, "Origin: null\r\n"), 403);
+    assert_eq!(upgrade(&w, &with_token, &format!("Origin: http://{addr}\r\n")), 101);
+    let mut page = socket(&w, "").unwrap();
+    assert!(page.read().unwrap().to_text().unwrap().contains("\"params\""));
+    // No form and no text/plain POST runs the recipe: another site cannot send the token's
+    // header without a preflight, which is never granted.
+    let before = version(&state_when(&w, Duration::from_secs(1), |_| true));
+    let post = |origin: &str, media: &str, token_header: bool, body: &str| {
+        let header = if token_header { format!("X-Blocksmith-Token: {token}\r\n") } else { String::new() };
+        let request = format!(
+            "POST /api/params?token={token} HTTP/1.1\r\nHost: {addr}\r\n{origin}{header}Content-Type: {media}\r\n\
+             Content-Length: {}\r\nConnection: close\r\n\r\n{body}",
+            body.len()
+        );
+        raw(&addr, request.as_bytes())
+    };
+    let evil = "Origin: http://evil.example\r\n";
+    let own = format!("Origin: http://{addr}\r\n");
+    for (origin, media, header, body) in [
+        (evil, "application/x-www-form-urlencoded", false, "size=2"),
+        (evil, "text/plain", false, r#"{"size": "2"}"#),
+        (evil, "application/json", true, r#"{"size": "2"}"#),
+        (own.as_str(), "application/x-www-form-urlencoded", false, "size=2"),
+        (own.as_str(), "text/plain", false, r#"{"size": "2"}"#),
+        (own.as_str(), "multipart/form-data; boundary=x", false, "--x\r\n"),
+        (own.as_str(), "application/x-www-form-urlencoded", true, "size=2"),
+        (own.as_str(), "text/plain", true, r#"{"size": "2"}"#),
+    ] {
+        let (status, body) = post(origin, media, header, body);
+        assert!(matches!(status, 403 | 415) && body.is_empty(), "{origin} {media} {header}: {status}");
+    }
+    let preflight = raw(&addr, format!("OPTIONS /api/params HTTP/1.1\r\nHost: {addr}\r\n{evil}Access-Control-Request-Method: POST\r\nConnection: close\r\n\r\n").as_bytes());
+    assert_eq!(preflight.0, 405);
+    std::thread::sleep(Duration::from_millis(300));
+    assert_eq!(version(&state_when(&w, Duration::from_secs(1), |_| true)), before, "a refused POST ran the recipe");
+    assert_eq!(state_of(&w, "size=2", Duration::from_secs(1), |_| true)["known"], false, "nor made a variant");
+    // The page's own script (its origin, JSON, the token's header) may.
+    assert_eq!(post(&own, "application/json", true, r#"{"size": "2"}"#).0, 202);
+    state_of(&w, "size=2", Duration::from_secs(10), |v| triangles(v) == Some(12));
+    page.close(None).unwrap();
+}
+
+/// The number of open file descriptors of process `pid`.
+fn descriptors(pid: u32) -> usize {
+    std::fs::read_dir(format!("/proc/{pid}/fd")).map_or(0, Iterator::count)
+}
+
+/// A field of `/proc/PID/status` in its unit (kB for memory).
+fn status_field(pid: u32, field: &str) -> u64 {
+    let text = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap_or_default();
+    text.lines()
+        .find_map(|l| l.strip_prefix(field)?.trim_start_matches(':').split_whitespace().next()?.parse().ok())
+        .unwrap_or(0)
+}
+
+/// Waits (up to 10 s) until `pid` has at most `limit` descriptors; the count then.
+fn descriptors_settle(pid: u32, limit: usize) -> usize {
+    let start = Instant::now();
+    loop {
+        let n = descriptors(pid);
+        if n <= limit || start.elapsed() > Duration::from_secs(10) {
+            return n;
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+#[test]
+fn the_server_holds_against_floods_of_sockets_and_huge_headers() {
+    if !Path::new("/proc/self/fd").exists() {
+        eprintln!("no /proc: skipped");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let recipe = dir.path().join("part.rhai");
+    std::fs::write(&recipe, "cube(1)").unwrap();
+    // Few descriptors, as in the report of the leak: 110 sockets used to exhaust them.
+    let script = format!("ulimit -n 128 && exec {} watch \"$0\"", env!("CARGO_BIN_EXE_blocksmith"));
+    let mut child = Command::new("sh").arg("-c").arg(script).arg(&recipe).stderr(Stdio::piped()).spawn().unwrap();
+    let mut lines = BufReader::new(child.stderr.take().unwrap()).lines();
+    let first = lines.by_ref().map_while(Result::ok).find(|l| l.contains("http://")).expect("the address");
+    std::thread::spawn(move || lines.for_each(drop));
+    let pid = child.id();
+    let w = Watch { child, server: Server::of(&first) };
+    state_when(&w, Duration::from_secs(30), |v| triangles(v).is_some());
+    // Warm up (threads, buffers), then count.
+    for _ in 0..3 {
+        socket(&w, "").unwrap().close(None).unwrap();
+    }
+    let base = descriptors_settle(pid, 0);
+    let threads = status_field(pid, "Threads");
+    // 1,000 sockets opened and closed, half politely (a close frame), half by dropping the
+    // connection, each after the page's first message.
+    let start = Instant::now();
+    for i in 0..1000 {
+        let mut s = socket(&w, "").unwrap_or_else(|e| panic!("socket {i}: {e}"));
+        s.read().unwrap();
+        if i % 2 == 0 {
+            s.close(None).unwrap();
+            while s.read().is_ok() {}
+        }
+    }
+    let took = start.elapsed();
+    let after = descriptors_settle(pid, base + 2);
+    eprintln!("1000 sockets in {took:?}: {base} descriptors before, {after} after");
+    assert!(after <= base + 2, "descriptors leak: {base} before 1,000 sockets, {after} after");
+    // More sockets at once than the limits allow: refused, never fatal, and all given back.
+    let many: Vec<_> = (0..150).map(|_| socket(&w, "")).collect();
+    let open = many.iter().filter(|s| s.is_ok()).count();
+    assert!(open >= 20, "only {open} of 150 sockets opened");
+    drop(many);
+    let after = descriptors_settle(pid, base + 2);
+    assert!(after <= base + 2, "descriptors leak: {base} before 150 sockets at once, {after} after");
+    let start = Instant::now();
+    while status_field(pid, "Threads") > threads + 2 && start.elapsed() < Duration::from_secs(10) {
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    assert!(status_field(pid, "Threads") <= threads + 2, "threads leak: {threads} before");
+    // A 64 MiB header line is refused after its first 16 KiB, and costs no memory.
+    let rss = status_field(pid, "VmRSS");
+    let mut s = TcpStream::connect(&w.addr).unwrap();
+    s.set_write_timeout(Some(Duration::from_secs(10))).unwrap();
+    s.set_read_timeout(Some(Duration::from_secs(10))).unwrap();
+    let _ = write!(s, "GET / HTTP/1.1\r\nHost: {}\r\nX-Long: ", w.addr);
+    let chunk = vec![b'a'; 1 << 20];
+    let mut sent = 0;
+    while sent < 64 && s.write_all(&chunk).is_ok() {
+        sent += 1;
+    }
+    let mut answer = Vec::new();
+    let _ = s.read_to_end(&mut answer);
+    assert!(sent < 64, "the server read all 64 MiB");
+    assert!(answer.is_empty() || answer.starts_with(b"HTTP/1.1 431"), "{}", String::from_utf8_lossy(&answer));
+    let grown = status_field(pid, "VmRSS").saturating_sub(rss);
+    eprintln!("64 MiB header: refused after {sent} MiB sent, the server grew {grown} kB");
+    assert!(grown < 16 * 1024, "the server grew {grown} kB");
+    // And it still serves.
+    assert_eq!(triangles(&state_when(&w, Duration::from_secs(5), |_| true)), Some(12));
+    drop(w);
+}
+
+#[test]
+fn a_recipe_folder_deleted_and_made_again_is_followed() {
+    let dir = tempfile::tempdir().unwrap();
+    let home = dir.path().join("part");
+    std::fs::create_dir(&home).unwrap();
+    let recipe = home.join("part.rhai");
+    std::fs::write(&recipe, "cube(1)").unwrap();
+    let w = watch(&recipe);
+    state_when(&w, Duration::from_secs(30), |v| triangles(v) == Some(12));
+    // As a `git checkout` of another branch does: the folder goes, and a new one comes.
+    std::fs::remove_dir_all(&home).unwrap();
+    std::thread::sleep(Duration::from_millis(400));
+    std::fs::create_dir(&home).unwrap();
+    std::fs::write(&recipe, "icosphere(1, 1)").unwrap();
+    state_when(&w, Duration::from_secs(10), |v| triangles(v) == Some(80) && v["error"].is_null());
+    // Later saves in the new folder are seen too.
+    std::fs::write(&recipe, "cube(2)").unwrap();
+    let v = state_when(&w, Duration::from_secs(10), |v| triangles(v) == Some(12));
+    assert!((v["model"]["layers"][0]["facts"]["volume"].as_f64().unwrap() - 8.0).abs() < 1e-6);
 }
 
 fn version(v: &serde_json::Value) -> u64 {
@@ -163,23 +474,22 @@ fn watch_runs_again_when_an_imported_module_or_a_loaded_file_is_saved() {
     std::fs::write(&recipe, "import \"../lib/sizes\" as s;\n[cube(s::side()), load(\"data/shape.obj\")]").unwrap();
     let w = watch(&recipe);
     let layer = |v: &serde_json::Value, i: usize, fact: &str| v["model"]["layers"][i]["facts"][fact].as_f64();
-    let v = state_when(&w.addr, Duration::from_secs(30), |v| triangles(v).is_some());
+    let v = state_when(&w, Duration::from_secs(30), |v| triangles(v).is_some());
     assert_eq!((layer(&v, 0, "volume"), layer(&v, 1, "triangles")), (Some(1.0), Some(4.0)), "{v}");
     // The imported module, in another folder, is saved: the recipe runs again with it.
     std::fs::write(lib.join("sizes.rhai"), "fn side() { 2 }").unwrap();
-    let v = state_when(&w.addr, Duration::from_secs(10), |v| layer(v, 0, "volume") == Some(8.0));
+    let v = state_when(&w, Duration::from_secs(10), |v| layer(v, 0, "volume") == Some(8.0));
     let after_module = version(&v);
     // The loaded file, in a folder below, is saved: a square pyramid (a quad and four triangles).
     let pyramid = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 1\nf 1 4 3 2\nf 1 2 5\nf 2 3 5\nf 3 4 5\nf 4 1 5\n";
     std::fs::write(home.join("data/shape.obj"), pyramid).unwrap();
-    let v = state_when(&w.addr, Duration::from_secs(10), |v| {
-        layer(v, 1, "triangles") == Some(6.0) && version(v) > after_module
-    });
+    let v =
+        state_when(&w, Duration::from_secs(10), |v| layer(v, 1, "triangles") == Some(6.0) && version(v) > after_module);
     let before = version(&v);
     // A module the recipe does not import, in the imported one's folder, is not an input.
     std::fs::write(lib.join("other.rhai"), "fn unused() { 2 }").unwrap();
     std::thread::sleep(Duration::from_millis(600));
-    let v = state_when(&w.addr, Duration::from_secs(1), |_| true);
+    let v = state_when(&w, Duration::from_secs(1), |_| true);
     assert_eq!(version(&v), before, "saving a file the recipe does not read runs nothing");
 }
 
@@ -197,21 +507,21 @@ fn a_recipe_that_saves_what_it_loads_runs_once_per_edit_not_forever() {
     };
     std::fs::write(&recipe, text(1)).unwrap();
     let w = watch(&recipe);
-    state_when(&w.addr, Duration::from_secs(30), |v| version(v) == 1);
+    state_when(&w, Duration::from_secs(30), |v| version(v) == 1);
     // Its own saves (the .stl, the .gltf and its .bin, all files it loads) run nothing.
     std::thread::sleep(Duration::from_millis(1500));
-    assert_eq!(version(&state_when(&w.addr, Duration::from_secs(1), |_| true)), 1, "ran itself again");
+    assert_eq!(version(&state_when(&w, Duration::from_secs(1), |_| true)), 1, "ran itself again");
     // An edit of the recipe runs it once.
     std::fs::write(&recipe, text(2)).unwrap();
-    let v = state_when(&w.addr, Duration::from_secs(10), |v| version(v) == 2);
+    let v = state_when(&w, Duration::from_secs(10), |v| version(v) == 2);
     assert!((v["model"]["layers"][1]["facts"]["volume"].as_f64().unwrap() - 8.0).abs() < 1e-6, "{v}");
     std::thread::sleep(Duration::from_millis(1500));
-    assert_eq!(version(&state_when(&w.addr, Duration::from_secs(1), |_| true)), 2, "ran itself again");
+    assert_eq!(version(&state_when(&w, Duration::from_secs(1), |_| true)), 2, "ran itself again");
     // An edit by hand of a file it loads (and writes) still runs it.
     std::fs::write(&stl, b"not an stl, for a moment").unwrap();
-    state_when(&w.addr, Duration::from_secs(10), |v| version(v) == 3);
+    state_when(&w, Duration::from_secs(10), |v| version(v) == 3);
     std::thread::sleep(Duration::from_millis(1000));
-    assert_eq!(version(&state_when(&w.addr, Duration::from_secs(1), |_| true)), 3);
+    assert_eq!(version(&state_when(&w, Duration::from_secs(1), |_| true)), 3);
 }
 
 #[test]
@@ -226,11 +536,11 @@ fn view_of_a_gltf_shows_it_again_when_its_bin_is_saved() {
     }
     let w = watch_command("view", &small, &[]);
     let volume = |v: &serde_json::Value| v["model"]["layers"][0]["facts"]["volume"].as_f64().unwrap_or(0.0);
-    let v = state_when(&w.addr, Duration::from_secs(30), |v| version(v) == 1);
+    let v = state_when(&w, Duration::from_secs(30), |v| version(v) == 1);
     assert!((volume(&v) - 1.0).abs() < 1e-6, "{v}");
     // The buffer alone is saved (the bigger cube's, the same layout): the page shows it.
     std::fs::copy(dir.path().join("b.bin"), dir.path().join("m.bin")).unwrap();
-    let v = state_when(&w.addr, Duration::from_secs(10), |v| version(v) == 2);
+    let v = state_when(&w, Duration::from_secs(10), |v| version(v) == 2);
     assert!((volume(&v) - 8.0).abs() < 1e-6, "{v}");
 }
 
@@ -264,14 +574,15 @@ fn the_repl_shows_values_on_one_studio_page_started_once() {
     assert!(said.contains(":show cube(1)"), "{said}");
     let said = repl_says(&mut stdin, &mut out, ":show cube(2)", "shown at");
     assert!(said.ends_with("(12 triangles)"), "{said}");
-    let addr = said.split("http://").nth(1).unwrap().split('/').next().unwrap().to_string();
+    let server = Server::of(&said);
+    let addr = server.addr.clone();
     assert!(addr.starts_with("127.0.0.1:"), "{addr}");
-    let v = state_when(&addr, Duration::from_secs(5), |v| version(v) == 1);
+    let v = state_when(&server, Duration::from_secs(5), |v| version(v) == 1);
     assert!((v["model"]["layers"][0]["facts"]["volume"].as_f64().unwrap() - 8.0).abs() < 1e-9, "{v}");
     // show() in code updates the same page; the last value stays the entry's own.
     let said = repl_says(&mut stdin, &mut out, "let b = show(icosphere(1, 1)); 5", "shown at");
     assert!(said.contains(&addr) && said.ends_with("(80 triangles)"), "{said}");
-    state_when(&addr, Duration::from_secs(5), |v| version(v) == 2 && triangles(v) == Some(80));
+    state_when(&server, Duration::from_secs(5), |v| version(v) == 2 && triangles(v) == Some(80));
     // `:show` alone shows the last value; an array is layers; an error shows nothing.
     let said = repl_says(&mut stdin, &mut out, "[b, cube(1)]", "=>");
     assert!(said.contains("=>"), "{said}");
@@ -279,7 +590,7 @@ fn the_repl_shows_values_on_one_studio_page_started_once() {
     assert!(said.ends_with("(2 layers, 92 triangles)"), "{said}");
     let said = repl_says(&mut stdin, &mut out, ":show 5", "cannot be saved");
     assert!(said.contains("cannot"), "{said}");
-    let v = state_when(&addr, Duration::from_secs(5), |v| version(v) == 3);
+    let v = state_when(&server, Duration::from_secs(5), |v| version(v) == 3);
     assert_eq!(v["model"]["layers"].as_array().unwrap().len(), 2);
     drop(stdin);
     assert!(child.wait().unwrap().success());
@@ -320,7 +631,7 @@ fn the_page_shows_the_model_in_a_real_browser() {
     let recipe = dir.path().join("gear.rhai");
     std::fs::copy(Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/gear.rhai"), &recipe).unwrap();
     let w = watch(&recipe);
-    state_when(&w.addr, Duration::from_secs(30), |v| triangles(v).is_some());
+    state_when(&w, Duration::from_secs(30), |v| triangles(v).is_some());
     let shot = dir.path().join("page.png");
     // A profile of its own: a browser already running on the default one would take the page.
     let profile = tempfile::tempdir().unwrap();
@@ -329,7 +640,7 @@ fn the_page_shows_the_model_in_a_real_browser() {
         .args(["--window-size=800,600", "--virtual-time-budget=10000", "--dump-dom", "--no-first-run"])
         .arg(format!("--user-data-dir={}", profile.path().display()))
         .arg(format!("--screenshot={}", shot.display()))
-        .arg(format!("http://{}/", w.addr))
+        .arg(w.url())
         .output()
         .unwrap();
     let dom = String::from_utf8_lossy(&o.stdout);
@@ -447,8 +758,8 @@ fn the_page_follows_saves_errors_parameters_and_shows_control_meshes_without_rel
     let size = "let s = param(\"size\", 1, #{ min: 0.5, max: 4, step: 0.5 });";
     std::fs::write(&recipe, format!("{size}\ncube(s)")).unwrap();
     let w = watch(&recipe);
-    state_when(&w.addr, Duration::from_secs(30), |v| triangles(v).is_some());
-    let Some(mut b) = Browser::open(&format!("http://{}/", w.addr)) else { return };
+    state_when(&w, Duration::from_secs(30), |v| triangles(v).is_some());
+    let Some(mut b) = Browser::open(&w.url()) else { return };
     b.wait("window.studio && studio.triangles === 12", Duration::from_secs(20));
     b.eval("window.loadedOnce = 'this page'");
     // An idle page draws nothing: no frame while nothing changes.
@@ -518,8 +829,8 @@ fn an_animation_plays_in_the_page() {
     let recipe = dir.path().join("grow.rhai");
     std::fs::write(&recipe, "let a = animation(polar_sphere(0.5, 8, 6));\na.add(growth());\na").unwrap();
     let w = watch(&recipe);
-    state_when(&w.addr, Duration::from_secs(30), |v| triangles(v).is_some());
-    let Some(mut b) = Browser::open(&format!("http://{}/", w.addr)) else { return };
+    state_when(&w, Duration::from_secs(30), |v| triangles(v).is_some());
+    let Some(mut b) = Browser::open(&w.url()) else { return };
     b.wait("window.studio && studio.version === 1 && studio.time > 0", Duration::from_secs(20));
     assert_eq!(b.eval("document.getElementById('animation').hidden"), false);
     let (t0, box0) = (b.eval("studio.time").as_f64().unwrap(), b.eval("studio.bounds()"));
@@ -540,18 +851,20 @@ fn a_page_left_open_reconnects_after_the_server_restarts() {
     let dir = tempfile::tempdir().unwrap();
     let recipe = dir.path().join("part.rhai");
     std::fs::write(&recipe, "cube(1)").unwrap();
-    let w = watch(&recipe);
-    state_when(&w.addr, Duration::from_secs(30), |v| triangles(v).is_some());
-    let Some(mut b) = Browser::open(&format!("http://{}/", w.addr)) else { return };
+    // The same token both times, as a user keeping the address would set it.
+    let token = [("BLOCKSMITH_TOKEN", "restarted-studio-token-1234")];
+    let w = watch_env("watch", &recipe, &[], &token);
+    state_when(&w, Duration::from_secs(30), |v| triangles(v).is_some());
+    let Some(mut b) = Browser::open(&w.url()) else { return };
     b.wait("window.studio && studio.triangles === 12", Duration::from_secs(20));
     b.eval("window.loadedOnce = 'this page'");
-    let port = w.addr.split(':').nth(1).unwrap().to_string();
+    let port = w.port().to_string();
     drop(w);
     b.wait("document.getElementById('status').textContent === 'offline'", Duration::from_secs(5));
     // The server comes back on the same port with a changed recipe: its model 1 is news.
     std::fs::write(&recipe, "icosphere(1, 1)").unwrap();
-    let w = watch_with(&recipe, &["--port", &port]);
-    state_when(&w.addr, Duration::from_secs(30), |v| triangles(v).is_some());
+    let w = watch_env("watch", &recipe, &["--port", &port], &token);
+    state_when(&w, Duration::from_secs(30), |v| triangles(v).is_some());
     b.wait("studio.triangles === 80 && studio.connections === 2", Duration::from_secs(10));
     assert_eq!(b.eval("window.loadedOnce"), "this page");
     assert_eq!(b.eval("document.getElementById('status').textContent"), "live");

@@ -5,14 +5,17 @@
 //! `blocksmith watch`, `view` and the REPL's `:show`.
 //!
 //! It depends on the bindings (`blocksmith-script`, whose runner it uses: one way to run a
-//! recipe) and the kernel, and owns the web, watcher and image crates (tiny_http, tungstenite,
-//! notify, image); nothing of the terminal. The command line depends on it, never the reverse.
+//! recipe) and the kernel, and owns the web, watcher and image crates (httparse, tungstenite,
+//! notify, image); nothing of the terminal. Who may read and drive a page is [`guard`]'s. The command line depends on it, never the reverse.
 
 pub mod assets;
+pub mod guard;
+pub mod http;
 pub mod render;
 pub mod scene;
 pub mod server;
 pub mod session;
+pub mod socket;
 pub mod watch;
 
 use std::collections::BTreeMap;
@@ -48,11 +51,13 @@ pub fn render_to_png(
 }
 
 /// `blocksmith watch` (a recipe, run again on save) and `blocksmith view` (a mesh file, read
-/// again on save): serves the page on 127.0.0.1:`port`, prints its address, opens it in the
-/// browser when `open`, and serves until the process is stopped.
+/// again on save): serves the page on 127.0.0.1:`port`, prints its address (with the
+/// session's token), opens it in the browser when `open`, and serves until the process is
+/// stopped.
 ///
 /// # Errors
-/// A missing file, a port that cannot be bound, a folder that cannot be watched.
+/// A missing file, a port that cannot be bound, a folder that cannot be watched, or why the
+/// server stopped.
 pub fn serve(file: &Path, params: BTreeMap<String, String>, port: u16, open: bool) -> Result<(), String> {
     if !file.is_file() {
         return Err(format!("error: {}: no such file", file.display()));
@@ -70,22 +75,42 @@ pub fn serve(file: &Path, params: BTreeMap<String, String>, port: u16, open: boo
     let url = studio.url();
     eprintln!("showing {} at {url} (Ctrl-C stops)", file.display());
     if open {
-        open_browser(&url);
+        if let Err(hint) = open_browser(&url) {
+            eprintln!("{hint}");
+        }
     }
-    studio.serve(&session);
-    Ok(())
+    studio.serve(&session)
 }
 
-/// Opens `url` with the desktop's opener; says so when there is none.
-pub fn open_browser(url: &str) {
+/// Opens `url` with the desktop's opener, quietly (what it prints is not ours to show).
+///
+/// # Errors
+/// A one-line hint to open the address by hand, when there is no desktop (no display on
+/// Linux) or no opener.
+pub fn open_browser(url: &str) -> Result<(), String> {
+    let hint = "(no browser to open here: open the address above in one)".to_string();
     let opener = if cfg!(target_os = "macos") {
         "open"
     } else if cfg!(windows) {
         "explorer"
     } else {
+        let display = ["DISPLAY", "WAYLAND_DISPLAY"].iter().any(|v| std::env::var_os(v).is_some_and(|d| !d.is_empty()));
+        if !display {
+            return Err(hint);
+        }
         "xdg-open"
     };
-    if std::process::Command::new(opener).arg(url).spawn().is_err() {
-        eprintln!("cannot start `{opener}`; open {url} yourself");
-    }
+    let child = std::process::Command::new(opener)
+        .arg(url)
+        .stdin(std::process::Stdio::null())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .map_err(|_| hint)?;
+    // Reaped when it ends, whatever it says.
+    std::thread::spawn(move || {
+        let mut child = child;
+        let _ = child.wait();
+    });
+    Ok(())
 }

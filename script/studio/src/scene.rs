@@ -42,6 +42,9 @@ pub struct Scene {
     pub run_time: Duration,
     /// The parameters the recipe declared (`ParamSpec::to_json`), for the page's controls.
     pub params: Vec<serde_json::Value>,
+    /// The run's warnings, formatted as the terminal prints them (`file:line:col`, the line,
+    /// a caret, the message).
+    pub warnings: Vec<String>,
 }
 
 /// Runs the recipe at `path` with `options` (through the one runner,
@@ -75,7 +78,7 @@ pub fn from_recipe_recorded(path: &Path, options: EngineOptions) -> (Result<Scen
                         layers.push(l);
                     }
                 }
-                Ok(Scene { layers, run_time: run.elapsed, params })
+                Ok(Scene { layers, run_time: run.elapsed, params, warnings: run.warnings })
             });
             (scene, run.record.inputs)
         }
@@ -202,6 +205,7 @@ pub fn load_file(path: &Path) -> Result<Scene, RunError> {
         layers: vec![Layer { name: "model".into(), glb, mesh, facts, control: None }],
         run_time: start.elapsed(),
         params: Vec::new(),
+        warnings: Vec::new(),
     })
 }
 

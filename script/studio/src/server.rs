@@ -1,106 +1,234 @@
-//! The studio's HTTP server (`tiny_http`), bound to 127.0.0.1 only. It serves the embedded
-//! page ([`super::assets`]), the model on show from memory, and a WebSocket (`tungstenite`)
-//! per page over which the session pushes its updates. It reads no file from disk, so no path
-//! — `/../`, absolute, percent-encoded — reaches anything outside what the session shows.
+//! The studio's HTTP server, bound to 127.0.0.1 only, on the standard library's sockets with
+//! the bounded reading of [`super::http`] (why not a server crate: see there). It serves the
+//! embedded page ([`super::assets`]), the models on show from memory, and a WebSocket per page
+//! ([`super::socket`]) over which the session pushes its updates. It reads no file from disk,
+//! so no path — `/../`, absolute, percent-encoded — reaches anything outside what it shows.
+//! Who may ask for what is [`super::guard`]'s: Host, token, Origin, non-simple requests.
 //!
-//! | request | answer |
-//! |---|---|
-//! | `GET /`, `GET /app.js`, `GET /vendor/three/...` | the page's files |
-//! | `GET /model/V/I.glb` | layer `I` of model version `V` (404 once a newer model is shown) |
-//! | `GET /model/V/I.control` | its control mesh's edges: little-endian `f32` x, y, z of each end |
-//! | `GET /download/I.glb`, `.obj`, `.stl` | layer `I` of the model on show, as a file |
-//! | `GET /api/state` | the session as JSON: model (layers, facts), error, parameters |
-//! | `POST /api/params` (form body `name=value&...`) | sets the parameters; runs again if they changed |
-//! | `GET /ws` | the WebSocket: JSON messages `model`, `error`, `running`, `params`; a `model` is followed by binary messages, each layer's `.glb` then each control mesh's edges |
+//! | request | token | answer |
+//! |---|---|---|
+//! | `GET /`, `GET /app.js`, `GET /vendor/three/...` | — | the page's files |
+//! | `GET /ws?token=T&name=value...` | query | the page's WebSocket, its parameters those of the query: JSON messages `model`, `error`, `running`, `params` out, a `model` followed by binary messages, each layer's `.glb` then each control mesh's edges; `{"type": "params", "values": {...}}` in |
+//! | `GET /api/state?name=value...` | header or query | the state of the variant with those parameters (over the defaults) as JSON: model (layers, facts, warnings), error, parameters, running |
+//! | `POST /api/params` (`Content-Type: application/json`, `{"name": "value", ...}`) | header | asks for the variant with those parameters, run if new; 202 and the parameters in force |
+//! | `GET /model/V/I.glb` | header or query | layer `I` of model version `V` (404 once it is no longer shown) |
+//! | `GET /model/V/I.control` | header or query | its control mesh's edges: little-endian `f32` x, y, z of each end |
+//! | `GET /download/V/I.glb`, `.obj`, `.stl` | header or query | layer `I` of model `V` as a file |
 //!
-//! A page gets a model's files over its WebSocket, right behind the message, not by asking for
-//! them: no request and answer per file between the save and the screen (the `/model/` paths
-//! serve the same bytes to tools and tests).
+//! At most [`MAX_CONNECTIONS`] connections (sockets included) are served at once; more are
+//! answered 503 and closed. Every connection has its own thread, which ends with it.
 
-use std::collections::BTreeMap;
-use std::io::{Cursor, Read};
-use std::net::SocketAddr;
+use std::io::BufReader;
+use std::net::{SocketAddr, TcpListener, TcpStream};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use blocksmith_kernel::io::{obj::write_obj, stl::write_stl};
-use tiny_http::{Header, Method, Request, Response, Server, StatusCode};
 
 use super::assets;
-use super::session::Session;
+use super::guard;
+use super::http::{read_request, Refused, Request, Response, HEAD_TIME};
+use super::session::{Params, Session};
+use super::socket;
+
+/// The most connections served at once.
+pub const MAX_CONNECTIONS: usize = 128;
+/// The most requests on one kept-alive connection.
+const MAX_REQUESTS: usize = 1000;
+/// How long accepting may keep failing for a reason that does not pass by itself (not a
+/// want of descriptors or memory, which pages give back) before the server gives up and says
+/// so.
+const GIVE_UP: Duration = Duration::from_secs(60);
 
 /// A running server.
 pub struct Studio {
-    server: Arc<Server>,
+    listener: TcpListener,
     pub addr: SocketAddr,
+    token: String,
+}
+
+/// Counts an open connection while it lives.
+struct Slot(Arc<AtomicUsize>);
+
+impl Drop for Slot {
+    fn drop(&mut self) {
+        self.0.fetch_sub(1, Ordering::SeqCst);
+    }
 }
 
 impl Studio {
-    /// Binds 127.0.0.1:`port` (0: any free port).
+    /// Binds 127.0.0.1:`port` (0: any free port) and makes the session's token.
     ///
     /// # Errors
-    /// The port cannot be bound (in use, or not allowed).
+    /// The port cannot be bound (in use, or not allowed), or there is no randomness.
     pub fn bind(port: u16) -> Result<Studio, String> {
-        let server =
-            Server::http(("127.0.0.1", port)).map_err(|e| format!("error: cannot listen on 127.0.0.1:{port}: {e}"))?;
-        let addr = server.server_addr().to_ip().ok_or("error: the server has no IP address")?;
-        Ok(Studio { server: Arc::new(server), addr })
+        let listener = TcpListener::bind(("127.0.0.1", port))
+            .map_err(|e| format!("error: cannot listen on 127.0.0.1:{port}: {e}"))?;
+        let addr = listener.local_addr().map_err(|e| format!("error: the server has no address: {e}"))?;
+        Ok(Studio { listener, addr, token: guard::session_token()? })
     }
 
-    /// The page's address.
+    /// The page's address, with the token.
     #[must_use]
     pub fn url(&self) -> String {
-        format!("http://{}/", self.addr)
+        format!("http://{}/?token={}", self.addr, self.token)
     }
 
-    /// Answers requests for `session`, each on its own thread, until the process ends.
-    pub fn serve(&self, session: &Arc<Session>) {
-        for request in self.server.incoming_requests() {
-            let session = Arc::clone(session);
-            std::thread::spawn(move || handle(request, &session));
-        }
-    }
-}
-
-fn header(text: &str) -> Header {
-    text.parse().expect("a well-formed header")
-}
-
-fn respond(request: Request, status: u16, media_type: &str, body: Vec<u8>) {
-    let length = body.len();
-    let response = Response::new(
-        StatusCode(status),
-        vec![header(&format!("Content-Type: {media_type}")), header("Cache-Control: no-store")],
-        Cursor::new(body),
-        Some(length),
-        None,
-    );
-    // The page may have gone away; nothing to do then.
-    let _ = request.respond(response);
-}
-
-fn not_found(request: Request) {
-    respond(request, 404, "text/plain; charset=utf-8", b"not found".to_vec());
-}
-
-fn handle(mut request: Request, session: &Session) {
-    let url = request.url().to_string();
-    let path = url.split('?').next().unwrap_or("").to_string();
-    let parts: Vec<&str> = path.split('/').collect();
-    match (request.method(), parts.as_slice()) {
-        (Method::Get, ["", "ws"]) => websocket(request, session),
-        (Method::Get, ["", "api", "state"]) => {
-            respond(request, 200, "application/json", session.snapshot().to_string().into_bytes());
-        }
-        (Method::Post, ["", "api", "params"]) => {
-            let mut body = String::new();
-            if request.as_reader().take(1 << 20).read_to_string(&mut body).is_err() {
-                return respond(request, 400, "text/plain; charset=utf-8", b"the body is not UTF-8".to_vec());
+    /// Answers requests for `session`, each connection on its own thread, for as long as it
+    /// can: it returns only when accepting connections has failed for [`GIVE_UP`] for a reason
+    /// other than running short of descriptors or memory (which it waits out, saying so once).
+    ///
+    /// # Errors
+    /// Why the server stopped.
+    pub fn serve(&self, session: &Arc<Session>) -> Result<(), String> {
+        let open = Arc::new(AtomicUsize::new(0));
+        // Since when accepting has failed without a break (a failure within a second of the
+        // last one), for errors other than running short of descriptors or memory.
+        let mut failing: Option<(Instant, Instant)> = None;
+        let mut warned = false;
+        loop {
+            let stream = match self.listener.accept() {
+                Ok((stream, _)) => stream,
+                Err(e) => {
+                    if !warned {
+                        eprintln!("warning: the studio cannot take a connection now ({e}); it keeps trying");
+                        warned = true;
+                    }
+                    let now = Instant::now();
+                    let since = match failing {
+                        Some((since, last)) if now - last < Duration::from_secs(1) => since,
+                        _ => now,
+                    };
+                    failing = Some((since, now));
+                    if !is_transient(&e) && now - since > GIVE_UP {
+                        return Err(format!(
+                            "error: the studio stopped: no connection could be taken for {} s: {e}",
+                            GIVE_UP.as_secs()
+                        ));
+                    }
+                    // Out of descriptors: the pages that close give them back.
+                    std::thread::sleep(Duration::from_millis(50));
+                    continue;
+                }
+            };
+            (failing, warned) = (None, false);
+            if open.load(Ordering::SeqCst) >= MAX_CONNECTIONS {
+                let _ = stream.set_write_timeout(Some(Duration::from_secs(1)));
+                let _ = Response::empty(503).write(&mut &stream, true);
+                continue;
             }
-            session.set_params(parse_form(&body));
-            respond(request, 204, "text/plain; charset=utf-8", Vec::new());
+            open.fetch_add(1, Ordering::SeqCst);
+            let slot = Slot(Arc::clone(&open));
+            let (session, token, port) = (Arc::clone(session), self.token.clone(), self.addr.port());
+            // A thread that cannot be made drops the connection (and its slot) with the closure.
+            let _ = std::thread::Builder::new().name("studio connection".into()).spawn(move || {
+                let _slot = slot;
+                connection(stream, &session, &token, port);
+            });
         }
-        (Method::Get, ["", "model", version, file]) => {
-            let found = session.model().filter(|m| version.parse() == Ok(m.version)).and_then(|m| {
+    }
+}
+
+/// Whether accepting failed for want of something that comes back by itself: descriptors,
+/// memory, buffers, or a connection that went before it was taken.
+fn is_transient(e: &std::io::Error) -> bool {
+    use std::io::ErrorKind::{ConnectionAborted, ConnectionReset, Interrupted, OutOfMemory, WouldBlock};
+    // EMFILE, ENFILE, ENOBUFS, ENOMEM on Linux and the BSDs (24, 23, 105/55, 12).
+    matches!(e.kind(), ConnectionAborted | ConnectionReset | Interrupted | WouldBlock | OutOfMemory)
+        || matches!(e.raw_os_error(), Some(23 | 24 | 12 | 55 | 105))
+}
+
+/// Serves the requests of one connection until it closes, is idle for [`HEAD_TIME`], or
+/// becomes a page's socket.
+fn connection(stream: TcpStream, session: &Session, token: &str, port: u16) {
+    if stream.set_read_timeout(Some(HEAD_TIME)).is_err() || stream.set_write_timeout(Some(HEAD_TIME * 3)).is_err() {
+        return;
+    }
+    let mut reader = BufReader::with_capacity(8 * 1024, stream);
+    for _ in 0..MAX_REQUESTS {
+        let request = match read_request(&mut reader) {
+            Ok(r) => r,
+            Err(Refused(0)) => return,
+            Err(Refused(status)) => {
+                let _ = Response::empty(status).write(reader.get_mut(), true);
+                return;
+            }
+        };
+        if !request.header("host").is_some_and(|h| guard::is_own_host(h, port)) {
+            let _ = Response::empty(421).write(reader.get_mut(), true);
+            return;
+        }
+        if request.path == "/ws" && request.method == "GET" {
+            if !guard::has_token(&request, token, true) || !guard::is_own_origin(&request) {
+                let _ = Response::empty(403).write(reader.get_mut(), true);
+                return;
+            }
+            let given = page_params(&request);
+            return socket::serve(reader, &request, session, &given);
+        }
+        let response = route(&request, session, token);
+        if response.write(reader.get_mut(), request.close).is_err() || request.close {
+            return;
+        }
+    }
+}
+
+/// The parameters a request gives in its query (all but the token).
+fn page_params(request: &Request) -> Params {
+    let mut p = request.query_pairs();
+    p.remove("token");
+    p
+}
+
+fn not_found() -> Response {
+    Response::new(404, "text/plain; charset=utf-8", b"not found".to_vec())
+}
+
+fn route(request: &Request, session: &Session, token: &str) -> Response {
+    let parts: Vec<&str> = request.path.split('/').collect();
+    let is_asset = request.method == "GET" && !matches!(parts.get(1), Some(&("api" | "model" | "download")));
+    if is_asset {
+        return assets::find(&request.path)
+            .map_or_else(not_found, |a| Response::new(200, a.media_type, a.bytes.to_vec()));
+    }
+    if request.method == "POST" {
+        // State changes: only from the page's own origin, as JSON, with the token in a header.
+        let json = request
+            .header("content-type")
+            .and_then(|t| t.split(';').next())
+            .is_some_and(|t| t.trim().eq_ignore_ascii_case("application/json"));
+        if !guard::is_own_origin(request) || !guard::has_token(request, token, false) {
+            return Response::empty(403);
+        }
+        if !json {
+            return Response::empty(415);
+        }
+    } else if request.method != "GET" || !guard::has_token(request, token, true) {
+        return if request.method == "GET" { Response::empty(403) } else { Response::empty(405) };
+    }
+    match (request.method.as_str(), parts.as_slice()) {
+        ("GET", ["", "api", "state"]) => {
+            let state = session.snapshot(&page_params(request));
+            Response::new(200, "application/json", state.to_string().into_bytes())
+        }
+        ("POST", ["", "api", "params"]) => {
+            let Ok(serde_json::Value::Object(values)) = serde_json::from_slice::<serde_json::Value>(&request.body)
+            else {
+                return Response::new(400, "text/plain; charset=utf-8", b"expected a JSON object".to_vec());
+            };
+            let given: Params = values
+                .into_iter()
+                .map(|(k, v)| {
+                    let text = v.as_str().map_or_else(|| v.to_string(), str::to_string);
+                    (k, text)
+                })
+                .collect();
+            let params = session.ask(&given);
+            Response::new(202, "application/json", serde_json::json!({ "params": params }).to_string().into_bytes())
+        }
+        ("GET", ["", "model", version, file]) => {
+            let found = version.parse().ok().and_then(|v| session.model_numbered(v)).and_then(|m| {
                 let (i, ext) = file.split_once('.')?;
                 let layer = m.layers.get(i.parse::<usize>().ok()?)?;
                 match ext {
@@ -112,26 +240,20 @@ fn handle(mut request: Request, session: &Session) {
                     _ => None,
                 }
             });
-            match found {
-                Some((media, body)) => respond(request, 200, media, body),
-                None => not_found(request),
-            }
+            found.map_or_else(not_found, |(media, body)| Response::new(200, media, body))
         }
-        (Method::Get, ["", "download", file]) => download(request, session, file),
-        (Method::Get, _) => match assets::find(&path) {
-            Some(a) => respond(request, 200, a.media_type, a.bytes.to_vec()),
-            None => not_found(request),
-        },
-        _ => respond(request, 405, "text/plain; charset=utf-8", b"method not allowed".to_vec()),
+        ("GET", ["", "download", version, file]) => download(session, version, file),
+        ("GET", _) => not_found(),
+        _ => Response::empty(405),
     }
 }
 
-/// Layer `I` of the model on show as `I.glb` (as shown, animation included), `.obj` or `.stl`.
-fn download(request: Request, session: &Session, file: &str) {
-    let model = session.model();
-    let Some((index, ext)) = file.split_once('.') else { return not_found(request) };
+/// Layer `I` of model `V` as `I.glb` (as shown, animation included), `.obj` or `.stl`.
+fn download(session: &Session, version: &str, file: &str) -> Response {
+    let model = version.parse().ok().and_then(|v| session.model_numbered(v));
+    let Some((index, ext)) = file.split_once('.') else { return not_found() };
     let Some(layer) = model.as_ref().and_then(|m| m.layers.get(index.parse::<usize>().ok()?)) else {
-        return not_found(request);
+        return not_found();
     };
     let stem = session.source.path().file_stem().map_or("model".into(), |s| s.to_string_lossy().into_owned());
     let name: String =
@@ -144,106 +266,10 @@ fn download(request: Request, session: &Session, file: &str) {
         }
         "obj" => ("text/plain; charset=utf-8", write_obj(&layer.mesh, &mut bytes).is_ok()),
         "stl" => ("model/stl", write_stl(&layer.mesh, &mut bytes, std::path::Path::new("download.stl")).is_ok()),
-        _ => return not_found(request),
+        _ => return not_found(),
     };
     if !ok {
-        return respond(request, 500, "text/plain; charset=utf-8", format!("cannot write the .{ext}").into_bytes());
+        return Response::new(500, "text/plain; charset=utf-8", format!("cannot write the .{ext}").into_bytes());
     }
-    let response = Response::from_data(bytes)
-        .with_header(header(&format!("Content-Type: {media}")))
-        .with_header(header(&format!("Content-Disposition: attachment; filename=\"{name}.{ext}\"")));
-    let _ = request.respond(response);
-}
-
-/// `name=value&...` with `+` and `%XX` decoded; a pair without `=` or with an empty name is
-/// skipped.
-#[must_use]
-pub fn parse_form(body: &str) -> BTreeMap<String, String> {
-    body.split('&')
-        .filter_map(|pair| pair.split_once('='))
-        .map(|(k, v)| (decode(k), decode(v)))
-        .filter(|(k, _)| !k.is_empty())
-        .collect()
-}
-
-fn decode(text: &str) -> String {
-    let hex = |b: u8| char::from(b).to_digit(16).map(|d| d as u8);
-    let bytes = text.as_bytes();
-    let mut out = Vec::with_capacity(bytes.len());
-    let mut i = 0;
-    while i < bytes.len() {
-        let escaped = match bytes.get(i..i + 3) {
-            Some([b'%', hi, lo]) => hex(*hi).zip(hex(*lo)).map(|(h, l)| h * 16 + l),
-            _ => None,
-        };
-        match (escaped, bytes[i]) {
-            (Some(b), _) => {
-                out.push(b);
-                i += 3;
-            }
-            (None, b'+') => {
-                out.push(b' ');
-                i += 1;
-            }
-            (None, b) => {
-                out.push(b);
-                i += 1;
-            }
-        }
-    }
-    String::from_utf8_lossy(&out).into_owned()
-}
-
-/// The version of the model a `model` message announces; `None` for other messages.
-fn model_version(message: &str) -> Option<u64> {
-    let v: serde_json::Value = serde_json::from_str(message).ok()?;
-    (v["type"] == "model").then(|| v["version"].as_u64()).flatten()
-}
-
-/// Upgrades to a WebSocket and sends the session's messages until the page goes away; a
-/// model's message is followed by its files (see the module documentation), and one already
-/// replaced by a newer model is skipped (the newer one's message follows).
-fn websocket(request: Request, session: &Session) {
-    let key = request.headers().iter().find(|h| h.field.equiv("Sec-WebSocket-Key")).map(|h| h.value.to_string());
-    let Some(key) = key else {
-        return respond(request, 400, "text/plain; charset=utf-8", b"expected a WebSocket upgrade".to_vec());
-    };
-    let accept = tungstenite::handshake::derive_accept_key(key.as_bytes());
-    let response = Response::empty(StatusCode(101)).with_header(header(&format!("Sec-WebSocket-Accept: {accept}")));
-    let stream = request.upgrade("websocket", response);
-    let mut socket = tungstenite::WebSocket::from_raw_socket(stream, tungstenite::protocol::Role::Server, None);
-    let updates = session.follow();
-    while let Ok(message) = updates.recv() {
-        let mut files = Vec::new();
-        if let Some(version) = model_version(&message) {
-            let Some(model) = session.model().filter(|m| m.version == version) else { continue };
-            files.extend(model.layers.iter().map(|l| l.glb.clone()));
-            let ends = model.layers.iter().filter_map(|l| l.control.as_ref());
-            files.extend(ends.map(|e| e.iter().flat_map(|x| x.to_le_bytes()).collect::<Vec<u8>>()));
-        }
-        let frames = std::iter::once(tungstenite::Message::text(message))
-            .chain(files.into_iter().map(tungstenite::Message::binary));
-        for frame in frames {
-            if socket.send(frame).is_err() {
-                return;
-            }
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn form_bodies_decode_plus_and_percent_and_skip_nameless_pairs() {
-        let p = parse_form("teeth=16&name=big+gear&sym=%3D%26&bad%zz=1&=5&flag");
-        assert_eq!(p.get("teeth").map(String::as_str), Some("16"));
-        assert_eq!(p.get("name").map(String::as_str), Some("big gear"));
-        assert_eq!(p.get("sym").map(String::as_str), Some("=&"));
-        assert_eq!(p.get("bad%zz").map(String::as_str), Some("1"));
-        assert_eq!(p.len(), 4);
-        assert_eq!(decode("100%"), "100%");
-        assert_eq!(decode("%4"), "%4");
-    }
+    Response::new(200, media, bytes).with("Content-Disposition", &format!("attachment; filename=\"{name}.{ext}\""))
 }

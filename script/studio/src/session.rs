@@ -1,11 +1,16 @@
-//! One studio session: what is shown (the last good model and the last error), the runs that
-//! make it, and the pages that follow it.
+//! One studio session: what is shown, the runs that make it, and the pages that follow it.
 //!
-//! Runs happen on their own thread, one at a time, never on the server's. A request for a run
-//! (a save, new parameters) while one is going sets the engine's interrupt
-//! (`EngineOptions::interrupt`, the one cancellation switch), and the run that follows reads
-//! the newest state; a superseded run's result, good or bad, is dropped. A failed run keeps
-//! the last good model and adds the error, formatted as the terminal prints it.
+//! Each page's parameters are its own: a page follows the *variant* for the parameters its
+//! address gives (over the session's defaults, `--set`), and one page's controls never change
+//! what another shows. A variant keeps its last good model and its last error (formatted as
+//! the terminal prints it); a save runs every variant again. Variants live while a page
+//! follows them (the defaults' always; a few a tool asked for, [`KEPT_VARIANTS`]).
+//!
+//! Runs happen on their own thread, one at a time, never on the server's, variants followed
+//! by pages first. A request for a run of the variant being run (a save) sets the engine's
+//! interrupt (`EngineOptions::interrupt`, the one cancellation switch), as does dropping it,
+//! and the run that follows reads the newest state; a superseded run's result, good or bad,
+//! is dropped.
 //!
 //! A run's own saves are not edits: the files a run writes are listed as it writes them
 //! ([`blocksmith_script::context::Writes`]) and stamped (size, modification time) when it ends. A change
@@ -17,7 +22,7 @@
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, Receiver, Sender};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::SystemTime;
@@ -58,6 +63,9 @@ pub struct Model {
     pub run_ms: f64,
     /// The recipe's parameters as declared (name, kind, default, value, range, choices, doc).
     pub params: Vec<serde_json::Value>,
+    /// The run's warnings (dropped results, blocks that touch without connecting), formatted
+    /// as the terminal prints them.
+    pub warnings: Vec<String>,
     /// The message that tells a page about the model, made once (see [`Model::message`]).
     message: String,
 }
@@ -71,15 +79,16 @@ impl Model {
             layers: scene.layers,
             run_ms: scene.run_time.as_secs_f64() * 1000.0,
             params: scene.params,
+            warnings: scene.warnings,
             message: String::new(),
         };
         model.message = model.describe();
         model
     }
 
-    /// The message that tells a page about the model (it fetches each layer's `.glb` by URL):
-    /// JSON `{type: "model", version, run_ms, layers: [{name, url, facts, control?,
-    /// control_edges?}], params}`.
+    /// The message that tells a page about the model (its files follow it on the page's
+    /// socket; tools fetch them by URL): JSON `{type: "model", version, run_ms, layers: [{name,
+    /// url, facts, control?, control_edges?}], params, warnings}`.
     #[must_use]
     pub fn message(&self) -> &str {
         &self.message
@@ -103,27 +112,125 @@ impl Model {
                 layer
             })
             .collect();
-        json!({ "type": "model", "version": self.version, "run_ms": self.run_ms, "layers": layers, "params": self.params })
-            .to_string()
+        json!({
+            "type": "model", "version": self.version, "run_ms": self.run_ms, "layers": layers,
+            "params": self.params, "warnings": self.warnings,
+        })
+        .to_string()
     }
 }
 
 /// Told the files the latest run read, after every run.
 type InputsHook = Box<dyn Fn(&[PathBuf]) + Send>;
 
-#[derive(Default)]
-struct State {
+/// A parameter set: name to value as typed (`--set`, a page's address).
+pub type Params = BTreeMap<String, String>;
+
+/// How many variants no page follows (asked for by tools, [`Session::ask`]) are kept, run again
+/// on every save; the least recently asked for goes first.
+pub const KEPT_VARIANTS: usize = 4;
+
+/// Where a page's messages go; `false` once the page is gone.
+type Sink = Box<dyn Fn(&str) -> bool + Send>;
+
+/// A page following a variant.
+struct Page {
+    id: u64,
+    sink: Sink,
+}
+
+/// The recipe run with one parameter set, and what it shows.
+struct Variant {
+    /// The parameters in force: the session's defaults (`--set`) with the page's over them.
+    params: Params,
     model: Option<Arc<Model>>,
-    /// The number of the last model shown (0: none yet).
-    version: u64,
     error: Option<String>,
-    params: BTreeMap<String, String>,
-    pages: Vec<Sender<String>>,
+    pages: Vec<Page>,
+    /// The number of the newest run asked for, and of the newest one finished (shown or
+    /// failed); it needs a run while they differ.
+    wanted: u64,
+    done: u64,
+    /// When it was last asked for (a tick of [`State::tick`]).
+    used: u64,
+}
+
+impl Variant {
+    fn new(params: Params) -> Variant {
+        Variant { params, model: None, error: None, pages: Vec::new(), wanted: 0, done: 0, used: 0 }
+    }
+
+    /// The messages that bring a page up to date with this variant: its parameters, its model,
+    /// its error, whether it is running (or about to).
+    fn messages(&self, running: bool) -> Vec<String> {
+        let mut out = vec![json!({ "type": "params", "values": self.params }).to_string()];
+        if let Some(m) = &self.model {
+            out.push(m.message().to_string());
+        }
+        if let Some(e) = &self.error {
+            out.push(json!({ "type": "error", "text": e }).to_string());
+        }
+        if running || self.wanted != self.done {
+            out.push(json!({ "type": "running" }).to_string());
+        }
+        out
+    }
+
+    fn broadcast(&mut self, message: &str) {
+        self.pages.retain(|p| (p.sink)(message));
+    }
+}
+
+struct State {
+    /// The parameters of a page whose address gives none (`--set`).
+    defaults: Params,
+    /// The variants: the defaults' first (never dropped), then those pages follow or tools
+    /// asked for.
+    variants: Vec<Variant>,
+    /// The parameters of the variant being run, if any.
+    running: Option<Params>,
+    /// Whether the run going was interrupted for another variant's (it stays wanted).
+    preempted: bool,
+    /// The number of the last model shown, of any variant (0: none yet).
+    version: u64,
+    next_page: u64,
+    tick: u64,
     /// The files the latest run read (the recipe, its imports, loaded files).
     inputs: Vec<PathBuf>,
     inputs_hooks: Vec<InputsHook>,
     /// The files the last finished run wrote, with the stamp each had when it ended.
     written: BTreeMap<PathBuf, Option<Stamp>>,
+}
+
+impl State {
+    fn new(defaults: Params) -> State {
+        State {
+            variants: vec![Variant::new(defaults.clone())],
+            defaults,
+            running: None,
+            preempted: false,
+            version: 0,
+            next_page: 0,
+            tick: 0,
+            inputs: Vec::new(),
+            inputs_hooks: Vec::new(),
+            written: BTreeMap::new(),
+        }
+    }
+
+    /// The parameters in force for a page whose address gives `given`.
+    fn effective(&self, given: &Params) -> Params {
+        let mut p = self.defaults.clone();
+        p.extend(given.iter().map(|(k, v)| (k.clone(), v.clone())));
+        p
+    }
+
+    fn find(&self, params: &Params) -> Option<usize> {
+        self.variants.iter().position(|v| &v.params == params)
+    }
+
+    fn page(&self, id: u64) -> Option<usize> {
+        self.variants.iter().position(|v| v.pages.iter().any(|p| p.id == id))
+    }
 }
 
 /// What tells one version of a file from another without reading it.
@@ -146,28 +253,22 @@ impl Stamp {
 pub struct Session {
     pub source: Source,
     state: Mutex<State>,
-    /// Counts run requests; a run whose count is no longer the newest is superseded.
-    requested: AtomicU64,
     interrupt: Arc<AtomicBool>,
-    /// Whether a run is going; changed with the state locked.
-    running: AtomicBool,
     wake: Mutex<Sender<()>>,
     /// The files the running (or last) run has written so far.
     writes: Writes,
 }
 
 impl Session {
-    /// A session on `source` with `params` (`--set`), and its runner thread, which makes the
-    /// first run at once.
+    /// A session on `source` whose pages without parameters of their own use `params`
+    /// (`--set`), and its runner thread, which makes the first run at once.
     #[must_use]
-    pub fn start(source: Source, params: BTreeMap<String, String>) -> Arc<Session> {
+    pub fn start(source: Source, params: Params) -> Arc<Session> {
         let (wake, woken) = mpsc::channel();
         let session = Arc::new(Session {
             source,
-            state: Mutex::new(State { params, ..State::default() }),
-            requested: AtomicU64::new(0),
+            state: Mutex::new(State::new(params)),
             interrupt: Arc::new(AtomicBool::new(false)),
-            running: AtomicBool::new(false),
             wake: Mutex::new(wake),
             writes: Writes::default(),
         });
@@ -184,10 +285,8 @@ impl Session {
         let (wake, _) = mpsc::channel();
         Arc::new(Session {
             source: Source::Values(PathBuf::from(name)),
-            state: Mutex::new(State::default()),
-            requested: AtomicU64::new(0),
+            state: Mutex::new(State::new(Params::new())),
             interrupt: Arc::new(AtomicBool::new(false)),
-            running: AtomicBool::new(false),
             wake: Mutex::new(wake),
             writes: Writes::default(),
         })
@@ -199,13 +298,31 @@ impl Session {
         self.state.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
     }
 
-    /// Asks for a new run; a run in progress is interrupted.
-    pub fn request_run(&self) {
-        self.requested.fetch_add(1, Ordering::SeqCst);
-        if self.running.load(Ordering::SeqCst) {
+    fn wake(&self) {
+        let _ = self.wake.lock().unwrap_or_else(std::sync::PoisonError::into_inner).send(());
+    }
+
+    /// Marks variant `i` as needing a run; a run of it in progress is interrupted, and so is
+    /// a run of a variant no page follows (it runs again once nothing else waits).
+    fn want(&self, s: &mut State, i: usize) {
+        s.variants[i].wanted += 1;
+        let Some(running) = &s.running else { return };
+        if running == &s.variants[i].params {
+            self.interrupt.store(true, Ordering::SeqCst);
+        } else if s.find(running).is_none_or(|r| s.variants[r].pages.is_empty()) {
+            s.preempted = true;
             self.interrupt.store(true, Ordering::SeqCst);
         }
-        let _ = self.wake.lock().unwrap_or_else(std::sync::PoisonError::into_inner).send(());
+    }
+
+    /// Asks for a new run of every variant (a save); runs in progress are interrupted.
+    pub fn request_run(&self) {
+        let mut s = self.state();
+        for i in 0..s.variants.len() {
+            self.want(&mut s, i);
+        }
+        drop(s);
+        self.wake();
     }
 
     /// The watcher's news: these files (each one the recipe reads, or one beside it) changed.
@@ -213,7 +330,7 @@ impl Session {
     pub fn files_changed(&self, paths: &[PathBuf]) {
         let news = {
             let s = self.state();
-            let running = self.running.load(Ordering::SeqCst);
+            let running = s.running.is_some();
             let own = |p: &PathBuf| {
                 (running && self.writes.contains(p)) || s.written.get(p).is_some_and(|&stamp| stamp == Stamp::of(p))
             };
@@ -224,24 +341,106 @@ impl Session {
         }
     }
 
-    /// Sets the parameters (all of them; those not given fall back to the recipe's defaults)
-    /// and runs again when they changed.
-    pub fn set_params(&self, params: BTreeMap<String, String>) {
-        let changed = {
-            let mut s = self.state();
-            let changed = s.params != params;
-            s.params = params;
-            changed
+    /// The variant for a page or tool giving `given`, made (and asked to run) when there is
+    /// none; its index.
+    fn variant(&self, s: &mut State, given: &Params) -> usize {
+        let params = s.effective(given);
+        s.tick += 1;
+        let tick = s.tick;
+        let i = match s.find(&params) {
+            Some(i) => i,
+            None => {
+                s.variants.push(Variant::new(params));
+                let i = s.variants.len() - 1;
+                self.want(s, i);
+                self.wake();
+                i
+            }
         };
-        if changed {
-            self.request_run();
+        s.variants[i].used = tick;
+        i
+    }
+
+    /// Drops the variants no page follows beyond the [`KEPT_VARIANTS`] most recently asked
+    /// for (never the defaults'); a dropped one's run is interrupted.
+    fn prune(&self, s: &mut State) {
+        loop {
+            let idle: Vec<usize> = (1..s.variants.len()).filter(|&i| s.variants[i].pages.is_empty()).collect();
+            if idle.len() <= KEPT_VARIANTS {
+                return;
+            }
+            let Some(&oldest) = idle.iter().min_by_key(|&&i| s.variants[i].used) else { return };
+            let gone = s.variants.remove(oldest);
+            if s.running.as_ref() == Some(&gone.params) {
+                self.interrupt.store(true, Ordering::SeqCst);
+            }
         }
     }
 
-    /// The parameters in force.
+    /// A new page whose address gives the parameters `given`: it follows the variant for
+    /// them, receiving through `sink` (`false`: the page is gone) that variant's state at once,
+    /// then every update. Returns the page's number (for [`Session::move_page`] and
+    /// [`Session::leave`]).
+    pub fn join(&self, given: &Params, sink: impl Fn(&str) -> bool + Send + 'static) -> u64 {
+        let mut s = self.state();
+        s.next_page += 1;
+        let id = s.next_page;
+        let i = self.variant(&mut s, given);
+        let running = s.running.as_ref() == Some(&s.variants[i].params);
+        for m in s.variants[i].messages(running) {
+            sink(&m);
+        }
+        s.variants[i].pages.push(Page { id, sink: Box::new(sink) });
+        id
+    }
+
+    /// Page `id` now gives the parameters `given` (its controls changed): it follows their
+    /// variant, which is run if it is new, and is sent that variant's state.
+    pub fn move_page(&self, id: u64, given: &Params) {
+        let mut s = self.state();
+        let Some(from) = s.page(id) else { return };
+        let at = s.variants[from].pages.iter().position(|p| p.id == id).unwrap_or(0);
+        let page = s.variants[from].pages.remove(at);
+        let to = self.variant(&mut s, given);
+        let running = s.running.as_ref() == Some(&s.variants[to].params);
+        for m in s.variants[to].messages(running) {
+            (page.sink)(&m);
+        }
+        s.variants[to].pages.push(page);
+        self.prune(&mut s);
+    }
+
+    /// Page `id` is gone.
+    pub fn leave(&self, id: u64) {
+        let mut s = self.state();
+        if let Some(i) = s.page(id) {
+            s.variants[i].pages.retain(|p| p.id != id);
+        }
+        self.prune(&mut s);
+    }
+
+    /// A page (for tests and tools) on the defaults' variant, as a channel of its messages.
     #[must_use]
-    pub fn params(&self) -> BTreeMap<String, String> {
-        self.state().params.clone()
+    pub fn follow(&self) -> Receiver<String> {
+        let (tx, rx) = mpsc::channel();
+        self.join(&Params::new(), move |m| tx.send(m.to_string()).is_ok());
+        rx
+    }
+
+    /// A tool asks for the variant with `given` (over the defaults): it is made and run when
+    /// there is none, and kept (see [`KEPT_VARIANTS`]). Returns the parameters in force.
+    pub fn ask(&self, given: &Params) -> Params {
+        let mut s = self.state();
+        let i = self.variant(&mut s, given);
+        let params = s.variants[i].params.clone();
+        self.prune(&mut s);
+        params
+    }
+
+    /// The parameters of the defaults' variant (`--set`).
+    #[must_use]
+    pub fn params(&self) -> Params {
+        self.state().defaults.clone()
     }
 
     /// Calls `hook` with the files the latest run read (the recipe, imported modules, loaded
@@ -254,97 +453,114 @@ impl Session {
         s.inputs_hooks.push(Box::new(hook));
     }
 
-    /// The model on show, if a run has succeeded.
+    /// The model on show for a page without parameters of its own, if a run has succeeded.
     #[must_use]
     pub fn model(&self) -> Option<Arc<Model>> {
-        self.state().model.clone()
+        self.state().variants[0].model.clone()
     }
 
-    /// A new page: it receives the messages of the current state at once, then every update.
+    /// Model number `version`, of whichever variant, while it is on show.
     #[must_use]
-    pub fn follow(&self) -> Receiver<String> {
-        let (tx, rx) = mpsc::channel();
-        let mut s = self.state();
-        for m in Self::state_messages(&s) {
-            let _ = tx.send(m);
-        }
-        s.pages.push(tx);
-        rx
-    }
-
-    fn state_messages(s: &State) -> Vec<String> {
-        let mut out = Vec::new();
-        if let Some(m) = &s.model {
-            out.push(m.message().to_string());
-        }
-        out.push(json!({ "type": "params", "values": s.params }).to_string());
-        if let Some(e) = &s.error {
-            out.push(json!({ "type": "error", "text": e }).to_string());
-        }
-        out
-    }
-
-    /// The current state as one JSON document (for tools and tests).
-    #[must_use]
-    pub fn snapshot(&self) -> serde_json::Value {
+    pub fn model_numbered(&self, version: u64) -> Option<Arc<Model>> {
         let s = self.state();
-        let model: Option<serde_json::Value> = s.model.as_ref().and_then(|m| serde_json::from_str(m.message()).ok());
-        json!({ "model": model, "error": s.error, "params": s.params })
+        s.variants.iter().filter_map(|v| v.model.as_ref()).find(|m| m.version == version).cloned()
     }
 
-    fn broadcast(s: &mut State, message: &str) {
-        s.pages.retain(|p| p.send(message.to_string()).is_ok());
+    /// The state of the variant for `given` (over the defaults) as one JSON document (for
+    /// tools and tests): `{model, error, params, running}`; `model` and `error` are null for a
+    /// variant no page or tool asked for.
+    #[must_use]
+    pub fn snapshot(&self, given: &Params) -> serde_json::Value {
+        let s = self.state();
+        let params = s.effective(given);
+        let Some(v) = s.find(&params).map(|i| &s.variants[i]) else {
+            return json!({ "model": null, "error": null, "params": params, "running": false, "known": false });
+        };
+        let model: Option<serde_json::Value> = v.model.as_ref().and_then(|m| serde_json::from_str(m.message()).ok());
+        let running = s.running.as_ref() == Some(&v.params) || v.wanted != v.done;
+        json!({ "model": model, "error": v.error, "params": v.params, "running": running, "known": true })
     }
 
     fn run_loop(&self, woken: &Receiver<()>) {
         while woken.recv().is_ok() {
             while woken.try_recv().is_ok() {}
-            let ticket = self.requested.load(Ordering::SeqCst);
-            self.interrupt.store(false, Ordering::SeqCst);
-            let params = {
-                let mut s = self.state();
-                self.writes.clear();
-                self.running.store(true, Ordering::SeqCst);
-                Self::broadcast(&mut s, &json!({ "type": "running" }).to_string());
-                s.params.clone()
-            };
-            let (result, inputs) = self.run_once(params);
-            {
+            // Every variant that needs a run, those pages follow before the others.
+            loop {
+                let (params, ticket) = {
+                    let mut s = self.state();
+                    let next = (0..s.variants.len())
+                        .filter(|&i| s.variants[i].wanted != s.variants[i].done)
+                        .min_by_key(|&i| (s.variants[i].pages.is_empty(), i));
+                    let Some(i) = next else { break };
+                    self.interrupt.store(false, Ordering::SeqCst);
+                    s.preempted = false;
+                    self.writes.clear();
+                    let v = &mut s.variants[i];
+                    v.broadcast(&json!({ "type": "running" }).to_string());
+                    let job = (v.params.clone(), v.wanted);
+                    s.running = Some(job.0.clone());
+                    job
+                };
+                let (result, inputs) = self.run_once(params.clone());
                 let mut s = self.state();
                 s.written = self.writes.list().into_iter().map(|p| (p.clone(), Stamp::of(&p))).collect();
-                self.running.store(false, Ordering::SeqCst);
+                s.running = None;
+                let preempted = std::mem::take(&mut s.preempted);
                 for hook in &s.inputs_hooks {
                     hook(&inputs);
                 }
                 s.inputs = inputs;
-            }
-            if self.requested.load(Ordering::SeqCst) != ticket {
-                continue; // superseded: a newer request is waiting
-            }
-            match result {
-                Ok(scene) => {
-                    let model = self.show(scene);
-                    eprintln!("{}: shown ({:.0} ms)", self.source.path().display(), model.run_ms);
+                let Some(i) = s.find(&params) else { continue }; // dropped meanwhile
+                if preempted || s.variants[i].wanted != ticket {
+                    continue; // superseded: a newer request is waiting
                 }
-                Err(e) => {
-                    eprintln!("{e}");
-                    let mut s = self.state();
-                    Self::broadcast(&mut s, &json!({ "type": "error", "text": e.0 }).to_string());
-                    s.error = Some(e.0);
+                s.variants[i].done = ticket;
+                let name = self.named(&s, &params);
+                match result {
+                    Ok(scene) => {
+                        let model = Self::show_in(&mut s, i, scene);
+                        eprintln!("{name}: shown ({:.0} ms)", model.run_ms);
+                        for w in &model.warnings {
+                            eprintln!("{w}");
+                        }
+                    }
+                    Err(e) => {
+                        eprintln!("{e}");
+                        let v = &mut s.variants[i];
+                        v.broadcast(&json!({ "type": "error", "text": e.0 }).to_string());
+                        v.error = Some(e.0);
+                    }
                 }
             }
         }
     }
 
-    /// Shows `scene` as the next model on every page, clearing any error.
-    pub fn show(&self, scene: Scene) -> Arc<Model> {
-        let mut s = self.state();
+    /// The source's path, with the parameters that differ from the defaults.
+    fn named(&self, s: &State, params: &Params) -> String {
+        let differ: Vec<String> =
+            params.iter().filter(|(k, v)| s.defaults.get(*k) != Some(v)).map(|(k, v)| format!("{k}={v}")).collect();
+        let path = self.source.path().display();
+        if differ.is_empty() {
+            path.to_string()
+        } else {
+            format!("{path} ({})", differ.join(", "))
+        }
+    }
+
+    fn show_in(s: &mut State, i: usize, scene: Scene) -> Arc<Model> {
         s.version += 1;
         let model = Arc::new(Model::new(s.version, scene));
-        s.model = Some(Arc::clone(&model));
-        s.error = None;
-        Self::broadcast(&mut s, model.message());
+        let v = &mut s.variants[i];
+        v.model = Some(Arc::clone(&model));
+        v.error = None;
+        v.broadcast(model.message());
         model
+    }
+
+    /// Shows `scene` as the next model on every page without parameters of its own, clearing
+    /// any error.
+    pub fn show(&self, scene: Scene) -> Arc<Model> {
+        Self::show_in(&mut self.state(), 0, scene)
     }
 
     /// One run, and the files it read.
@@ -421,7 +637,7 @@ mod tests {
         session.request_run();
         let m = next(&rx, "model");
         assert_eq!((m["version"].as_u64(), m["layers"][0]["facts"]["triangles"].as_u64()), (Some(2), Some(80)));
-        assert!(session.snapshot()["error"].is_null());
+        assert!(session.snapshot(&Params::new())["error"].is_null());
     }
 
     #[test]
@@ -446,10 +662,11 @@ mod tests {
         let p = dir.path().join("r.rhai");
         std::fs::write(&p, "let n = 0; while true { n += 1; }").unwrap();
         let session = Session::start(Source::Recipe(p.clone()), BTreeMap::new());
-        let rx = session.follow();
+        let (tx, rx) = mpsc::channel();
+        let page = session.join(&Params::new(), move |m| tx.send(m.to_string()).is_ok());
         next(&rx, "running");
         std::fs::write(&p, "cube(param(\"size\", 1))").unwrap();
-        session.set_params(BTreeMap::from([("size".to_string(), "2".to_string())]));
+        session.move_page(page, &BTreeMap::from([("size".to_string(), "2".to_string())]));
         // The first run may read the new recipe before the parameters arrive (the "running"
         // message comes before it reads the file) and show size 1; what must never be shown is
         // the interrupted run, and the parameters' run must follow.
@@ -464,5 +681,45 @@ mod tests {
         assert!(m["version"].as_u64().is_some_and(|v| v <= 2), "one model per finished request: {m}");
         assert_eq!(m["params"][0]["name"].as_str(), Some("size"));
         assert!((m["layers"][0]["facts"]["volume"].as_f64().unwrap() - 8.0).abs() < 1e-9);
+    }
+
+    /// A page on `session` whose address gives `given`, and its messages.
+    fn page(session: &Session, given: &[(&str, &str)]) -> (u64, Receiver<String>) {
+        let (tx, rx) = mpsc::channel();
+        let given: Params = given.iter().map(|(k, v)| ((*k).to_string(), (*v).to_string())).collect();
+        (session.join(&given, move |m| tx.send(m.to_string()).is_ok()), rx)
+    }
+
+    fn volume(m: &serde_json::Value) -> f64 {
+        m["layers"][0]["facts"]["volume"].as_f64().unwrap()
+    }
+
+    #[test]
+    fn each_page_shows_the_model_of_its_own_parameters() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("r.rhai");
+        std::fs::write(&p, "cube(param(\"size\", 1))").unwrap();
+        let session = Session::start(Source::Recipe(p.clone()), Params::from([("size".into(), "1".into())]));
+        let (_, plain) = page(&session, &[]);
+        let (b, three) = page(&session, &[("size", "3")]);
+        assert!((volume(&next(&plain, "model")) - 1.0).abs() < 1e-9);
+        assert!((volume(&next(&three, "model")) - 27.0).abs() < 1e-9);
+        // One page's controls change what it shows, not what the other shows.
+        session.move_page(b, &Params::from([("size".into(), "2".into())]));
+        assert!((volume(&next(&three, "model")) - 8.0).abs() < 1e-9);
+        std::thread::sleep(Duration::from_millis(200));
+        let news: Vec<String> = plain.try_iter().collect();
+        assert!(news.iter().all(|m| !m.contains("\"model\"")), "{news:?}");
+        // A new page without parameters shows the defaults' model at once, not the last one made.
+        let (_, fresh) = page(&session, &[]);
+        assert!((volume(&next(&fresh, "model")) - 1.0).abs() < 1e-9);
+        assert!((volume(&session.snapshot(&Params::new())["model"]) - 1.0).abs() < 1e-9);
+        assert!((volume(&session.snapshot(&Params::from([("size".into(), "2".into())]))["model"]) - 8.0).abs() < 1e-9);
+        assert_eq!(session.snapshot(&Params::from([("size".into(), "5".into())]))["known"], false);
+        // A save runs both again.
+        std::fs::write(&p, "cube(param(\"size\", 1)).scale(2)").unwrap();
+        session.request_run();
+        assert!((volume(&next(&plain, "model")) - 8.0).abs() < 1e-9);
+        assert!((volume(&next(&three, "model")) - 64.0).abs() < 1e-9);
     }
 }

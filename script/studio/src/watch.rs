@@ -96,57 +96,124 @@ pub fn watch(session: &Arc<Session>) -> Result<(), String> {
         let _ = heard.send(Heard::Inputs(inputs.to_vec()));
     });
     let target = Arc::clone(session);
+    let mut watched: BTreeMap<PathBuf, Option<Identity>> =
+        watched.into_iter().map(|d| (d.clone(), identity(&d))).collect();
     std::thread::spawn(move || {
         let mut inputs = BTreeSet::new();
-        let mut follow = |now: Vec<PathBuf>, inputs: &mut BTreeSet<PathBuf>| {
-            *inputs = now.into_iter().collect();
+        // Watches the folders of the recipe and `inputs` and no others.
+        let follow = |watcher: &mut notify::RecommendedWatcher,
+                      watched: &mut BTreeMap<PathBuf, Option<Identity>>,
+                      inputs: &BTreeSet<PathBuf>| {
             let wanted = folders(&recipe, inputs);
-            for gone in watched.difference(&wanted) {
-                let _ = watcher.unwatch(gone);
-            }
-            for new in wanted.difference(&watched) {
-                if let Err(e) = watcher.watch(new, RecursiveMode::NonRecursive) {
-                    eprintln!("warning: cannot watch {}: {e}", new.display());
+            watched.retain(|dir, _| {
+                let keep = wanted.contains(dir);
+                if !keep {
+                    let _ = watcher.unwatch(dir);
+                }
+                keep
+            });
+            for new in wanted {
+                if let std::collections::btree_map::Entry::Vacant(slot) = watched.entry(new) {
+                    if let Err(e) = watcher.watch(slot.key(), RecursiveMode::NonRecursive) {
+                        eprintln!("warning: cannot watch {}: {e}", slot.key().display());
+                    }
+                    let id = identity(slot.key());
+                    slot.insert(id);
                 }
             }
-            watched = wanted;
         };
         // One run per burst: wait for a change that counts, then for the quiet after it, with
         // every changed file the size it had at its last event.
-        while let Ok(h) = hearing.recv() {
-            match h {
-                Heard::Inputs(now) => follow(now, &mut inputs),
-                Heard::Changed(p) if triggers(&recipe, &inputs, &p) => {
-                    let mut changed: BTreeMap<PathBuf, Option<u64>> = BTreeMap::new();
-                    changed.insert(p.clone(), size(&p));
-                    loop {
-                        match hearing.recv_timeout(DEBOUNCE) {
-                            Ok(Heard::Changed(p)) => {
-                                if triggers(&recipe, &inputs, &p) {
-                                    changed.insert(p.clone(), size(&p));
-                                }
-                            }
-                            Ok(Heard::Inputs(now)) => follow(now, &mut inputs),
-                            Err(mpsc::RecvTimeoutError::Timeout) => {
-                                let growing: Vec<PathBuf> =
-                                    changed.iter().filter(|(p, &n)| size(p) != n).map(|(p, _)| p.clone()).collect();
-                                if growing.is_empty() {
-                                    break;
-                                }
-                                for p in growing {
-                                    changed.insert(p.clone(), size(&p));
-                                }
-                            }
-                            Err(mpsc::RecvTimeoutError::Disconnected) => return,
+        loop {
+            let first = match hearing.recv_timeout(CHECK) {
+                Ok(Heard::Inputs(now)) => {
+                    inputs = now.into_iter().collect();
+                    follow(&mut watcher, &mut watched, &inputs);
+                    continue;
+                }
+                Ok(Heard::Changed(p)) if triggers(&recipe, &inputs, &p) => p,
+                Ok(Heard::Changed(_)) => continue,
+                Err(mpsc::RecvTimeoutError::Timeout) => {
+                    if replaced(&mut watcher, &mut watched) {
+                        target.files_changed(std::slice::from_ref(&recipe));
+                    }
+                    continue;
+                }
+                Err(mpsc::RecvTimeoutError::Disconnected) => return,
+            };
+            let mut changed: BTreeMap<PathBuf, Option<u64>> = BTreeMap::new();
+            changed.insert(first.clone(), size(&first));
+            loop {
+                match hearing.recv_timeout(DEBOUNCE) {
+                    Ok(Heard::Changed(p)) => {
+                        if triggers(&recipe, &inputs, &p) {
+                            changed.insert(p.clone(), size(&p));
                         }
                     }
-                    target.files_changed(&changed.into_keys().collect::<Vec<_>>());
+                    Ok(Heard::Inputs(now)) => {
+                        inputs = now.into_iter().collect();
+                        follow(&mut watcher, &mut watched, &inputs);
+                    }
+                    Err(mpsc::RecvTimeoutError::Timeout) => {
+                        let growing: Vec<PathBuf> =
+                            changed.iter().filter(|(p, &n)| size(p) != n).map(|(p, _)| p.clone()).collect();
+                        if growing.is_empty() {
+                            break;
+                        }
+                        for p in growing {
+                            changed.insert(p.clone(), size(&p));
+                        }
+                    }
+                    Err(mpsc::RecvTimeoutError::Disconnected) => return,
                 }
-                Heard::Changed(_) => {}
             }
+            target.files_changed(&changed.into_keys().collect::<Vec<_>>());
         }
     });
     Ok(())
+}
+
+/// How often the watched folders are checked for having been replaced.
+pub const CHECK: Duration = Duration::from_millis(250);
+
+/// Watches again each watched folder that was deleted and made again (a `git checkout` of
+/// another branch does this): to the operating system it is a new folder, which the old watch
+/// does not see. Whether any was, so its files count as changed.
+fn replaced(watcher: &mut impl Watcher, watched: &mut BTreeMap<PathBuf, Option<Identity>>) -> bool {
+    let mut any = false;
+    for (dir, id) in watched.iter_mut() {
+        let now = identity(dir);
+        if now == *id {
+            continue;
+        }
+        let _ = watcher.unwatch(dir);
+        if now.is_some() {
+            if watcher.watch(dir, RecursiveMode::NonRecursive).is_err() {
+                continue; // not yet: at the next check
+            }
+            any = true;
+        }
+        *id = now;
+    }
+    any
+}
+
+/// What tells a folder from another made at the same path (device and inode on Unix).
+type Identity = (u64, u64);
+
+/// The identity of the folder at `path`, `None` when there is none.
+fn identity(path: &Path) -> Option<Identity> {
+    let m = std::fs::metadata(path).ok()?;
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        Some((m.dev(), m.ino()))
+    }
+    #[cfg(not(unix))]
+    {
+        let made = m.created().ok().and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok());
+        Some((0, made.map_or(0, |d| d.as_nanos() as u64)))
+    }
 }
 
 #[cfg(test)]

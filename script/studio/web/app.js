@@ -2,7 +2,7 @@
 // animation timeline, parameters, downloads). `window.studio` tells tests what is on show.
 
 import { Viewer } from './viewer.js';
-import { connect, sendParams } from './connection.js';
+import { connect, sendParams, token } from './connection.js';
 import { renderParams, paramsFromAddress, paramsToAddress } from './controls.js';
 
 const $ = (id) => document.getElementById(id);
@@ -10,13 +10,13 @@ const viewer = new Viewer($('view'));
 const studio = (window.studio = { version: 0, triangles: 0, error: null, loads: 0 });
 let shown = 0;
 let loading = Promise.resolve();
-let sentAddress = false;
 let specs = [];
 let values = {};
 
 function showParams() {
   renderParams($('params'), specs, values, (changed) => {
-    paramsToAddress(changed);
+    values = changed;
+    paramsToAddress(changed, token);
     sendParams(changed);
   });
 }
@@ -41,7 +41,7 @@ function showFacts(layers, runMs) {
   }));
 }
 
-function showLayers(layers, objects) {
+function showLayers(layers, objects, version) {
   $('layers-section').hidden = layers.length < 2;
   $('layers').replaceChildren(...layers.map((l) => {
     const li = document.createElement('li');
@@ -61,20 +61,23 @@ function showLayers(layers, objects) {
   }));
   $('downloads').replaceChildren(...layers.flatMap((l, i) => ['glb', 'obj', 'stl'].map((ext) => {
     const a = document.createElement('a');
-    a.href = `/download/${i}.${ext}`;
+    a.href = `/download/${version}/${i}.${ext}?token=${encodeURIComponent(token)}`;
     a.textContent = layers.length > 1 ? `${l.name}.${ext}` : `.${ext}`;
     return a;
   })));
 }
 
+// A model other than the one on show (a page that changes its parameters may go back to a
+// model made earlier, with a smaller number).
 async function showModel(message) {
-  if (message.version <= shown) return;
+  if (message.version === shown) return;
   const started = Date.now();
   const objects = await viewer.show(message.layers, message.files);
   const loaded = Date.now();
   shown = message.version;
   showFacts(message.layers, message.run_ms);
-  showLayers(message.layers, objects);
+  showLayers(message.layers, objects, message.version);
+  showWarnings(message.warnings ?? []);
   $('animation').hidden = !viewer.duration;
   const control = message.layers.some((l) => l.control);
   $('control-label').hidden = !control;
@@ -120,14 +123,9 @@ async function handle(message) {
       setStatus('running');
       break;
     case 'params':
-      if (!sentAddress) {
-        // The address wins on the first connection: a shared or reloaded view.
-        sentAddress = true;
-        const wanted = paramsFromAddress();
-        if (Object.keys(wanted).length) { sendParams({ ...message.values, ...wanted }); return; }
-      }
+      // The parameters in force for this page: those of its address over the studio's own.
       values = message.values;
-      paramsToAddress(values);
+      paramsToAddress(values, token);
       showParams();
       break;
   }
@@ -138,6 +136,14 @@ function showError(text) {
   $('error').hidden = !text;
   $('error').textContent = text ?? '';
   if (text) setStatus('live');
+}
+
+// A run's warnings (dropped results, blocks that touch without connecting), each at its line
+// as the terminal prints it.
+function showWarnings(list) {
+  studio.warnings = list;
+  $('warnings').hidden = list.length === 0;
+  $('warnings').textContent = list.join('\n');
 }
 
 function setStatus(state) {
@@ -173,4 +179,9 @@ viewer.onFrame = () => {
 studio.bounds = () => viewer.bounds();
 studio.controlBounds = () => viewer.controlBounds();
 studio.frames = () => viewer.frames;
-connect(onMessage, setStatus);
+studio.inView = () => viewer.inView();
+if (!token) {
+  showError('This page needs the address the studio printed, with its token (`?token=…`): '
+    + 'the studio answers only the page it gave to you.');
+}
+connect(onMessage, setStatus, () => ({ ...paramsFromAddress(), ...values }));

@@ -4,12 +4,23 @@
 // again every half second, so a page left open picks up a restarted server by itself. A model's
 // files follow its message as binary messages (each layer's .glb, then each control mesh's
 // edges); the model goes on with them as `files`, `received` saying when its message came.
+//
+// The session's token (from the address the studio printed, `?token=…`) goes with the socket
+// and every request; the socket's address also carries the page's parameters (the page's own
+// address is the truth), and a change of them is sent over the socket: they are this page's,
+// not every page's.
 
-export function connect(onMessage, onStatus) {
-  let socket;
+// The token of the address this page was opened at ('' when there is none).
+export const token = new URLSearchParams(location.search).get('token') ?? '';
+
+let socket = null;
+
+// `params()` gives the page's parameters when a connection opens.
+export function connect(onMessage, onStatus, params) {
   let model = null; // a model message waiting for its files
   const open = () => {
-    socket = new WebSocket(`ws://${location.host}/ws`);
+    const query = new URLSearchParams({ ...params(), token }).toString();
+    socket = new WebSocket(`ws://${location.host}/ws?${query}`);
     socket.binaryType = 'arraybuffer';
     socket.onopen = () => {
       onStatus('live');
@@ -44,8 +55,8 @@ export function connect(onMessage, onStatus) {
   open();
 }
 
-// Sends the parameters (all of them) to the server, which runs the recipe again with them.
-export async function sendParams(values) {
-  const body = new URLSearchParams(values).toString();
-  await fetch('/api/params', { method: 'POST', body, headers: { 'Content-Type': 'application/x-www-form-urlencoded' } });
+// Sends this page's parameters (all of them) to the server, which runs the recipe with them
+// for this page (a run it has already made is shown at once).
+export function sendParams(values) {
+  if (socket?.readyState === WebSocket.OPEN) socket.send(JSON.stringify({ type: 'params', values }));
 }

@@ -1,7 +1,8 @@
 // Parameters as controls (a customizer): one control per parameter, typed from its default —
-// a number (with the range and step the recipe gives), a checkbox, a choice, or text. The
-// page's address holds the values (`?teeth=16`), so a view can be shared and reloaded; a
-// change sends them all to the server, which runs the recipe again.
+// a number (a slider beside the box when the recipe gives a range, with its step), a checkbox,
+// a choice, or text. The page's address holds the values (`?teeth=16`, beside the token), so a
+// view can be shared and reloaded; a change sends them all to the server, which runs the
+// recipe again for this page.
 
 // `specs`: [{name, kind, default, min, max, step, choices, doc}] as the recipe declared them
 // (may be empty); `values`: {name: text} in force.
@@ -17,12 +18,29 @@ export function renderParams(form, specs, values, onChange) {
     input.addEventListener('change', () => onChange(readForm(form)));
     if (input.type === 'checkbox') {
       label.append(input, ` ${spec.name}`);
+    } else if (isRanged(spec)) {
+      // The slider moves the box as it is dragged; letting go (or typing) runs the recipe.
+      const slider = document.createElement('input');
+      slider.type = 'range';
+      slider.dataset.param = spec.name;
+      slider.min = spec.min; slider.max = spec.max; slider.step = input.step; slider.value = current;
+      slider.addEventListener('input', () => { input.value = slider.value; });
+      slider.addEventListener('change', () => { input.value = slider.value; onChange(readForm(form)); });
+      input.addEventListener('input', () => { slider.value = input.value; });
+      const row = document.createElement('span');
+      row.className = 'ranged';
+      row.append(slider, input);
+      label.append(`${spec.name} `, row);
     } else {
       label.append(`${spec.name} `, input);
     }
     form.append(label);
   }
   form.closest('section').hidden = list.length === 0;
+}
+
+function isRanged(spec) {
+  return typeof spec.default === 'number' && spec.min != null && spec.max != null && !spec.choices?.length;
 }
 
 function guess(text) {
@@ -53,7 +71,7 @@ function control(spec, current) {
   return input;
 }
 
-// Every control's value as text, by name.
+// Every named control's value as text, by name.
 export function readForm(form) {
   const values = {};
   for (const el of form.elements) {
@@ -63,13 +81,15 @@ export function readForm(form) {
   return values;
 }
 
-// The parameters in the page's address.
+// The parameters in the page's address (all but the token).
 export function paramsFromAddress() {
-  return Object.fromEntries(new URLSearchParams(location.search));
+  const values = Object.fromEntries(new URLSearchParams(location.search));
+  delete values.token;
+  return values;
 }
 
-// Puts `values` in the page's address without reloading.
-export function paramsToAddress(values) {
-  const query = new URLSearchParams(values).toString();
+// Puts `values` in the page's address, after the token, without reloading.
+export function paramsToAddress(values, token) {
+  const query = new URLSearchParams(token ? { token, ...values } : values).toString();
   history.replaceState(null, '', query ? `?${query}` : location.pathname);
 }

@@ -1,5 +1,6 @@
 // The 3D view: three.js with the kernel's +Z up, a grid on the XY plane and axes, orbit / pan /
-// zoom, fit to view on the first model (later models keep the camera), feature colours or a
+// zoom, fit to view on the first model (the whole bounding box in the frame; later models keep
+// the camera), normals that follow the model's sharp edges (see `creased`), feature colours or a
 // plain material, wireframe, the control mesh a surface was made from (lines over it), and the
 // playback of a model's animation. It draws only when something changed (a model, the camera,
 // a toggle, the size, a playing animation): an idle page costs nothing, and a new model is drawn
@@ -16,6 +17,84 @@ THREE.Object3D.DEFAULT_UP.set(0, 0, 1);
 // The colours of `blocksmith render` (script/src/studio/render.rs), linear RGB.
 const BACKGROUND = [0.86, 0.87, 0.89];
 const PLAIN = [0.55, 0.6, 0.68];
+
+// Faces meeting at a vertex at more than this angle are shaded apart (a sharp edge); below it
+// the shading is smooth across them. A box's faces are flat, a sphere's round.
+export const SHARP_ANGLE = 40;
+
+// `geometry` (indexed, as the .glb files are) with normals that follow its sharp edges: at
+// each vertex, its faces are grouped by normal (a face joins the first group whose mean normal
+// is within SHARP_ANGLE of its own), each group gets a vertex of its own with the group's
+// area-weighted normal. A smooth mesh keeps its vertices; a box's corners become three each.
+// Geometry with morph targets keeps its own normals (they move with the targets).
+export function creased(geometry, angle = SHARP_ANGLE) {
+  const index = geometry.index;
+  const position = geometry.attributes.position;
+  if (!index || Object.keys(geometry.morphAttributes).length) {
+    if (!index) geometry.computeVertexNormals();
+    return geometry;
+  }
+  const cos = Math.cos(THREE.MathUtils.degToRad(angle));
+  const ids = index.array, faces = ids.length / 3, n = position.count;
+  // Each face's area-weighted normal (twice the area).
+  const fn = new Float32Array(faces * 3);
+  const a = new THREE.Vector3(), b = new THREE.Vector3(), c = new THREE.Vector3();
+  for (let f = 0; f < faces; f++) {
+    a.fromBufferAttribute(position, ids[3 * f]);
+    b.fromBufferAttribute(position, ids[3 * f + 1]).sub(a);
+    c.fromBufferAttribute(position, ids[3 * f + 2]).sub(a);
+    b.cross(c);
+    fn[3 * f] = b.x; fn[3 * f + 1] = b.y; fn[3 * f + 2] = b.z;
+  }
+  // The faces around each vertex (compressed rows).
+  const start = new Uint32Array(n + 1);
+  for (let i = 0; i < ids.length; i++) start[ids[i] + 1]++;
+  for (let v = 0; v < n; v++) start[v + 1] += start[v];
+  const fill = start.slice(0, n), around = new Uint32Array(ids.length);
+  for (let i = 0; i < ids.length; i++) around[fill[ids[i]]++] = i; // the corner (3 f + k)
+  // Group each vertex's corners; a group past the first is a new vertex.
+  const source = []; // the old vertex of each new one
+  const newIndex = new Uint32Array(ids.length);
+  const normals = []; // per new vertex, summed
+  for (let v = 0; v < n; v++) {
+    const groups = []; // [new vertex, sx, sy, sz]
+    for (let j = start[v]; j < start[v + 1]; j++) {
+      const corner = around[j], f = Math.floor(corner / 3);
+      const x = fn[3 * f], y = fn[3 * f + 1], z = fn[3 * f + 2];
+      const len = Math.hypot(x, y, z);
+      let g = groups.find((g) => {
+        const gl = Math.hypot(g[1], g[2], g[3]);
+        return len === 0 || gl === 0 || (x * g[1] + y * g[2] + z * g[3]) >= cos * len * gl;
+      });
+      if (!g) {
+        g = [groups.length === 0 ? v : n + source.length, 0, 0, 0];
+        if (groups.length) source.push(v);
+        groups.push(g);
+      }
+      g[1] += x; g[2] += y; g[3] += z;
+      newIndex[corner] = g[0];
+    }
+    for (const g of groups) normals[g[0]] = [g[1], g[2], g[3]];
+  }
+  const total = n + source.length;
+  const out = new THREE.BufferGeometry();
+  for (const [name, attr] of Object.entries(geometry.attributes)) {
+    if (name === 'normal') continue;
+    const size = attr.itemSize, array = new attr.array.constructor(total * size);
+    for (let v = 0; v < n; v++) for (let k = 0; k < size; k++) array[v * size + k] = attr.getComponent(v, k);
+    source.forEach((v, i) => { for (let k = 0; k < size; k++) array[(n + i) * size + k] = attr.getComponent(v, k); });
+    out.setAttribute(name, new THREE.BufferAttribute(array, size, attr.normalized));
+  }
+  const normal = new Float32Array(total * 3);
+  for (let v = 0; v < total; v++) {
+    const s = normals[v] ?? [0, 0, 1], len = Math.hypot(...s) || 1;
+    normal[3 * v] = s[0] / len; normal[3 * v + 1] = s[1] / len; normal[3 * v + 2] = s[2] / len;
+  }
+  out.setAttribute('normal', new THREE.BufferAttribute(normal, 3));
+  out.setIndex(new THREE.BufferAttribute(total > 65535 ? newIndex : Uint16Array.from(newIndex), 1));
+  for (const g of geometry.groups) out.addGroup(g.start, g.count, g.materialIndex);
+  return out;
+}
 
 export class Viewer {
   constructor(container) {
@@ -117,6 +196,7 @@ export class Viewer {
       root.rotation.x = Math.PI / 2;
       root.traverse((o) => {
         if (o.isMesh) {
+          o.geometry = creased(o.geometry);
           o.userData.own = o.material;
           o.material.side = THREE.DoubleSide;
         }
@@ -203,20 +283,50 @@ export class Viewer {
     this.helpers.add(grid, new THREE.AxesHelper(extent * 0.6));
   }
 
+  // The camera looks at the models' bounding box from the usual direction, as close as it can
+  // with every corner of the box inside the frame (both ways: a tall model in a wide view and
+  // a wide one in a tall view), and a margin.
   fit() {
     const box = new THREE.Box3().setFromObject(this.models);
     if (box.isEmpty()) return;
     const centre = box.getCenter(new THREE.Vector3());
-    const radius = box.getSize(new THREE.Vector3()).length() / 2 || 1;
-    const distance = radius / Math.sin(THREE.MathUtils.degToRad(this.camera.fov / 2));
     const direction = new THREE.Vector3(1, -1.4, 0.9).normalize();
+    this.camera.position.copy(centre).add(direction);
+    this.camera.lookAt(centre);
+    this.camera.updateMatrixWorld();
+    const toCamera = this.camera.matrixWorldInverse;
+    const tanV = Math.tan(THREE.MathUtils.degToRad(this.camera.fov / 2));
+    const tanH = tanV * this.camera.aspect;
+    const origin = centre.clone().applyMatrix4(toCamera);
+    let distance = 0, depth = 0;
+    for (let i = 0; i < 8; i++) {
+      const corner = new THREE.Vector3(i & 1 ? box.max.x : box.min.x, i & 2 ? box.max.y : box.min.y, i & 4 ? box.max.z : box.min.z);
+      const p = corner.applyMatrix4(toCamera).sub(origin); // relative to the centre, camera axes
+      // Seen from `d` along +z (camera space), the corner is at depth d - p.z.
+      distance = Math.max(distance, p.z + Math.abs(p.x) / tanH, p.z + Math.abs(p.y) / tanV);
+      depth = Math.max(depth, Math.abs(p.z));
+    }
+    distance = (distance || 1) * 1.08;
     this.camera.position.copy(centre).addScaledVector(direction, distance);
-    this.camera.near = distance / 100;
-    this.camera.far = distance * 100;
+    this.camera.near = Math.max(distance - depth, distance / 100) / 10;
+    this.camera.far = (distance + depth) * 10;
     this.camera.updateProjectionMatrix();
     this.controls.target.copy(centre);
     this.controls.update();
     this.requestRender();
+  }
+
+  // Whether every corner of the models' bounding box is inside the frame now.
+  inView() {
+    const box = new THREE.Box3().setFromObject(this.models);
+    if (box.isEmpty()) return true;
+    this.camera.updateMatrixWorld();
+    for (let i = 0; i < 8; i++) {
+      const p = new THREE.Vector3(i & 1 ? box.max.x : box.min.x, i & 2 ? box.max.y : box.min.y, i & 4 ? box.max.z : box.min.z);
+      p.project(this.camera);
+      if (Math.abs(p.x) > 1 || Math.abs(p.y) > 1 || p.z > 1 || p.z < -1) return false;
+    }
+    return true;
   }
 
   // The animation's time, in seconds, and setting it (scrubbing).

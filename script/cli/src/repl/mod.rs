@@ -123,6 +123,8 @@ pub struct Session {
     studio: Option<(Arc<studio::session::Session>, String)>,
     /// Whether the first show opens the page in the browser (an interactive session).
     pub open_page: bool,
+    /// Whether the page was opened in a browser.
+    opened: bool,
     /// The dropped results of the entry being evaluated and the warnings it gave as it ran.
     warnings: Vec<String>,
     /// The limits each entry runs under (a fresh count and deadline per entry).
@@ -162,6 +164,7 @@ impl Session {
             shown,
             studio: None,
             open_page: false,
+            opened: false,
             warnings: Vec::new(),
             limits,
             modules: BTreeMap::new(),
@@ -280,19 +283,25 @@ impl Session {
             Ok(l) => l,
             Err(e) => return e.0,
         };
+        let first = self.studio.is_none();
         let (session, url) = match self.studio() {
             Ok(s) => s,
             Err(e) => return e,
         };
         let count = layers.len();
         let triangles: usize = layers.iter().map(|l| l.mesh.triangle_count()).sum();
-        session.show(Scene { layers, run_time: std::time::Duration::ZERO, params: Vec::new() });
+        session.show(Scene { layers, run_time: std::time::Duration::ZERO, params: Vec::new(), warnings: Vec::new() });
         let layers = if count == 1 { String::new() } else { format!("{count} layers, ") };
-        format!("shown at {url} ({layers}{triangles} triangles)")
+        let mut said = format!("shown at {url} ({layers}{triangles} triangles)");
+        if first && !self.opened {
+            // Once, quietly: the page is not open anywhere yet.
+            said.push_str("\n(open the address in a browser; every value shown goes to that page)");
+        }
+        said
     }
 
-    /// The studio's session and address, starting its server (127.0.0.1, any free port) on
-    /// first use.
+    /// The studio's session and address, starting its server (127.0.0.1, any free port, a
+    /// token of its own) on first use.
     fn studio(&mut self) -> Result<(Arc<studio::session::Session>, String), String> {
         if let Some(s) = &self.studio {
             return Ok(s.clone());
@@ -301,10 +310,12 @@ impl Session {
         let server = studio::server::Studio::bind(0)?;
         let url = server.url();
         let served = Arc::clone(&session);
-        std::thread::spawn(move || server.serve(&served));
-        if self.open_page {
-            studio::open_browser(&url);
-        }
+        std::thread::spawn(move || {
+            if let Err(e) = server.serve(&served) {
+                eprintln!("{e}");
+            }
+        });
+        self.opened = self.open_page && studio::open_browser(&url).is_ok();
         self.studio = Some((Arc::clone(&session), url.clone()));
         Ok((session, url))
     }
