@@ -360,6 +360,9 @@ pub struct Section {
     inner: CrossSection,
 }
 
+/// Decimal digits of the engine's 2D grid (Manifold's `CrossSection` precision: 1e-8).
+const ENGINE_PRECISION: i32 = 8;
+
 /// Contours as the engine's polygons.
 fn engine_polygons(contours: &[Vec<glam::DVec2>]) -> Polygons {
     contours.iter().map(|c| c.iter().map(|p| EVec2::new(p.x, p.y)).collect()).collect()
@@ -368,30 +371,29 @@ fn engine_polygons(contours: &[Vec<glam::DVec2>]) -> Polygons {
 impl Section {
     /// The region `contours` fill under `fill` (self-intersections and overlaps resolved).
     ///
-    /// All contours are joined into one path by bridges walked there and back (which add
-    /// nothing to any winding number), so every fill rule sees the sum of the windings.
+    /// The contours go to Clipper2 together as the subjects of one union under the rule (as
+    /// the engine's own constructor does for one path), on the engine's grid of 1e-8; its clean
+    /// result (outer contours counter-clockwise, holes clockwise) is the region. Joining the
+    /// contours into one path by bridges instead would let a bridge's zero-width corridor merge
+    /// separate contours into one in the result.
     #[must_use]
     pub fn from_contours(contours: &[Vec<glam::DVec2>], fill: Fill) -> Section {
-        let mut path: Vec<EVec2> = Vec::with_capacity(contours.iter().map(|c| c.len() + 2).sum());
-        let mut starts = Vec::new();
-        for c in contours.iter().filter(|c| !c.is_empty()) {
-            starts.push(EVec2::new(c[0].x, c[0].y));
-            path.extend(c.iter().map(|p| EVec2::new(p.x, p.y)));
-            path.push(EVec2::new(c[0].x, c[0].y));
-        }
-        // Back along the bridges, from the last contour's start through every earlier one to
-        // the first, where the path closes.
-        if starts.len() > 1 {
-            path.extend(starts[1..starts.len() - 1].iter().rev().copied());
-        } else {
-            path.pop();
-        }
-        let code = match fill {
-            Fill::EvenOdd => 0,
-            Fill::NonZero => 1,
-            Fill::Positive => 2,
+        use clipper2_rust::{FillRule, PathD, PathsD, Point};
+        let paths: PathsD = contours
+            .iter()
+            .filter(|c| !c.is_empty())
+            .map(|c| c.iter().map(|p| Point::new(p.x, p.y)).collect::<PathD>())
+            .collect();
+        let rule = match fill {
+            Fill::EvenOdd => FillRule::EvenOdd,
+            Fill::NonZero => FillRule::NonZero,
+            Fill::Positive => FillRule::Positive,
         };
-        Section { inner: CrossSection::from_polygon_with_fill_rule(path, code) }
+        let clean = clipper2_rust::union_subjects_d(&paths, rule, ENGINE_PRECISION);
+        let polygons: Polygons = clean.iter().map(|path| path.iter().map(|p| EVec2::new(p.x, p.y)).collect()).collect();
+        // Clean contours, outer counter-clockwise and holes clockwise: the positive rule of the
+        // engine's constructor keeps exactly that region.
+        Section { inner: CrossSection::new(polygons) }
     }
 
     /// The region's contours (outer ones counter-clockwise, holes clockwise).
@@ -579,6 +581,33 @@ mod tests {
 
     use super::*;
     use crate::mesh::Mesh;
+
+    #[test]
+    fn separate_contours_stay_separate_whatever_their_order() {
+        // Two end panels a unit apart beside a holed panel: once joined into one bridged path,
+        // Clipper kept a zero-width corridor between the panels and returned one contour for
+        // two (a flat-pack layout written to DXF read back with 6 contours of 7).
+        let square = |x: f64, y: f64, w: f64| {
+            vec![
+                glam::DVec2::new(x, y),
+                glam::DVec2::new(x + w, y),
+                glam::DVec2::new(x + w, y + w),
+                glam::DVec2::new(x, y + w),
+            ]
+        };
+        let mut hole = square(2.0, 2.0, 1.0);
+        hole.reverse();
+        let contours = [square(0.0, 0.0, 5.0), square(6.0, 0.0, 5.0), hole, square(0.0, 6.0, 5.0)];
+        for fill in [Fill::EvenOdd, Fill::NonZero] {
+            let s = Section::from_contours(&contours, fill);
+            assert_eq!(s.contours().len(), 4, "{fill:?}");
+            assert!((s.area() - 74.0).abs() < 1e-9, "{fill:?}: {}", s.area());
+        }
+        // Even-odd: a contour inside another is a hole whichever way it runs.
+        let nested = [square(0.0, 0.0, 5.0), square(2.0, 2.0, 1.0)];
+        assert!((Section::from_contours(&nested, Fill::EvenOdd).area() - 24.0).abs() < 1e-9);
+        assert!((Section::from_contours(&nested, Fill::NonZero).area() - 25.0).abs() < 1e-9);
+    }
 
     fn solid(m: &Mesh) -> Solid {
         let t = m.triangulate().unwrap();

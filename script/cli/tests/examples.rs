@@ -90,3 +90,33 @@ fn animation_recipe_variants_run() {
         assert_eq!(&std::fs::read(&out).unwrap()[..4], b"glTF");
     }
 }
+
+/// The flat-pack box laid out flat is a Profile, and `-o` writes it as a laser cutter's DXF or
+/// SVG; both read back to the five panels: the same contours (two sides, two ends with a hand
+/// hole each, a bottom) and the same area, which the recipe itself checks against the panels.
+#[test]
+fn the_flat_pack_layout_exports_as_dxf_and_svg_and_reads_back() {
+    let out_dir = workspace().join("target/test-output/examples");
+    std::fs::create_dir_all(&out_dir).unwrap();
+    let mut areas = Vec::new();
+    for ext in ["dxf", "svg"] {
+        let out = out_dir.join(format!("flatpack_box_layout.{ext}"));
+        let o = run_recipe("flatpack_box", &["layout=true"], &out);
+        assert!(o.status.success(), "{ext}:\n{}", String::from_utf8_lossy(&o.stderr));
+        let check = out_dir.join(format!("flatpack_read_{ext}.rhai"));
+        std::fs::write(
+            &check,
+            format!("let p = load({:?});\n[p.contours().len(), p.area()]", out.display().to_string()),
+        )
+        .unwrap();
+        let o = Command::new(env!("CARGO_BIN_EXE_blocksmith")).arg("run").arg(&check).output().unwrap();
+        let text = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(o.status.success(), "{ext}: {text}");
+        // `run` without -o describes the value: `[7, 1661.43…]`.
+        assert!(text.contains("[7, "), "{ext}: five panels and two holes, got {text}");
+        areas.push(text.trim().trim_start_matches("[7, ").trim_end_matches(']').parse::<f64>().unwrap());
+    }
+    // Default 30 × 20 × 12 box of 0.6 sheet: 2·30·12 + 2·(18.8·12 − slot) + 28.8·18.8.
+    assert!((areas[0] - areas[1]).abs() < 1e-6, "{areas:?}");
+    assert!(areas[0] > 1600.0 && areas[0] < 1700.0, "{areas:?}");
+}
