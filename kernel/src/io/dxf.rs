@@ -356,8 +356,7 @@ pub fn read_dxf(bytes: &[u8], path: &Path) -> Result<Profile, IoError> {
     if closed.is_empty() {
         return Err(bad(path, 0, "no closed contour (closed polyline, circle, or lines and arcs joined end to end)"));
     }
-    Profile::from_contours(&closed, FillRule::EvenOdd)
-        .map_err(|e| bad(path, 0, format!("the closed contours enclose no area ({e})")))
+    Profile::from_contours(&closed, FillRule::EvenOdd).map_err(|e| bad(path, 0, format!("the closed contours: {e}")))
 }
 
 #[cfg(test)]

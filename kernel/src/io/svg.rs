@@ -24,7 +24,7 @@ use std::path::Path;
 use quick_xml::events::{BytesStart, Event};
 
 use super::IoError;
-use crate::profile::{FillRule, Profile, Vec2};
+use crate::profile::{FillRule, Profile, ProfileError, Vec2};
 
 /// Segments per cubic or quadratic Bézier segment read.
 pub const CURVE_SEGMENTS: usize = 16;
@@ -523,8 +523,10 @@ pub fn read_svg(bytes: &[u8], path: &Path) -> Result<Profile, IoError> {
                     return Err(bad(path, format!("<{name}>: point {i} has a non-finite coordinate")));
                 }
                 // A shape enclosing nothing (a degenerate polygon) adds nothing.
-                if let Ok(p) = Profile::from_contours(&placed, here.fill) {
-                    shapes.push(p);
+                match Profile::from_contours(&placed, here.fill) {
+                    Ok(p) => shapes.push(p),
+                    Err(ProfileError::ZeroArea { .. } | ProfileError::TooFewPoints { .. }) => {}
+                    Err(e) => return Err(bad(path, format!("<{name}>: {e}"))),
                 }
             }
         }
@@ -676,6 +678,10 @@ mod tests {
             ("<svg></svg>", "draws no region"),
             ("<html/>", "not an SVG document"),
             ("<svg><path d=\"M0 0 L1e400 0 L1 1 Z\"/></svg>", "non-finite"),
+            (
+                "<svg><path d=\"M0 0 L1e12 0 L1 1 Z\"/></svg>",
+                "<path>: the polygon has a coordinate 1000000000000 at point 1, beyond",
+            ),
             ("<svg><rect width=\"1\" height=\"1\"", "invalid XML"),
         ] {
             match read(svg) {

@@ -61,8 +61,9 @@ impl Profile {
     /// The rectangle with corners `min` and `max` (either order per axis).
     ///
     /// # Errors
-    /// [`ProfileError::NonFinite`] for a NaN or infinite corner, [`ProfileError::ZeroArea`] when
-    /// the two corners share an x or a y.
+    /// [`ProfileError::NonFinite`] for a NaN or infinite corner, [`ProfileError::OutOfRange`]
+    /// for one beyond [`MAX_REACH`](super::MAX_REACH), [`ProfileError::ZeroArea`] when the two
+    /// corners share an x or a y.
     pub fn rect(min: Vec2, max: Vec2) -> Result<Profile, ProfileError> {
         check_finite(&[min, max], "the rectangle's corners")?;
         let (lo, hi) = (min.min(max), min.max(max));
@@ -77,9 +78,11 @@ impl Profile {
     ///
     /// # Errors
     /// [`ProfileError::BadValue`] for a radius not positive and finite, fewer than 3 segments or
-    /// more than [`MAX_SEGMENTS`](super::MAX_SEGMENTS).
+    /// more than [`MAX_SEGMENTS`](super::MAX_SEGMENTS); [`ProfileError::OutOfRange`] for a
+    /// radius beyond [`MAX_REACH`](super::MAX_REACH).
     pub fn circle(radius: f64, segments: u32) -> Result<Profile, ProfileError> {
         check_number("the radius", radius, true)?;
+        check_finite(&[Vec2::new(radius, 0.0)], "the circle")?;
         super::offset::check_segments(segments)?;
         let contour = (0..segments)
             .map(|i| {
@@ -103,8 +106,10 @@ impl Profile {
     ///
     /// # Errors
     /// [`ProfileError::TooFewPoints`] for a contour of fewer than 3 points,
-    /// [`ProfileError::NonFinite`] for a NaN or infinite coordinate (naming the contour and
-    /// point), [`ProfileError::ZeroArea`] when the contours enclose nothing under the rule.
+    /// [`ProfileError::NonFinite`] for a NaN or infinite coordinate and
+    /// [`ProfileError::OutOfRange`] for one beyond [`MAX_REACH`](super::MAX_REACH) (each naming
+    /// the contour and point), [`ProfileError::ZeroArea`] when the contours enclose nothing
+    /// under the rule.
     pub fn from_contours(contours: &[Vec<Vec2>], fill: FillRule) -> Result<Profile, ProfileError> {
         let name = |i: usize| if contours.len() == 1 { "the polygon".to_string() } else { format!("contour {i}") };
         if contours.is_empty() {

@@ -84,10 +84,24 @@ pub(super) fn solid_from_mesh(mesh: &Mesh, what: &str) -> Result<Solid, ProfileE
     })
 }
 
-/// Checks `points` are finite, naming them `what`.
+/// Checks `points` are finite and within [`MAX_REACH`](super::MAX_REACH) of the origin, naming
+/// them `what`.
 pub(super) fn check_finite(points: &[super::Vec2], what: &str) -> Result<(), ProfileError> {
-    match points.iter().position(|p| !p.is_finite()) {
-        Some(index) => Err(ProfileError::NonFinite { what: what.to_string(), index }),
+    if let Some(index) = points.iter().position(|p| !p.is_finite()) {
+        return Err(ProfileError::NonFinite { what: what.to_string(), index });
+    }
+    check_range(points, what)
+}
+
+/// Checks `points` are within [`MAX_REACH`](super::MAX_REACH) of the origin in x and y, naming
+/// them `what`.
+pub(super) fn check_range(points: &[super::Vec2], what: &str) -> Result<(), ProfileError> {
+    match points.iter().position(|p| p.abs().max_element() > super::MAX_REACH) {
+        Some(index) => {
+            let p = points[index];
+            let value = if p.x.abs() > super::MAX_REACH { p.x } else { p.y };
+            Err(ProfileError::OutOfRange { what: what.to_string(), index, value })
+        }
         None => Ok(()),
     }
 }

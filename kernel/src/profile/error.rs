@@ -20,6 +20,14 @@ pub enum ProfileError {
     /// polygon).
     #[error("{what} encloses no area")]
     ZeroArea { what: String },
+    /// A coordinate beyond [`MAX_REACH`](super::MAX_REACH) from the origin, where the 2D engine's
+    /// integer grid would overflow.
+    #[error(
+        "{what} has a coordinate {} at point {index}, beyond the 2D range of ±1e9 (the engine \
+         keeps 2D coordinates on a grid of 1e-8)",
+        fmt_num(*value)
+    )]
+    OutOfRange { what: String, index: usize, value: f64 },
     /// A number out of its range.
     #[error("{name} must be {expected}, not {}", fmt_num(*value))]
     BadValue { name: &'static str, value: f64, expected: &'static str },

@@ -51,7 +51,7 @@ pub use hull::{hull_meshes, hull_points};
 pub use loft::{loft, LoftOptions, Placement};
 pub use measure::contour_area;
 pub use minkowski::minkowski;
-pub use offset::{JoinType, OffsetOptions, MAX_SEGMENTS};
+pub use offset::{JoinType, OffsetOptions, MAX_REACH, MAX_SEGMENTS};
 pub use revolve::{revolve, RevolveOptions};
 pub use slice::{project, slice};
 pub use split::{split, trim};

@@ -244,3 +244,22 @@ fn fill_rules_and_joins_are_named() {
     assert_eq!(JoinType::from_name("miter"), Some(JoinType::Miter));
     assert_eq!(JoinType::from_name("bevel"), None);
 }
+
+#[test]
+fn coordinates_beyond_the_engine_s_range_are_refused_by_name() {
+    // The 2D engine holds coordinates as integers on a 1e-8 grid: beyond ±1e9 (MAX_REACH) they
+    // would overflow or lose the region silently, so every way in refuses them.
+    let big = 1e300;
+    let e = Profile::polygon(&[v(0.0, 0.0), v(big, 0.0), v(big, big)], FillRule::NonZero).unwrap_err();
+    assert_eq!(e, ProfileError::OutOfRange { what: "the polygon".into(), index: 1, value: big });
+    assert!(e.to_string().contains("beyond the 2D range of ±1e9"), "{e}");
+    assert!(Profile::rect(v(0.0, 0.0), v(2e9, 1.0)).is_err());
+    assert!(Profile::circle(2e9, 8).is_err());
+    let s = square(0.0, 1.0);
+    assert!(matches!(s.translate(v(1e20, 0.0)), Err(ProfileError::OutOfRange { .. })));
+    assert!(matches!(s.scale(v(1e15, 1e15)), Err(ProfileError::OutOfRange { .. })));
+    assert!(Profile::hull_of_points(&[v(0.0, 0.0), v(1e200, 0.0), v(0.0, 1e200)]).is_err());
+    // At the limit everything still works.
+    let edge = s.translate(v(MAX_REACH - 2.0, 0.0)).unwrap();
+    assert_near(edge.union(&s).area(), 2.0, 1e-6);
+}

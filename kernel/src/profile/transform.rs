@@ -6,8 +6,8 @@ use super::{Profile, ProfileError, Vec2};
 
 impl Profile {
     /// Every point mapped by `f`; contours reversed when `flips` (a mirror), so outer contours
-    /// stay counter-clockwise.
-    fn mapped(&self, f: impl Fn(Vec2) -> Vec2, flips: bool) -> Profile {
+    /// stay counter-clockwise. Refuses a result beyond [`MAX_REACH`](super::MAX_REACH).
+    fn mapped(&self, f: impl Fn(Vec2) -> Vec2, flips: bool) -> Result<Profile, ProfileError> {
         let contours = self
             .contours
             .iter()
@@ -18,17 +18,21 @@ impl Profile {
                 }
                 c
             })
-            .collect();
-        Profile { contours }
+            .collect::<Vec<Vec<Vec2>>>();
+        for c in &contours {
+            check_finite(c, "the moved profile")?;
+        }
+        Ok(Profile { contours })
     }
 
     /// The profile moved by `offset`.
     ///
     /// # Errors
-    /// [`ProfileError::NonFinite`] for a NaN or infinite offset.
+    /// [`ProfileError::NonFinite`] for a NaN or infinite offset, [`ProfileError::OutOfRange`]
+    /// when the result would lie beyond [`MAX_REACH`](super::MAX_REACH).
     pub fn translate(&self, offset: Vec2) -> Result<Profile, ProfileError> {
         check_finite(&[offset], "the offset")?;
-        Ok(self.mapped(|p| p + offset, false))
+        self.mapped(|p| p + offset, false)
     }
 
     /// The profile turned `degrees` counter-clockwise about the origin (exact at multiples of
@@ -39,20 +43,23 @@ impl Profile {
     pub fn rotate(&self, degrees: f64) -> Result<Profile, ProfileError> {
         check_number("the angle", degrees, false)?;
         let (c, s) = cos_sin_degrees(degrees);
-        Ok(self.mapped(|p| Vec2::new(c * p.x - s * p.y, s * p.x + c * p.y), false))
+        self.mapped(|p| Vec2::new(c * p.x - s * p.y, s * p.x + c * p.y), false)
     }
 
     /// The profile scaled by `factor` (x, y) about the origin; a negative factor mirrors.
     ///
     /// # Errors
     /// [`ProfileError::NonFinite`] for a NaN or infinite factor, [`ProfileError::ZeroArea`] for a
-    /// zero factor (the result would be flat).
+    /// zero factor (the result would be flat), [`ProfileError::OutOfRange`] when the result would
+    /// lie beyond [`MAX_REACH`](super::MAX_REACH).
     pub fn scale(&self, factor: Vec2) -> Result<Profile, ProfileError> {
-        check_finite(&[factor], "the scale")?;
+        if !factor.is_finite() {
+            return Err(ProfileError::NonFinite { what: "the scale".into(), index: 0 });
+        }
         if factor.x == 0.0 || factor.y == 0.0 {
             return Err(ProfileError::ZeroArea { what: "the profile scaled by zero".into() });
         }
-        Ok(self.mapped(|p| p * factor, (factor.x < 0.0) != (factor.y < 0.0)))
+        self.mapped(|p| p * factor, (factor.x < 0.0) != (factor.y < 0.0))
     }
 
     /// The profile mirrored across the line through the origin perpendicular to `normal`.
@@ -61,7 +68,9 @@ impl Profile {
     /// [`ProfileError::NonFinite`] for a NaN or infinite normal, [`ProfileError::BadValue`] for
     /// a zero one.
     pub fn mirror(&self, normal: Vec2) -> Result<Profile, ProfileError> {
-        check_finite(&[normal], "the mirror's normal")?;
+        if !normal.is_finite() {
+            return Err(ProfileError::NonFinite { what: "the mirror's normal".into(), index: 0 });
+        }
         let Some(n) = normal.try_normalize() else {
             return Err(ProfileError::BadValue {
                 name: "the mirror's normal length",
@@ -69,6 +78,6 @@ impl Profile {
                 expected: "positive",
             });
         };
-        Ok(self.mapped(|p| p - 2.0 * p.dot(n) * n, true))
+        self.mapped(|p| p - 2.0 * p.dot(n) * n, true)
     }
 }
