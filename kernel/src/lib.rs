@@ -16,7 +16,10 @@
 //! - [`io`]: files — meshes in OBJ, STL, glTF 2.0 (Draco read too), PLY, 3MF; profiles in SVG, DXF.
 //!
 //! The kernel knows nothing of the scripting language: errors are typed here and turned into
-//! script errors at the binding edge.
+//! script errors at the binding edge. It is the bottom of the workspace (kernel ← bindings ←
+//! studio ← command line) and depends only on geometry and file crates — glam, spade, faer,
+//! rayon, the boolean engine (manifold-rust, with Clipper2), gltf, tobj and the format
+//! readers — never on Rhai, a terminal, the web or an image crate.
 
 pub mod anim;
 pub mod blocks;
