@@ -589,9 +589,19 @@ fn the_repl_shows_values_on_one_studio_page_started_once() {
     let said = repl_says(&mut stdin, &mut out, ":show", "shown at");
     assert!(said.ends_with("(2 layers, 92 triangles)"), "{said}");
     let said = repl_says(&mut stdin, &mut out, ":show 5", "cannot be saved");
-    assert!(said.contains("cannot"), "{said}");
+    assert!(said.contains("cannot show an i64") && !said.contains("blocksmith-studio-"), "no temporary path: {said}");
     let v = state_when(&server, Duration::from_secs(5), |v| version(v) == 3);
     assert_eq!(v["model"]["layers"].as_array().unwrap().len(), 2);
+    // A block model is shown as its surface, with its control mesh.
+    let said = repl_says(
+        &mut stdin,
+        &mut out,
+        ":show { let m = blocks(); m.add(block([0, 0, 0], [1, 1, 1])); m }",
+        "shown at",
+    );
+    assert!(said.contains(&addr), "{said}");
+    let v = state_when(&server, Duration::from_secs(5), |v| version(v) == 4);
+    assert_eq!(v["model"]["layers"][0]["control_edges"], 48, "{v}");
     drop(stdin);
     assert!(child.wait().unwrap().success());
 }
@@ -868,4 +878,124 @@ fn a_page_left_open_reconnects_after_the_server_restarts() {
     b.wait("studio.triangles === 80 && studio.connections === 2", Duration::from_secs(10));
     assert_eq!(b.eval("window.loadedOnce"), "this page");
     assert_eq!(b.eval("document.getElementById('status').textContent"), "live");
+}
+
+/// A headless chromium's screenshot of `url` (800 x 600) once the page has had `budget` ms.
+fn screenshot(url: &str, dir: &Path, budget: u32) -> Option<image::RgbImage> {
+    let browser = chromium()?;
+    let shot = dir.join("shot.png");
+    let profile = tempfile::tempdir().unwrap();
+    Command::new(browser)
+        .args(["--headless", "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader"])
+        .args(["--window-size=800,600", "--no-first-run", "--hide-scrollbars"])
+        .arg(format!("--virtual-time-budget={budget}"))
+        .arg(format!("--user-data-dir={}", profile.path().display()))
+        .arg(format!("--screenshot={}", shot.display()))
+        .arg(url)
+        .output()
+        .unwrap();
+    Some(image::open(&shot).unwrap().to_rgb8())
+}
+
+/// The share of the model's pixels (in the view, left of the panel, away from the background)
+/// whose colour is one of the `k` most common ones, give or take 3 levels a channel.
+fn share_of_commonest(shot: &image::RgbImage, k: usize) -> f64 {
+    let background = shot.get_pixel(2, 2).0;
+    let far = |p: [u8; 3]| p.iter().zip(background).map(|(&a, b)| a.abs_diff(b) as u32).sum::<u32>() > 30;
+    let model: Vec<[u8; 3]> = (0..shot.height())
+        .flat_map(|y| (0..480).map(move |x| (x, y)))
+        .map(|(x, y)| shot.get_pixel(x, y).0)
+        .filter(|&p| far(p))
+        .collect();
+    let mut counts = std::collections::HashMap::new();
+    for p in &model {
+        *counts.entry(*p).or_insert(0usize) += 1;
+    }
+    let mut common: Vec<([u8; 3], usize)> = counts.into_iter().collect();
+    common.sort_by_key(|c| std::cmp::Reverse(c.1));
+    let top: Vec<[u8; 3]> = common.iter().take(k).map(|c| c.0).collect();
+    let near = |p: &[u8; 3]| top.iter().any(|t| t.iter().zip(p).all(|(a, b)| a.abs_diff(*b) <= 3));
+    model.iter().filter(|p| near(p)).count() as f64 / model.len().max(1) as f64
+}
+
+#[test]
+fn a_box_is_shaded_flat_a_sphere_round_and_fit_to_view_holds_the_whole_model() {
+    let dir = tempfile::tempdir().unwrap();
+    let recipe = dir.path().join("part.rhai");
+    // A box: three faces in view, each one flat colour (its normals those of its face, not
+    // averaged over its corners).
+    std::fs::write(&recipe, "cube(1)").unwrap();
+    let w = watch(&recipe);
+    state_when(&w, Duration::from_secs(30), |v| triangles(v).is_some());
+    let Some(shot) = screenshot(&w.url(), dir.path(), 8000) else { return };
+    let flat = share_of_commonest(&shot, 3);
+    // A sphere: its faces meet at small angles, so its shading is smooth, many colours.
+    std::fs::write(&recipe, "icosphere(1, 3)").unwrap();
+    state_when(&w, Duration::from_secs(10), |v| triangles(v) == Some(1280));
+    let round = share_of_commonest(&screenshot(&w.url(), dir.path(), 8000).unwrap(), 3);
+    eprintln!("three commonest colours: {:.0} % of the box, {:.0} % of the sphere", flat * 100.0, round * 100.0);
+    assert!(flat > 0.9, "the box's faces are not flat: {:.0} %", flat * 100.0);
+    assert!(round < 0.5, "the sphere is not smooth: {:.0} %", round * 100.0);
+    // A tall model in a wide view and a wide one: every corner of its box in the frame.
+    std::fs::write(&recipe, "box([0, 0, 0], [1, 1, 8])").unwrap();
+    state_when(&w, Duration::from_secs(10), |v| triangles(v) == Some(12) && version(v) == 3);
+    let Some(mut b) = Browser::open(&w.url()) else { return };
+    b.wait("window.studio && studio.version === 3", Duration::from_secs(20));
+    assert_eq!(b.eval("studio.inView()"), true, "the tall model is cut off");
+    std::fs::write(&recipe, "box([0, 0, 0], [12, 1, 1])").unwrap();
+    b.wait("studio.version === 4", Duration::from_secs(10));
+    b.eval("document.getElementById('fit').click()");
+    assert_eq!(b.eval("studio.inView()"), true, "the wide model is cut off");
+}
+
+#[test]
+fn each_page_shows_its_own_parameters_with_sliders_choices_checkboxes_and_warnings() {
+    let dir = tempfile::tempdir().unwrap();
+    let recipe = dir.path().join("part.rhai");
+    std::fs::write(
+        &recipe,
+        "let s = param(\"size\", 1, #{ min: 0.5, max: 4, step: 0.5 });\n\
+         let shape = param(\"shape\", \"cube\", #{ choices: [\"cube\", \"sphere\"] });\n\
+         let hollow = param(\"hollow\", false);\n\
+         let c = cube(1); c.translate([1, 0, 0]);\n\
+         if shape == \"cube\" { cube(s) } else { icosphere(s, 1) }",
+    )
+    .unwrap();
+    let w = watch(&recipe);
+    state_when(&w, Duration::from_secs(30), |v| triangles(v).is_some());
+    let volume = "document.getElementById('fact-volume')?.textContent";
+    let Some(mut a) = Browser::open(&format!("{}&size=2", w.url())) else { return };
+    a.wait(&format!("{volume} === '8'"), Duration::from_secs(20));
+    // Controls typed from the declarations: a slider with its step beside the box, a select,
+    // a checkbox.
+    let slider = "document.querySelector('#params input[type=range][data-param=size]')";
+    assert_eq!(
+        a.eval(&format!("[{slider}.min, {slider}.max, {slider}.step, {slider}.value].join(' ')")),
+        "0.5 4 0.5 2"
+    );
+    assert_eq!(a.eval("document.querySelector('#params input[type=number][name=size]').value"), "2");
+    assert_eq!(
+        a.eval("[...document.querySelectorAll('#params select[name=shape] option')].map((o) => o.value).join(' ')"),
+        "cube sphere"
+    );
+    assert_eq!(a.eval("document.querySelector('#params input[type=checkbox][name=hollow]').checked"), false);
+    // The dropped result is shown as a warning at its line, as the terminal prints it.
+    a.wait("!document.getElementById('warnings').hidden", Duration::from_secs(5));
+    let warning = a.eval("document.getElementById('warnings').textContent");
+    assert!(warning.as_str().unwrap().contains("part.rhai:4:"), "{warning}");
+    // A second page without parameters shows the defaults' model, not the first page's.
+    let Some(mut b) = Browser::open(&w.url()) else { return };
+    b.wait(&format!("{volume} === '1'"), Duration::from_secs(20));
+    // The first page's slider runs the recipe again for it alone.
+    a.eval(&format!("(() => {{ const s = {slider}; s.value = '3'; s.dispatchEvent(new Event('input')); s.dispatchEvent(new Event('change')); }})()"));
+    a.wait(&format!("{volume} === '27'"), Duration::from_secs(10));
+    assert!(a.eval("location.search").as_str().unwrap().contains("size=3"));
+    a.eval("(() => { const s = document.querySelector('#params select[name=shape]'); s.value = 'sphere'; s.dispatchEvent(new Event('change')); })()");
+    a.wait("studio.triangles === 80", Duration::from_secs(10));
+    std::thread::sleep(Duration::from_millis(300));
+    assert_eq!(b.eval(volume), "1", "the other page changed");
+    assert_eq!(b.eval("studio.triangles"), 12);
+    assert!(!b.eval("location.search").as_str().unwrap().contains("size=3"));
+    let v = state_when(&w, Duration::from_secs(1), |_| true);
+    assert!((v["model"]["layers"][0]["facts"]["volume"].as_f64().unwrap() - 1.0).abs() < 1e-9, "{v}");
 }

@@ -110,8 +110,18 @@ pub fn layers(engine: &Engine, functions: &AST, value: Dynamic) -> Result<Vec<La
 /// # Errors
 /// A value that cannot be saved, named unless it is the `model`.
 pub fn layer(engine: &Engine, functions: &AST, name: String, value: Dynamic) -> Result<Layer, RunError> {
-    let control = control_lines(&value);
     let named = |e: RunError| if name == "model" { e } else { RunError(format!("layer {name}: {}", e.0)) };
+    // A block model is shown as its surface, `.mesh()`, which keeps its control mesh.
+    let value = if engine.map_type_name(value.type_name()) == "BlockModel" {
+        let mut scope = rhai::Scope::new();
+        scope.push("model", value);
+        engine
+            .eval_with_scope::<Dynamic>(&mut scope, "model.mesh()")
+            .map_err(|e| named(RunError(format!("error: cannot mesh the block model: {e}"))))?
+    } else {
+        value
+    };
+    let control = control_lines(&value);
     let file = PathBuf::from(format!("{name}.glb"));
     let (glb, mesh) = match own_mesh(value) {
         Ok(mesh) => {
@@ -178,8 +188,17 @@ fn glb_of(engine: &Engine, functions: &AST, value: Dynamic) -> Result<Vec<u8>, R
     static COUNTER: AtomicU64 = AtomicU64::new(0);
     let n = COUNTER.fetch_add(1, Ordering::Relaxed);
     let path: PathBuf = std::env::temp_dir().join(format!("blocksmith-studio-{}-{n}.glb", std::process::id()));
+    // The temporary file is no business of the person looking: errors name the page instead.
+    let hide = |e: RunError| {
+        RunError(
+            e.0.replace(&format!(" to {}", path.display()), "")
+                .replace(&path.display().to_string(), "the page")
+                .replace("error: cannot write ", "error: cannot show "),
+        )
+    };
     let result = save_value(engine, functions, value, &path)
-        .and_then(|()| std::fs::read(&path).map_err(|e| RunError(format!("error: cannot read back the model: {e}"))));
+        .and_then(|()| std::fs::read(&path).map_err(|e| RunError(format!("error: cannot read back the model: {e}"))))
+        .map_err(hide);
     // Best effort: the file may not exist when saving failed.
     let _ = std::fs::remove_file(&path);
     result
