@@ -137,14 +137,25 @@ class Browser:
         self.profile.cleanup()
 
 
+# The studio's token for each address (it answers nothing of the model without it).
+TOKENS = {}
+
+
+def get(addr, path):
+    request = urllib.request.Request(f"http://{addr}{path}", headers={"X-Blocksmith-Token": TOKENS[addr]})
+    return urllib.request.urlopen(request)
+
+
 def state(addr):
-    with urllib.request.urlopen(f"http://{addr}/api/state") as r:
+    with get(addr, "/api/state") as r:
         return json.load(r)
 
 
 def watch(binary, target):
     proc = subprocess.Popen([binary, "watch", str(target)], stderr=subprocess.PIPE, text=True)
-    addr = proc.stderr.readline().split("http://")[1].split("/")[0]
+    url = proc.stderr.readline().split("http://")[1].split()[0]
+    addr, token = url.split("/?token=")
+    TOKENS[addr] = token
     while not state(addr)["model"]:
         time.sleep(0.01)
     return proc, addr
@@ -164,13 +175,13 @@ def measure(binary, recipe, text=None, fresh_page=False):
         target = Path(d) / name
         target.write_text(text)
         proc, addr = watch(binary, target)
-        browser = Browser(f"http://{addr}/")
+        browser = Browser(f"http://{addr}/?token={TOKENS[addr]}")
         try:
             first = shown_after(browser, 0)
             triangles = browser.eval("studio.triangles")
             if fresh_page:
                 glb = state(addr)["model"]["layers"][0]["url"]
-                with urllib.request.urlopen(f"http://{addr}{glb}") as r:
+                with get(addr, glb) as r:
                     size = len(r.read())
                 loads, steps = [], []
                 for _ in range(3):
