@@ -561,28 +561,43 @@ fn transform(a: &HashMap<String, String>, what: &str, path: &Path) -> Result<Aff
     }
 }
 
-/// The triangles each object places (itself and its components), counted before anything is
-/// placed so that a file nesting components to explode is refused first.
 /// The part a component or item of part `part` names: its `p:path`, else its own part.
 fn part_of<'a>(p: &'a Option<String>, part: &'a str) -> &'a str {
     p.as_deref().map_or(part, |p| p.trim_start_matches('/'))
 }
 
-fn triangle_count(parts: &Parts, part: &str, id: u32, depth: usize, path: &Path) -> Result<u128, IoError> {
+/// The placements, vertices and triangles object `id` of `part` makes (itself and its components,
+/// saturating at `u128::MAX`), counted before anything is placed so that a file nesting
+/// components to explode is refused first. Each object is counted once (`memo`), so that a
+/// DAG of components 10 wide and 12 deep costs its 120 edges, not its 10¹² placements.
+fn triangle_count<'a>(
+    parts: &'a Parts,
+    part: &'a str,
+    id: u32,
+    depth: usize,
+    memo: &mut HashMap<(&'a str, u32), u128>,
+    path: &Path,
+) -> Result<u128, IoError> {
+    if let Some(&n) = memo.get(&(part, id)) {
+        return Ok(n);
+    }
     if depth > MAX_DEPTH {
         return Err(tmf_error(
             path,
             format!("components nested deeper than {MAX_DEPTH} (or in a cycle) at object {id}"),
         ));
     }
+    crate::limits::check().map_err(|e| IoError::from_mesh(path, MeshError::Limit(e)))?;
     let o = parts
         .get(part)
         .and_then(|m| m.objects.get(&id))
         .ok_or_else(|| tmf_error(path, format!("no object with id {id} in part {part}")))?;
-    let mut n = o.triangles.len() as u128 + o.vertices.len() as u128;
+    // The placement itself counts too: a DAG of empty objects still costs its walk.
+    let mut n = 1 + o.triangles.len() as u128 + o.vertices.len() as u128;
     for (c, _, p) in &o.components {
-        n += triangle_count(parts, part_of(p, part), *c, depth + 1, path)?;
+        n = n.saturating_add(triangle_count(parts, part_of(p, part), *c, depth + 1, memo, path)?);
     }
+    memo.insert((part, id), n);
     Ok(n)
 }
 
@@ -592,7 +607,11 @@ struct Placed {
     colors: Vec<Option<[f32; 4]>>,
 }
 
+/// Places object `id` of `part` moved by `t` into `out`, with its components; one unit of work
+/// per placement, and a poll every [`crate::limits::POLL_EVERY`] triangles.
 fn place(parts: &Parts, part: &str, id: u32, t: &Affine, out: &mut Placed, path: &Path) -> Result<(), IoError> {
+    let stopped = |e: LimitError| IoError::from_mesh(path, MeshError::Limit(e));
+    crate::limits::check().map_err(stopped)?;
     let model = &parts[part];
     let o = &model.objects[&id];
     let base = out.positions.len();
@@ -600,6 +619,7 @@ fn place(parts: &Parts, part: &str, id: u32, t: &Affine, out: &mut Placed, path:
     out.colors.resize(out.positions.len(), None);
     let flip = t.mirrors();
     for (k, (tri, props)) in o.triangles.iter().zip(&o.props).enumerate() {
+        crate::limits::poll_at(k).map_err(stopped)?;
         for &v in tri {
             if v as usize >= o.vertices.len() {
                 return Err(IoError::IndexOutOfRange {
@@ -635,15 +655,16 @@ fn place(parts: &Parts, part: &str, id: u32, t: &Affine, out: &mut Placed, path:
 
 /// The mesh of the build of the root part `root`, its positions scaled by `scale` to
 /// millimetres.
-fn build_mesh(parts: &Parts, root: &str, scale: f64, path: &Path) -> Result<Mesh, IoError> {
+fn build_mesh<'a>(parts: &'a Parts, root: &'a str, scale: f64, path: &Path) -> Result<Mesh, IoError> {
     let model = &parts[root];
     let mut total: u128 = 0;
+    let mut memo = HashMap::new();
     for (id, _, p) in &model.items {
-        total += triangle_count(parts, part_of(p, root), *id, 0, path)?;
+        total = total.saturating_add(triangle_count(parts, part_of(p, root), *id, 0, &mut memo, path)?);
     }
     // Each placed vertex or triangle takes at most ~40 bytes here and in the mesh.
     crate::limits::check_memory(
-        || format!("the 3MF build's {total} placed vertices and triangles"),
+        || format!("the 3MF build's {total} placements, placed vertices and triangles"),
         total as f64 * 160.0,
     )
     .map_err(|e| tmf_error(path, e.to_string()))?;
@@ -877,5 +898,47 @@ mod tests {
             assert!(e.to_string().starts_with("bad.3mf: malformed 3MF: "), "{e}");
             assert!(e.to_string().contains(want), "{e} (wanted {want})");
         }
+    }
+
+    /// A model whose object `k` (1 ≤ k ≤ `depth`) holds `width` components placing object
+    /// `k − 1`, object 0 a tetrahedron: `width^depth` placements of the tetrahedron from a file
+    /// of a few hundred bytes.
+    fn component_dag(width: usize, depth: usize) -> String {
+        let mut objects = String::new();
+        for k in 1..=depth {
+            let comps = format!("<component objectid=\"{}\"/>", k - 1).repeat(width);
+            objects.push_str(&format!("<object id=\"{k}\" type=\"model\"><components>{comps}</components></object>"));
+        }
+        let tetra = tetra_model("millimeter", "", 0, &format!("<item objectid=\"{depth}\"/>"));
+        tetra.replace("</resources>", &format!("{objects}</resources>"))
+    }
+
+    #[test]
+    fn a_component_dag_is_counted_per_object_and_refused_before_its_walk() {
+        // 10 wide and 12 deep: 10¹² placements, 8·10¹² vertices and triangles. Counting each
+        // object once costs 120 component visits, so the refusal comes at once (the walk it
+        // replaces took hours); a small DAG (2 wide, 3 deep: 8 tetrahedra) is still placed.
+        let bytes = package(&component_dag(10, 12));
+        let t = std::time::Instant::now();
+        let e = read_3mf(&bytes, Path::new("dag.3mf")).map(|_| ()).unwrap_err();
+        assert!(t.elapsed().as_secs_f64() < 1.0, "{:?}", t.elapsed());
+        assert!(e.to_string().contains("over the memory budget"), "{e}");
+        assert!(e.to_string().contains("9111111111111 placements"), "{e}");
+        let m = read_3mf(&package(&component_dag(2, 3)), Path::new("dag.3mf")).unwrap();
+        assert_eq!((m.vertex_count(), m.face_count()), (32, 32));
+    }
+
+    #[test]
+    fn placing_components_stops_on_the_token() {
+        // Under a set interrupt the walk stops at its first placement.
+        use crate::limits::{install, CancelToken, StopReason};
+        use std::sync::atomic::AtomicBool;
+        use std::sync::Arc;
+        let _g = install(CancelToken::with(Some(Arc::new(AtomicBool::new(true))), None, None));
+        let e = read_3mf(&package(&component_dag(2, 3)), Path::new("dag.3mf")).unwrap_err();
+        assert!(
+            matches!(e, IoError::Mesh { source: MeshError::Limit(LimitError::Stopped(StopReason::Interrupted)), .. }),
+            "{e}"
+        );
     }
 }
