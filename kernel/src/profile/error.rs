@@ -28,6 +28,9 @@ pub enum ProfileError {
         fmt_num(*value)
     )]
     OutOfRange { what: String, index: usize, value: f64 },
+    /// Font data that is not a TrueType or OpenType font.
+    #[error("the font cannot be read: {reason}")]
+    Font { reason: String },
     /// A number out of its range.
     #[error("{name} must be {expected}, not {}", fmt_num(*value))]
     BadValue { name: &'static str, value: f64, expected: &'static str },

@@ -5,6 +5,7 @@
 //!   [`Profile::polygon`] (with a [`FillRule`]); booleans (`construct`, `boolean`), offsets,
 //!   fillets and chamfers (`offset`), hulls (`hull`), transforms (`transform`),
 //!   simplification and measures (`measure`).
+//! - [`text`]: glyph outlines of a font (the bundled DejaVu Sans or any TTF/OTF) as a profile.
 //! - 3D from 2D, each a closed manifold [`Mesh`](crate::Mesh): [`extrude`], [`revolve`],
 //!   [`sweep`] (rotation-minimising frames, `frames`), [`loft`].
 //! - 3D operations on meshes: [`hull_points`] / [`hull_meshes`], [`minkowski`], [`split`] /
@@ -35,6 +36,7 @@ mod revolve;
 mod slice;
 mod split;
 mod sweep;
+mod text;
 mod transform;
 
 #[cfg(test)]
@@ -56,6 +58,7 @@ pub use revolve::{revolve, RevolveOptions};
 pub use slice::{project, slice};
 pub use split::{split, trim};
 pub use sweep::{sweep, SweepOptions};
+pub use text::{text, Font, HAlign, TextOptions, VAlign};
 
 /// A point or direction in 2D, in double precision.
 pub type Vec2 = glam::DVec2;

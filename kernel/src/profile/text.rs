@@ -1,0 +1,394 @@
+//! Text as a profile: the glyph outlines of a TrueType or OpenType font, laid out in lines.
+//!
+//! Outlines come from `ttf-parser` (TrueType quadratic and CFF cubic Béziers, each flattened
+//! into [`TextOptions::segments`] line segments) and fill by the non-zero rule, as fonts are
+//! drawn. Sizes follow OpenSCAD's `text`: the em square is `size / 0.72` (a size in points at
+//! 100 dpi), so capitals stand about `size` tall. Glyphs are placed by their advance widths
+//! times `spacing`, with no kerning or shaping (no ligatures, no right-to-left runs); a `\n`
+//! starts a new line one line height (ascender − descender + line gap) lower. Characters the
+//! font lacks draw its missing-glyph shape (glyph 0).
+//!
+//! The bundled font is DejaVu Sans 2.37 (Bitstream Vera licence, `kernel/assets/fonts/`).
+
+use std::collections::HashMap;
+use std::sync::Arc;
+
+use ttf_parser::{Face, GlyphId, OutlineBuilder};
+
+use super::convert::check_number;
+use super::{Profile, ProfileError, Vec2};
+use crate::profile::FillRule;
+
+/// DejaVu Sans, embedded.
+static BUNDLED: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
+
+/// A font's data, checked to parse.
+#[derive(Clone, Debug)]
+pub struct Font {
+    data: Arc<[u8]>,
+}
+
+impl Font {
+    /// The bundled font, DejaVu Sans.
+    #[must_use]
+    pub fn bundled() -> Font {
+        Font { data: Arc::from(BUNDLED) }
+    }
+
+    /// A font from the bytes of a TrueType (`.ttf`) or OpenType (`.otf`) file (the first face
+    /// of a collection).
+    ///
+    /// # Errors
+    /// [`ProfileError::Font`] when the data is not a font ttf-parser reads.
+    pub fn from_bytes(data: Vec<u8>) -> Result<Font, ProfileError> {
+        Face::parse(&data, 0).map_err(|e| ProfileError::Font { reason: e.to_string() })?;
+        Ok(Font { data: Arc::from(data) })
+    }
+
+    fn face(&self) -> Face<'_> {
+        // Checked in the constructors.
+        Face::parse(&self.data, 0).expect("font data parsed when the Font was made")
+    }
+}
+
+/// Where the text's lines stand across x = 0.
+///
+/// Default value: [`HAlign::Left`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum HAlign {
+    /// Each line starts at x = 0.
+    #[default]
+    Left,
+    /// Each line's advance is centred on x = 0.
+    Center,
+    /// Each line ends (its last advance) at x = 0.
+    Right,
+}
+
+/// Where the text stands across y = 0.
+///
+/// Default value: [`VAlign::Baseline`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum VAlign {
+    /// The first line's baseline on y = 0.
+    #[default]
+    Baseline,
+    /// The lowest ink on y = 0.
+    Bottom,
+    /// The ink's vertical middle on y = 0.
+    Center,
+    /// The highest ink on y = 0.
+    Top,
+}
+
+impl HAlign {
+    /// The alignment by its name: `"left"`, `"center"` or `"right"`.
+    #[must_use]
+    pub fn from_name(name: &str) -> Option<HAlign> {
+        match name {
+            "left" => Some(HAlign::Left),
+            "center" => Some(HAlign::Center),
+            "right" => Some(HAlign::Right),
+            _ => None,
+        }
+    }
+}
+
+impl VAlign {
+    /// The alignment by its name: `"baseline"`, `"bottom"`, `"center"` or `"top"`.
+    #[must_use]
+    pub fn from_name(name: &str) -> Option<VAlign> {
+        match name {
+            "baseline" => Some(VAlign::Baseline),
+            "bottom" => Some(VAlign::Bottom),
+            "center" => Some(VAlign::Center),
+            "top" => Some(VAlign::Top),
+            _ => None,
+        }
+    }
+}
+
+/// Options of [`text`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub struct TextOptions {
+    /// The size: the em square is `size / 0.72` (capitals about `size` tall). Default value: 10.
+    pub size: f64,
+    /// Horizontal alignment. Default value: [`HAlign::Left`].
+    pub halign: HAlign,
+    /// Vertical alignment. Default value: [`VAlign::Baseline`].
+    pub valign: VAlign,
+    /// The factor on every advance width (1 as the font sets it, at least 0). Default value: 1.
+    pub spacing: f64,
+    /// Line segments per Bézier curve of an outline (1 to 64). Default value: 8.
+    pub segments: u32,
+}
+
+impl TextOptions {
+    /// Size 10, left on the baseline, the font's spacing, 8 segments per curve.
+    pub const DEFAULT: TextOptions =
+        TextOptions { size: 10.0, halign: HAlign::Left, valign: VAlign::Baseline, spacing: 1.0, segments: 8 };
+
+    /// With `size`.
+    #[must_use]
+    pub fn with_size(mut self, size: f64) -> TextOptions {
+        self.size = size;
+        self
+    }
+
+    /// With the horizontal alignment `halign`.
+    #[must_use]
+    pub fn with_halign(mut self, halign: HAlign) -> TextOptions {
+        self.halign = halign;
+        self
+    }
+
+    /// With the vertical alignment `valign`.
+    #[must_use]
+    pub fn with_valign(mut self, valign: VAlign) -> TextOptions {
+        self.valign = valign;
+        self
+    }
+
+    /// With `spacing`.
+    #[must_use]
+    pub fn with_spacing(mut self, spacing: f64) -> TextOptions {
+        self.spacing = spacing;
+        self
+    }
+
+    /// With `segments` per curve.
+    #[must_use]
+    pub fn with_segments(mut self, segments: u32) -> TextOptions {
+        self.segments = segments;
+        self
+    }
+}
+
+impl Default for TextOptions {
+    fn default() -> TextOptions {
+        TextOptions::DEFAULT
+    }
+}
+
+/// Collects a glyph's contours in font units, curves flattened.
+struct Outline {
+    segments: u32,
+    contours: Vec<Vec<Vec2>>,
+    at: Vec2,
+}
+
+impl Outline {
+    fn push(&mut self, p: Vec2) {
+        if let Some(c) = self.contours.last_mut() {
+            c.push(p);
+        }
+        self.at = p;
+    }
+}
+
+impl OutlineBuilder for Outline {
+    fn move_to(&mut self, x: f32, y: f32) {
+        let p = Vec2::new(f64::from(x), f64::from(y));
+        self.contours.push(vec![p]);
+        self.at = p;
+    }
+
+    fn line_to(&mut self, x: f32, y: f32) {
+        self.push(Vec2::new(f64::from(x), f64::from(y)));
+    }
+
+    fn quad_to(&mut self, x1: f32, y1: f32, x: f32, y: f32) {
+        let (p0, c, p) = (self.at, Vec2::new(f64::from(x1), f64::from(y1)), Vec2::new(f64::from(x), f64::from(y)));
+        for k in 1..=self.segments {
+            let t = f64::from(k) / f64::from(self.segments);
+            let u = 1.0 - t;
+            self.push(u * u * p0 + 2.0 * u * t * c + t * t * p);
+        }
+    }
+
+    fn curve_to(&mut self, x1: f32, y1: f32, x2: f32, y2: f32, x: f32, y: f32) {
+        let p0 = self.at;
+        let (c1, c2) = (Vec2::new(f64::from(x1), f64::from(y1)), Vec2::new(f64::from(x2), f64::from(y2)));
+        let p = Vec2::new(f64::from(x), f64::from(y));
+        for k in 1..=self.segments {
+            let t = f64::from(k) / f64::from(self.segments);
+            let u = 1.0 - t;
+            self.push(u * u * u * p0 + 3.0 * u * u * t * c1 + 3.0 * u * t * t * c2 + t * t * t * p);
+        }
+    }
+
+    fn close(&mut self) {
+        // The contour closes back to its first point implicitly; drop a repeated last point.
+        if let Some(c) = self.contours.last_mut() {
+            if c.len() > 1 && c.first() == c.last() {
+                c.pop();
+            }
+        }
+    }
+}
+
+/// `s` set in `font` as a profile (see the [module documentation](self)).
+///
+/// # Errors
+/// [`ProfileError::Empty`] for an empty string; [`ProfileError::ZeroArea`] when no character
+/// draws anything (only spaces); [`ProfileError::BadValue`] for a size not positive and
+/// finite, a spacing negative or not finite, segments outside 1 to 64;
+/// [`ProfileError::OutOfRange`] for text reaching beyond [`MAX_REACH`](super::MAX_REACH);
+/// [`ProfileError::Limit`] when stopped.
+pub fn text(s: &str, font: &Font, options: &TextOptions) -> Result<Profile, ProfileError> {
+    if s.is_empty() {
+        return Err(ProfileError::Empty { what: "the text".into() });
+    }
+    check_number("the text size", options.size, true)?;
+    check_number("the spacing", options.spacing, false)?;
+    if options.spacing < 0.0 {
+        return Err(ProfileError::BadValue { name: "the spacing", value: options.spacing, expected: "at least 0" });
+    }
+    if !(1..=64).contains(&options.segments) {
+        return Err(ProfileError::BadValue {
+            name: "the segments per curve",
+            value: f64::from(options.segments),
+            expected: "from 1 to 64",
+        });
+    }
+    let face = font.face();
+    let scale = options.size / 0.72 / f64::from(face.units_per_em().max(1));
+    let line_height = f64::from(i32::from(face.ascender()) - i32::from(face.descender()) + i32::from(face.line_gap()));
+    let mut cache: HashMap<GlyphId, Vec<Vec<Vec2>>> = HashMap::new();
+    let mut contours: Vec<Vec<Vec2>> = Vec::new();
+    for (line_no, line) in s.split('\n').enumerate() {
+        crate::limits::charge(line.len() as u64 + 1)?;
+        let first = contours.len();
+        let mut pen = 0.0;
+        for ch in line.chars().filter(|c| !c.is_control()) {
+            let gid = face.glyph_index(ch).unwrap_or(GlyphId(0));
+            let glyph = cache.entry(gid).or_insert_with(|| {
+                let mut o = Outline { segments: options.segments, contours: Vec::new(), at: Vec2::ZERO };
+                face.outline_glyph(gid, &mut o);
+                o.contours.retain(|c| c.len() >= 3);
+                o.contours
+            });
+            let origin = Vec2::new(pen, -(line_no as f64) * line_height);
+            contours.extend(glyph.iter().map(|c| c.iter().map(|&p| (p + origin) * scale).collect()));
+            pen += f64::from(face.glyph_hor_advance(gid).unwrap_or(0)) * options.spacing;
+        }
+        let shift = match options.halign {
+            HAlign::Left => 0.0,
+            HAlign::Center => -pen * scale / 2.0,
+            HAlign::Right => -pen * scale,
+        };
+        if shift != 0.0 {
+            for c in &mut contours[first..] {
+                c.iter_mut().for_each(|p| p.x += shift);
+            }
+        }
+    }
+    if contours.is_empty() {
+        return Err(ProfileError::ZeroArea { what: "the text (it has no visible characters)".into() });
+    }
+    let (lo, hi) =
+        contours.iter().flatten().fold((Vec2::INFINITY, Vec2::NEG_INFINITY), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+    let dy = match options.valign {
+        VAlign::Baseline => 0.0,
+        VAlign::Bottom => -lo.y,
+        VAlign::Center => -(lo.y + hi.y) / 2.0,
+        VAlign::Top => -hi.y,
+    };
+    if dy != 0.0 {
+        contours.iter_mut().flatten().for_each(|p| p.y += dy);
+    }
+    match Profile::from_contours(&contours, FillRule::NonZero) {
+        Err(ProfileError::NonFinite { .. } | ProfileError::OutOfRange { .. }) => Err(ProfileError::OutOfRange {
+            what: "the text".into(),
+            index: 0,
+            value: lo.abs().max(hi.abs()).max_element(),
+        }),
+        Err(ProfileError::ZeroArea { .. }) => {
+            Err(ProfileError::ZeroArea { what: "the text (it has no visible characters)".into() })
+        }
+        other => other,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::profile::tests::assert_near;
+    use crate::profile::{extrude, ExtrudeOptions};
+
+    /// DejaVu Sans' units per em and cap height, from its `head` and `OS/2` tables.
+    const UPEM: f64 = 2048.0;
+
+    #[test]
+    fn an_i_is_one_rectangle_a_cap_height_tall() {
+        // DejaVu Sans draws `I` as a single stem rectangle from the baseline to the cap height
+        // (1493 units): at size 10 it stands 1493/2048 · 10/0.72 tall.
+        let p = text("I", &Font::bundled(), &TextOptions::DEFAULT).unwrap();
+        assert_eq!(p.contours().len(), 1);
+        assert_eq!(p.contours()[0].len(), 4);
+        let (lo, hi) = p.bounds().unwrap();
+        assert_near(lo.y, 0.0, 1e-9);
+        assert_near(hi.y, 1493.0 / UPEM * 10.0 / 0.72, 1e-7);
+    }
+
+    #[test]
+    fn an_o_has_a_hole_and_glyphs_follow_their_advances() {
+        let font = Font::bundled();
+        let o = text("o", &font, &TextOptions::DEFAULT).unwrap();
+        assert_eq!(o.contours().len(), 2);
+        assert_eq!((0..2).filter(|&i| o.is_hole(i)).count(), 1);
+        // "II" is two stems one advance apart: twice the area, and spacing 2 moves the second
+        // one a further advance.
+        let one = text("I", &font, &TextOptions::DEFAULT).unwrap();
+        let two = text("II", &font, &TextOptions::DEFAULT).unwrap();
+        assert_near(two.area(), 2.0 * one.area(), 1e-6);
+        let wide = text("II", &font, &TextOptions::DEFAULT.with_spacing(2.0)).unwrap();
+        let advance = two.bounds().unwrap().1.x - one.bounds().unwrap().1.x;
+        assert_near(wide.bounds().unwrap().1.x - two.bounds().unwrap().1.x, advance, 1e-7);
+    }
+
+    #[test]
+    fn alignment_places_the_ink_and_the_advance_about_the_origin() {
+        let font = Font::bundled();
+        let top = text("Hello", &font, &TextOptions::DEFAULT.with_valign(VAlign::Top)).unwrap();
+        assert_near(top.bounds().unwrap().1.y, 0.0, 1e-7);
+        let mid = text("Hello", &font, &TextOptions::DEFAULT.with_valign(VAlign::Center)).unwrap();
+        let (lo, hi) = mid.bounds().unwrap();
+        assert_near(lo.y + hi.y, 0.0, 1e-7);
+        let right = text("Hello", &font, &TextOptions::DEFAULT.with_halign(HAlign::Right)).unwrap();
+        assert!(right.bounds().unwrap().1.x <= 0.0);
+        // Two lines: the second one line height lower.
+        let lines = text("H\nH", &font, &TextOptions::DEFAULT).unwrap();
+        assert_eq!(lines.contours().len(), 2);
+        assert_near(lines.area(), 2.0 * text("H", &font, &TextOptions::DEFAULT).unwrap().area(), 1e-6);
+    }
+
+    #[test]
+    fn bad_text_and_fonts_are_refused_by_name() {
+        let font = Font::bundled();
+        assert_eq!(
+            text("", &font, &TextOptions::DEFAULT).unwrap_err().to_string(),
+            "the text is empty: it has no contours"
+        );
+        assert!(matches!(text("   ", &font, &TextOptions::DEFAULT), Err(ProfileError::ZeroArea { .. })));
+        assert!(text("a", &font, &TextOptions::DEFAULT.with_size(0.0)).is_err());
+        assert!(text("a", &font, &TextOptions::DEFAULT.with_segments(0)).is_err());
+        assert!(matches!(
+            text("a", &font, &TextOptions::DEFAULT.with_size(1e12)),
+            Err(ProfileError::OutOfRange { .. })
+        ));
+        let e = Font::from_bytes(b"not a font".to_vec()).unwrap_err();
+        assert!(e.to_string().starts_with("the font cannot be read"), "{e}");
+        // A character the font lacks draws the missing-glyph box instead of failing.
+        assert!(!text("\u{10FFFD}", &font, &TextOptions::DEFAULT).unwrap().is_empty());
+    }
+
+    #[test]
+    fn engraved_text_extrudes_to_a_closed_solid() {
+        let p = text("Blocksmith 3D!", &Font::bundled(), &TextOptions::DEFAULT.with_size(5.0)).unwrap();
+        let m = extrude(&p, 1.0, &ExtrudeOptions::DEFAULT).unwrap();
+        assert!(m.is_closed() && m.is_manifold());
+        assert_near(m.volume(), p.area(), 1e-9 * p.area());
+    }
+}
