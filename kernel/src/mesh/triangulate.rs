@@ -142,23 +142,49 @@ fn is_planar(corners: &[Vec3], normal: Vec3) -> bool {
     spread <= 1e-9 * size
 }
 
-/// The fans of the polygon `corners` from each corner, best first, each with its worst
-/// facing: the smallest dot product of a triangle's vector area with `normal`; largest first,
-/// ties by corner order.
-fn fans_best_first(corners: &[Vec3], normal: Vec3) -> Vec<(f64, Triangles)> {
+/// Work allowed for trying fans on one face, in fan triangles: a polygon of `k` corners tries
+/// the fans from all its corners while `k² ≤ FAN_WORK`, else from `FAN_WORK / k` corners spread
+/// evenly (at least [`MIN_FANS`]), so that the fallback costs O(k) time and memory for any `k`
+/// (all `k` fans of a 20,000-gon held 4·10⁸ triangles).
+const FAN_WORK: usize = 1 << 20;
+
+/// The fewest corners whose fans a long polygon tries: 0, 1, the last, and spread ones.
+const MIN_FANS: usize = 16;
+
+/// The fan of the `k`-gon from corner `i`: `k − 2` triangles `(i, i+j, i+j+1)`.
+fn fan(i: usize, k: usize) -> impl Iterator<Item = [usize; 3]> {
+    (1..k - 1).map(move |j| [i, (i + j) % k, (i + j + 1) % k])
+}
+
+/// The corners whose fans are tried on the polygon `corners`, best first, each with its worst
+/// facing: the smallest dot product of a fan triangle's vector area with `normal`; largest
+/// first, ties by corner order. Every corner while `k² ≤ FAN_WORK`, else a spread subset
+/// (see [`FAN_WORK`]); O(min(k², FAN_WORK) + k) time and O(candidates) memory. Build a fan's
+/// triangles with [`fan`].
+fn fans_best_first(corners: &[Vec3], normal: Vec3) -> Vec<(f64, usize)> {
     let k = corners.len();
-    let mut fans: Vec<(f64, usize, Triangles)> = (0..k)
+    let tries = if k.saturating_mul(k) <= FAN_WORK { k } else { (FAN_WORK / k).clamp(MIN_FANS.min(k), k) };
+    // Corners 0, 1 and k − 1 (next to the first corner, whose own diagonals a neighbour's
+    // reverse face may already use), then spread evenly.
+    let mut from: Vec<usize> = if tries == k {
+        (0..k).collect()
+    } else {
+        let mut v: Vec<usize> = [0, 1, k - 1].into_iter().chain((1..tries - 3).map(|j| j * k / (tries - 3))).collect();
+        v.sort_unstable();
+        v.dedup();
+        v
+    };
+    let mut fans: Vec<(f64, usize)> = from
+        .drain(..)
         .map(|i| {
-            let t: Triangles = (1..k - 1).map(|j| [i, (i + j) % k, (i + j + 1) % k]).collect();
-            let worst = t
-                .iter()
-                .map(|&[a, b, c]| (corners[b] - corners[a]).cross(corners[c] - corners[a]).dot(normal))
+            let worst = fan(i, k)
+                .map(|[a, b, c]| (corners[b] - corners[a]).cross(corners[c] - corners[a]).dot(normal))
                 .fold(f64::INFINITY, f64::min);
-            (worst, i, t)
+            (worst, i)
         })
         .collect();
     fans.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
-    fans.into_iter().map(|(w, _, t)| (w, t)).collect()
+    fans
 }
 
 /// A triangulation of every face, planned by [`Mesh::plan_triangles`].
@@ -279,15 +305,22 @@ impl Mesh {
                     // (else triangles would overlap); a non-planar one any fan. Areas beyond
                     // f64's range stay an error.
                     let planar = is_planar(&corners, normal);
-                    let fan = fans_best_first(&corners, normal)
-                        .into_iter()
-                        .find(|(worst, t)| worst.is_finite() && (!planar || *worst > 0.0) && fresh(t, &diagonals));
-                    match (fan, first) {
-                        (Some((_, t)), _) => t,
-                        (None, Err(reason)) if planar => {
+                    // Each fan is built only when tried, so that memory stays O(k).
+                    let mut scratch: Triangles = Vec::new();
+                    let found = fans_best_first(&corners, normal).into_iter().any(|(worst, i)| {
+                        if !worst.is_finite() || (planar && worst <= 0.0) {
+                            return false;
+                        }
+                        scratch.clear();
+                        scratch.extend(fan(i, k));
+                        fresh(&scratch, &diagonals)
+                    });
+                    match (found, first) {
+                        (true, _) => scratch,
+                        (false, Err(reason)) if planar => {
                             return Err(MeshError::Triangulation { face: f as usize, reason })
                         }
-                        (None, _) => {
+                        (false, _) => {
                             // Cut about a new vertex at the centroid: one triangle per side,
                             // the side v0 → v1 first.
                             let c = crate::math::mean_point(corners.iter().copied());
@@ -519,5 +552,37 @@ mod tests {
             [(0., 0.), (2., 2.), (2., 0.), (0., 2.), (1., 3.)].iter().map(|&(x, y)| Vec3::new(x, y, 0.0)).collect();
         let m = Mesh::from_polygons(p, &[[0, 2, 1, 3, 4]]).unwrap();
         assert!(matches!(m.triangulate(), Err(MeshError::Triangulation { face: 0, .. })));
+    }
+
+    /// A closed "pillow" of two `k`-gons glued along all their edges: the polygon
+    /// `r(i) (cos θᵢ, sin θᵢ)` and its reverse, starting at the same corner, so that the second
+    /// face's first choice repeats the first face's diagonals and the fallback runs.
+    fn pillow(k: usize, r: impl Fn(usize) -> f64) -> Mesh {
+        let p: Vec<Vec3> = (0..k)
+            .map(|i| {
+                let a = i as f64 * std::f64::consts::TAU / k as f64;
+                Vec3::new(r(i) * a.cos(), r(i) * a.sin(), 0.0)
+            })
+            .collect();
+        let front: Vec<u32> = (0..k as u32).collect();
+        let back: Vec<u32> = std::iter::once(0).chain((1..k as u32).rev()).collect();
+        Mesh::from_polygons(p, &[front, back]).unwrap()
+    }
+
+    #[test]
+    fn long_polygons_whose_first_cut_repeats_triangulate_in_linear_memory() {
+        // 20,000 corners, the OBJ of issue 33: trying every fan held k² = 4·10⁸ triangles (an
+        // abort at 1.8 GB). A convex disk's back face takes the fan from its second corner; a
+        // star's (no fan faces its normal everywhere) is cut about its centre. Both stay closed
+        // spheres, and quickly: each takes a bounded number of O(k) fans.
+        let k = 20_000;
+        for (m, centres) in [(pillow(k, |_| 1.0), 0), (pillow(k, |i| if i % 2 == 0 { 1.0 } else { 0.5 }), 1)] {
+            let t0 = std::time::Instant::now();
+            let t = m.triangulate().unwrap();
+            assert!(t0.elapsed().as_secs_f64() < 5.0, "{:?}", t0.elapsed());
+            assert_closed_sphere(&t);
+            assert_eq!(t.vertex_count(), k + centres);
+            assert!((t.area() - 2.0 * m.face_area(0)).abs() < 1e-9 * m.face_area(0), "{} {}", t.area(), m.face_area(0));
+        }
     }
 }
