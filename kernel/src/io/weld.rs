@@ -5,9 +5,10 @@
 //! Each vertex, in file order, joins the first earlier *kept* vertex within the tolerance in
 //! every coordinate (a box, not a ball), or is kept itself. Kept vertices keep their position
 //! bit for bit, and a file without near-duplicates is returned unchanged, so round trips stay
-//! exact. Lookup goes through a hash grid of cells 256 tolerances wide: a vertex looks in its
-//! own cell, and in a neighbouring one only when it lies within the tolerance of that side, so
-//! the cost is one hash lookup per vertex (linear) unless many vertices crowd one cell.
+//! exact. Lookup goes through a hash grid of cells 4 tolerances wide: a vertex looks in its
+//! own cell, and in a neighbouring one only when it lies within the tolerance of that side.
+//! Kept vertices are pairwise more than the tolerance apart, so a cell holds at most 125 of
+//! them: the cost is linear whatever the positions (no crowding of one cell).
 
 use crate::limits::LimitError;
 use crate::math::{IdMap, Vec3};
@@ -37,15 +38,23 @@ impl Weld {
     pub const DEFAULT: Weld = Weld::Relative(1e-8);
 }
 
-/// Cell width in tolerances: wide, so that few vertices need a neighbouring cell.
-const CELL: f64 = 256.0;
+/// Cell width in tolerances. Kept vertices are more than the tolerance apart in some
+/// coordinate, so a cell holds at most (CELL + 1)³ = 125 of them whatever the positions (at
+/// 256 tolerances, a file whose corners all fell in one cell made the weld quadratic: a
+/// minute for a 5 MB STL); a vertex needs a neighbouring cell on an axis only within the
+/// tolerance of that side, so it looks up (1 + 2/CELL)³ ≈ 3.4 cells on average.
+const CELL: f64 = 4.0;
+
+/// Cells looked up and kept vertices compared between two polls of the cancellation token:
+/// about a millisecond of work.
+const POLL_WORK: usize = 1 << 16;
 
 /// The weld of `positions`: for each file vertex its new id, and for each new id the file
 /// vertex it keeps (in increasing order). `Weld::Off` keeps every vertex.
 ///
 /// # Errors
 /// [`LimitError::Stopped`] when the current cancellation token stops (polled every
-/// [`crate::limits::POLL_EVERY`] vertices).
+/// [`crate::limits::POLL_EVERY`] vertices, or [`POLL_WORK`] cells and comparisons).
 pub(crate) fn weld(positions: &[Vec3], rule: Weld) -> Result<(Vec<u32>, Vec<u32>), LimitError> {
     let tol = match rule {
         Weld::Off => return Ok(((0..positions.len() as u32).collect(), (0..positions.len() as u32).collect())),
@@ -68,23 +77,32 @@ pub(crate) fn weld(positions: &[Vec3], rule: Weld) -> Result<(Vec<u32>, Vec<u32>
         }
         return Ok((map, kept));
     }
-    let width = tol * CELL;
-    let cell_of = |c: f64| (c / width).floor() as i64;
+    // Cells are measured from the low corner of the box, so that far-off models (o = 1e12 with
+    // a diagonal of 1) do not saturate the cell numbers into one cell; and at least 2⁻⁵⁰ of the
+    // diagonal wide, so that numbers stay in range for any ratio.
+    let (lo, diag) = bounds(positions);
+    let width = (tol * CELL).max(diag * 2f64.powi(-50));
+    let cell_of = |c: f64, lo: f64| ((c - lo) / width).floor() as i64;
     // The kept vertices of each cell, as a linked list through `next` (by new id).
     let mut heads: IdMap<[i64; 3], u32> = IdMap::default();
     heads.reserve(positions.len() / 2);
     let mut next: Vec<u32> = Vec::with_capacity(positions.len() / 2);
     let near = |a: Vec3, b: Vec3| (a.x - b.x).abs() <= tol && (a.y - b.y).abs() <= tol && (a.z - b.z).abs() <= tol;
     let mut neighbours: Vec<[i64; 3]> = Vec::with_capacity(27);
+    // Work since the last poll: cells looked up and vertices compared.
+    let mut work = 0usize;
     for (i, &p) in positions.iter().enumerate() {
-        crate::limits::poll_at(i)?;
-        let cell = [cell_of(p.x), cell_of(p.y), cell_of(p.z)];
-        // Offsets per axis: 0, and −1 / +1 when p lies within tol of that side of its cell.
-        let steps = [p.x, p.y, p.z].map(|c| {
-            let lo = (c - tol) / width;
-            let hi = (c + tol) / width;
-            (lo.floor() as i64 - (c / width).floor() as i64, hi.floor() as i64 - (c / width).floor() as i64)
-        });
+        work += 1;
+        if work >= POLL_WORK {
+            work = 0;
+            crate::limits::poll()?;
+        }
+        let c = [p.x, p.y, p.z];
+        let l = [lo.x, lo.y, lo.z];
+        let cell = [0, 1, 2].map(|a| cell_of(c[a], l[a]));
+        // Cells per axis from that of p − tol to that of p + tol: p's own, and its neighbour
+        // when p lies within tol of that side.
+        let steps = [0, 1, 2].map(|a| (cell_of(c[a] - tol, l[a]) - cell[a], cell_of(c[a] + tol, l[a]) - cell[a]));
         neighbours.clear();
         for dx in steps[0].0..=steps[0].1 {
             for dy in steps[1].0..=steps[1].1 {
@@ -96,8 +114,10 @@ pub(crate) fn weld(positions: &[Vec3], rule: Weld) -> Result<(Vec<u32>, Vec<u32>
         // The first (smallest id) kept vertex within tol over all candidate cells.
         let mut found: Option<u32> = None;
         for c in &neighbours {
+            work += 1;
             let mut at = heads.get(c).copied();
             while let Some(k) = at {
+                work += 1;
                 if found.is_none_or(|f| k < f) && near(p, positions[kept[k as usize] as usize]) {
                     found = Some(k);
                 }
@@ -121,6 +141,12 @@ pub(crate) fn weld(positions: &[Vec3], rule: Weld) -> Result<(Vec<u32>, Vec<u32>
 
 /// The length of the diagonal of the bounding box of the finite `positions` (0 if none).
 fn diagonal(positions: &[Vec3]) -> f64 {
+    bounds(positions).1
+}
+
+/// The low corner of the bounding box of the finite `positions` and the length of its
+/// diagonal (the origin and 0 if none).
+fn bounds(positions: &[Vec3]) -> (Vec3, f64) {
     let mut lo = Vec3::splat(f64::INFINITY);
     let mut hi = Vec3::splat(f64::NEG_INFINITY);
     for &p in positions.iter().filter(|p| p.is_finite()) {
@@ -128,9 +154,9 @@ fn diagonal(positions: &[Vec3]) -> f64 {
         hi = hi.max(p);
     }
     if lo.x > hi.x {
-        0.0
+        (Vec3::ZERO, 0.0)
     } else {
-        (hi - lo).length()
+        (lo, (hi - lo).length())
     }
 }
 
@@ -273,5 +299,46 @@ mod tests {
         let (idx, ar, from) = remap_faces(&long, &[20], &map);
         assert_eq!((idx, ar, from), (long, vec![20], vec![0]));
         assert!(has_repeat(&[5, 1, 2, 5], &mut Vec::new()) && !has_repeat(&[5, 1, 2], &mut Vec::new()));
+    }
+
+    /// 64,000 corners on a lattice 2.5 tolerances apart (none within the tolerance of another),
+    /// all within 100 tolerances of the origin, and one corner at (1, 1, 1) that sets the
+    /// tolerance: the crowded file of issue 33, all in one cell of the old 256-tolerance grid.
+    fn crowded() -> Vec<Vec3> {
+        let tol = 1e-8 * 3f64.sqrt();
+        let mut p: Vec<Vec3> = (0..40 * 40 * 40)
+            .map(|i| Vec3::new(f64::from(i % 40), f64::from(i / 40 % 40), f64::from(i / 1600)) * (2.5 * tol))
+            .collect();
+        p.push(Vec3::ONE);
+        p
+    }
+
+    #[test]
+    fn a_crowded_cell_welds_in_linear_time() {
+        // Each corner is compared with at most the 125 kept corners a cell can hold, times the
+        // cells it touches: well under a second (comparing all pairs, 2·10⁹ of them, took seconds).
+        let p = crowded();
+        let t = std::time::Instant::now();
+        let (map, kept) = weld(&p, Weld::DEFAULT).unwrap();
+        assert!(t.elapsed().as_secs_f64() < 1.0, "{:?}", t.elapsed());
+        assert_eq!(kept.len(), p.len(), "nothing is within the tolerance");
+        assert!(map.iter().enumerate().all(|(i, &m)| m as usize == i));
+        // Every odd corner in x moved 1.6 tolerances back lies 0.9 tolerance from the corner
+        // before it, and welds to it: half the lattice goes.
+        let mut q = p.clone();
+        for v in q.iter_mut().take(64_000).skip(1).step_by(2) {
+            v.x -= 1.6 * 1e-8 * 3f64.sqrt();
+        }
+        let (map, kept) = weld(&q, Weld::DEFAULT).unwrap();
+        assert_eq!((kept.len(), map[1]), (32_001, 0));
+    }
+
+    #[test]
+    fn a_weld_stops_on_the_token() {
+        use crate::limits::{install, CancelToken, StopReason};
+        use std::sync::atomic::AtomicBool;
+        use std::sync::Arc;
+        let _g = install(CancelToken::with(Some(Arc::new(AtomicBool::new(true))), None, None));
+        assert!(matches!(weld(&crowded(), Weld::DEFAULT), Err(LimitError::Stopped(StopReason::Interrupted))));
     }
 }
