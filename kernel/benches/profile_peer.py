@@ -2,6 +2,7 @@
 
   python profile_peer.py bench   # manifold3d on the bench's inputs: best and median times (ms)
   python profile_peer.py values  # manifold3d's volumes/areas on the inputs the kernel tests use
+  python profile_peer.py openscad # OpenSCAD (Debian's openscad) on the same inputs: volumes of the STLs
   python profile_peer.py dxf     # ezdxf reads target/peers/profile/plate.dxf (written by
                                  # `cargo test -p blocksmith-kernel --lib -- --ignored write_peer_samples`)
                                  # and compares its contours with plate.txt
@@ -116,6 +117,28 @@ def values():
     print("project box", Manifold.cube((3,2,1)).project().area())
 
 
+OPENSCAD_CASES = {
+    "text_hello_dejavu": 'linear_extrude(height=1) text("Hello", size=10, font="DejaVu Sans");',
+    "extrude_twist_64gon": "linear_extrude(height=2, twist=90, slices=32) circle(r=1, $fn=64);",
+    "frustum_40gon": "linear_extrude(height=3, scale=1.7) circle(r=1.5, $fn=40);",
+    "annulus_48": "rotate_extrude($fn=48) translate([1,0]) square(1);",
+    "offset_round_32": "linear_extrude(height=1) offset(r=1, $fn=32) square(10);",
+    "minkowski_l_cube": "minkowski() { linear_extrude(height=1) union() { square([2,1]); square([1,2]); } cube(1, center=true); }",
+}
+
+
+def openscad():
+    import subprocess, tempfile, trimesh
+
+    with tempfile.TemporaryDirectory() as d:
+        for name, src in OPENSCAD_CASES.items():
+            scad, stl = os.path.join(d, name + ".scad"), os.path.join(d, name + ".stl")
+            open(scad, "w").write(src + "\n")
+            subprocess.run(["openscad", "-q", "-o", stl, scad], check=True)
+            m = trimesh.load(stl)
+            print(f"PROFILE_OPENSCAD {name} volume={m.volume!r} watertight={m.is_watertight} bounds={m.bounds.tolist()}")
+
+
 def dxf():
     import ezdxf
 
@@ -134,4 +157,4 @@ def dxf():
 
 
 if __name__ == "__main__":
-    {"bench": bench, "values": values, "dxf": dxf}[sys.argv[1] if len(sys.argv) > 1 else "bench"]()
+    {"bench": bench, "values": values, "openscad": openscad, "dxf": dxf}[sys.argv[1] if len(sys.argv) > 1 else "bench"]()
