@@ -218,34 +218,13 @@ pub fn parse_form(body: &str) -> BTreeMap<String, String> {
         .collect()
 }
 
-/// `%XX` and `+` decoded (a malformed escape stays as it is).
+/// `%XX` and `+` decoded, as HTML forms and query strings write them: `+` is a space, then the
+/// escapes go through the kernel's one percent-decoder (a malformed escape stays as it is;
+/// bytes that are not UTF-8 are replaced).
 #[must_use]
 pub fn decode(text: &str) -> String {
-    let hex = |b: u8| char::from(b).to_digit(16).map(|d| d as u8);
-    let bytes = text.as_bytes();
-    let mut out = Vec::with_capacity(bytes.len());
-    let mut i = 0;
-    while i < bytes.len() {
-        let escaped = match bytes.get(i..i + 3) {
-            Some([b'%', hi, lo]) => hex(*hi).zip(hex(*lo)).map(|(h, l)| h * 16 + l),
-            _ => None,
-        };
-        match (escaped, bytes[i]) {
-            (Some(b), _) => {
-                out.push(b);
-                i += 3;
-            }
-            (None, b'+') => {
-                out.push(b' ');
-                i += 1;
-            }
-            (None, b) => {
-                out.push(b);
-                i += 1;
-            }
-        }
-    }
-    String::from_utf8_lossy(&out).into_owned()
+    blocksmith_kernel::io::uri::percent_decode(&text.replace('+', " "))
+        .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned())
 }
 
 #[cfg(test)]

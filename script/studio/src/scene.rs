@@ -14,7 +14,7 @@ use blocksmith_kernel::io::{self, gltf::write_glb};
 use blocksmith_kernel::Mesh;
 use rhai::{Dynamic, Engine, AST};
 
-use blocksmith_script::api::{mesh::SharedMesh, polar::PolarMesh};
+use blocksmith_script::api::{mesh::SharedMesh, polar::PolarMesh, profile::Profile};
 use blocksmith_script::facts::Facts;
 use blocksmith_script::run::{save_value, RunError};
 use blocksmith_script::EngineOptions;
@@ -160,9 +160,21 @@ fn own_mesh(value: Dynamic) -> Result<Mesh, Dynamic> {
         Ok(m) => Ok(Arc::try_unwrap(m.0).unwrap_or_else(|shared| (*shared).clone())),
         Err(value) => match value.try_cast_result::<PolarMesh>() {
             Ok(p) => Ok(p.0.to_colored_mesh()),
-            Err(value) => Err(value),
+            Err(value) => match value.try_cast_result::<Profile>() {
+                Ok(p) => flat(&p).ok_or_else(|| Dynamic::from(p)),
+                Err(value) => Err(value),
+            },
         },
     }
+}
+
+/// A profile shown flat on the grid: its region as a sheet a thousandth of its size thick
+/// (`None` for an empty profile, which has nothing to show).
+fn flat(p: &Profile) -> Option<Mesh> {
+    let (min, max) = p.0.bounds()?;
+    let thickness = 1e-3 * (max - min).max_element().max(1e-9);
+    let options = blocksmith_kernel::profile::ExtrudeOptions::DEFAULT;
+    blocksmith_kernel::profile::extrude(&p.0, thickness, &options).ok()
 }
 
 /// The edges of the control mesh `value` was made from, as segment end points (x, y, z of
@@ -175,6 +187,12 @@ pub fn control_lines(value: &Dynamic) -> Option<Vec<f32>> {
         m.1.clone()?
     } else if let Some(p) = value.read_lock::<PolarMesh>() {
         Arc::new(p.0.to_mesh())
+    } else if let Some(p) = value.read_lock::<Profile>() {
+        // A profile's contours, drawn on the grid (z = 0) over its sheet.
+        let ends = p.0.contours().iter().flat_map(|c| {
+            (0..c.len()).flat_map(move |i| [c[i], c[(i + 1) % c.len()]]).flat_map(|q| [q.x as f32, q.y as f32, 0.0])
+        });
+        return Some(ends.collect());
     } else {
         return None;
     };
@@ -260,6 +278,26 @@ mod tests {
         let f = &scene.layers[0].facts;
         assert_eq!((f.vertices, f.triangles, f.closed, f.manifold, f.genus), (8, 12, true, true, 0));
         assert!((f.volume - 8.0).abs() < 1e-6, "{}", f.volume);
+    }
+
+    #[test]
+    fn a_profile_is_shown_flat_on_the_grid_with_its_contours_drawn() {
+        // A 4 × 2 plate with a hole: a sheet a thousandth of its size thick (so its volume is
+        // the area × 0.004), lying on z = 0, its two contours (4 + 16 edges) drawn as lines.
+        let dir = tempfile::tempdir().unwrap();
+        let text = "rect([0, 0], [4, 2]) - circle(0.5, 16).translate([1, 1])";
+        let scene = from_recipe(&recipe(dir.path(), text), EngineOptions::default()).unwrap();
+        let l = &scene.layers[0];
+        let b = l.mesh.bounds();
+        assert_eq!((b.min.z, b.max.x, b.max.y), (0.0, 4.0, 2.0));
+        assert!((b.max.z - 0.004).abs() < 1e-12, "{}", b.max.z);
+        let area = 8.0 - 8.0 * (2.0 * std::f64::consts::PI / 16.0).sin() * 0.25;
+        assert!((l.facts.volume - area * 0.004).abs() < 1e-9, "{} vs {}", l.facts.volume, area * 0.004);
+        assert_eq!(l.control.as_ref().map(|c| c.len()), Some((4 + 16) * 2 * 3));
+        // An empty profile has nothing to show: a clear error, not an empty page.
+        let e =
+            from_recipe(&recipe(dir.path(), "rect([0, 0], [1, 1]) - rect([0, 0], [1, 1])"), EngineOptions::default());
+        assert!(e.is_err());
     }
 
     #[test]
