@@ -498,9 +498,25 @@ pub fn read_gltf_with(bytes: &[u8], base: Option<&Path>, path: &Path, weld: Weld
     }
     point_draco_accessors_at_their_data(&mut root, path)?;
     let doc = gltf::Document::from_json(root).map_err(|e| gltf_error(path, e.to_string()))?;
+    // Every size the file declares is checked against the budget before anything is reserved:
+    // its buffers together, its node list, and what its instances will place.
+    let over = |e: LimitError| match e {
+        LimitError::Stopped(_) => IoError::from_mesh(path, MeshError::Limit(e)),
+        e => gltf_error(path, e.to_string()),
+    };
+    let declared: f64 = doc.buffers().map(|b| b.length() as f64).sum();
+    crate::limits::check_memory(|| format!("the glTF's buffers, which declare {declared} bytes"), declared)
+        .map_err(over)?;
+    let nodes = doc.nodes().len() as f64;
+    crate::limits::check_memory(
+        || format!("the glTF's {nodes} nodes"),
+        nodes * std::mem::size_of::<(gltf::Mesh, Mat4, bool)>() as f64,
+    )
+    .map_err(over)?;
     // Only the file's own folder is read, and only the declared lengths (see `uri`).
     let buffers = super::uri::read_buffers(&doc, base, blob, path)?;
     let instances = mesh_instances(&doc).map_err(|reason| gltf_error(path, reason))?;
+    check_placed_size(&instances).map_err(over)?;
 
     let mut soup =
         Soup { views: doc.views().map(|v| (v.buffer().index(), v.offset(), v.length())).collect(), ..Soup::default() };
@@ -508,6 +524,7 @@ pub fn read_gltf_with(bytes: &[u8], base: Option<&Path>, path: &Path, weld: Weld
         let extras = blocksmith_extras(&gmesh);
         let single = gmesh.primitives().len() == 1;
         for prim in gmesh.primitives() {
+            crate::limits::check().map_err(|e| IoError::from_mesh(path, MeshError::Limit(e)))?;
             let at = format!("mesh {} primitive {}", gmesh.index(), prim.index());
             soup.add_primitive(&prim, &buffers, world, if single { extras.as_ref() } else { None }, &at, path)?;
         }
@@ -542,6 +559,41 @@ fn point_draco_accessors_at_their_data(root: &mut json::Root, path: &Path) -> Re
         }
     }
     Ok(())
+}
+
+/// Bytes the soup, the weld and the mesh take per vertex a primitive places: position and
+/// colour in the soup, the weld's map and table, the mesh's vertex.
+const PLACED_VERTEX_BYTES: f64 = 24.0 + 16.0 + 16.0 + 48.0;
+/// Bytes per face corner: the index read and in the soup, and the mesh's half-edge.
+const PLACED_CORNER_BYTES: f64 = 4.0 + 4.0 + 48.0 + 8.0;
+
+/// Refuses a scene whose instances would place more than the memory budget holds, from the
+/// counts of their accessors alone (sparse ones included: their count is the accessor's),
+/// before any is read — a 520-byte GLB declared 3·10⁸ positions, 400,000 instances of one
+/// mesh passed 128 MiB before the mesh was built.
+///
+/// # Errors
+/// [`LimitError::OverBudget`] naming the counts; [`LimitError::Stopped`] when the token stops
+/// (polled every [`crate::limits::POLL_EVERY`] instances).
+fn check_placed_size(instances: &[(gltf::Mesh<'_>, Mat4)]) -> Result<(), LimitError> {
+    use gltf::mesh::Mode;
+    let (mut vertices, mut corners) = (0.0f64, 0.0f64);
+    for (i, (m, _)) in instances.iter().enumerate() {
+        crate::limits::poll_at(i)?;
+        for prim in m.primitives() {
+            let nv = prim.get(&gltf::Semantic::Positions).map_or(0, |a| a.count()) as f64;
+            let ni = prim.indices().map_or(nv, |a| a.count() as f64);
+            // A strip or fan of n indices makes n − 2 triangles: up to 3 corners an index.
+            let per_index = if prim.mode() == Mode::Triangles { 1.0 } else { 3.0 };
+            vertices += nv;
+            corners += ni * per_index;
+        }
+    }
+    let n = instances.len();
+    crate::limits::check_memory(
+        || format!("the glTF scene's {n} mesh instances, placing {vertices} vertices and {corners} corners,"),
+        vertices * PLACED_VERTEX_BYTES + corners * PLACED_CORNER_BYTES,
+    )
 }
 
 /// Every mesh the scene instances, with its node's world matrix.
