@@ -352,6 +352,27 @@ fn booleans_beyond_the_precision_limit_are_refused_naming_it() {
 }
 
 #[test]
+fn operands_the_engine_would_merge_away_are_refused_never_empty() {
+    // Two unit boxes overlapping by half at 1e12 (issue 33): the engine's import merges each
+    // into nothing (its resolution there is 1), so the union had 0 faces and no error. Each
+    // operand is refused by the precision limit instead, like the 2-unit boxes.
+    let o = 1e12;
+    let a = cuboid([o, o, o], [o + 1.0, o + 1.0, o + 1.0]);
+    let b = cuboid([o + 0.5, o, o], [o + 1.5, o + 1.0, o + 1.0]);
+    for c in [a.clone().union(b.clone()), a.clone().difference(b.clone()), a.intersection(b)] {
+        let e = c.evaluate().unwrap_err();
+        assert!(matches!(e, CsgError::Precision { .. }), "{e:?}");
+        assert!(e.to_string().contains("spans 1 at coordinates up to 1.00e12"), "{e}");
+    }
+    // At 1e8 the same boxes unite exactly.
+    let o = 1e8;
+    let u = eval(
+        &cuboid([o, o, o], [o + 1.0, o + 1.0, o + 1.0]).union(cuboid([o + 0.5, o, o], [o + 1.5, o + 1.0, o + 1.0])),
+    );
+    assert!((u.volume() - 1.5).abs() < 1e-6, "{}", u.volume());
+}
+
+#[test]
 fn a_stopped_token_stops_the_evaluation_with_its_reason() {
     use crate::limits::{install, CancelToken, LimitError, StopReason};
     use std::sync::atomic::AtomicBool;

@@ -441,7 +441,15 @@ fn run(
                 }
             }
             token.charge(triangles.len() as u64)?;
-            Solid::with_id_until(&positions, &triangles, &tags, *id, stop).map_err(|e| match e {
+            // An operand too small for the precision where it lies is merged away by the
+            // engine's import itself (a unit box at 1e12 became empty, and a union of two of
+            // them 0 faces): refused before, as the boolean's own check would refuse it.
+            let side = leaves[pieces[0].0].1;
+            let (span, magnitude) = span_and_magnitude(&positions);
+            if span > 0.0 && span < MIN_SPAN_RESOLUTIONS * ENGINE_PRECISION * magnitude {
+                return Err(CsgError::Precision { side, span, magnitude });
+            }
+            let solid = Solid::with_id_until(&positions, &triangles, &tags, *id, stop).map_err(|e| match e {
                 EngineError::Stopped => engine_error(e),
                 EngineError::Failed(reason) => {
                     let (k, _) = pieces[0];
@@ -451,7 +459,12 @@ fn run(
                         reason: format!("the boolean engine refuses it ({reason})"),
                     }
                 }
-            })
+            })?;
+            // Never an empty operand from a solid one: whatever merged it away was precision.
+            if solid.is_empty() && !triangles.is_empty() && span > 0.0 {
+                return Err(CsgError::Precision { side, span, magnitude });
+            }
+            Ok(solid)
         }
         Plan::Union(parts) => {
             let solids: Vec<Solid> =
@@ -486,6 +499,14 @@ pub const ENGINE_PRECISION: f64 = 1e-12;
 /// operands are merged away (two boxes 2 across at 1e12 from the origin united into 5.3 of
 /// volume, their difference emptied).
 pub const MIN_SPAN_RESOLUTIONS: f64 = 100.0;
+
+/// The smallest extent of the bounding box of `positions` and their largest coordinate in
+/// absolute value (0 and 0 for none).
+fn span_and_magnitude(positions: &[Vec3]) -> (f64, f64) {
+    let Some(&first) = positions.first() else { return (0.0, 0.0) };
+    let (lo, hi) = positions.iter().fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+    ((hi - lo).min_element(), lo.abs().max(hi.abs()).max_element())
+}
 
 /// Refuses a boolean whose operands are too small for the precision at their distance from the
 /// origin, rather than return a wrong result. The first operand is the left one.
