@@ -35,6 +35,9 @@ pub struct RunContext {
     /// The engine's functions, read once when an error is first explained
     /// ([`crate::catalogue::of`]).
     pub catalogue: crate::catalogue::Kept,
+    /// What the run may read and write (its project, granted paths, write limits), and what
+    /// it has written: the process's policy by default ([`crate::access`]).
+    pub access: crate::access::Access,
 }
 
 /// A warning a running script gave: where (the module's source name, `None` for the script
@@ -129,6 +132,19 @@ impl RunContext {
     #[must_use]
     pub fn of(ctx: &NativeCallContext) -> Rc<RunContext> {
         ctx.tag().and_then(|t| t.clone().try_cast::<Rc<RunContext>>()).unwrap_or_default()
+    }
+
+    /// The context of `engine`'s runs (its default tag; an empty one when none was set).
+    #[must_use]
+    pub fn of_engine(engine: &rhai::Engine) -> Rc<RunContext> {
+        engine.default_tag().clone().try_cast::<Rc<RunContext>>().unwrap_or_default()
+    }
+
+    /// The files no save of the run may replace: the recipe and the modules it imported.
+    #[must_use]
+    pub fn protected(&self) -> Vec<PathBuf> {
+        let inputs = self.record.snapshot().inputs;
+        inputs.into_iter().filter(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("rhai"))).collect()
     }
 
     /// Where to read `path`: as given when it exists (or is absolute), else next to the script.

@@ -60,7 +60,9 @@ pub fn new_engine(options: EngineOptions) -> Engine {
     engine.set_fast_operators(false);
     api::register_all(&mut engine);
     engine.set_module_resolver(
-        resolver::Resolver::new(options.context.script_dir.clone()).recording(options.context.record.clone()),
+        resolver::Resolver::new(options.context.script_dir.clone())
+            .recording(options.context.record.clone())
+            .confined_by(options.context.access.clone()),
     );
     engine.set_default_tag(options.context.clone().into_tag());
     set_limits(&mut engine, &options);

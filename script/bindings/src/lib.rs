@@ -4,7 +4,7 @@
 //!
 //! What it holds, one concept per module:
 //! - [`engine`]: [`new_engine`] and the limits of a run; [`context`]: what a running script
-//!   knows of its surroundings; [`progress`]: how long kernel work reports progress to the host.
+//!   knows of its surroundings; [`access`]: what a run may read and write; [`progress`]: how long kernel work reports progress to the host.
 //! - [`api`]: the script API, one `register` per file, mirroring the kernel's areas;
 //!   [`convert`]: script values to kernel types and kernel errors to script errors.
 //! - [`run`]: the runner; [`record`]: what a run declared and read; [`params`]: recipe
@@ -20,6 +20,7 @@
 //! terminal, web, watcher or image crate. It never prints; a host shows progress through
 //! [`progress::Progress`] and prints what the runner returns.
 
+pub mod access;
 pub mod api;
 pub mod catalogue;
 pub mod context;

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 use rhai::module_resolvers::FileModuleResolver;
 use rhai::{Engine, EvalAltResult, Module, ModuleResolver, Position, Scope, Shared};
 
+use crate::access::Access;
 use crate::record::Recorder;
 
 type SharedModule = Shared<Module>;
@@ -20,6 +21,7 @@ pub struct Resolver {
     files: FileModuleResolver,
     stdlib_cache: RefCell<HashMap<String, SharedModule>>,
     record: Recorder,
+    access: Option<Access>,
 }
 
 impl Resolver {
@@ -31,7 +33,7 @@ impl Resolver {
             Some(b) => FileModuleResolver::new_with_path(b),
             None => FileModuleResolver::new(),
         };
-        Resolver { base, files, stdlib_cache: RefCell::new(HashMap::new()), record: Recorder::default() }
+        Resolver { base, files, stdlib_cache: RefCell::new(HashMap::new()), record: Recorder::default(), access: None }
     }
 
     /// The resolver, recording each module it resolves (the file, or the standard-library
@@ -39,6 +41,13 @@ impl Resolver {
     #[must_use]
     pub fn recording(self, record: Recorder) -> Resolver {
         Resolver { record, ..self }
+    }
+
+    /// The resolver, importing only the files `access` lets the run read (imports obey the
+    /// same rule as `load`).
+    #[must_use]
+    pub fn confined_by(self, access: Access) -> Resolver {
+        Resolver { access: Some(access), ..self }
     }
 
     /// The source of standard-library module `name`, if there is one.
@@ -77,6 +86,11 @@ impl ModuleResolver for Resolver {
     ) -> Result<SharedModule, Box<EvalAltResult>> {
         let local = self.local_path(source, path);
         if local.exists() {
+            if let Some(access) = &self.access {
+                access
+                    .check_read(&local)
+                    .map_err(|e| Box::new(EvalAltResult::ErrorRuntime(format!("import: {e}").into(), pos)))?;
+            }
             // Absolute, so the file resolver does not join it to its own base a second time.
             let local = local.canonicalize().unwrap_or(local);
             self.record.input(&local);

@@ -120,6 +120,7 @@ impl From<RecipeFailure> for RunError {
 pub fn run_recipe(path: &Path, mut options: EngineOptions) -> Result<RecipeRun, RecipeFailure> {
     let start = Instant::now();
     options.context.script_dir = path.parent().map(Path::to_path_buf);
+    options.context.access.enter(path);
     let record = Recorder::default();
     options.context.record = record.clone();
     record.input(path);
@@ -186,6 +187,9 @@ pub fn save_value(engine: &Engine, functions: &AST, value: Dynamic, out: &Path) 
         )));
     }
     let type_name = engine.map_type_name(value.type_name()).to_string();
+    // The host names `out` (`run -o`, the studio's own file): the recipe's confinement and a
+    // policy that only reports saves do not apply to it; the recipe's source still does.
+    crate::RunContext::of_engine(engine).access.grant_host(out);
     let mut scope = Scope::new();
     scope.push("__value", value);
     scope.push("__path", out.display().to_string());

@@ -9,6 +9,8 @@ use blocksmith_kernel::limits;
 use blocksmith_script::EngineOptions;
 use clap::{Parser, Subcommand};
 
+pub use crate::project::AccessArgs;
+
 #[derive(Parser)]
 #[command(name = "blocksmith", version, about = "Scriptable 3D modeling: blocks, polar meshes, subdivision, voxels.")]
 pub struct Cli {
@@ -30,6 +32,8 @@ pub enum Command {
         set: Vec<(String, String)>,
         #[command(flatten)]
         limits: LimitArgs,
+        #[command(flatten)]
+        access: AccessArgs,
         /// Print the written model's facts (counts, closed, manifold, genus, volume, area,
         /// bounds, run time) to standard output as JSON; needs -o.
         #[arg(long, value_parser = ["json"], requires = "output")]
@@ -54,11 +58,15 @@ pub enum Command {
         /// A parameter value to list with (a default may depend on another parameter).
         #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_set)]
         set: Vec<(String, String)>,
+        #[command(flatten)]
+        access: AccessArgs,
     },
     /// Interactive session (also reads piped standard input).
     Repl {
         #[command(flatten)]
         limits: LimitArgs,
+        #[command(flatten)]
+        access: AccessArgs,
     },
     /// Run .rhai test scripts (default: tests/), each in a fresh engine. A warning fails the
     /// test (a dropped result, blocks that touch without connecting) unless the script takes
@@ -71,6 +79,8 @@ pub enum Command {
         out: PathBuf,
         #[command(flatten)]
         limits: LimitArgs,
+        #[command(flatten)]
+        access: AccessArgs,
     },
     /// Draw a recipe's value (or a mesh file) to a PNG on the CPU: no GPU, no browser.
     Render {
@@ -88,6 +98,8 @@ pub enum Command {
         /// A parameter read by `param(name, default)`; repeatable.
         #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_set)]
         set: Vec<(String, String)>,
+        #[command(flatten)]
+        access: AccessArgs,
     },
     /// Show a recipe in the browser and run it again on every save (page on 127.0.0.1).
     Watch {
@@ -102,6 +114,8 @@ pub enum Command {
         /// Open the page in the default browser.
         #[arg(long)]
         open: bool,
+        #[command(flatten)]
+        access: AccessArgs,
     },
     /// Show a mesh file (.glb .gltf .obj .stl .ply .3mf) in the browser, read again on every save.
     View {

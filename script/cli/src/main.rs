@@ -11,12 +11,15 @@ mod commands;
 mod manifest;
 mod output;
 mod progress_bars;
+mod project;
 mod repl;
 mod stats;
 
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use blocksmith_kernel::limits;
+use blocksmith_script::access::Saves;
 use clap::Parser;
 
 use args::{Cli, Command};
@@ -42,9 +45,13 @@ fn main() -> ExitCode {
 }
 
 fn command() -> ExitCode {
-    match Cli::parse().command {
+    let command = Cli::parse().command;
+    if let Err(e) = confine(&command) {
+        return output::fail(e);
+    }
+    match command {
         Command::Run { file, set, params: Some(format), .. } => commands::params::execute(&file, &set, &format),
-        Command::Run { file, output, set, limits, stats, manifest, params: None } => {
+        Command::Run { file, output, set, limits, stats, manifest, params: None, access: _ } => {
             let l = limits.apply();
             commands::run::run(&RunCommand {
                 file,
@@ -57,14 +64,37 @@ fn command() -> ExitCode {
                 progress: l.progress,
             })
         }
-        Command::Params { file, format, set } => commands::params::execute(&file, &set, &format),
-        Command::Repl { limits } => commands::repl::execute(&limits),
-        Command::Test { paths, out, limits } => commands::test::execute(paths, &out, &limits),
-        Command::Render { file, output, size, view, set } => commands::render::execute(&file, &output, size, view, set),
-        Command::Watch { file, set, port, open } => {
+        Command::Params { file, format, set, .. } => commands::params::execute(&file, &set, &format),
+        Command::Repl { limits, .. } => commands::repl::execute(&limits),
+        Command::Test { paths, out, limits, .. } => commands::test::execute(paths, &out, &limits),
+        Command::Render { file, output, size, view, set, .. } => {
+            commands::render::execute(&file, &output, size, view, set)
+        }
+        Command::Watch { file, set, port, open, .. } => {
             commands::watch::execute(&file, set.into_iter().collect(), port, open)
         }
         Command::View { file, port, open } => commands::watch::execute(&file, Default::default(), port, open),
         Command::Doc { name, format } => commands::doc::execute(name.as_deref(), &format),
+    }
+}
+
+/// Makes what the command's runs may read and write the process's policy
+/// ([`project::AccessArgs::apply`]): each run is confined to its recipe's project and the paths
+/// the command line names; `params`, `render` and `watch` write nothing.
+fn confine(command: &Command) -> Result<(), String> {
+    let here = Path::new(".");
+    match command {
+        Command::Run { file, output, manifest, access, params, .. } => {
+            let named: Vec<&Path> = output.iter().chain(manifest).map(PathBuf::as_path).collect();
+            let saves = if params.is_some() { Saves::Report } else { Saves::Write };
+            access.apply(file, &named, saves)
+        }
+        Command::Params { file, access, .. } => access.apply(file, &[], Saves::Report),
+        Command::Repl { access, .. } => access.apply(here, &[], Saves::Write),
+        // Each test's project is its own; `blocksmith.toml` is read from where the tests run.
+        Command::Test { out, access, .. } => access.apply(here, &[out.as_path()], Saves::Write),
+        Command::Render { file, access, .. } => access.apply(file, &[], Saves::Report),
+        Command::Watch { file, access, .. } => access.apply(file, &[], Saves::Report),
+        Command::View { .. } | Command::Doc { .. } => Ok(()),
     }
 }

@@ -573,7 +573,13 @@ impl Session {
                 let shown = Some(blocksmith_script::context::Shown::default());
                 let writes = Some(self.writes.clone());
                 let options = EngineOptions {
-                    context: RunContext { params, shown, writes, ..RunContext::default() },
+                    context: RunContext {
+                        params,
+                        shown,
+                        writes,
+                        access: blocksmith_script::access::Access::default().reporting(),
+                        ..RunContext::default()
+                    },
                     interrupt: Some(Arc::clone(&self.interrupt)),
                     ..EngineOptions::default()
                 };

@@ -375,12 +375,11 @@ pub mod anim_api {
         }
         let mut custom = script_modifiers(&ctx, &anim.closures);
         let frames = kernel("save", anim.anim.frame_states(count as usize, 1.0 / fps, &mut custom))?;
-        let p = output_file(&ctx, "save", path)?;
+        let Some(p) = output_file(&ctx, "save", path)? else { return Ok(()) };
         // Atomic: a failing write leaves the old file.
-        kernel(
-            "save",
-            blocksmith_kernel::io::write_atomic(&p, |w| write_animation_glb(&anim.anim, &frames, fps, w, &p)),
-        )
+        let result = blocksmith_kernel::io::write_atomic(&p, |w| write_animation_glb(&anim.anim, &frames, fps, w, &p));
+        crate::api::files::wrote(&ctx, &p);
+        kernel("save", result)
     }
     /// `save(path, #{})`: 24 fps, frames covering the growth (or 48).
     #[rhai_fn(name = "save", return_raw)]

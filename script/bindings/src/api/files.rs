@@ -11,20 +11,40 @@ use rhai::Map;
 
 use super::mesh::SharedMesh;
 use super::profile::Profile;
+use crate::access::Write;
 use crate::context::RunContext;
 use crate::convert::{fail, kernel, type_name, Options, ScriptResult};
 
-/// The file a script names by `path` for writing: a relative path goes under the run's output
+/// The file a script names by `path` for writing, once the run's access allows it
+/// ([`crate::access::Access::check_write`]): a relative path goes under the run's output
 /// directory; missing parent directories are created; the run's list of writes, if it keeps
-/// one ([`crate::context::Writes`]), gains it. Errors name `func`.
+/// one ([`crate::context::Writes`]), gains it. `None` when the run only reports its saves
+/// (`blocksmith params`, `render`, `watch`): the save is listed as a warning and not done.
+/// Errors name `func`. After writing, call [`wrote`].
 ///
 /// # Errors
-/// A relative path leaving the output directory, or a directory that cannot be created.
-pub fn output_file(ctx: &NativeCallContext, func: &str, path: &str) -> ScriptResult<PathBuf> {
+/// A relative path leaving the output directory, a path the run may not write (outside its
+/// project, the recipe, read-only, over the write limits), or a directory that cannot be
+/// created.
+pub fn output_file(ctx: &NativeCallContext, func: &str, path: &str) -> ScriptResult<Option<PathBuf>> {
     let run = RunContext::of(ctx);
     let p = match run.output_path(path) {
         Ok(p) => p,
         Err(e) => return fail(func, e),
+    };
+    let p = match run.access.check_write(&p, &run.protected()) {
+        Ok(Write::Do(p)) => p,
+        Ok(Write::Report) => {
+            run.warnings.push(
+                ctx,
+                format!(
+                    "{func}: `{}` not written: `blocksmith params`, `render` and `watch` never write files",
+                    p.display()
+                ),
+            );
+            return Ok(None);
+        }
+        Err(e) => return Err(crate::convert::error(func, e)),
     };
     if let Some(dir) = p.parent().filter(|d| !d.as_os_str().is_empty()) {
         if let Err(e) = fs::create_dir_all(dir) {
@@ -34,7 +54,12 @@ pub fn output_file(ctx: &NativeCallContext, func: &str, path: &str) -> ScriptRes
     if let Some(writes) = &run.writes {
         writes.push(&p);
     }
-    Ok(p)
+    Ok(Some(p))
+}
+
+/// Counts the file just written at `path` against the run's write limits.
+pub fn wrote(ctx: &NativeCallContext, path: &std::path::Path) {
+    RunContext::of(ctx).access.wrote(path);
 }
 
 /// Reads the 2D file (`.svg`, `.dxf`) the script names by `path` (from the working directory,
@@ -45,6 +70,7 @@ pub fn output_file(ctx: &NativeCallContext, func: &str, path: &str) -> ScriptRes
 fn read_profile_file(ctx: &NativeCallContext, path: &str) -> ScriptResult<Profile> {
     let run = RunContext::of(ctx);
     let p = run.input_path(path);
+    run.access.check_read(&p).map_err(|e| crate::convert::error("load", e))?;
     if p.exists() {
         run.record.input(&p);
     }
@@ -71,8 +97,10 @@ fn write_mesh_with(
     path: &str,
     options: &SaveOptions,
 ) -> ScriptResult<()> {
-    let p = output_file(ctx, func, path)?;
-    match io::save_with(mesh, &p, options) {
+    let Some(p) = output_file(ctx, func, path)? else { return Ok(()) };
+    let result = io::save_with(mesh, &p, options);
+    wrote(ctx, &p);
+    match result {
         Ok(()) => Ok(()),
         Err(e) => fail(func, e),
     }
@@ -166,10 +194,13 @@ pub mod files_api {
         }
         let run = RunContext::of(&ctx);
         let p = run.input_path(path);
+        run.access.check_read(&p).map_err(|e| crate::convert::error("load", e))?;
         if p.exists() {
             run.record.input(&p);
             // A .gltf's model is also in its buffer files.
             for buffer in crate::gltf_buffers::buffer_files(&p) {
+                // Inside the glTF's folder by name, but a link there may point anywhere.
+                run.access.check_read(&buffer).map_err(|e| crate::convert::error("load", e))?;
                 if buffer.exists() {
                     run.record.input(&buffer);
                 }
@@ -252,7 +283,9 @@ pub mod files_api {
     /// ```
     #[rhai_fn(name = "save", return_raw)]
     pub fn save_profile(ctx: NativeCallContext, p: &mut Profile, path: &str) -> ScriptResult<()> {
-        let out = output_file(&ctx, "save", path)?;
-        kernel("save", blocksmith_kernel::io::save_profile(&p.0, &out))
+        let Some(out) = output_file(&ctx, "save", path)? else { return Ok(()) };
+        let result = blocksmith_kernel::io::save_profile(&p.0, &out);
+        wrote(&ctx, &out);
+        kernel("save", result)
     }
 }

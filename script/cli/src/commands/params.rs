@@ -28,7 +28,10 @@ pub fn execute(file: &Path, set: &[(String, String)], format: &str) -> ExitCode 
 /// # Errors
 /// Any error of the run, formatted.
 pub fn list(file: &Path, set: &[(String, String)], format: ListFormat) -> Result<String, RunError> {
-    let run = run_recipe(file, super::with_params(set.to_vec()))?;
+    let options = super::with_params(set.to_vec());
+    let access = options.context.access.clone();
+    let run = run_recipe(file, options)?;
+    super::report_unwritten("params", &access);
     Ok(match format {
         ListFormat::Text if run.record.params.is_empty() => format!("{} declares no parameters\n", file.display()),
         ListFormat::Text => listing::to_text(&run.record.params),

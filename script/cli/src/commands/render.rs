@@ -10,5 +10,21 @@ use crate::output::report;
 
 /// Draws `file` (run with the `--set` pairs `set`) to the PNG `output`.
 pub fn execute(file: &Path, output: &Path, size: (u32, u32), view: View, set: Vec<(String, String)>) -> ExitCode {
-    report(blocksmith_studio::render_to_png(file, super::with_params(set), output, size, view))
+    // The picture never replaces the recipe (`render r.rhai -o r.rhai`), another recipe or a
+    // read-only file.
+    let recipe = [file.to_path_buf()];
+    if let Err(e) = blocksmith_script::access::check_host_write(output, &recipe) {
+        return crate::output::fail(format!("error: -o: {e}"));
+    }
+    if output.extension().is_some_and(|e| e.eq_ignore_ascii_case("rhai")) {
+        return crate::output::fail(format!(
+            "error: -o: not writing `{}`: a picture is written as .png, not over a recipe",
+            output.display()
+        ));
+    }
+    let options = super::with_params(set);
+    let access = options.context.access.clone();
+    let result = blocksmith_studio::render_to_png(file, options, output, size, view);
+    super::report_unwritten("render", &access);
+    report(result)
 }

@@ -89,6 +89,11 @@ pub fn execute_with_outcome(cmd: &RunCommand) -> Result<RunOutcome, RunError> {
         _ => None,
     };
     if let Some(path) = &cmd.manifest {
+        // Never over the recipe or a module it imports (`--manifest r.rhai`), nor a read-only file.
+        let sources: Vec<PathBuf> =
+            record.inputs.iter().filter(|p| p.extension().is_some_and(|e| e == "rhai")).cloned().collect();
+        blocksmith_script::access::check_host_write(path, &sources)
+            .map_err(|e| RunError(format!("error: --manifest: {e}")))?;
         let manifest = crate::manifest::build(&cmd.file, &record, cmd.output.as_deref())?;
         crate::manifest::write(&manifest, path)?;
     }
