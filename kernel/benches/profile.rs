@@ -1,7 +1,7 @@
 //! 2D profiles and the solids made from them, on the inputs `profile_peer.py` (below) gives
 //! manifold3d: a 64-gon of radius 1 extruded 2 with a 90° twist over 32 layers; a 64-gon of
-//! radius 0.5 at x = 2 revolved in 128 steps; the hull of 100,000 points on a sphere of radius 1
-//! (a fixed pseudo-random sequence); the Minkowski sum of an L prism and Manifold's 32-segment
+//! radius 0.5 at x = 2 revolved in 128 steps; the hulls of 100,000 and 1,000,000 points on a
+//! sphere of radius 1 (a fixed pseudo-random sequence); the Minkowski sum of an L prism and Manifold's 32-segment
 //! sphere of radius 0.2 (non-convex ⊕ convex); a 10×10 square offset by 1 with 32-segment round
 //! joins. Without a peer here: 10,000 characters of text (100 lines) in the bundled font.
 //!
@@ -59,6 +59,11 @@ fn bench(c: &mut Criterion) {
     c.bench_function("profile/revolve_torus_64x128", |b| b.iter(|| black_box(revolve(&disc, &around).unwrap())));
     let points = sphere_points(100_000);
     c.bench_function("profile/hull_100k_sphere_points", |b| b.iter(|| black_box(hull_points(&points).unwrap())));
+    let million = sphere_points(1_000_000);
+    let mut slow = c.benchmark_group("profile_slow");
+    slow.sample_size(10);
+    slow.bench_function("hull_1m_sphere_points", |b| b.iter(|| black_box(hull_points(&million).unwrap())));
+    slow.finish();
     let ell = Profile::rect(Vec2::ZERO, Vec2::new(2.0, 1.0))
         .unwrap()
         .union(&Profile::rect(Vec2::ZERO, Vec2::new(1.0, 2.0)).unwrap());

@@ -52,6 +52,7 @@ def bench():
     c64 = CrossSection.circle(1.0, 64)
     disc = CrossSection.circle(0.5, 64).translate((2.0, 0.0))
     pts = sphere_points(100_000)
+    million = sphere_points(1_000_000)
     ell = rect(0, 0, 2, 1) + rect(0, 0, 1, 2)
     prism = Manifold.extrude(ell, 1.0)
     ball = Manifold.sphere(0.2, 32)
@@ -60,6 +61,7 @@ def bench():
         "extrude_twist_64gon": (lambda: Manifold.extrude(c64, 2.0, 31, 90.0).num_tri(), 200),
         "revolve_torus_64x128": (lambda: Manifold.revolve(disc, 128, 360.0).num_tri(), 200),
         "hull_100k_sphere_points": (lambda: Manifold.hull_points(pts).num_tri(), 20),
+        "hull_1m_sphere_points": (lambda: Manifold.hull_points(million).num_tri(), 5),
         "minkowski_l_prism_sphere": (lambda: prism.minkowski_sum(ball).num_tri(), 10),
         "offset_round_square": (lambda: sq.offset(1.0, JoinType.Round, 2.0, 32).area(), 500),
     }
