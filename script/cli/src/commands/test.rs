@@ -53,17 +53,22 @@ pub struct TestOutcome {
     pub error: Option<String>,
 }
 
-/// Every `*.rhai` file under `paths` (files as given, directories searched recursively), sorted.
+/// Every `*.rhai` file under `paths` (files as given, directories searched recursively), sorted,
+/// each real file once: a symbolic link to a folder already searched (a link to `.`) or to a
+/// file already found is not followed again, so links cannot repeat a test or loop.
 ///
 /// # Errors
 /// A path that does not exist.
 pub fn collect(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
     let mut files = Vec::new();
+    let mut seen = Seen::default();
     for p in paths {
         if p.is_file() {
-            files.push(p.clone());
+            if seen.first(p) {
+                files.push(p.clone());
+            }
         } else if p.is_dir() {
-            walk(p, &mut files);
+            walk(p, &mut files, &mut seen);
         } else {
             return Err(format!("error: no such test file or directory: {}", p.display()));
         }
@@ -73,15 +78,30 @@ pub fn collect(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
     Ok(files)
 }
 
-fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
+/// The real paths (links resolved) of the folders and files visited.
+#[derive(Default)]
+struct Seen(std::collections::HashSet<PathBuf>);
+
+impl Seen {
+    /// Whether `p` is seen for the first time (a path that cannot be resolved counts as new).
+    fn first(&mut self, p: &Path) -> bool {
+        self.0.insert(p.canonicalize().unwrap_or_else(|_| p.to_path_buf()))
+    }
+}
+
+fn walk(dir: &Path, out: &mut Vec<PathBuf>, seen: &mut Seen) {
+    if !seen.first(dir) {
+        return;
+    }
     let Ok(rd) = std::fs::read_dir(dir) else { return };
     let mut entries: Vec<PathBuf> = rd.filter_map(Result::ok).map(|e| e.path()).collect();
     entries.sort();
     for p in entries {
         if p.is_dir() {
-            walk(&p, out);
+            walk(&p, out, seen);
         } else if p.extension().is_some_and(|e| e == "rhai")
             && !p.file_name().and_then(|n| n.to_str()).is_some_and(|n| n.starts_with('_'))
+            && seen.first(&p)
         {
             out.push(p);
         }
@@ -168,4 +188,29 @@ pub fn report(outcomes: &[TestOutcome]) -> String {
     let failed = outcomes.iter().filter(|o| o.error.is_some()).count();
     out.push_str(&format!("{} passed, {failed} failed\n", outcomes.len() - failed));
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn links_to_folders_already_searched_visit_each_test_once() {
+        // With one link to `.` every test was found again under the link, and with two the
+        // search took 2^depth paths (it hung); each real file is one test.
+        let d = tempfile::tempdir().unwrap();
+        let dir = d.path();
+        std::fs::write(dir.join("a.rhai"), "1").unwrap();
+        std::fs::create_dir(dir.join("sub")).unwrap();
+        std::fs::write(dir.join("sub/b.rhai"), "1").unwrap();
+        std::os::unix::fs::symlink(".", dir.join("self1")).unwrap();
+        std::os::unix::fs::symlink(".", dir.join("self2")).unwrap();
+        std::os::unix::fs::symlink("..", dir.join("sub/up")).unwrap();
+        std::os::unix::fs::symlink("a.rhai", dir.join("alias.rhai")).unwrap();
+        let files = collect(&[dir.to_path_buf(), dir.join("a.rhai")]).unwrap();
+        let real: Vec<PathBuf> = files.iter().map(|f| f.canonicalize().unwrap()).collect();
+        let base = dir.canonicalize().unwrap();
+        assert_eq!(files.len(), 2, "{files:?}");
+        assert!(real.contains(&base.join("a.rhai")) && real.contains(&base.join("sub/b.rhai")), "{files:?}");
+    }
 }
