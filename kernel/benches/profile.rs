@@ -19,6 +19,12 @@
 //! | hull of 100,000 sphere points (259 ms) | 0.92× | 1.1× |
 //! | Minkowski, L prism ⊕ sphere (83 ms; engine alone 86 ms) | 0.54× | 0.96× |
 //! | offset, round joins (2.9 µs) | 1.0× | 1.0× |
+//! | hull of 1,000,000 sphere points (8.7 s; every point is on the hull: 2M triangles) | 1.3× | 1.56× |
+//!
+//! The 1M-point hull's gap is the engine's: its quickhull took 7.2 s of a 7.6 s run (our
+//! export and half-edge build 0.36 s, the volume check 0.03 s). Text has no peer here: 10,000
+//! characters take about 19 ms (each glyph cleaned once, only glyphs whose ink meets unioned;
+//! a union of the whole text took 3.7 s).
 
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
