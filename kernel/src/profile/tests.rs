@@ -97,14 +97,26 @@ fn a_hole_is_a_hole_whichever_way_it_runs_under_even_odd() {
 }
 
 #[test]
-fn three_contours_are_bridged_without_changing_any_winding() {
-    // Three separate squares (the bridges between their starts are walked there and back).
+fn separate_contours_stay_separate_under_either_rule() {
+    // Three squares apart: three contours, each its own region (a single path joining them by
+    // bridges merged such contours through zero-width corridors; now they go in side by side).
     let sq = |x: f64| vec![v(x, 0.0), v(x + 1.0, 0.0), v(x + 1.0, 1.0), v(x, 1.0)];
     for rule in [FillRule::EvenOdd, FillRule::NonZero] {
         let p = Profile::from_contours(&[sq(0.0), sq(3.0), sq(6.0)], rule).unwrap();
         assert_near(p.area(), 3.0, 1e-9);
         assert_eq!(p.contours().len(), 3);
     }
+    // A frame (outline and hole) with an island inside its hole and a square beside it: four
+    // contours, 16 − 4 + 1 + 1.
+    let frame = [sq4(0.0, 4.0), sq4(1.0, 3.0), sq4(1.5, 2.5), sq4(5.0, 6.0)];
+    let p = Profile::from_contours(&frame, FillRule::EvenOdd).unwrap();
+    assert_eq!(p.contours().len(), 4);
+    assert_near(p.area(), 16.0 - 4.0 + 1.0 + 1.0, 1e-9);
+}
+
+/// The square [lo, hi]², counter-clockwise.
+fn sq4(lo: f64, hi: f64) -> Vec<Vec2> {
+    vec![v(lo, lo), v(hi, lo), v(hi, hi), v(lo, hi)]
 }
 
 #[test]
