@@ -33,7 +33,9 @@ pub fn fail<T>(func: &str, message: impl Display) -> ScriptResult<T> {
 /// The error value behind [`fail`].
 #[must_use]
 pub fn error(func: &str, message: impl Display) -> Box<EvalAltResult> {
-    format!("{func}: {message}").into()
+    // Kernel messages quote files' bytes (names, comments): escaped here, at the edge, so a
+    // caught error holds no terminal control sequence either.
+    crate::diagnostics::printable(&format!("{func}: {message}")).into_owned().into()
 }
 
 /// Maps a kernel error into a script error naming the function.

@@ -157,6 +157,32 @@ fn format_at(name: &str, source: &str, pos: Position, message: &str) -> String {
 }
 
 fn format_kind(name: &str, source: &str, pos: Position, kind: &str, message: &str) -> String {
+    printable(&format_raw(name, source, pos, kind, message)).into_owned()
+}
+
+/// Text safe to print on a terminal: control characters other than line breaks and tabs
+/// (an ESC sequence in an STL solid name, a PLY comment, a file name or a string the script
+/// throws) written as escapes (`\x1b`, `\u{9b}`), so a file cannot move the cursor, recolour
+/// or clear the screen, or retitle the window. Every formatted error and warning goes through
+/// it, and so does every error the script API raises ([`crate::convert::error`]).
+#[must_use]
+pub fn printable(text: &str) -> std::borrow::Cow<'_, str> {
+    if !text.chars().any(|c| c.is_control() && c != '\n' && c != '\t') {
+        return std::borrow::Cow::Borrowed(text);
+    }
+    let mut out = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        match c {
+            '\n' | '\t' => out.push(c),
+            c if c.is_control() && (c as u32) < 0x80 => out.push_str(&format!("\\x{:02x}", c as u32)),
+            c if c.is_control() => out.push_str(&format!("\\u{{{:x}}}", c as u32)),
+            c => out.push(c),
+        }
+    }
+    std::borrow::Cow::Owned(out)
+}
+
+fn format_raw(name: &str, source: &str, pos: Position, kind: &str, message: &str) -> String {
     let (Some(line), col) = (pos.line(), pos.position().unwrap_or(1)) else {
         return format!("{name}: {kind}: {message}");
     };
@@ -200,6 +226,29 @@ pub fn format_run_warnings(warnings: &[Warning], name: &str, source: &str) -> Ve
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn control_characters_from_files_and_scripts_never_reach_the_terminal() {
+        // A file's bytes (an STL solid name, a PLY comment, a file name) and a script's own
+        // strings reach messages; an ESC among them could clear the screen or hide a line. Each
+        // way in — a kernel error at the binding edge (also as a caught error), a thrown string,
+        // the source line shown — comes out escaped.
+        let d = tempfile::tempdir().unwrap();
+        let evil = d.path().join("\u{1b}[2Jclear\u{9b}31m.stl");
+        std::fs::write(&evil, "solid \u{1b}]0;title\u{7}\nfacet normal 0 0 1\nendfacet\nendsolid\n").unwrap();
+        let engine = crate::new_engine(crate::EngineOptions::default());
+        // Rhai's escapes: `\x1b` is ESC, `\u009b` the one-character CSI.
+        let path = evil.display().to_string().replace('\u{1b}', "\\x1b").replace('\u{9b}', "\\u009b");
+        let script = format!(
+            "let caught = \"\";\ntry {{ load(\"{path}\"); }} catch (e) {{ caught = e; }}\n\
+             if caught.contains(\"\\x1b\") {{ throw \"raw\"; }}\nthrow \"\\x1b[31mred\\r \" + caught;\n"
+        );
+        let err = engine.eval::<rhai::Dynamic>(&script).unwrap_err();
+        let text = format_error(&engine, "t.rhai", &script, &err);
+        assert!(!text.chars().any(|c| c.is_control() && c != '\n'), "{text:?}");
+        assert!(text.contains("\\x1b[31mred\\x0d load: ") && text.contains("\\x1b[2Jclear\\u{9b}31m.stl"), "{text}");
+        assert_eq!(printable("two\nlines\tand a tab"), "two\nlines\tand a tab");
+    }
 
     #[test]
     fn a_missing_brace_is_reported_at_the_brace_left_open() {

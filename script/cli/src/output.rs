@@ -3,6 +3,8 @@
 
 use std::process::ExitCode;
 
+use blocksmith_script::diagnostics::printable;
+
 /// Writes `text` to standard output. A reader that stops early (`blocksmith doc | head`) closes
 /// the pipe: the command then ends quietly, as other command-line tools do, instead of panicking.
 pub fn print_out(text: &str) {
@@ -19,15 +21,16 @@ pub fn print_out(text: &str) {
 pub fn report<E: std::fmt::Display>(result: Result<String, E>) -> ExitCode {
     match result {
         Ok(summary) => {
-            eprintln!("{summary}");
+            eprintln!("{}", printable(&summary));
             ExitCode::SUCCESS
         }
         Err(e) => fail(e),
     }
 }
 
-/// Prints `error` on standard error: the command failed.
+/// Prints `error` on standard error (control characters escaped,
+/// [`printable`]): the command failed.
 pub fn fail(error: impl std::fmt::Display) -> ExitCode {
-    eprintln!("{error}");
+    eprintln!("{}", printable(&error.to_string()));
     ExitCode::FAILURE
 }
