@@ -77,7 +77,12 @@ fn glb_and_gltf_round_trips_keep_polygons_creases_and_f32_positions() {
         assert_eq!(back.positions(), f32_positions.as_slice(), "{name}: positions are the f32 roundings");
         assert_same_topology_and_tags(&back, &m);
     }
-    assert!(output_dir().join("torus with space.bin").is_file());
+    // Its buffer beside it, named by stem and content hash: `torus with space.HASH.bin`.
+    let bins = std::fs::read_dir(output_dir()).unwrap().filter_map(|e| e.ok()).filter(|e| {
+        let n = e.file_name().to_string_lossy().into_owned();
+        n.starts_with("torus with space.") && n.ends_with(".bin") && n.len() == "torus with space.".len() + 16 + 4
+    });
+    assert_eq!(bins.count(), 1);
 }
 
 #[test]
@@ -202,11 +207,16 @@ fn gltf_without_its_buffer_file_is_an_error() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("cube.gltf");
     save(&Mesh::cube(1.0), &path).unwrap();
-    std::fs::remove_file(dir.path().join("cube.bin")).unwrap();
+    let bin = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|x| x == "bin"))
+        .unwrap();
+    std::fs::remove_file(&bin).unwrap();
     let e = load(&path).unwrap_err();
     assert!(matches!(e, IoError::Gltf { .. }), "{e}");
     // The message starts with the file being loaded and names the missing one.
-    let bin = dir.path().join("cube.bin").display().to_string();
+    let bin = bin.display().to_string();
     assert!(e.to_string().starts_with(&path.display().to_string()) && e.to_string().contains("buffer"), "{e}");
     assert!(e.to_string().contains(&format!("{bin} is not found")), "{e}");
 }

@@ -8,11 +8,56 @@
 //!
 //! Writing a large file stops with the current cancellation token: every buffer handed to the
 //! file (a megabyte) first polls it ([`crate::limits::poll`]), so a save stopped by a deadline
-//! or Ctrl-C ends as quickly, with the old file intact.
+//! or Ctrl-C ends as quickly, with the old file intact and its temporary file removed.
+//!
+//! Every temporary file is also listed, while it lives, in a process-wide registry: a signal
+//! handler that must end the process at once (SIGTERM, a second Ctrl-C) calls
+//! [`remove_temporaries`] first, so that no `.NAME.*.tmp` is left behind on any way out that
+//! can be caught (SIGKILL cannot).
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+/// The temporary files of the saves under way.
+static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Removes every temporary file of the saves under way in this process (see the module
+/// documentation), returning how many it removed. The saves themselves then fail at their
+/// rename, leaving their old files as they were. Meant for a signal handler (ctrlc's runs on
+/// its own thread, where taking a lock is allowed) just before it exits.
+pub fn remove_temporaries() -> usize {
+    remove_temporaries_where(|_| true)
+}
+
+/// [`remove_temporaries`] for the temporary files `keep_out` accepts only (tests, which run
+/// beside other tests' saves).
+fn remove_temporaries_where(keep_out: impl Fn(&Path) -> bool) -> usize {
+    let mut live = LIVE.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    let n = live.iter().filter(|p| keep_out(p) && std::fs::remove_file(p).is_ok()).count();
+    live.retain(|p| !keep_out(p));
+    n
+}
+
+/// A temporary file's entry in the registry, taken out when dropped.
+struct Registered(PathBuf);
+
+impl Registered {
+    fn new(path: &Path) -> Registered {
+        LIVE.lock().unwrap_or_else(std::sync::PoisonError::into_inner).push(path.to_path_buf());
+        Registered(path.to_path_buf())
+    }
+}
+
+impl Drop for Registered {
+    fn drop(&mut self) {
+        let mut live = LIVE.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        if let Some(i) = live.iter().position(|p| *p == self.0) {
+            live.swap_remove(i);
+        }
+    }
+}
 
 use super::IoError;
 use crate::mesh::MeshError;
@@ -68,7 +113,11 @@ pub fn write_atomic(
         builder.permissions(std::fs::Permissions::from_mode(mode));
     }
     // Dropping `temp_path` on any early return removes the temporary file.
+    // Declared before `temp_path`, so dropped after it: the file goes before its entry does,
+    // and a handler never misses a live temporary.
+    let _registered: Registered;
     let (file, temp_path) = builder.tempfile_in(dir).map_err(io_error)?.into_parts();
+    _registered = Registered::new(&temp_path);
     let mut w = BufWriter::with_capacity(1 << 20, StoppableFile(file));
     let written = write(&mut w).and_then(|()| w.flush().map_err(io_error));
     if let Err(e) = written {
@@ -168,5 +217,38 @@ mod tests {
     fn a_missing_folder_is_a_write_error_naming_the_path() {
         let e = write_atomic(Path::new("/nonexistent/dir/x.obj"), |_| Ok(())).unwrap_err();
         assert!(matches!(e, IoError::Write { .. }) && e.to_string().starts_with("/nonexistent/dir/x.obj"), "{e}");
+    }
+
+    #[test]
+    fn a_signal_handler_removes_the_temporaries_of_saves_under_way() {
+        // A save blocked half-way (its writer waiting) while another thread — a signal
+        // handler — removes the live temporaries: the file is gone at once, and the save then
+        // fails at its rename with the old file intact and nothing left behind.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("big.stl");
+        std::fs::write(&path, b"the old contents").unwrap();
+        let (started, wait) = std::sync::mpsc::channel::<()>();
+        let (go, resume) = std::sync::mpsc::channel::<()>();
+        let handler = {
+            let dir = dir.path().to_path_buf();
+            std::thread::spawn(move || {
+                wait.recv().unwrap();
+                assert!(entries(&dir).iter().any(|n| n.starts_with(".big.stl.") && n.ends_with(".tmp")));
+                assert_eq!(remove_temporaries_where(|p| p.starts_with(&dir)), 1);
+                let left = entries(&dir);
+                go.send(()).unwrap();
+                left
+            })
+        };
+        let r = write_atomic(&path, |w| {
+            w.write_all(&vec![b'x'; 3 << 20]).map_err(|e| IoError::Write { path: path.clone(), source: e })?;
+            started.send(()).unwrap();
+            resume.recv().unwrap();
+            Ok(())
+        });
+        assert_eq!(handler.join().unwrap(), ["big.stl"], "the handler left no temporary file");
+        assert!(r.is_err());
+        assert_eq!(std::fs::read(&path).unwrap(), b"the old contents");
+        assert_eq!(entries(dir.path()), ["big.stl"]);
     }
 }

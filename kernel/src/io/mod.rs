@@ -49,7 +49,7 @@ use std::borrow::Cow;
 use std::io::Write;
 use std::path::Path;
 
-pub use atomic::{write_atomic, StoppableFile};
+pub use atomic::{remove_temporaries, write_atomic, StoppableFile};
 pub use error::{IoError, KNOWN_EXTENSIONS};
 pub use options::{LoadOptions, SaveOptions, UpAxis};
 pub use ply::PlyEncoding;
@@ -160,7 +160,8 @@ pub fn save(mesh: &Mesh, path: impl AsRef<Path>) -> Result<(), IoError> {
 }
 
 /// Writes `mesh` to the file at `path`, by extension: `.obj`, `.glb`, `.gltf` (which also
-/// writes the buffer to the same path with the extension `.bin`), `.stl`, `.ply` (in
+/// writes its buffer beside it as `STEM.HASH.bin`, the pair changing together or not at all:
+/// see [`gltf`]'s `save_gltf_pair`), `.stl`, `.ply` (in
 /// `options.ply`'s encoding), `.3mf`. glTF is written Y-up (converted exactly); OBJ, STL and PLY Z-up
 /// unless `options.up` says otherwise. Each file is
 /// written atomically ([`write_atomic`]): a failing save leaves the old file as it was.
@@ -190,17 +191,7 @@ pub fn save_with(mesh: &Mesh, path: impl AsRef<Path>, options: &SaveOptions) -> 
         Format::Stl => write_atomic(path, |w| stl::write_stl(mesh, w, path)),
         Format::Ply => write_atomic(path, |w| ply::write_ply(mesh, w, options.ply, path)),
         Format::ThreeMf => write_atomic(path, |w| threemf::write_3mf(mesh, w, path)),
-        Format::Gltf => {
-            let bin_path = path.with_extension("bin");
-            let bin_name = bin_path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-            let (json, bin) = gltf::gltf_json_and_buffer(mesh, &gltf::uri_encode(&bin_name), path)?;
-            if let Some(bin) = bin {
-                write_atomic(&bin_path, |w| {
-                    w.write_all(&bin).map_err(|e| IoError::Write { path: bin_path.clone(), source: e })
-                })?;
-            }
-            write_atomic(path, |w| w.write_all(&json).map_err(|e| IoError::Write { path: path.into(), source: e }))
-        }
+        Format::Gltf => gltf::save_gltf_pair(mesh, path),
     }
 }
 
@@ -283,7 +274,10 @@ mod tests {
         let mut names: Vec<String> =
             std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into()).collect();
         names.sort();
-        assert_eq!(names, ["old.bin", "old.glb", "old.gltf", "old.stl"], "no temporary file remains");
+        // The .gltf's buffer is `old.HASH.bin`.
+        assert_eq!(names.len(), 4, "no temporary file remains: {names:?}");
+        assert!(names[0].starts_with("old.") && names[0].ends_with(".bin"), "{names:?}");
+        assert_eq!(names[1..], ["old.glb", "old.gltf", "old.stl"], "no temporary file remains");
     }
 
     #[test]

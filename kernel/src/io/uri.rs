@@ -342,8 +342,16 @@ mod tests {
         std::fs::create_dir(&sub).unwrap();
         let path = sub.join("m.gltf");
         crate::io::save(&crate::Mesh::cube(1.0), &path).unwrap();
-        std::fs::copy(sub.join("m.bin"), dir.path().join("secret.bin")).unwrap();
-        let json = std::fs::read_to_string(&path).unwrap();
+        // The buffer is `m.HASH.bin` (see `save_gltf_pair`).
+        let name = std::fs::read_dir(&sub)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .find(|n| n.ends_with(".bin"))
+            .unwrap();
+        std::fs::copy(sub.join(&name), dir.path().join("secret.bin")).unwrap();
+        let json = std::fs::read_to_string(&path).unwrap().replace(&format!("\"{name}\""), "\"m.bin\"");
+        std::fs::rename(sub.join(&name), sub.join("m.bin")).unwrap();
+        std::fs::write(&path, &json).unwrap();
         assert!(crate::io::load(&path).is_ok());
         let outside = dir.path().join("secret.bin").display().to_string();
         for uri in ["../secret.bin", outside.as_str(), &format!("file://{outside}"), "sub/../../secret.bin"] {
