@@ -29,8 +29,8 @@ pub enum Placement {
 pub struct LoftOptions {
     /// Where the profiles go. Default value: heights 0, 1, 2, …
     pub placement: Option<Placement>,
-    /// Whether the last profile joins back to the first, making a ring with no caps (for
-    /// placements that come round). Default value: false.
+    /// Whether the last profile joins back to the first, making a ring with no caps (with
+    /// [`Placement::Transforms`] that come round, and at least 3 profiles). Default value: false.
     pub closed: bool,
 }
 
@@ -140,16 +140,29 @@ fn match_contours(from: &Profile, to: &Profile, index: usize) -> Result<Vec<usiz
 /// contours are matched and resampled.
 ///
 /// # Errors
-/// [`ProfileError::TooFewPoints`] for fewer than 2 profiles; [`ProfileError::Empty`] naming an
+/// [`ProfileError::TooFewPoints`] for fewer than 2 profiles (3 closed); [`ProfileError::Empty`] naming an
 /// empty profile; [`ProfileError::LoftMismatch`] naming a profile whose contours do not match
 /// the first's; [`ProfileError::BadValue`] for heights not strictly increasing or finite, a
-/// placement count other than the profiles', a non-finite or flattening transform.
+/// placement count other than the profiles', a non-finite or flattening transform, `closed`
+/// without transforms.
 pub fn loft(profiles: &[Profile], options: &LoftOptions) -> Result<Mesh, ProfileError> {
     if profiles.len() < 2 {
         return Err(ProfileError::TooFewPoints { what: "the loft".into(), count: profiles.len(), needed: 2 });
     }
     for (i, p) in profiles.iter().enumerate() {
         p.require_region(&format!("profile {i}"))?;
+    }
+    if options.closed && !matches!(options.placement, Some(Placement::Transforms(_))) {
+        // Stacked up z, the last profile joined back to the first would run down through the
+        // solid itself.
+        return Err(ProfileError::BadValue {
+            name: "`closed`",
+            value: 1.0,
+            expected: "false when the profiles are stacked by heights (a ring needs transforms placing them round)",
+        });
+    }
+    if options.closed && profiles.len() < 3 {
+        return Err(ProfileError::TooFewPoints { what: "a closed loft".into(), count: profiles.len(), needed: 3 });
     }
     let transforms: Vec<Mat4> = match &options.placement {
         None => (0..profiles.len()).map(|i| Mat4::from_translation(Vec3::new(0.0, 0.0, i as f64))).collect(),

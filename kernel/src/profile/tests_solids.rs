@@ -235,6 +235,9 @@ fn loft_refuses_profiles_that_do_not_correspond() {
     let p = rect(0.0, 0.0, 1.0, 1.0);
     assert!(loft(&[p.clone(), p.clone()], &LoftOptions::DEFAULT.with_heights(vec![1.0, 1.0])).is_err());
     assert!(loft(std::slice::from_ref(&p), &LoftOptions::DEFAULT).is_err());
+    // A ring needs placed profiles: closed with heights would run back down through the solid.
+    let e = loft(&[p.clone(), p.clone(), p.clone()], &LoftOptions::DEFAULT.with_closed(true)).unwrap_err();
+    assert!(e.to_string().starts_with("`closed` must be false when the profiles are stacked by heights"), "{e}");
 }
 
 #[test]
