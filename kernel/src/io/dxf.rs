@@ -519,7 +519,7 @@ mod tests {
         }
     }
 
-    /// Writes `target/peers/profile/plate.{dxf,svg}` (a plate with a bore and a slot) for the peer
+    /// Writes `target/peers/profile/plate.{dxf,svg}` (a plate with a bore, a slot and cut-out text) for the peer
     /// checks: `ezdxf` reads the DXF back (`kernel/benches/profile_peer.py dxf`), a browser
     /// renders the SVG. Run with `--ignored`.
     #[test]
@@ -528,7 +528,15 @@ mod tests {
         let plate = Profile::rect(Vec2::new(0.0, 0.0), Vec2::new(40.0, 25.0)).unwrap().fillet(3.0, 32).unwrap();
         let bore = Profile::circle(5.0, 48).unwrap().translate(Vec2::new(12.0, 12.5)).unwrap();
         let slot = Profile::rect(Vec2::new(24.0, 10.0), Vec2::new(34.0, 15.0)).unwrap().fillet(2.4, 32).unwrap();
-        let p = plate.difference(&bore).difference(&slot);
+        let label = crate::profile::text(
+            "blocksmith",
+            &crate::profile::Font::bundled(),
+            &crate::profile::TextOptions::DEFAULT.with_size(3.5),
+        )
+        .unwrap()
+        .translate(Vec2::new(4.0, 3.0))
+        .unwrap();
+        let p = plate.difference(&bore).difference(&slot).difference(&label);
         let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/peers/profile");
         std::fs::create_dir_all(&dir).unwrap();
         std::fs::write(dir.join("plate.dxf"), to_dxf(&p)).unwrap();
