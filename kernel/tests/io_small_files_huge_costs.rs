@@ -49,20 +49,31 @@ fn instanced_triangle(nodes: usize) -> Vec<u8> {
     glb(&json, &bin)
 }
 
+/// A GLB whose one POSITION accessor has `count` elements, all zeros but for one sparse
+/// substitution (no buffer view), its mesh instanced by `nodes` nodes.
+fn sparse(count: usize, nodes: usize) -> Vec<u8> {
+    let list = vec!["{\"mesh\":0}"; nodes].join(",");
+    let roots: Vec<String> = (0..nodes).map(|i| i.to_string()).collect();
+    let json = format!(
+        "{{\"asset\":{{\"version\":\"2.0\"}},\"buffers\":[{{\"byteLength\":16}}],\
+         \"bufferViews\":[{{\"buffer\":0,\"byteLength\":4}},{{\"buffer\":0,\"byteOffset\":4,\"byteLength\":12}}],\
+         \"accessors\":[{{\"componentType\":5126,\"type\":\"VEC3\",\"count\":{count},\
+         \"min\":[0,0,0],\"max\":[1,1,1],\"sparse\":{{\"count\":1,\
+         \"indices\":{{\"bufferView\":0,\"componentType\":5125}},\"values\":{{\"bufferView\":1}}}}}}],\
+         \"meshes\":[{{\"primitives\":[{{\"attributes\":{{\"POSITION\":0}}}}]}}],\
+         \"nodes\":[{list}],\"scenes\":[{{\"nodes\":[{}]}}],\"scene\":0}}",
+        roots.join(",")
+    );
+    let bin: Vec<u8> = [0u32.to_le_bytes(), 1f32.to_le_bytes(), 1f32.to_le_bytes(), 1f32.to_le_bytes()].concat();
+    glb(&json, &bin)
+}
+
 #[test]
 fn a_sparse_accessor_of_3e8_elements_is_refused_before_reserving() {
     // 520 bytes: a POSITION accessor of count 3·10⁸ with no buffer view, made of zeros but for
     // one sparse substitution. Reading reserved 7.2 GB for it and aborted.
     set_memory_limit(128 << 20);
-    let json = "{\"asset\":{\"version\":\"2.0\"},\"buffers\":[{\"byteLength\":16}],\
-        \"bufferViews\":[{\"buffer\":0,\"byteLength\":4},{\"buffer\":0,\"byteOffset\":4,\"byteLength\":12}],\
-        \"accessors\":[{\"componentType\":5126,\"type\":\"VEC3\",\"count\":300000000,\
-        \"min\":[0,0,0],\"max\":[1,1,1],\"sparse\":{\"count\":1,\
-        \"indices\":{\"bufferView\":0,\"componentType\":5125},\"values\":{\"bufferView\":1}}}],\
-        \"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}}]}],\
-        \"nodes\":[{\"mesh\":0}],\"scenes\":[{\"nodes\":[0]}],\"scene\":0}";
-    let bin: Vec<u8> = [0u32.to_le_bytes(), 1f32.to_le_bytes(), 1f32.to_le_bytes(), 1f32.to_le_bytes()].concat();
-    let bytes = glb(json, &bin);
+    let bytes = sparse(300_000_000, 1);
     assert!(bytes.len() < 1024, "{}", bytes.len());
     let e = read_gltf(&bytes, None, Path::new("sparse.glb")).unwrap_err().to_string();
     assert!(e.contains("300000000 vertices") && e.contains("over the memory budget"), "{e}");
@@ -73,8 +84,14 @@ fn instances_are_counted_against_the_budget_before_placing() {
     // 400,000 instances of one triangle: 1.2 million vertices, ~130 MB placed, welded and
     // built, over 128 MiB (it reached 440–492 MiB before). 1,000 instances are read.
     set_memory_limit(128 << 20);
+    // Its JSON alone (800,000 objects and arrays: a node and its translation each) is refused
+    // before parsing, which took ~430 MiB.
     let e = read_gltf(&instanced_triangle(400_000), None, Path::new("many.glb")).unwrap_err().to_string();
-    assert!(e.contains("400000 mesh instances") && e.contains("over the memory budget"), "{e}");
+    assert!(e.contains("JSON of 800") && e.contains("over the memory budget"), "{e}");
+    // 1,000 instances of a sparse mesh of 200,000 (zero) positions parse in little memory,
+    // and what they would place — 2·10⁸ vertices — is refused before any is read.
+    let e = read_gltf(&sparse(200_000, 1000), None, Path::new("many.glb")).unwrap_err().to_string();
+    assert!(e.contains("1000 mesh instances") && e.contains("over the memory budget"), "{e}");
     let m = read_gltf(&instanced_triangle(1000), None, Path::new("few.glb")).unwrap();
     assert_eq!(m.face_count(), 1000);
 }

@@ -200,12 +200,12 @@ mod tests {
         write(&job, "memory.max", "2147483648\n");
         write(&job, "memory.current", "524288000\n");
         write(&job, "memory.stat", "anon 1\ninactive_file 104857600\nactive_file 5\n");
-        write(&job.parent().unwrap().to_path_buf(), "memory.max", "1610612736\n");
-        write(&job.parent().unwrap().to_path_buf(), "memory.current", "1073741824\n");
+        write(job.parent().unwrap(), "memory.max", "1610612736\n");
+        write(job.parent().unwrap(), "memory.current", "1073741824\n");
         write(root.path(), "memory.max", "max\n");
         assert_eq!(cgroup_available("0::/slurm/job_7\n", root.path()), Some(512 << 20));
         // Without the parent's limit, the job's: 2 GiB − 400 MiB.
-        write(&job.parent().unwrap().to_path_buf(), "memory.max", "max\n");
+        write(job.parent().unwrap(), "memory.max", "max\n");
         assert_eq!(cgroup_available("0::/slurm/job_7\n", root.path()), Some((2048 - 400) << 20));
         // A namespaced path that is not under the mount reads the mount itself (unlimited).
         assert_eq!(cgroup_available("0::/elsewhere\n", root.path()), None);

@@ -166,7 +166,7 @@ fn fans_best_first(corners: &[Vec3], normal: Vec3) -> Vec<(f64, usize)> {
     let tries = if k.saturating_mul(k) <= FAN_WORK { k } else { (FAN_WORK / k).clamp(MIN_FANS.min(k), k) };
     // Corners 0, 1 and k − 1 (next to the first corner, whose own diagonals a neighbour's
     // reverse face may already use), then spread evenly.
-    let mut from: Vec<usize> = if tries == k {
+    let from: Vec<usize> = if tries == k {
         (0..k).collect()
     } else {
         let mut v: Vec<usize> = [0, 1, k - 1].into_iter().chain((1..tries - 3).map(|j| j * k / (tries - 3))).collect();
@@ -175,7 +175,7 @@ fn fans_best_first(corners: &[Vec3], normal: Vec3) -> Vec<(f64, usize)> {
         v
     };
     let mut fans: Vec<(f64, usize)> = from
-        .drain(..)
+        .into_iter()
         .map(|i| {
             let worst = fan(i, k)
                 .map(|[a, b, c]| (corners[b] - corners[a]).cross(corners[c] - corners[a]).dot(normal))
