@@ -15,12 +15,15 @@ A deadline that falls in the setup (a busy machine) is moved later, one that fal
 call earlier. A row "finished first" means the deadline still fell after the call; run again.
 """
 
+import math
 import os
+import struct
 import subprocess
 import sys
 import tempfile
 import threading
 import time
+import zipfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))
 BIN = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "target", "release", "blocksmith")
@@ -55,7 +58,68 @@ CASES = [
     ("polar check, 3000 x 3000", "let p = polar_sphere(1, 3000, 3000);", "p.check();"),
     ("voxelize, 512^3", "let m = icosphere(1, 7);", "let v = voxelize(m, 512);"),
     ("load .stl, 5.2M triangles", "", "let m = load(\"{dir}/big.stl\");"),
+    # Small files at their worst (issue 33), written by `write_worst_files`.
+    ("load .stl, 300k corners in one cell", "", "let m = load(\"{dir}/crowded.stl\");"),
+    ("load .3mf, DAG 10 wide 6 deep", "", "let m = load(\"{dir}/dag.3mf\");"),
+    ("load .glb, 400,000 instances", "", "let m = load(\"{dir}/instances.glb\");"),
+    ("save .stl, two 20,000-gons", "let m = load(\"{dir}/disk.obj\");", "m.save(\"{dir}/disk.stl\");"),
 ]
+
+
+def write_worst_files(dir):
+    """The worst inputs of the readers and the weld (issue 33): an STL of 100,000 triangles
+    whose 300,000 corners lie within 180 weld tolerances of the origin, none within one
+    tolerance of another, beside one far triangle (all in one cell of the old weld grid); a
+    1 KB 3MF whose components form a DAG 10 wide and 6 deep (10^6 tetrahedra); a GLB of one
+    triangle instanced by 400,000 nodes; an OBJ of two 20,000-corner faces (a star and its
+    reverse, whose triangulation takes the fallback)."""
+    tol = 1e-8 * math.sqrt(3.0)
+    s = 1.25 * tol
+    tris = []
+    n = 47
+    for i in range(100_000):
+        b = (3 * s * (i % n), 3 * s * (i // n % n), 3 * s * (i // (n * n)))
+        tris.append((b, (b[0] + s, b[1], b[2]), (b[0], b[1] + s, b[2])))
+    tris.append(((1.0, 1.0, 1.0), (1.0, 0.9, 1.0), (0.9, 1.0, 1.0)))
+    with open(os.path.join(dir, "crowded.stl"), "wb") as f:
+        f.write(b"\0" * 80 + struct.pack("<I", len(tris)))
+        for t in tris:
+            f.write(struct.pack("<12fH", 0, 0, 1, *t[0], *t[1], *t[2], 0))
+
+    core = "http://schemas.microsoft.com/3dmanufacturing/core/2015/02"
+    objs = ['<object id="0" type="model"><mesh><vertices><vertex x="0" y="0" z="0"/><vertex x="1" y="0" z="0"/>'
+            '<vertex x="0" y="1" z="0"/><vertex x="0" y="0" z="1"/></vertices><triangles>'
+            '<triangle v1="0" v2="2" v3="1"/><triangle v1="0" v2="1" v3="3"/><triangle v1="0" v2="3" v3="2"/>'
+            '<triangle v1="1" v2="2" v3="3"/></triangles></mesh></object>']
+    for k in range(1, 7):
+        comps = "".join(f'<component objectid="{k - 1}" transform="1 0 0 0 1 0 0 0 1 {2 * j} 0 {k}"/>'
+                        for j in range(10))
+        objs.append(f'<object id="{k}" type="model"><components>{comps}</components></object>')
+    model = (f'<?xml version="1.0"?><model unit="millimeter" xmlns="{core}"><resources>{"".join(objs)}'
+             '</resources><build><item objectid="6"/></build></model>')
+    with zipfile.ZipFile(os.path.join(dir, "dag.3mf"), "w", zipfile.ZIP_DEFLATED) as z:
+        z.writestr("3D/3dmodel.model", model)
+
+    nodes = ",".join(f'{{"mesh":0,"translation":[{2 * i},0,0]}}' for i in range(400_000))
+    gltf = ('{"asset":{"version":"2.0"},"buffers":[{"byteLength":36}],"bufferViews":[{"buffer":0,"byteLength":36}],'
+            '"accessors":[{"bufferView":0,"componentType":5126,"type":"VEC3","count":3,"min":[0,0,0],"max":[1,1,0]}],'
+            '"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],'
+            f'"nodes":[{nodes}],"scenes":[{{"nodes":[{",".join(str(i) for i in range(400_000))}]}}],"scene":0}}')
+    j = gltf.encode()
+    j += b" " * (-len(j) % 4)
+    b = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0)
+    b += b"\0" * (-len(b) % 4)
+    with open(os.path.join(dir, "instances.glb"), "wb") as f:
+        f.write(b"glTF" + struct.pack("<II", 2, 12 + 8 + len(j) + 8 + len(b)))
+        f.write(struct.pack("<I", len(j)) + b"JSON" + j + struct.pack("<I", len(b)) + b"BIN\0" + b)
+
+    k = 20_000
+    with open(os.path.join(dir, "disk.obj"), "w") as f:
+        for i in range(k):
+            a, r = i * 2 * math.pi / k, (1.0 if i % 2 == 0 else 0.8)
+            f.write(f"v {r * math.cos(a)} {r * math.sin(a)} 0\n")
+        f.write("f " + " ".join(str(i) for i in range(1, k + 1)) + "\n")
+        f.write("f 1 " + " ".join(str(i) for i in range(k, 1, -1)) + "\n")
 
 
 CAP = 30.0  # seconds an untimed run may take (block meshing at 1e-12 would take minutes)
@@ -96,8 +160,9 @@ def run(recipe, dir, timeout=None):
 def main():
     with tempfile.TemporaryDirectory() as dir:
         startup, _, _ = run("", dir)
-        # The files the load case reads.
+        # The files the load cases read.
         run("icosphere(1, 9).save(\"{dir}/big.stl\");", dir)
+        write_worst_files(dir)
         print(f"start-up {startup * 1000:.0f} ms; deadline 40 % into each call")
         print(f"{'operation':34} {'call s':>8} {'message ms':>11} {'exit ms':>8}  message")
         only = os.environ.get("ONLY", "")
