@@ -91,8 +91,12 @@ fn confine(command: &Command) -> Result<(), String> {
         }
         Command::Params { file, access, .. } => access.apply(file, &[], Saves::Report),
         Command::Repl { access, .. } => access.apply(here, &[], Saves::Write),
-        // Each test's project is its own; `blocksmith.toml` is read from where the tests run.
-        Command::Test { out, access, .. } => access.apply(here, &[out.as_path()], Saves::Write),
+        // Tests are the user's own, run from their project: each may use that project (where
+        // `blocksmith.toml` is read) besides its own, and `--out`.
+        Command::Test { out, access, .. } => {
+            let project = blocksmith_script::access::project_of(here);
+            access.apply(here, &[out.as_path(), project.as_path()], Saves::Write)
+        }
         Command::Render { file, access, .. } => access.apply(file, &[], Saves::Report),
         Command::Watch { file, access, .. } => access.apply(file, &[], Saves::Report),
         Command::View { .. } | Command::Doc { .. } => Ok(()),
