@@ -375,3 +375,18 @@ fn profiles_touching_at_a_corner_extrude_to_a_closed_solid() {
     assert!(m.is_closed() && m.is_manifold());
     assert_near(m.volume(), 2.0, 1e-12);
 }
+
+#[test]
+fn a_profile_touching_the_axis_at_a_point_revolves_to_a_pinched_solid() {
+    // A 32-gon of radius 1 at x = 1 touches the axis at its vertex (0, 0): the solid pinches to
+    // a point there. The engine shares one vertex between the two fans; the mesh gets one per
+    // fan, so it stays a 2-manifold (a sphere-like surface, genus 0) with Pappus's volume.
+    let disc = Profile::circle(1.0, 32).unwrap().translate(v(1.0, 0.0)).unwrap();
+    let m = revolve(&disc, &RevolveOptions::DEFAULT.with_segments(48)).unwrap();
+    assert_near(solid(&m, 0), 48.0 * (2.0 * PI / 48.0).sin() * ngon_area(32) * 1.0, 1e-9);
+    // A triangle with its apex on the axis: a double cone meeting at a point.
+    let tri = Profile::polygon(&[v(0.0, 0.0), v(1.0, -1.0), v(1.0, 1.0)], FillRule::EvenOdd).unwrap();
+    let c = revolve(&tri, &RevolveOptions::DEFAULT.with_segments(24)).unwrap();
+    // ∫x dA over the triangle: area 1, centroid x = 2/3.
+    assert_near(solid(&c, 0), 24.0 * (2.0 * PI / 24.0).sin() * (2.0 / 3.0), 1e-9);
+}
