@@ -33,7 +33,8 @@ fn glb(json: &str, bin: &[u8]) -> Vec<u8> {
 /// nodes of the scene, 2 apart in x.
 fn instanced_triangle(nodes: usize) -> Vec<u8> {
     // Each moved apart, so that the weld keeps them.
-    let node_list: Vec<String> = (0..nodes).map(|i| format!("{{\"mesh\":0,\"translation\":[{},0,0]}}", 2 * i)).collect();
+    let node_list: Vec<String> =
+        (0..nodes).map(|i| format!("{{\"mesh\":0,\"translation\":[{},0,0]}}", 2 * i)).collect();
     let node_list = node_list.join(",");
     let scene: Vec<String> = (0..nodes).map(|i| i.to_string()).collect();
     let json = format!(

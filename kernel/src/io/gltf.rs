@@ -675,7 +675,10 @@ fn check_json_size(bytes: &[u8]) -> Result<(), LimitError> {
         _ => bytes,
     };
     let n = json.iter().filter(|&&b| b == b'{' || b == b'[').count();
-    crate::limits::check_memory(|| format!("the glTF's JSON of {n} objects and arrays"), n as f64 * JSON_STRUCTURE_BYTES)
+    crate::limits::check_memory(
+        || format!("the glTF's JSON of {n} objects and arrays"),
+        n as f64 * JSON_STRUCTURE_BYTES,
+    )
 }
 
 /// The accessors of a primitive compressed with `KHR_draco_mesh_compression` have no buffer

@@ -46,7 +46,6 @@ pub mod uri;
 mod weld;
 
 use std::borrow::Cow;
-use std::io::Write;
 use std::path::Path;
 
 pub use atomic::{remove_temporaries, write_atomic, StoppableFile};

@@ -15,8 +15,8 @@
 //! (An allocation past a cgroup limit is killed, one past an rlimit fails — and aborts: either
 //! way the process is gone, so the estimates must meet the tightest.)
 
-use std::sync::atomic::{AtomicU64, Ordering};
 use std::path::Path;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::OnceLock;
 
 use super::LimitError;
