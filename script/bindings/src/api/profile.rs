@@ -10,8 +10,8 @@ use std::rc::Rc;
 
 use blocksmith_kernel::math::fmt_num;
 use blocksmith_kernel::profile::{
-    self as kernel_profile, ExtrudeOptions, FillRule, JoinType, LoftOptions, OffsetOptions, Profile as KernelProfile,
-    RevolveOptions, SweepOptions, Vec2,
+    self as kernel_profile, ExtrudeOptions, FillRule, Font, HAlign, JoinType, LoftOptions, OffsetOptions,
+    Profile as KernelProfile, RevolveOptions, SweepOptions, TextOptions, VAlign, Vec2,
 };
 use blocksmith_kernel::Vec3;
 use rhai::plugin::*;
@@ -121,6 +121,44 @@ fn make_polygon(points: &Array, fill: FillRule) -> ScriptResult<Profile> {
         KernelProfile::from_contours(&contours, fill)
     };
     kernel("polygon", p).map(Profile::new)
+}
+
+/// The font of `text`'s option `font`: a TTF/OTF file (read as `load` reads: from the working
+/// directory, else next to the script, within what the run may read), else the bundled one.
+fn text_font(ctx: &NativeCallContext, opts: &Options) -> ScriptResult<Font> {
+    let Some(v) = opts.raw("font") else { return Ok(Font::bundled()) };
+    let Some(path) = v.clone().into_immutable_string().ok() else {
+        return fail("text", format!("option `font` must be the path of a .ttf or .otf file, got {}", type_name(v)));
+    };
+    let run = crate::context::RunContext::of(ctx);
+    let p = run.input_path(&path);
+    run.access.check_read(&p).map_err(|e| error("text", e))?;
+    let limit = blocksmith_kernel::limits::memory_limit();
+    let size = std::fs::metadata(&p)
+        .map_err(|e| error("text", format!("option `font`: cannot read {}: {e}", p.display())))?
+        .len();
+    if size > limit {
+        return fail("text", format!("option `font`: {} is {size} bytes, over the memory budget", p.display()));
+    }
+    let bytes =
+        std::fs::read(&p).map_err(|e| error("text", format!("option `font`: cannot read {}: {e}", p.display())))?;
+    run.record.input(&p);
+    kernel("text", Font::from_bytes(bytes))
+}
+
+fn text_options(opts: &Options) -> ScriptResult<TextOptions> {
+    let halign = opts.choice("halign", "left", &["left", "center", "right"])?;
+    let valign = opts.choice("valign", "baseline", &["baseline", "bottom", "center", "top"])?;
+    let segments = opts.int("segments", 8)?;
+    if !(1..=64).contains(&segments) {
+        return fail("text", format!("option `segments` must be between 1 and 64, got {segments}"));
+    }
+    Ok(TextOptions::DEFAULT
+        .with_size(opts.number("size", 10.0)?)
+        .with_halign(HAlign::from_name(&halign).unwrap_or_default())
+        .with_valign(VAlign::from_name(&valign).unwrap_or_default())
+        .with_spacing(opts.number("spacing", 1.0)?)
+        .with_segments(segments as u32))
 }
 
 fn offset_options(func: &'static str, options: Map) -> ScriptResult<OffsetOptions> {
@@ -297,6 +335,41 @@ pub mod profile_api {
         let opts = Options::new("polygon", options, &["fill"])?;
         let fill = opts.choice("fill", "evenodd", &["evenodd", "nonzero"])?;
         make_polygon(&points, FillRule::from_name(&fill).unwrap_or_default())
+    }
+
+    /// The outlines of `s` set in the bundled font (DejaVu Sans) at size 10 — capitals about 10
+    /// tall, as OpenSCAD's `text` — starting at x = 0 on the baseline y = 0. Lines break at
+    /// `\n`.
+    ///
+    /// ```rhai
+    /// let t = text("Hi");
+    /// assert(t.area() > 0.0 && t.contours().len() == 3, "H, the i's stem and its dot");
+    /// assert_near(t.bounds().min[1], 0.0, 0.05);          // on the baseline
+    /// ```
+    #[rhai_fn(name = "text", return_raw)]
+    pub fn text_plain(ctx: NativeCallContext, s: &str) -> ScriptResult<Profile> {
+        text_with(ctx, s, Map::new())
+    }
+
+    /// As `text(s)`, with options `size` (capitals about this tall; default 10), `font` (the
+    /// path of a .ttf or .otf file; default the bundled DejaVu Sans), `halign` (`"left"`,
+    /// `"center"`, `"right"` about x = 0), `valign` (`"baseline"`, `"bottom"`, `"center"`,
+    /// `"top"` about y = 0), `spacing` (a factor on every advance; default 1) and `segments`
+    /// (per curve of an outline, 1 to 64; default 8).
+    ///
+    /// ```rhai
+    /// // An engraved nameplate: the text centred, cut 0.5 into a 60 × 16 plate.
+    /// let label = text("blocksmith", #{ size: 6, halign: "center", valign: "center" });
+    /// assert_near(label.bounds().min[0], -label.bounds().max[0], 0.5);
+    /// let plate = extrude(rect([-30, -8], [30, 8]), 2) - extrude(label, 1).translate([0, 0, 1.5]);
+    /// assert(plate.is_closed() && plate.volume() < 60.0 * 16.0 * 2.0, "engraved");
+    /// ```
+    #[rhai_fn(name = "text", return_raw)]
+    pub fn text_with(ctx: NativeCallContext, s: &str, options: Map) -> ScriptResult<Profile> {
+        let opts = Options::new("text", options, &["size", "font", "halign", "valign", "spacing", "segments"])?;
+        let font = text_font(&ctx, &opts)?;
+        let o = text_options(&opts)?;
+        kernel("text", kernel_profile::text(s, &font, &o)).map(Profile::new)
     }
 
     /// `a + b`: the union of two profiles.
@@ -768,10 +841,25 @@ mod tests {
             ("hull([])", "hull: argument `items` is empty"),
             ("hull([circle(1), cube(1)])", "hull: argument `items[0]`"),
             ("rect([0, 0], [1, 2, 3])", "rect: argument `max` must be a point [x, y]"),
+            ("text(\"\")", "text:"),
+            ("text(\"   \")", "text:"),
+            ("text(\"a\", #{ size: 0 })", "text:"),
+            ("text(\"a\", #{ halign: \"middle\" })", "text: option `halign`"),
+            ("text(\"a\", #{ font: \"no-such-font.ttf\" })", "text: option `font`: cannot read"),
+            ("text(\"a\", #{ font: 3 })", "text: option `font` must be the path"),
         ] {
             let e = error_of(script);
             assert!(e.contains(expected), "{script}: {e}");
         }
+    }
+
+    #[test]
+    fn a_font_file_that_is_not_a_font_is_refused_by_name() {
+        let dir = tempfile::tempdir().unwrap();
+        let bad = dir.path().join("bad.ttf");
+        std::fs::write(&bad, b"not a font at all").unwrap();
+        let e = error_of(&format!("text(\"a\", #{{ font: {:?} }})", bad.display().to_string()));
+        assert!(e.contains("text:") && e.to_lowercase().contains("font"), "{e}");
     }
 
     #[test]
