@@ -466,6 +466,8 @@ fn watch_runs_again_when_an_imported_module_or_a_loaded_file_is_saved() {
     let (home, lib) = (dir.path().join("part"), dir.path().join("lib"));
     std::fs::create_dir_all(home.join("data")).unwrap();
     std::fs::create_dir_all(&lib).unwrap();
+    // The project holding part/ and lib/ (a recipe reads only inside its project).
+    std::fs::write(dir.path().join("blocksmith.toml"), "").unwrap();
     std::fs::write(lib.join("sizes.rhai"), "fn side() { 1 }").unwrap();
     std::fs::write(lib.join("other.rhai"), "fn unused() { 1 }").unwrap();
     let tetra = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
