@@ -148,6 +148,9 @@ fn is_planar(corners: &[Vec3], normal: Vec3) -> bool {
 /// (all `k` fans of a 20,000-gon held 4·10⁸ triangles).
 const FAN_WORK: usize = 1 << 20;
 
+/// Corners from which a face polls the cancellation token by itself while it is triangulated.
+const LONG_FACE: usize = 4096;
+
 /// The fewest corners whose fans a long polygon tries: 0, 1, the last, and spread ones.
 const MIN_FANS: usize = 16;
 
@@ -297,6 +300,12 @@ impl Mesh {
                     self.find_halfedge(a, b).is_none() && !diagonals.contains(&(a.min(b), a.max(b)))
                 })
             };
+            // A long face is work enough to poll about on its own (its Delaunay triangulation,
+            // each fan it tries).
+            let long = poll && k >= LONG_FACE;
+            if long {
+                crate::limits::poll()?;
+            }
             let first = triangulate_polygon(&corners, normal);
             let t = match first {
                 Ok(t) if fresh(&t, &diagonals) => t,
@@ -307,14 +316,21 @@ impl Mesh {
                     let planar = is_planar(&corners, normal);
                     // Each fan is built only when tried, so that memory stays O(k).
                     let mut scratch: Triangles = Vec::new();
-                    let found = fans_best_first(&corners, normal).into_iter().any(|(worst, i)| {
+                    let mut found = false;
+                    for (worst, i) in fans_best_first(&corners, normal) {
+                        if long {
+                            crate::limits::poll()?;
+                        }
                         if !worst.is_finite() || (planar && worst <= 0.0) {
-                            return false;
+                            continue;
                         }
                         scratch.clear();
                         scratch.extend(fan(i, k));
-                        fresh(&scratch, &diagonals)
-                    });
+                        if fresh(&scratch, &diagonals) {
+                            found = true;
+                            break;
+                        }
+                    }
                     match (found, first) {
                         (true, _) => scratch,
                         (false, Err(reason)) if planar => {
