@@ -266,7 +266,7 @@ pub fn parse_size(s: &str) -> Result<u64, String> {
         _ => (t, 1),
     };
     let x = number.trim().parse::<f64>().map_err(|_| bad())? * scale as f64;
-    if x.is_finite() && x >= 0.0 && x < 1.8e19 {
+    if x.is_finite() && (0.0..1.8e19).contains(&x) {
         Ok(x as u64)
     } else {
         Err(bad())

@@ -78,7 +78,7 @@ fn saves_outside_the_project_are_refused_however_the_path_is_written() {
     // Inside the project every way of writing works.
     let recipe =
         write(&w.proj.join("recipes"), "r.rhai", "cube(1).save(\"../a.obj\");\ncube(1).save(\"b/c.obj\");\n1\n");
-    let o = blocksmith(&w.home).arg("run").arg(&recipe).current_dir(&w.proj.join("recipes")).output().unwrap();
+    let o = blocksmith(&w.home).arg("run").arg(&recipe).current_dir(w.proj.join("recipes")).output().unwrap();
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(w.proj.join("a.obj").exists() && w.proj.join("recipes/b/c.obj").exists());
 }

@@ -204,7 +204,14 @@ fn a_gltf_is_hashed_with_its_buffer_files_written_or_loaded() {
     assert_eq!(paths, ["r.gltf", bin.file_name().unwrap().to_str().unwrap()]);
     let moved = blocksmith().arg("run").arg(&recipe).args(["--set", "k=2", "-o"]).arg(dir.join("k2.gltf")).output();
     assert!(moved.unwrap().status.success());
-    let k2_bin = std::fs::read(dir.join("k2.bin")).unwrap();
+    // The buffer is named by its content (`k2.HASH.bin`), so a .gltf and its buffer change
+    // together: find the one k2.gltf names.
+    let k2_name = std::fs::read_dir(dir)
+        .unwrap()
+        .filter_map(|e| e.ok().and_then(|e| e.file_name().into_string().ok()))
+        .find(|n| n.starts_with("k2.") && n.ends_with(".bin"))
+        .expect("k2's buffer");
+    let k2_bin = std::fs::read(dir.join(k2_name)).unwrap();
     assert_eq!(k2_bin.len(), bytes.len(), "same layout, other positions");
     std::fs::write(&bin, k2_bin).unwrap();
     let second: serde_json::Value = serde_json::from_str(&manifest(&loader, &lout, &[])).unwrap();
