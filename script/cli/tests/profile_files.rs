@@ -1,6 +1,9 @@
 //! 2D profiles written for other tools: an SVG `save` is drawn by a real browser (Debian's
 //! chromium, headless) with the region's area, and a DXF reads back with the same contours.
 
+mod support;
+use support::chromium;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -8,16 +11,6 @@ fn run(dir: &Path, name: &str, text: &str) -> std::process::Output {
     let recipe = dir.join(name);
     std::fs::write(&recipe, text).unwrap();
     Command::new(env!("CARGO_BIN_EXE_blocksmith")).arg("run").arg(&recipe).current_dir(dir).output().unwrap()
-}
-
-fn chromium() -> Option<&'static str> {
-    let found = Command::new("chromium").arg("--version").output().is_ok_and(|o| o.status.success());
-    if !found {
-        assert!(std::env::var("CI").as_deref() != Ok("true"), "CI must install chromium for the browser tests");
-        eprintln!("chromium not found: browser test skipped");
-        return None;
-    }
-    Some("chromium")
 }
 
 /// The region a browser fills: a 40 × 20 plate (one unit a millimetre) less a hole of radius 5

@@ -4,6 +4,9 @@
 //! control mesh through moves and booleans) in a real browser (Debian's `chromium`, headless
 //! on SwiftShader; skipped when it is missing, except under CI=true, where it must be there).
 
+mod support;
+use support::chromium;
+
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpStream;
 use std::path::Path;
@@ -640,17 +643,6 @@ fn show_outside_the_studio_does_nothing_and_says_so() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{err}");
     assert_eq!(err.matches("show(...)").count(), 1, "said once: {err}");
-}
-
-/// chromium, or None where it is missing (an error under CI, which installs it).
-fn chromium() -> Option<&'static str> {
-    let found = Command::new("chromium").arg("--version").output().is_ok_and(|o| o.status.success());
-    if !found {
-        assert!(std::env::var("CI").as_deref() != Ok("true"), "CI must install chromium for the browser tests");
-        eprintln!("chromium not found: browser test skipped");
-        return None;
-    }
-    Some("chromium")
 }
 
 #[test]
