@@ -5,10 +5,11 @@
 //! Each vertex, in file order, joins the first earlier *kept* vertex within the tolerance in
 //! every coordinate (a box, not a ball), or is kept itself. Kept vertices keep their position
 //! bit for bit, and a file without near-duplicates is returned unchanged, so round trips stay
-//! exact. Lookup goes through a hash grid of cells 4 tolerances wide: a vertex looks in its
-//! own cell, and in a neighbouring one only when it lies within the tolerance of that side.
-//! Kept vertices are pairwise more than the tolerance apart, so a cell holds at most 125 of
-//! them: the cost is linear whatever the positions (no crowding of one cell).
+//! exact. Lookup goes through a hash grid of cells 256 tolerances wide: a vertex looks in its
+//! own cell, and in a neighbouring one only when it lies within the tolerance of that side. A
+//! cell holding more than 64 kept vertices splits into fine cells 4 tolerances wide; kept
+//! vertices are pairwise more than the tolerance apart, so a fine cell holds at most 125 of
+//! them: the cost is linear whatever the positions (a crowded cell made it quadratic).
 
 use crate::limits::LimitError;
 use crate::math::{IdMap, Vec3};
@@ -38,12 +39,19 @@ impl Weld {
     pub const DEFAULT: Weld = Weld::Relative(1e-8);
 }
 
-/// Cell width in tolerances. Kept vertices are more than the tolerance apart in some
-/// coordinate, so a cell holds at most (CELL + 1)³ = 125 of them whatever the positions (at
-/// 256 tolerances, a file whose corners all fell in one cell made the weld quadratic: a
-/// minute for a 5 MB STL); a vertex needs a neighbouring cell on an axis only within the
-/// tolerance of that side, so it looks up (1 + 2/CELL)³ ≈ 3.4 cells on average.
+/// Fine cell width in tolerances. Kept vertices are more than the tolerance apart in some
+/// coordinate, so a fine cell holds at most (CELL + 1)³ = 125 of them whatever the positions
+/// (at 256 tolerances, a file whose corners all fell in one cell made the weld quadratic: a
+/// minute for a 5 MB STL).
 const CELL: f64 = 4.0;
+
+/// Fine cells per coarse cell along an axis: coarse cells are 256 tolerances wide, so that a
+/// vertex usually looks up one coarse cell (a neighbour only within the tolerance of its side).
+const FINE_PER_COARSE: i64 = 64;
+
+/// Kept vertices a coarse cell lists before its vertices move to fine cells (which cost about
+/// 3.4 lookups a vertex: the fine grid is for crowded cells only).
+const DENSE: u32 = 64;
 
 /// Cells looked up and kept vertices compared between two polls of the cancellation token:
 /// about a millisecond of work.
@@ -79,16 +87,19 @@ pub(crate) fn weld(positions: &[Vec3], rule: Weld) -> Result<(Vec<u32>, Vec<u32>
     }
     // Cells are measured from the low corner of the box, so that far-off models (o = 1e12 with
     // a diagonal of 1) do not saturate the cell numbers into one cell; and at least 2⁻⁵⁰ of the
-    // diagonal wide, so that numbers stay in range for any ratio.
+    // diagonal wide, so that numbers stay in range for any ratio. Fine cells are CELL
+    // tolerances wide; coarse ones FINE_PER_COARSE fine cells (256 tolerances).
     let (lo, diag) = bounds(positions);
     let width = (tol * CELL).max(diag * 2f64.powi(-50));
-    let cell_of = |c: f64, lo: f64| ((c - lo) / width).floor() as i64;
-    // The kept vertices of each cell, as a linked list through `next` (by new id).
-    let mut heads: IdMap<[i64; 3], u32> = IdMap::default();
-    heads.reserve(positions.len() / 2);
+    let l = [lo.x, lo.y, lo.z];
+    let fine_of = |c: f64, a: usize| ((c - l[a]) / width).floor() as i64;
+    // The kept vertices of each coarse cell, or of each fine cell of a dense coarse cell, as
+    // linked lists through `next` (by new id); each kept vertex is in exactly one list.
+    let mut coarse: IdMap<[i64; 3], Coarse> = IdMap::default();
+    coarse.reserve(positions.len() / 8);
+    let mut fine: IdMap<[i64; 3], u32> = IdMap::default();
     let mut next: Vec<u32> = Vec::with_capacity(positions.len() / 2);
     let near = |a: Vec3, b: Vec3| (a.x - b.x).abs() <= tol && (a.y - b.y).abs() <= tol && (a.z - b.z).abs() <= tol;
-    let mut neighbours: Vec<[i64; 3]> = Vec::with_capacity(27);
     // Work since the last poll: cells looked up and vertices compared.
     let mut work = 0usize;
     for (i, &p) in positions.iter().enumerate() {
@@ -98,30 +109,50 @@ pub(crate) fn weld(positions: &[Vec3], rule: Weld) -> Result<(Vec<u32>, Vec<u32>
             crate::limits::poll()?;
         }
         let c = [p.x, p.y, p.z];
-        let l = [lo.x, lo.y, lo.z];
-        let cell = [0, 1, 2].map(|a| cell_of(c[a], l[a]));
-        // Cells per axis from that of p − tol to that of p + tol: p's own, and its neighbour
-        // when p lies within tol of that side.
-        let steps = [0, 1, 2].map(|a| (cell_of(c[a] - tol, l[a]) - cell[a], cell_of(c[a] + tol, l[a]) - cell[a]));
-        neighbours.clear();
-        for dx in steps[0].0..=steps[0].1 {
-            for dy in steps[1].0..=steps[1].1 {
-                for dz in steps[2].0..=steps[2].1 {
-                    neighbours.push([cell[0] + dx, cell[1] + dy, cell[2] + dz]);
-                }
-            }
-        }
+        let cell = [0, 1, 2].map(|a| fine_of(c[a], a));
+        // Fine cells per axis from that of p − tol to that of p + tol: p's own, and its
+        // neighbour when p lies within tol of that side; and the coarse cells holding them.
+        let range = [0, 1, 2].map(|a| (fine_of(c[a] - tol, a), fine_of(c[a] + tol, a)));
+        let up = |f: i64| f.div_euclid(FINE_PER_COARSE);
         // The first (smallest id) kept vertex within tol over all candidate cells.
         let mut found: Option<u32> = None;
-        for c in &neighbours {
-            work += 1;
-            let mut at = heads.get(c).copied();
+        let mut scan = |head: Option<u32>, work: &mut usize| {
+            let mut at = head;
             while let Some(k) = at {
-                work += 1;
+                *work += 1;
                 if found.is_none_or(|f| k < f) && near(p, positions[kept[k as usize] as usize]) {
                     found = Some(k);
                 }
                 at = Some(next[k as usize]).filter(|&n| n != u32::MAX);
+            }
+        };
+        for cx in up(range[0].0)..=up(range[0].1) {
+            for cy in up(range[1].0)..=up(range[1].1) {
+                for cz in up(range[2].0)..=up(range[2].1) {
+                    work += 1;
+                    match coarse.get(&[cx, cy, cz]) {
+                        None => {}
+                        Some(&Coarse::Sparse { head, .. }) => scan(Some(head), &mut work),
+                        Some(Coarse::Dense) => {
+                            // The fine cells of the range inside this coarse cell.
+                            let clip = |a: usize, cc: i64| {
+                                (
+                                    range[a].0.max(cc * FINE_PER_COARSE),
+                                    range[a].1.min(cc * FINE_PER_COARSE + FINE_PER_COARSE - 1),
+                                )
+                            };
+                            let (x, y, z) = (clip(0, cx), clip(1, cy), clip(2, cz));
+                            for fx in x.0..=x.1 {
+                                for fy in y.0..=y.1 {
+                                    for fz in z.0..=z.1 {
+                                        work += 1;
+                                        scan(fine.get(&[fx, fy, fz]).copied(), &mut work);
+                                    }
+                                }
+                            }
+                        }
+                    }
+                }
             }
         }
         let id = match found {
@@ -129,14 +160,44 @@ pub(crate) fn weld(positions: &[Vec3], rule: Weld) -> Result<(Vec<u32>, Vec<u32>
             None => {
                 let k = kept.len() as u32;
                 kept.push(i as u32);
-                // Pushed at the head: lists hold decreasing ids.
-                next.push(heads.insert(cell, k).unwrap_or(u32::MAX));
+                next.push(u32::MAX);
+                let home = cell.map(up);
+                let entry = coarse.entry(home).or_insert(Coarse::Sparse { head: u32::MAX, len: 0 });
+                match entry {
+                    Coarse::Sparse { head, len } => {
+                        // Pushed at the head: lists hold decreasing ids.
+                        next[k as usize] = *head;
+                        *head = k;
+                        *len += 1;
+                        if *len > DENSE {
+                            // Too many for one list: this coarse cell's vertices move to
+                            // fine cells, where at most (CELL + 1)³ share one.
+                            let mut at = Some(*head);
+                            *entry = Coarse::Dense;
+                            while let Some(v) = at {
+                                at = Some(next[v as usize]).filter(|&n| n != u32::MAX);
+                                let q = positions[kept[v as usize] as usize];
+                                let f = [fine_of(q.x, 0), fine_of(q.y, 1), fine_of(q.z, 2)];
+                                next[v as usize] = fine.insert(f, v).unwrap_or(u32::MAX);
+                            }
+                        }
+                    }
+                    Coarse::Dense => next[k as usize] = fine.insert(cell, k).unwrap_or(u32::MAX),
+                }
                 k
             }
         };
         map.push(id);
     }
     Ok((map, kept))
+}
+
+/// A coarse cell of the weld's grid: a list of its kept vertices while it holds at most
+/// [`DENSE`], then its vertices in fine cells.
+#[derive(Clone, Copy)]
+enum Coarse {
+    Sparse { head: u32, len: u32 },
+    Dense,
 }
 
 /// The length of the diagonal of the bounding box of the finite `positions` (0 if none).
@@ -274,6 +335,38 @@ mod tests {
         }
         assert_eq!(kept, want_kept);
         assert!(kept.len() < p.len(), "the case must weld something");
+    }
+
+    #[test]
+    fn a_crowded_cloud_welds_as_brute_force_does() {
+        // 3,000 random points within 100 tolerances of each other (and one far point fixing the
+        // tolerance): their coarse cell turns dense, and the fine cells must find the same
+        // first kept neighbour as comparing every pair.
+        let tol = 1e-3 * 3f64.sqrt();
+        let mut s = 99u64;
+        let mut rnd = || {
+            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (s >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut p: Vec<Vec3> = (0..3000).map(|_| Vec3::new(rnd(), rnd(), rnd()) * (100.0 * tol)).collect();
+        p.push(Vec3::ONE);
+        let (map, kept) = weld(&p, Weld::Relative(1e-3)).unwrap();
+        let mut want_kept: Vec<u32> = Vec::new();
+        for (i, &q) in p.iter().enumerate() {
+            let hit = want_kept.iter().position(|&k| {
+                let r = p[k as usize];
+                (r.x - q.x).abs() <= tol && (r.y - q.y).abs() <= tol && (r.z - q.z).abs() <= tol
+            });
+            match hit {
+                Some(h) => assert_eq!(map[i] as usize, h, "vertex {i}"),
+                None => {
+                    assert_eq!(map[i] as usize, want_kept.len(), "vertex {i}");
+                    want_kept.push(i as u32);
+                }
+            }
+        }
+        assert_eq!(kept, want_kept);
+        assert!(kept.len() > 200 && kept.len() < p.len(), "{}", kept.len());
     }
 
     #[test]
