@@ -8,6 +8,7 @@
 
 mod args;
 mod commands;
+mod interrupt;
 mod manifest;
 mod output;
 mod progress_bars;
@@ -48,6 +49,9 @@ fn command() -> ExitCode {
     let command = Cli::parse().command;
     if let Err(e) = confine(&command) {
         return output::fail(e);
+    }
+    if !matches!(command, Command::Repl { .. }) {
+        interrupt::install();
     }
     match command {
         Command::Run { file, set, params: Some(format), .. } => commands::params::execute(&file, &set, &format),

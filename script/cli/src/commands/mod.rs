@@ -18,6 +18,7 @@ pub fn with_params(set: Vec<(String, String)>) -> EngineOptions {
     EngineOptions {
         context: RunContext { params: set.into_iter().collect(), ..RunContext::default() },
         progress: crate::progress_bars::on_terminal(),
+        interrupt: Some(crate::interrupt::flag()),
         ..EngineOptions::default()
     }
 }

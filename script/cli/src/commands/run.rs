@@ -67,7 +67,7 @@ pub fn execute_with_outcome(cmd: &RunCommand) -> Result<RunOutcome, RunError> {
         context,
         max_operations: cmd.max_operations,
         timeout: cmd.timeout,
-        interrupt: None,
+        interrupt: Some(crate::interrupt::flag()),
         progress: cmd.progress.clone(),
     };
     let RecipeRun { engine, value, ast, record, elapsed, warnings } = run_recipe(&cmd.file, options)?;

@@ -151,7 +151,13 @@ fn run_one(
 ) -> TestOutcome {
     let start = Instant::now();
     let context = RunContext { output_dir: Some(output_dir.to_path_buf()), ..RunContext::default() };
-    let options = EngineOptions { context, max_operations, timeout, progress: progress.clone(), interrupt: None };
+    let options = EngineOptions {
+        context,
+        max_operations,
+        timeout,
+        progress: progress.clone(),
+        interrupt: Some(crate::interrupt::flag()),
+    };
     let error = match run_recipe(path, options) {
         Err(e) => Some(e.error.0),
         // In a test a warning is an error (a dropped result, blocks that touch without
