@@ -335,12 +335,12 @@ impl Access {
         Ok(Write::Do(path.to_path_buf()))
     }
 
-    /// Counts the bytes of the file just written at `path` (and of a `.gltf`'s `.bin`).
+    /// Counts the bytes of the file just written at `path` (and of the buffers a `.gltf` names).
     pub fn wrote(&self, path: &Path) {
         let size = |p: &Path| std::fs::metadata(p).map_or(0, |m| m.len());
         let mut bytes = size(path);
         if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gltf")) {
-            bytes += size(&path.with_extension("bin"));
+            bytes += crate::gltf_buffers::buffer_files(path).iter().map(|b| size(b)).sum::<u64>();
         }
         let mut s = self.0.borrow_mut();
         s.bytes = s.bytes.saturating_add(bytes);
@@ -358,8 +358,10 @@ pub fn check_host_write(path: &Path, protected: &[PathBuf]) -> Result<(), String
 }
 
 fn check_replaceable(path: &Path, real: &Path, protected: &[PathBuf]) -> Result<(), String> {
+    // A .gltf's save also replaces the buffers it names now (the new buffer is named by its
+    // content, so it replaces nothing).
     let targets = if real.extension().is_some_and(|e| e.eq_ignore_ascii_case("gltf")) {
-        vec![real.to_path_buf(), real.with_extension("bin")]
+        [vec![real.to_path_buf()], crate::gltf_buffers::buffer_files(real)].concat()
     } else {
         vec![real.to_path_buf()]
     };

@@ -77,7 +77,7 @@ pub struct Writes(Arc<Mutex<Vec<PathBuf>>>);
 
 impl Writes {
     /// Lists `path` (made absolute, its folder's symbolic links resolved, as a watcher names
-    /// it), and for a `.gltf` the `.bin` written beside it.
+    /// it), and for a `.gltf` the buffer files it names now, which the save replaces.
     pub fn push(&self, path: &Path) {
         let absolute = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
         let resolved = match (absolute.parent().and_then(|d| d.canonicalize().ok()), absolute.file_name()) {
@@ -87,7 +87,9 @@ impl Writes {
         let gltf = resolved.extension().is_some_and(|e| e.eq_ignore_ascii_case("gltf"));
         let mut list = self.0.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
         if gltf {
-            list.push(resolved.with_extension("bin"));
+            // The buffers the .gltf names now, which the save replaces (the new one is named
+            // by its content, `STEM.HASH.bin`, known once written).
+            list.extend(crate::gltf_buffers::buffer_files(&resolved));
         }
         list.push(resolved);
     }
