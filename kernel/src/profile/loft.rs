@@ -83,6 +83,9 @@ fn parameters(c: &[Vec2]) -> Vec<f64> {
     acc.into_iter().map(|a| a / total).collect()
 }
 
+/// Normalised arc-length parameters closer than this are resampled as one point.
+const LOFT_PARAMETER_TOLERANCE: f64 = 1e-6;
+
 /// The closed contour `c` (vertex parameters `params`) at each of `at` (sorted, in [0, 1)).
 fn resample(c: &[Vec2], params: &[f64], at: &[f64]) -> Vec<Vec2> {
     let n = c.len();
@@ -246,7 +249,10 @@ pub fn loft(profiles: &[Profile], options: &LoftOptions) -> Result<Mesh, Profile
         let params: Vec<Vec<f64>> = aligned.iter().map(|c| parameters(c)).collect();
         let mut all: Vec<f64> = params.iter().flatten().copied().collect();
         all.sort_by(f64::total_cmp);
-        all.dedup_by(|a, b| (*a - *b).abs() <= 1e-12);
+        // Parameters closer than a millionth of the perimeter are one: nearer points (corners
+        // of different profiles a rounding apart) made slivers whose corners coincide once
+        // written in f32, which other tools then weld into edges of four faces.
+        all.dedup_by(|a, b| (*a - *b).abs() <= LOFT_PARAMETER_TOLERANCE);
         for (i, c) in aligned.iter().enumerate() {
             rings[i].push(resample(c, &params[i], &all));
         }
@@ -297,4 +303,32 @@ pub fn loft(profiles: &[Profile], options: &LoftOptions) -> Result<Mesh, Profile
         mesh = Mesh::from_polygons(positions, &flipped).map_err(mesh_error)?;
     }
     Ok(mesh)
+}
+
+#[cfg(test)]
+mod parameter_tests {
+    use super::*;
+
+    #[test]
+    fn no_two_points_of_a_loft_coincide_when_profiles_share_corners_almost() {
+        // The vase of examples/vase_loft.rhai: a 64-gon, a rounded square turned 45°, two more
+        // 64-gons. Their arc-length parameters nearly meet at corners; points a rounding apart
+        // made slivers whose corners other tools weld (trimesh found edges of four faces).
+        let square = Profile::rect(Vec2::splat(-4.5), Vec2::splat(4.5)).unwrap().fillet(2.25, 32).unwrap();
+        let sections = [
+            Profile::circle(3.0, 64).unwrap(),
+            square.rotate(45.0).unwrap(),
+            Profile::circle(1.6, 64).unwrap(),
+            Profile::circle(2.4, 64).unwrap(),
+        ];
+        let options = LoftOptions::DEFAULT.with_heights(vec![0.0, 4.8, 10.2, 12.0]);
+        let m = loft(&sections, &options).unwrap();
+        let p = m.positions();
+        let nearest = (0..p.len())
+            .flat_map(|i| (i + 1..p.len()).map(move |j| (i, j)))
+            .map(|(i, j)| p[i].distance(p[j]))
+            .fold(f64::INFINITY, f64::min);
+        assert!(nearest > 1e-6, "two vertices {nearest:e} apart");
+        assert!(m.is_closed() && m.genus() == 0);
+    }
 }
