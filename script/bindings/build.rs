@@ -6,16 +6,28 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+/// This crate's folder, as cargo gives it to this run (not as it was when the script was
+/// compiled: a build folder shared by two checkouts runs one compiled script for both).
+fn manifest_dir() -> std::path::PathBuf {
+    std::path::PathBuf::from(std::env::var_os("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"))
+}
+
+/// The entries of `dir`; a folder that cannot be read fails the build rather than leaving the
+/// table empty.
+fn read_dir(dir: &Path) -> Vec<std::path::PathBuf> {
+    let entries = std::fs::read_dir(dir).unwrap_or_else(|e| panic!("cannot read {}: {e}", dir.display()));
+    entries.filter_map(Result::ok).map(|e| e.path()).collect()
+}
+
 fn main() {
     stdlib();
     registry();
 }
 
 fn stdlib() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../stdlib");
+    let dir = manifest_dir().join("../../stdlib");
     println!("cargo:rerun-if-changed={}", dir.display());
-    let mut entries: Vec<_> =
-        std::fs::read_dir(&dir).map(|rd| rd.filter_map(Result::ok).map(|e| e.path()).collect()).unwrap_or_default();
+    let mut entries: Vec<_> = read_dir(&dir);
     entries.retain(|p| p.extension().is_some_and(|e| e == "rhai"));
     entries.sort();
     let mut out = String::from("/// The standard library: (module name, source), from `stdlib/*.rhai`.\npub const STDLIB: &[(&str, &str)] = &[\n");
@@ -47,10 +59,9 @@ struct Declared {
 /// receiver unchanged), whether it takes the call context (and so may act beyond its
 /// arguments: write a file, declare a parameter) and the Rust type it returns. Getters and setters are left out.
 fn registry() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("src/api");
+    let dir = manifest_dir().join("src/api");
     println!("cargo:rerun-if-changed={}", dir.display());
-    let mut files: Vec<_> =
-        std::fs::read_dir(&dir).map(|rd| rd.filter_map(Result::ok).map(|e| e.path()).collect()).unwrap_or_default();
+    let mut files: Vec<_> = read_dir(&dir);
     files.retain(|p| p.extension().is_some_and(|e| e == "rs"));
     files.sort();
     let mut all = Vec::new();

@@ -52,7 +52,7 @@ pub use atomic::{remove_temporaries, write_atomic, StoppableFile};
 pub use error::{IoError, KNOWN_EXTENSIONS};
 pub use options::{LoadOptions, SaveOptions, UpAxis};
 pub use ply::PlyEncoding;
-pub use profile_files::{load_profile, save_profile, ProfileFormat};
+pub use profile_files::{load_font, load_profile, save_profile, ProfileFormat};
 pub use source_colors::source_color;
 pub use weld::Weld;
 

@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use super::{dxf, svg, uri, write_atomic, IoError};
-use crate::profile::Profile;
+use crate::profile::{Font, Profile};
 
 /// The 2D formats, as told by the extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -47,6 +47,19 @@ pub fn load_profile(path: impl AsRef<Path>) -> Result<Profile, IoError> {
         ProfileFormat::Svg => svg::read_svg(&bytes, path),
         ProfileFormat::Dxf => dxf::read_dxf(&bytes, path),
     }
+}
+
+/// Reads the font (TrueType `.ttf` or OpenType `.otf`) in the file at `path` for
+/// [`text`](crate::profile::text): a regular file, refused before reading when it is larger
+/// than the memory budget.
+///
+/// # Errors
+/// [`IoError::NotFound`] / [`IoError::Read`], or [`IoError::Unsupported`] when the bytes are
+/// not a font.
+pub fn load_font(path: impl AsRef<Path>) -> Result<Font, IoError> {
+    let path = path.as_ref();
+    let bytes = uri::read_regular(path).map_err(|e| e.into_io(path))?;
+    Font::from_bytes(bytes).map_err(|e| IoError::Unsupported { path: path.into(), reason: e.to_string() })
 }
 
 /// Writes `profile` to the file at `path`, by extension: `.svg` or `.dxf`, atomically (a

@@ -302,23 +302,9 @@ mod tests {
         assert_eq!(map, vec![0, 1, 2, 3]);
     }
 
-    #[test]
-    fn weld_across_cell_sides_matches_brute_force() {
-        // Points on a lattice with jitter straddling cell boundaries: the grid must find the
-        // same first-kept neighbour as comparing every pair.
-        let tol_rel = 1e-3;
-        let mut p = Vec::new();
-        let mut s = 12345u64;
-        let mut rnd = || {
-            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (s >> 11) as f64 / (1u64 << 53) as f64
-        };
-        for _ in 0..2000 {
-            let base = Vec3::new((rnd() * 8.0).floor(), (rnd() * 8.0).floor(), (rnd() * 8.0).floor()) * 0.05;
-            p.push(base + Vec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5) * 0.002);
-        }
-        let (map, kept) = weld(&p, Weld::Relative(tol_rel)).unwrap();
-        let tol = tol_rel * diagonal(&p);
+    /// Checks `map` and `kept` against comparing every vertex with every kept one before it:
+    /// a vertex joins the first kept vertex within `tol` in every coordinate, else is kept.
+    fn assert_welds_as_brute_force(p: &[Vec3], tol: f64, map: &[u32], kept: &[u32]) {
         let mut want_kept: Vec<u32> = Vec::new();
         for (i, &q) in p.iter().enumerate() {
             let hit = want_kept.iter().position(|&k| {
@@ -334,6 +320,23 @@ mod tests {
             }
         }
         assert_eq!(kept, want_kept);
+    }
+
+    #[test]
+    fn weld_across_cell_sides_matches_brute_force() {
+        // Points on a lattice with jitter straddling cell boundaries: the grid must find the
+        // same first-kept neighbour as comparing every pair.
+        let tol_rel = 1e-3;
+        let mut p = Vec::new();
+        let mut rng = crate::math::SplitMix64::new(12345);
+        let mut rnd = || rng.next_f64();
+        for _ in 0..2000 {
+            let base = Vec3::new((rnd() * 8.0).floor(), (rnd() * 8.0).floor(), (rnd() * 8.0).floor()) * 0.05;
+            p.push(base + Vec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5) * 0.002);
+        }
+        let (map, kept) = weld(&p, Weld::Relative(tol_rel)).unwrap();
+        let tol = tol_rel * diagonal(&p);
+        assert_welds_as_brute_force(&p, tol, &map, &kept);
         assert!(kept.len() < p.len(), "the case must weld something");
     }
 
@@ -343,29 +346,12 @@ mod tests {
         // tolerance): their coarse cell turns dense, and the fine cells must find the same
         // first kept neighbour as comparing every pair.
         let tol = 1e-3 * 3f64.sqrt();
-        let mut s = 99u64;
-        let mut rnd = || {
-            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (s >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::math::SplitMix64::new(99);
+        let mut rnd = || rng.next_f64();
         let mut p: Vec<Vec3> = (0..3000).map(|_| Vec3::new(rnd(), rnd(), rnd()) * (100.0 * tol)).collect();
         p.push(Vec3::ONE);
         let (map, kept) = weld(&p, Weld::Relative(1e-3)).unwrap();
-        let mut want_kept: Vec<u32> = Vec::new();
-        for (i, &q) in p.iter().enumerate() {
-            let hit = want_kept.iter().position(|&k| {
-                let r = p[k as usize];
-                (r.x - q.x).abs() <= tol && (r.y - q.y).abs() <= tol && (r.z - q.z).abs() <= tol
-            });
-            match hit {
-                Some(h) => assert_eq!(map[i] as usize, h, "vertex {i}"),
-                None => {
-                    assert_eq!(map[i] as usize, want_kept.len(), "vertex {i}");
-                    want_kept.push(i as u32);
-                }
-            }
-        }
-        assert_eq!(kept, want_kept);
+        assert_welds_as_brute_force(&p, tol, &map, &kept);
         assert!(kept.len() > 200 && kept.len() < p.len(), "{}", kept.len());
     }
 

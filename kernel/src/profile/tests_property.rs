@@ -1,33 +1,23 @@
 //! Property tests: random (often self-intersecting) polygons through repair, booleans,
 //! offsets, extrusion, revolution and sweeps — every result clean, every solid closed and
-//! manifold with the volume geometry gives, never a panic. A fixed xorshift sequence keeps
-//! runs repeatable.
+//! manifold with the volume geometry gives, never a panic. The kernel's seeded SplitMix64
+//! keeps runs repeatable.
 
 use super::tests::assert_near;
 use super::*;
 use crate::math::Vec3;
 
-/// A repeatable xorshift64 sequence.
-struct Rng(u64);
+use crate::math::SplitMix64 as Rng;
 
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        self.0
-    }
-
-    /// Uniform in [lo, hi).
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
+/// Uniform in [lo, hi).
+fn range(rng: &mut Rng, lo: f64, hi: f64) -> f64 {
+    lo + (hi - lo) * rng.next_f64()
 }
 
 /// A random polygon: `n` points in [−10, 10]², most of them self-intersecting.
 fn random_polygon(rng: &mut Rng) -> Vec<Vec2> {
-    let n = 3 + (rng.next() % 30) as usize;
-    (0..n).map(|_| Vec2::new(rng.range(-10.0, 10.0), rng.range(-10.0, 10.0))).collect()
+    let n = 3 + (rng.next_u64() % 30) as usize;
+    (0..n).map(|_| Vec2::new(range(rng, -10.0, 10.0), range(rng, -10.0, 10.0))).collect()
 }
 
 /// ∫ x dA over the region.
@@ -48,7 +38,7 @@ fn check_clean(p: &Profile) {
 
 #[test]
 fn random_polygons_repair_to_clean_regions_that_extrude_and_revolve_exactly() {
-    let mut rng = Rng(0x1234_5678_9abc_def1);
+    let mut rng = Rng::new(0x1234_5678_9abc_def1);
     let mut solids = 0;
     for round in 0..150 {
         let rule = if round % 2 == 0 { FillRule::EvenOdd } else { FillRule::NonZero };
@@ -76,7 +66,7 @@ fn random_polygons_repair_to_clean_regions_that_extrude_and_revolve_exactly() {
 
 #[test]
 fn random_booleans_obey_inclusion_exclusion_and_offsets_stay_clean() {
-    let mut rng = Rng(0x0fed_cba9_8765_4321);
+    let mut rng = Rng::new(0x0fed_cba9_8765_4321);
     for _ in 0..100 {
         let (Ok(a), Ok(b)) = (
             Profile::polygon(&random_polygon(&mut rng), FillRule::NonZero),
@@ -92,8 +82,8 @@ fn random_booleans_obey_inclusion_exclusion_and_offsets_stay_clean() {
         let tol = 1e-6 * (a.area() + b.area());
         assert_near(u.area() + i.area(), a.area() + b.area(), tol);
         assert_near(d.area(), a.area() - i.area(), tol);
-        let delta = rng.range(-2.0, 2.0);
-        let join = [JoinType::Round, JoinType::Miter, JoinType::Square][(rng.next() % 3) as usize];
+        let delta = range(&mut rng, -2.0, 2.0);
+        let join = [JoinType::Round, JoinType::Miter, JoinType::Square][(rng.next_u64() % 3) as usize];
         let o = a.offset(delta, &OffsetOptions::DEFAULT.with_join(join)).unwrap();
         check_clean(&o);
         if delta > 0.0 {
@@ -101,24 +91,25 @@ fn random_booleans_obey_inclusion_exclusion_and_offsets_stay_clean() {
         } else {
             assert!(o.area() <= a.area(), "shrinking grew");
         }
-        check_clean(&a.fillet(rng.range(0.0, 1.0), 16).unwrap());
-        check_clean(&a.chamfer(rng.range(0.0, 1.0)).unwrap());
+        check_clean(&a.fillet(range(&mut rng, 0.0, 1.0), 16).unwrap());
+        check_clean(&a.chamfer(range(&mut rng, 0.0, 1.0)).unwrap());
         check_clean(&a.hull().unwrap());
-        check_clean(&a.simplify(rng.range(0.0, 0.5)).unwrap());
+        check_clean(&a.simplify(range(&mut rng, 0.0, 0.5)).unwrap());
     }
 }
 
 #[test]
 fn random_sweeps_are_closed_solids_or_refused_by_name() {
-    let mut rng = Rng(0x5555_aaaa_1234_4321);
+    let mut rng = Rng::new(0x5555_aaaa_1234_4321);
     let (mut built, mut refused) = (0, 0);
     for _ in 0..80 {
         let Ok(p) = Profile::polygon(&random_polygon(&mut rng), FillRule::EvenOdd) else { continue };
         let p = p.scale(Vec2::splat(0.05)).unwrap();
-        let n = 2 + (rng.next() % 8) as usize;
-        let path: Vec<Vec3> =
-            (0..n).map(|_| Vec3::new(rng.range(-3.0, 3.0), rng.range(-3.0, 3.0), rng.range(-3.0, 3.0))).collect();
-        let closed = n >= 3 && rng.next().is_multiple_of(3);
+        let n = 2 + (rng.next_u64() % 8) as usize;
+        let path: Vec<Vec3> = (0..n)
+            .map(|_| Vec3::new(range(&mut rng, -3.0, 3.0), range(&mut rng, -3.0, 3.0), range(&mut rng, -3.0, 3.0)))
+            .collect();
+        let closed = n >= 3 && rng.next_u64().is_multiple_of(3);
         match sweep(&p, &path, &SweepOptions::DEFAULT.with_closed(closed)) {
             Ok(m) => {
                 assert!(m.is_closed() && m.is_manifold());

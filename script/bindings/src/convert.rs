@@ -35,7 +35,7 @@ pub fn fail<T>(func: &str, message: impl Display) -> ScriptResult<T> {
 pub fn error(func: &str, message: impl Display) -> Box<EvalAltResult> {
     // Kernel messages quote files' bytes (names, comments): escaped here, at the edge, so a
     // caught error holds no terminal control sequence either.
-    crate::diagnostics::printable(&format!("{func}: {message}")).into_owned().into()
+    crate::printable::printable(&format!("{func}: {message}")).into_owned().into()
 }
 
 /// Maps a kernel error into a script error naming the function.

@@ -157,29 +157,7 @@ fn format_at(name: &str, source: &str, pos: Position, message: &str) -> String {
 }
 
 fn format_kind(name: &str, source: &str, pos: Position, kind: &str, message: &str) -> String {
-    printable(&format_raw(name, source, pos, kind, message)).into_owned()
-}
-
-/// Text safe to print on a terminal: control characters other than line breaks and tabs
-/// (an ESC sequence in an STL solid name, a PLY comment, a file name or a string the script
-/// throws) written as escapes (`\x1b`, `\u{9b}`), so a file cannot move the cursor, recolour
-/// or clear the screen, or retitle the window. Every formatted error and warning goes through
-/// it, and so does every error the script API raises ([`crate::convert::error`]).
-#[must_use]
-pub fn printable(text: &str) -> std::borrow::Cow<'_, str> {
-    if !text.chars().any(|c| c.is_control() && c != '\n' && c != '\t') {
-        return std::borrow::Cow::Borrowed(text);
-    }
-    let mut out = String::with_capacity(text.len() + 8);
-    for c in text.chars() {
-        match c {
-            '\n' | '\t' => out.push(c),
-            c if c.is_control() && (c as u32) < 0x80 => out.push_str(&format!("\\x{:02x}", c as u32)),
-            c if c.is_control() => out.push_str(&format!("\\u{{{:x}}}", c as u32)),
-            c => out.push(c),
-        }
-    }
-    std::borrow::Cow::Owned(out)
+    crate::printable::printable(&format_raw(name, source, pos, kind, message)).into_owned()
 }
 
 fn format_raw(name: &str, source: &str, pos: Position, kind: &str, message: &str) -> String {
@@ -247,7 +225,7 @@ mod tests {
         let text = format_error(&engine, "t.rhai", &script, &err);
         assert!(!text.chars().any(|c| c.is_control() && c != '\n'), "{text:?}");
         assert!(text.contains("\\x1b[31mred\\x0d load: ") && text.contains("\\x1b[2Jclear\\u{9b}31m.stl"), "{text}");
-        assert_eq!(printable("two\nlines\tand a tab"), "two\nlines\tand a tab");
+        assert_eq!(crate::printable::printable("two\nlines\tand a tab"), "two\nlines\tand a tab");
     }
 
     #[test]

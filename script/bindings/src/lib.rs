@@ -10,7 +10,7 @@
 //! - [`run`]: the runner; [`record`]: what a run declared and read; [`params`]: recipe
 //!   parameters (declared, parsed, checked, listed); [`resolver`]: imports and the standard library.
 //! - [`lint`]: warnings found before a run (dropped results); [`diagnostics`]: errors and
-//!   warnings formatted at their line; [`explain`]: lookup failures explained from the
+//!   warnings formatted at their line, [`printable`] escaped; [`explain`]: lookup failures explained from the
 //!   [`catalogue`] of what exists; [`spelling`]: near names for did-you-mean.
 //! - [`doc`]: the API reference, generated from the engine's metadata; [`editing_rules`]: how
 //!   each kind of value changes, stated once.
@@ -34,6 +34,7 @@ pub mod facts;
 pub mod gltf_buffers;
 pub mod lint;
 pub mod params;
+pub mod printable;
 pub mod progress;
 pub mod record;
 pub mod resolver;

@@ -3,7 +3,7 @@
 
 use std::process::ExitCode;
 
-use blocksmith_script::diagnostics::printable;
+use blocksmith_script::printable::printable;
 
 /// Writes `text` to standard output. A reader that stops early (`blocksmith doc | head`) closes
 /// the pipe: the command then ends quietly, as other command-line tools do, instead of panicking.

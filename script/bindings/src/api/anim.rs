@@ -11,8 +11,8 @@ use blocksmith_kernel::anim::{
 use rhai::plugin::*;
 use rhai::{exported_module, Array, Engine, FnPtr, Map, INT};
 
-use super::files::output_file;
 use super::mesh::SharedMesh;
+use super::paths::output_file;
 use super::polar::{PolarMesh, Skeleton};
 use blocksmith_kernel::math::fmt_num;
 
@@ -378,7 +378,7 @@ pub mod anim_api {
         let Some(p) = output_file(&ctx, "save", path)? else { return Ok(()) };
         // Atomic: a failing write leaves the old file.
         let result = blocksmith_kernel::io::write_atomic(&p, |w| write_animation_glb(&anim.anim, &frames, fps, w, &p));
-        crate::api::files::wrote(&ctx, &p);
+        crate::api::paths::wrote(&ctx, &p);
         kernel("save", result)
     }
     /// `save(path, #{})`: 24 fps, frames covering the growth (or 48).

@@ -1,8 +1,6 @@
 //! `load` and `save`: mesh files by extension (`.obj`, `.glb`, `.gltf`, `.stl`, `.ply`, `.3mf`), and
-//! 2D profile files (`.svg`, `.dxf`), whose `save` is in `api/profile.rs`.
-
-use std::fs;
-use std::path::PathBuf;
+//! 2D profile files (`.svg`, `.dxf`). Where the files are, and whether the run may read or write
+//! them, is `api/paths.rs`.
 
 use blocksmith_kernel::io::{LoadOptions, PlyEncoding, SaveOptions, UpAxis, Weld};
 use blocksmith_kernel::{io, Mesh};
@@ -10,70 +8,17 @@ use rhai::plugin::*;
 use rhai::Map;
 
 use super::mesh::SharedMesh;
+use super::paths::{input_file, output_file, wrote};
 use super::profile::Profile;
-use crate::access::Write;
 use crate::context::RunContext;
 use crate::convert::{fail, kernel, type_name, Options, ScriptResult};
 
-/// The file a script names by `path` for writing, once the run's access allows it
-/// ([`crate::access::Access::check_write`]): a relative path goes under the run's output
-/// directory; missing parent directories are created; the run's list of writes, if it keeps
-/// one ([`crate::context::Writes`]), gains it. `None` when the run only reports its saves
-/// (`blocksmith params`, `render`, `watch`): the save is listed as a warning and not done.
-/// Errors name `func`. After writing, call [`wrote`].
-///
-/// # Errors
-/// A relative path leaving the output directory, a path the run may not write (outside its
-/// project, the recipe, read-only, over the write limits), or a directory that cannot be
-/// created.
-pub fn output_file(ctx: &NativeCallContext, func: &str, path: &str) -> ScriptResult<Option<PathBuf>> {
-    let run = RunContext::of(ctx);
-    let p = match run.output_path(path) {
-        Ok(p) => p,
-        Err(e) => return fail(func, e),
-    };
-    let p = match run.access.check_write(&p, &run.protected()) {
-        Ok(Write::Do(p)) => p,
-        Ok(Write::Report) => {
-            run.warnings.push(
-                ctx,
-                format!(
-                    "{func}: `{}` not written: `blocksmith params`, `render` and `watch` never write files",
-                    p.display()
-                ),
-            );
-            return Ok(None);
-        }
-        Err(e) => return Err(crate::convert::error(func, e)),
-    };
-    if let Some(dir) = p.parent().filter(|d| !d.as_os_str().is_empty()) {
-        if let Err(e) = fs::create_dir_all(dir) {
-            return fail(func, format!("cannot create directory {}: {e}", dir.display()));
-        }
-    }
-    if let Some(writes) = &run.writes {
-        writes.push(&p);
-    }
-    Ok(Some(p))
-}
-
-/// Counts the file just written at `path` against the run's write limits.
-pub fn wrote(ctx: &NativeCallContext, path: &std::path::Path) {
-    RunContext::of(ctx).access.wrote(path);
-}
-
-/// Reads the 2D file (`.svg`, `.dxf`) the script names by `path` (from the working directory,
-/// else next to the script), recording it as an input of the run.
+/// Reads the 2D file (`.svg`, `.dxf`) the script names by `path` (see [`input_file`]).
 ///
 /// # Errors
 /// The kernel's file error, naming `load` and the path.
 fn read_profile_file(ctx: &NativeCallContext, path: &str) -> ScriptResult<Profile> {
-    let run = RunContext::of(ctx);
-    let p = run.input_path(path);
-    run.access.check_read(&p).map_err(|e| crate::convert::error("load", e))?;
-    if p.exists() {
-        run.record.input(&p);
-    }
+    let p = input_file(ctx, "load", path)?;
     kernel("load", io::load_profile(&p)).map(|p| Profile(std::rc::Rc::new(p)))
 }
 
@@ -192,11 +137,9 @@ pub mod files_api {
         if let Some(up) = up_option(&o, "load")? {
             opts = opts.with_up(up);
         }
-        let run = RunContext::of(&ctx);
-        let p = run.input_path(path);
-        run.access.check_read(&p).map_err(|e| crate::convert::error("load", e))?;
+        let p = input_file(&ctx, "load", path)?;
         if p.exists() {
-            run.record.input(&p);
+            let run = RunContext::of(&ctx);
             // A .gltf's model is also in its buffer files.
             for buffer in crate::gltf_buffers::buffer_files(&p) {
                 // Inside the glTF's folder by name, but a link there may point anywhere.

@@ -10,6 +10,7 @@ pub mod files;
 pub mod lsystem;
 pub mod mesh;
 pub mod nesting;
+pub mod paths;
 pub mod polar;
 pub mod profile;
 pub mod registry;

@@ -43,7 +43,7 @@ pub fn register(engine: &mut Engine) {
 /// Segments per full turn where a script gives none (a circle, a fillet's arcs).
 const DEFAULT_SEGMENTS: INT = 32;
 /// The most segments a circle or arc may be asked for.
-const MAX_SEGMENTS: INT = 1 << 20;
+const MAX_SEGMENTS: INT = kernel_profile::MAX_SEGMENTS as INT;
 
 /// `[x, y]` from an array of two finite numbers (or a `Vec3` whose z is 0).
 fn point2(func: &str, arg: &str, v: &Dynamic) -> ScriptResult<Vec2> {
@@ -130,20 +130,8 @@ fn text_font(ctx: &NativeCallContext, opts: &Options) -> ScriptResult<Font> {
     let Some(path) = v.clone().into_immutable_string().ok() else {
         return fail("text", format!("option `font` must be the path of a .ttf or .otf file, got {}", type_name(v)));
     };
-    let run = crate::context::RunContext::of(ctx);
-    let p = run.input_path(&path);
-    run.access.check_read(&p).map_err(|e| error("text", e))?;
-    let limit = blocksmith_kernel::limits::memory_limit();
-    let size = std::fs::metadata(&p)
-        .map_err(|e| error("text", format!("option `font`: cannot read {}: {e}", p.display())))?
-        .len();
-    if size > limit {
-        return fail("text", format!("option `font`: {} is {size} bytes, over the memory budget", p.display()));
-    }
-    let bytes =
-        std::fs::read(&p).map_err(|e| error("text", format!("option `font`: cannot read {}: {e}", p.display())))?;
-    run.record.input(&p);
-    kernel("text", Font::from_bytes(bytes))
+    let p = super::paths::input_file(ctx, "text", &path)?;
+    blocksmith_kernel::io::load_font(&p).map_err(|e| error("text", format!("option `font`: {e}")))
 }
 
 fn text_options(opts: &Options) -> ScriptResult<TextOptions> {
@@ -845,7 +833,7 @@ mod tests {
             ("text(\"   \")", "text:"),
             ("text(\"a\", #{ size: 0 })", "text:"),
             ("text(\"a\", #{ halign: \"middle\" })", "text: option `halign`"),
-            ("text(\"a\", #{ font: \"no-such-font.ttf\" })", "text: option `font`: cannot read"),
+            ("text(\"a\", #{ font: \"no-such-font.ttf\" })", "text: option `font`: no-such-font.ttf: file not found"),
             ("text(\"a\", #{ font: 3 })", "text: option `font` must be the path"),
         ] {
             let e = error_of(script);
