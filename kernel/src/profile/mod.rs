@@ -58,7 +58,7 @@ pub use revolve::{revolve, RevolveOptions};
 pub use slice::{project, slice};
 pub use split::{split, trim};
 pub use sweep::{sweep, SweepOptions};
-pub use text::{text, Font, HAlign, TextOptions, VAlign};
+pub use text::{text, Font, HAlign, TextDirection, TextOptions, VAlign};
 
 /// A point or direction in 2D, in double precision.
 pub type Vec2 = glam::DVec2;

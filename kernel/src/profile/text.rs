@@ -1,20 +1,28 @@
-//! Text as a profile: the glyph outlines of a TrueType or OpenType font, laid out in lines.
+//! Text as a profile: the glyph outlines of a TrueType or OpenType font, shaped and laid out in
+//! lines.
 //!
-//! Outlines come from `ttf-parser` (TrueType quadratic and CFF cubic Béziers, each flattened
-//! into [`TextOptions::segments`] line segments) and fill by the non-zero rule, as fonts are
-//! drawn; each glyph is cleaned once, and only glyphs whose ink boxes meet are unioned (10,000
-//! characters take milliseconds, not the seconds a union of the whole text takes). Sizes follow OpenSCAD's `text`: the em square is `size / 0.72` (a size in points at
-//! 100 dpi), so capitals stand about `size` tall. Glyphs are placed by their advance widths
-//! times `spacing`, with no kerning or shaping (no ligatures, no right-to-left runs); a `\n`
-//! starts a new line one line height (ascender − descender + line gap) lower. Characters the
-//! font lacks draw its missing-glyph shape (glyph 0).
+//! Each line is ordered by the Unicode bidirectional algorithm (UAX #9, `unicode-bidi`) into runs
+//! of one direction, and each run is shaped by `rustybuzz` (HarfBuzz's shaper in Rust): the
+//! font's kerning (`GPOS` and `kern`), ligatures, the joined forms of Arabic and other scripts, and
+//! mark placement come out as HarfBuzz and so OpenSCAD's `text` set them. Outlines come from
+//! `ttf-parser` (TrueType quadratic and CFF cubic Béziers, each flattened into
+//! [`TextOptions::segments`] line segments) and fill by the non-zero rule, as fonts are drawn;
+//! each glyph is cleaned once, and only glyphs whose ink boxes meet are unioned (10,000
+//! characters take milliseconds, not the seconds a union of the whole text takes). Sizes follow
+//! OpenSCAD's `text`: the em square is `size / 0.72` (a size in points at 100 dpi), so capitals
+//! stand about `size` tall. Each shaped advance is multiplied by `spacing`; a `\n` starts a new
+//! line one line height (ascender − descender + line gap) lower. Characters the font lacks draw
+//! its missing-glyph shape (glyph 0).
 //!
-//! The bundled font is DejaVu Sans 2.37 (Bitstream Vera licence, `kernel/assets/fonts/`).
+//! The bundled font is DejaVu Sans 2.37 (Bitstream Vera licence, `kernel/assets/fonts/`), which
+//! covers Latin, Greek, Cyrillic, Hebrew and Arabic among others.
 
 use std::collections::HashMap;
 use std::sync::Arc;
 
-use ttf_parser::{Face, GlyphId, OutlineBuilder};
+use rustybuzz::ttf_parser::{GlyphId, OutlineBuilder, Tag};
+use rustybuzz::{Direction, Face, Feature, UnicodeBuffer};
+use unicode_bidi::{BidiInfo, Level};
 
 use super::convert::check_number;
 use super::{Profile, ProfileError, Vec2};
@@ -42,13 +50,14 @@ impl Font {
     /// # Errors
     /// [`ProfileError::Font`] when the data is not a font ttf-parser reads.
     pub fn from_bytes(data: Vec<u8>) -> Result<Font, ProfileError> {
-        Face::parse(&data, 0).map_err(|e| ProfileError::Font { reason: e.to_string() })?;
+        rustybuzz::ttf_parser::Face::parse(&data, 0).map_err(|e| ProfileError::Font { reason: e.to_string() })?;
         Ok(Font { data: Arc::from(data) })
     }
 
-    fn face(&self) -> Face<'_> {
-        // Checked in the constructors.
-        Face::parse(&self.data, 0).expect("font data parsed when the Font was made")
+    /// The font's first face, for shaping and outlines (it parses: checked in the constructors).
+    fn face(&self) -> Result<Face<'_>, ProfileError> {
+        Face::from_slice(&self.data, 0)
+            .ok_or_else(|| ProfileError::Font { reason: "the font has no face the shaper reads".into() })
     }
 }
 
@@ -109,6 +118,42 @@ impl VAlign {
     }
 }
 
+/// The base direction of each line, which orders its runs of left-to-right and right-to-left
+/// script (the paragraph level of the Unicode bidirectional algorithm, as CSS `direction`).
+///
+/// Default value: [`TextDirection::Auto`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum TextDirection {
+    /// From the line's first strong character (rule P2 of UAX #9); left to right if it has none.
+    #[default]
+    Auto,
+    /// Left to right: runs of right-to-left script inside still read right to left.
+    Ltr,
+    /// Right to left: runs of left-to-right script inside still read left to right.
+    Rtl,
+}
+
+impl TextDirection {
+    /// The direction by its name: `"auto"`, `"ltr"` or `"rtl"`.
+    #[must_use]
+    pub fn from_name(name: &str) -> Option<TextDirection> {
+        match name {
+            "auto" => Some(TextDirection::Auto),
+            "ltr" => Some(TextDirection::Ltr),
+            "rtl" => Some(TextDirection::Rtl),
+            _ => None,
+        }
+    }
+
+    fn paragraph_level(self) -> Option<Level> {
+        match self {
+            TextDirection::Auto => None,
+            TextDirection::Ltr => Some(Level::ltr()),
+            TextDirection::Rtl => Some(Level::rtl()),
+        }
+    }
+}
+
 /// Options of [`text`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
@@ -123,12 +168,24 @@ pub struct TextOptions {
     pub spacing: f64,
     /// Line segments per Bézier curve of an outline (1 to 64). Default value: 8.
     pub segments: u32,
+    /// The base direction of each line. Default value: [`TextDirection::Auto`].
+    pub direction: TextDirection,
+    /// Whether the font's kerning applies (the OpenType `kern` feature). Default value: true.
+    pub kerning: bool,
 }
 
 impl TextOptions {
-    /// Size 10, left on the baseline, the font's spacing, 8 segments per curve.
-    pub const DEFAULT: TextOptions =
-        TextOptions { size: 10.0, halign: HAlign::Left, valign: VAlign::Baseline, spacing: 1.0, segments: 8 };
+    /// Size 10, left on the baseline, the font's spacing and kerning, 8 segments per curve, each
+    /// line's direction from its first strong character.
+    pub const DEFAULT: TextOptions = TextOptions {
+        size: 10.0,
+        halign: HAlign::Left,
+        valign: VAlign::Baseline,
+        spacing: 1.0,
+        segments: 8,
+        direction: TextDirection::Auto,
+        kerning: true,
+    };
 
     /// With `size`.
     #[must_use]
@@ -162,6 +219,20 @@ impl TextOptions {
     #[must_use]
     pub fn with_segments(mut self, segments: u32) -> TextOptions {
         self.segments = segments;
+        self
+    }
+
+    /// With the base `direction` of each line.
+    #[must_use]
+    pub fn with_direction(mut self, direction: TextDirection) -> TextOptions {
+        self.direction = direction;
+        self
+    }
+
+    /// With the font's kerning on or off.
+    #[must_use]
+    pub fn with_kerning(mut self, kerning: bool) -> TextOptions {
+        self.kerning = kerning;
         self
     }
 }
@@ -253,42 +324,23 @@ pub fn text(s: &str, font: &Font, options: &TextOptions) -> Result<Profile, Prof
             expected: "from 1 to 64",
         });
     }
-    let face = font.face();
+    let face = font.face()?;
     let scale = options.size / 0.72 / f64::from(face.units_per_em().max(1));
-    let line_height = f64::from(i32::from(face.ascender()) - i32::from(face.descender()) + i32::from(face.line_gap()));
     // Each glyph's region, cleaned once in font units (non-zero fill), with its ink bounds.
     let mut cache: HashMap<GlyphId, Option<(Profile, Vec2, Vec2)>> = HashMap::new();
-    // The placed glyphs: their region, scale and offset (font units), and ink bounds (model units).
+    // The placed glyphs: their id, offset (font units), and ink bounds (model units).
     let mut placed: Vec<(GlyphId, Vec2, Vec2, Vec2)> = Vec::new();
-    for (line_no, line) in s.split('\n').enumerate() {
-        crate::limits::charge(line.len() as u64 + 1)?;
-        let first = placed.len();
-        let mut pen = 0.0;
-        for ch in line.chars().filter(|c| !c.is_control()) {
-            let gid = face.glyph_index(ch).unwrap_or(GlyphId(0));
-            let glyph = cache.entry(gid).or_insert_with(|| {
-                let mut o = Outline { segments: options.segments, contours: Vec::new(), at: Vec2::ZERO };
-                face.outline_glyph(gid, &mut o);
-                o.contours.retain(|c| c.len() >= 3);
-                let p = Profile::from_contours(&o.contours, FillRule::NonZero).ok()?;
-                let (lo, hi) = p.bounds()?;
-                Some((p, lo, hi))
-            });
-            let origin = Vec2::new(pen, -(line_no as f64) * line_height);
-            if let Some((_, lo, hi)) = glyph {
-                placed.push((gid, origin, (*lo + origin) * scale, (*hi + origin) * scale));
-            }
-            pen += f64::from(face.glyph_hor_advance(gid).unwrap_or(0)) * options.spacing;
-        }
-        let shift = match options.halign {
-            HAlign::Left => 0.0,
-            HAlign::Center => -pen / 2.0,
-            HAlign::Right => -pen,
-        };
-        for g in &mut placed[first..] {
-            g.1.x += shift;
-            g.2.x += shift * scale;
-            g.3.x += shift * scale;
+    for (gid, origin) in layout(s, &face, options)? {
+        let glyph = cache.entry(gid).or_insert_with(|| {
+            let mut o = Outline { segments: options.segments, contours: Vec::new(), at: Vec2::ZERO };
+            face.outline_glyph(gid, &mut o);
+            o.contours.retain(|c| c.len() >= 3);
+            let p = Profile::from_contours(&o.contours, FillRule::NonZero).ok()?;
+            let (lo, hi) = p.bounds()?;
+            Some((p, lo, hi))
+        });
+        if let Some((_, lo, hi)) = glyph {
+            placed.push((gid, origin, (*lo + origin) * scale, (*hi + origin) * scale));
         }
     }
     if placed.is_empty() {
@@ -328,6 +380,50 @@ pub fn text(s: &str, font: &Font, options: &TextOptions) -> Result<Profile, Prof
         }
     }
     Ok(Profile { contours })
+}
+
+/// Where each glyph of `s` stands, in font units: the pen position of its origin after shaping,
+/// bidirectional ordering, spacing and horizontal alignment (glyphs in visual order, line by
+/// line). Control characters other than the line break are dropped.
+fn layout(s: &str, face: &Face<'_>, options: &TextOptions) -> Result<Vec<(GlyphId, Vec2)>, ProfileError> {
+    let line_height = f64::from(i32::from(face.ascender()) - i32::from(face.descender()) + i32::from(face.line_gap()));
+    let features: Vec<Feature> =
+        if options.kerning { Vec::new() } else { vec![Feature::new(Tag::from_bytes(b"kern"), 0, ..)] };
+    let mut placed = Vec::new();
+    let mut buffer = UnicodeBuffer::new();
+    for (line_no, raw) in s.split('\n').enumerate() {
+        crate::limits::charge(raw.len() as u64 + 1)?;
+        let line: String = raw.chars().filter(|c| !c.is_control()).collect();
+        let first = placed.len();
+        let y = -(line_no as f64) * line_height;
+        let mut pen = 0.0;
+        let bidi = BidiInfo::new(&line, options.direction.paragraph_level());
+        for paragraph in &bidi.paragraphs {
+            let (levels, runs) = bidi.visual_runs(paragraph, paragraph.range.clone());
+            for run in runs {
+                let rtl = levels[run.start].is_rtl();
+                buffer.push_str(&line[run]);
+                buffer.set_direction(if rtl { Direction::RightToLeft } else { Direction::LeftToRight });
+                buffer.guess_segment_properties();
+                let shaped = rustybuzz::shape(face, &features, buffer);
+                for (info, at) in shaped.glyph_infos().iter().zip(shaped.glyph_positions()) {
+                    let gid = GlyphId(u16::try_from(info.glyph_id).unwrap_or(0));
+                    placed.push((gid, Vec2::new(pen + f64::from(at.x_offset), y + f64::from(at.y_offset))));
+                    pen += f64::from(at.x_advance) * options.spacing;
+                }
+                buffer = shaped.clear();
+            }
+        }
+        let shift = match options.halign {
+            HAlign::Left => 0.0,
+            HAlign::Center => -pen / 2.0,
+            HAlign::Right => -pen,
+        };
+        for g in &mut placed[first..] {
+            g.1.x += shift;
+        }
+    }
+    Ok(placed)
 }
 
 /// The placed glyphs grouped by meeting ink boxes (transitively): a sweep along x keeping the
@@ -469,6 +565,74 @@ mod tests {
         let one = text("I", &Font::bundled(), &TextOptions::DEFAULT).unwrap();
         assert_eq!(stacked.contours().len(), 1);
         assert_near(stacked.area(), one.area(), 1e-6);
+    }
+
+    /// The glyph ids and pen x positions of `s`'s layout.
+    fn glyphs(s: &str, options: &TextOptions) -> Vec<(u16, f64)> {
+        let font = Font::bundled();
+        let face = font.face().unwrap();
+        layout(s, &face, options).unwrap().into_iter().map(|(g, at)| (g.0, at.x)).collect()
+    }
+
+    #[test]
+    fn the_fonts_kerning_pulls_pairs_together_and_can_be_turned_off() {
+        // DejaVu Sans kerns "AV" and "To" in its GPOS table: the second glyph starts before the
+        // first one's advance. Without kerning it starts exactly there.
+        let font = Font::bundled();
+        let face = font.face().unwrap();
+        for pair in ["AV", "To", "Ty"] {
+            let first = face.glyph_index(pair.chars().next().unwrap()).unwrap();
+            let advance = f64::from(face.glyph_hor_advance(first).unwrap());
+            let kerned = glyphs(pair, &TextOptions::DEFAULT);
+            assert!(kerned[1].1 < advance - 20.0, "{pair}: {kerned:?} against advance {advance}");
+            let plain = glyphs(pair, &TextOptions::DEFAULT.with_kerning(false));
+            assert_near(plain[1].1, advance, 1e-12);
+        }
+        // The kerned word is narrower, by the same ink.
+        let kerned = text("AVATAR", &font, &TextOptions::DEFAULT).unwrap();
+        let plain = text("AVATAR", &font, &TextOptions::DEFAULT.with_kerning(false)).unwrap();
+        assert!(kerned.bounds().unwrap().1.x < plain.bounds().unwrap().1.x - 1.0);
+        assert_near(kerned.area(), plain.area(), 1e-6 * plain.area());
+    }
+
+    #[test]
+    fn right_to_left_runs_read_right_to_left_inside_either_base_direction() {
+        // Hebrew alef then bet: bet (first in visual order) stands left of alef.
+        let font = Font::bundled();
+        let face = font.face().unwrap();
+        let (alef, bet) = (face.glyph_index('א').unwrap().0, face.glyph_index('ב').unwrap().0);
+        let g = glyphs("אב", &TextOptions::DEFAULT);
+        assert_eq!(g.iter().map(|g| g.0).collect::<Vec<_>>(), vec![bet, alef]);
+        // A Latin word then a Hebrew one: left to right by the first strong character, so the
+        // Latin word comes first; with base direction right to left, the Hebrew one does.
+        let mixed = "ab אב";
+        let a = face.glyph_index('a').unwrap().0;
+        let ltr = glyphs(mixed, &TextOptions::DEFAULT);
+        assert_eq!(ltr[0].0, a);
+        assert_eq!(ltr.last().unwrap().0, alef);
+        let rtl = glyphs(mixed, &TextOptions::DEFAULT.with_direction(TextDirection::Rtl));
+        assert_eq!(rtl[0].0, bet);
+        assert_eq!(rtl.last().unwrap().0, face.glyph_index('b').unwrap().0);
+        // Pen positions increase along the visual order either way.
+        for w in rtl.windows(2).chain(ltr.windows(2)) {
+            assert!(w[1].1 > w[0].1, "{rtl:?} {ltr:?}");
+        }
+    }
+
+    #[test]
+    fn joined_scripts_take_their_contextual_forms() {
+        // Arabic beh alone is its isolated form; three in a row take initial, medial and final
+        // forms, which are other glyphs than the isolated one (DejaVu Sans has all four).
+        let font = Font::bundled();
+        let isolated = glyphs("ب", &TextOptions::DEFAULT);
+        let joined = glyphs("ببب", &TextOptions::DEFAULT);
+        assert_eq!(isolated.len(), 1);
+        assert_eq!(joined.len(), 3);
+        assert!(joined.iter().all(|g| g.0 != isolated[0].0), "{joined:?} {isolated:?}");
+        let word = text("سلام", &font, &TextOptions::DEFAULT).unwrap();
+        assert!(word.area() > 0.0);
+        let m = extrude(&word, 1.0, &ExtrudeOptions::DEFAULT).unwrap();
+        assert!(m.is_closed() && m.is_manifold());
     }
 
     #[test]

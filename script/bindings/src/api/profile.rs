@@ -11,7 +11,7 @@ use std::rc::Rc;
 use blocksmith_kernel::math::fmt_num;
 use blocksmith_kernel::profile::{
     self as kernel_profile, ExtrudeOptions, FillRule, Font, HAlign, JoinType, LoftOptions, OffsetOptions,
-    Profile as KernelProfile, RevolveOptions, SweepOptions, TextOptions, VAlign, Vec2,
+    Profile as KernelProfile, RevolveOptions, SweepOptions, TextDirection, TextOptions, VAlign, Vec2,
 };
 use blocksmith_kernel::Vec3;
 use rhai::plugin::*;
@@ -137,6 +137,7 @@ fn text_font(ctx: &NativeCallContext, opts: &Options) -> ScriptResult<Font> {
 fn text_options(opts: &Options) -> ScriptResult<TextOptions> {
     let halign = opts.choice("halign", "left", &["left", "center", "right"])?;
     let valign = opts.choice("valign", "baseline", &["baseline", "bottom", "center", "top"])?;
+    let direction = opts.choice("direction", "auto", &["auto", "ltr", "rtl"])?;
     let segments = opts.int("segments", 8)?;
     if !(1..=64).contains(&segments) {
         return fail("text", format!("option `segments` must be between 1 and 64, got {segments}"));
@@ -146,7 +147,9 @@ fn text_options(opts: &Options) -> ScriptResult<TextOptions> {
         .with_halign(HAlign::from_name(&halign).unwrap_or_default())
         .with_valign(VAlign::from_name(&valign).unwrap_or_default())
         .with_spacing(opts.number("spacing", 1.0)?)
-        .with_segments(segments as u32))
+        .with_segments(segments as u32)
+        .with_direction(TextDirection::from_name(&direction).unwrap_or_default())
+        .with_kerning(opts.bool("kerning", true)?))
 }
 
 fn offset_options(func: &'static str, options: Map) -> ScriptResult<OffsetOptions> {
@@ -342,8 +345,19 @@ pub mod profile_api {
     /// As `text(s)`, with options `size` (capitals about this tall; default 10), `font` (the
     /// path of a .ttf or .otf file; default the bundled DejaVu Sans), `halign` (`"left"`,
     /// `"center"`, `"right"` about x = 0), `valign` (`"baseline"`, `"bottom"`, `"center"`,
-    /// `"top"` about y = 0), `spacing` (a factor on every advance; default 1) and `segments`
-    /// (per curve of an outline, 1 to 64; default 8).
+    /// `"top"` about y = 0), `spacing` (a factor on every advance; default 1), `segments`
+    /// (per curve of an outline, 1 to 64; default 8), `kerning` (the font's kerning; default
+    /// true) and `direction` (each line's base direction: `"auto"` from its first strong
+    /// character, `"ltr"` or `"rtl"`; default `"auto"`). Text is shaped as HarfBuzz shapes it:
+    /// kerning, ligatures, joined Arabic forms, and right-to-left runs in their order.
+    ///
+    /// ```rhai
+    /// // Kerning pulls "AV" together; Hebrew reads right to left.
+    /// let kerned = text("AV").bounds().max[0];
+    /// let plain = text("AV", #{ kerning: false }).bounds().max[0];
+    /// assert(kerned < plain, "kerned narrower");
+    /// assert(text("שלום").area() > 0.0, "right to left");
+    /// ```
     ///
     /// ```rhai
     /// // An engraved nameplate: the text centred, cut 0.5 into a 60 × 16 plate.
@@ -354,7 +368,11 @@ pub mod profile_api {
     /// ```
     #[rhai_fn(name = "text", return_raw)]
     pub fn text_with(ctx: NativeCallContext, s: &str, options: Map) -> ScriptResult<Profile> {
-        let opts = Options::new("text", options, &["size", "font", "halign", "valign", "spacing", "segments"])?;
+        let opts = Options::new(
+            "text",
+            options,
+            &["size", "font", "halign", "valign", "spacing", "segments", "kerning", "direction"],
+        )?;
         let font = text_font(&ctx, &opts)?;
         let o = text_options(&opts)?;
         kernel("text", kernel_profile::text(s, &font, &o)).map(Profile::new)
@@ -833,6 +851,8 @@ mod tests {
             ("text(\"   \")", "text:"),
             ("text(\"a\", #{ size: 0 })", "text:"),
             ("text(\"a\", #{ halign: \"middle\" })", "text: option `halign`"),
+            ("text(\"a\", #{ direction: \"up\" })", "text: option `direction`"),
+            ("text(\"a\", #{ kerning: 1 })", "text: option `kerning`"),
             ("text(\"a\", #{ font: \"no-such-font.ttf\" })", "text: option `font`: no-such-font.ttf: file not found"),
             ("text(\"a\", #{ font: 3 })", "text: option `font` must be the path"),
         ] {
