@@ -8,16 +8,23 @@
 //! millimetres); units on lengths (`px`, `mm`) are ignored and the root `viewBox` does not
 //! scale what is read.
 //!
-//! Reading (SVG 1.1 §8 paths, §9 basic shapes, §7.6 transforms): every shape is a filled
-//! region, whatever its `fill` or `stroke` (a laser-cut outline drawn with `fill="none"` still
-//! counts); a path's subpaths fill by its `fill-rule` (attribute, `style`, or inherited from its
-//! groups; `nonzero` by default) and unclosed subpaths close, as SVG fills them; the shapes are
-//! then unioned, as painting them would. Curves become line segments: 16 per cubic or
-//! quadratic Bézier, arcs (elliptical, SVG Appendix F.6.5's endpoint-to-centre conversion) and
-//! circles 64 per full turn. Rounded rectangle corners (`rx`, `ry`) are ignored. Shapes inside
-//! `defs`, `clipPath`, `mask`, `symbol`, `pattern` and `marker` are skipped; `use`, `text` and
-//! `image` are not read.
+//! Reading (SVG 1.1 §8 paths, §9 basic shapes, §7.6 transforms, §5.6 `use`): every shape is a
+//! filled region, whatever its `fill` or `stroke` (a laser-cut outline drawn with `fill="none"`
+//! still counts); a path's subpaths fill by its `fill-rule` (attribute, `style`, or inherited
+//! from its groups; `nonzero` by default) and unclosed subpaths close, as SVG fills them; the
+//! shapes are then unioned, as painting them would. Curves become line segments: 16 per cubic or
+//! quadratic Bézier, arcs (elliptical, SVG Appendix F.6.5's endpoint-to-centre conversion),
+//! circles and rounded rectangle corners (`rx`, `ry`) 64 per full turn. A `<use>` draws the
+//! element it names (`href` or `xlink:href`, `#id` in the same document) moved by its `x`, `y`
+//! and `transform`, inheriting the `use`'s fill rule, including `symbol`s and what `defs` holds
+//! (a `symbol`'s `viewBox` does not scale it); the expansion of references of references is
+//! counted before anything is drawn and refused beyond [`MAX_DRAWN_ELEMENTS`], a reference to
+//! itself or outside the document is refused, one to no element draws nothing (as browsers
+//! do). Shapes inside `defs`, `clipPath`, `mask`, `symbol`, `pattern` and `marker` are not drawn
+//! in place, nor elements with `display="none"` (attribute or style) and their content; `text`
+//! and `image` are not read.
 
+use std::collections::HashMap;
 use std::io::Write;
 use std::path::Path;
 
@@ -444,24 +451,33 @@ fn get<'a>(attrs: &'a [(String, String)], key: &str) -> Option<&'a str> {
 struct Inherited {
     transform: Affine,
     fill: FillRule,
-    /// Inside `defs` or another element whose shapes are not drawn.
-    hidden: bool,
 }
 
-/// Reads the region an SVG document draws (see the [module documentation](self)).
-///
-/// # Errors
-/// [`IoError::Svg`] for malformed XML, a malformed path, number list or transform (naming the
-/// element), non-finite coordinates, more than [`MAX_POINTS`] points, or a document that draws
-/// no region with area.
-pub fn read_svg(bytes: &[u8], path: &Path) -> Result<Profile, IoError> {
+/// One element of the document, as read.
+struct Element {
+    name: String,
+    attrs: Vec<(String, String)>,
+    children: Vec<usize>,
+}
+
+/// The most `<use>`-expanded elements a document may draw: references of references multiply
+/// (ten `<use>`s of a group of ten `<use>`s, twelve deep, draw 10¹² shapes from a kilobyte),
+/// so the expansion is counted before anything is drawn.
+pub const MAX_DRAWN_ELEMENTS: u64 = 1_000_000;
+/// The deepest nesting of elements (and of `<use>` references) read; libxml2 refuses beyond 256.
+pub const MAX_DEPTH: usize = 256;
+
+/// Containers whose content is drawn only through a `<use>` (or not at all).
+fn is_not_drawn_in_place(name: &str) -> bool {
+    matches!(name, "defs" | "clipPath" | "mask" | "symbol" | "pattern" | "marker")
+}
+
+/// The document's elements in order, the root's children (index 0 is a virtual root).
+fn elements(bytes: &[u8], path: &Path) -> Result<Vec<Element>, IoError> {
     let mut reader = quick_xml::Reader::from_reader(bytes);
     let mut buf = Vec::new();
-    let mut stack: Vec<Inherited> = Vec::new();
-    let root = Inherited { transform: Affine::IDENTITY, fill: FillRule::NonZero, hidden: false };
-    let mut shapes: Vec<Profile> = Vec::new();
-    let mut points = 0usize;
-    let mut saw_svg = false;
+    let mut all = vec![Element { name: String::new(), attrs: Vec::new(), children: Vec::new() }];
+    let mut open: Vec<usize> = vec![0];
     loop {
         let event = reader
             .read_event_into(&mut buf)
@@ -470,7 +486,9 @@ pub fn read_svg(bytes: &[u8], path: &Path) -> Result<Profile, IoError> {
             Event::Start(e) => (e, false),
             Event::Empty(e) => (e, true),
             Event::End(_) => {
-                stack.pop();
+                if open.len() > 1 {
+                    open.pop();
+                }
                 buf.clear();
                 continue;
             }
@@ -481,68 +499,206 @@ pub fn read_svg(bytes: &[u8], path: &Path) -> Result<Profile, IoError> {
             }
         };
         let name = e.local_name().as_ref().to_owned();
-        saw_svg |= name == "svg";
         let attrs = attributes(&e, path)?;
-        let parent = *stack.last().unwrap_or(&root);
-        let own = match get(&attrs, "transform") {
-            Some(t) => transform(t).ok_or_else(|| bad(path, format!("<{name}>: malformed transform `{t:.60}`")))?,
-            None => Affine::IDENTITY,
-        };
-        let fill = match get(&attrs, "fill-rule") {
-            Some("evenodd") => FillRule::EvenOdd,
-            Some("nonzero") => FillRule::NonZero,
-            _ => parent.fill,
-        };
-        let here = Inherited {
-            transform: parent.transform.then(own),
-            fill,
-            hidden: parent.hidden
-                || matches!(name.as_str(), "defs" | "clipPath" | "mask" | "symbol" | "pattern" | "marker"),
-        };
-        if !here.hidden {
-            let contours = shape(&name, &attrs, path)?;
-            if !contours.is_empty() {
-                // SVG's y down to the kernel's y up.
-                let placed: Vec<Vec<Vec2>> = contours
-                    .into_iter()
-                    .map(|c| {
-                        c.into_iter()
-                            .map(|p| {
-                                let q = here.transform.apply(p);
-                                Vec2::new(q.x, -q.y)
-                            })
-                            .collect()
-                    })
-                    .collect();
-                points += placed.iter().map(Vec::len).sum::<usize>();
-                if points > MAX_POINTS {
-                    return Err(bad(path, format!("the document has more than {MAX_POINTS} points")));
-                }
-                crate::limits::charge(placed.len() as u64 + 1).map_err(|e| bad(path, e.to_string()))?;
-                if let Some(i) = placed.iter().flatten().position(|p| !p.is_finite()) {
-                    return Err(bad(path, format!("<{name}>: point {i} has a non-finite coordinate")));
-                }
-                // A shape enclosing nothing (a degenerate polygon) adds nothing.
-                match Profile::from_contours(&placed, here.fill) {
-                    Ok(p) => shapes.push(p),
-                    Err(ProfileError::ZeroArea { .. } | ProfileError::TooFewPoints { .. }) => {}
-                    Err(e) => return Err(bad(path, format!("<{name}>: {e}"))),
-                }
-            }
-        }
+        let id = all.len();
+        all.push(Element { name, attrs, children: Vec::new() });
+        let parent = *open.last().unwrap_or(&0);
+        all[parent].children.push(id);
         if !empty {
-            stack.push(here);
+            if open.len() > MAX_DEPTH {
+                return Err(bad(path, format!("elements are nested more than {MAX_DEPTH} deep")));
+            }
+            open.push(id);
         }
         buf.clear();
     }
-    if !saw_svg {
+    Ok(all)
+}
+
+/// Whether an element is hidden with its content (`display="none"`, as attribute or style).
+fn displayed(e: &Element) -> bool {
+    get(&e.attrs, "display") != Some("none")
+}
+
+/// What a `<use>` draws: the element its `href` (or `xlink:href`) names in this document.
+/// `Ok(None)` for a reference to no element (drawn as nothing, as browsers do).
+fn use_target(e: &Element, ids: &HashMap<&str, usize>, path: &Path) -> Result<Option<usize>, IoError> {
+    let Some(href) = get(&e.attrs, "href") else { return Ok(None) };
+    match href.trim().strip_prefix('#') {
+        Some(id) => Ok(ids.get(id).copied()),
+        None => Err(bad(
+            path,
+            format!("<use> refers to `{href:.60}` outside the document: only references within it (`#id`) are read"),
+        )),
+    }
+}
+
+/// How many elements drawing `node` draws, `<use>` references expanded (memoised per element,
+/// so a document of references of references is counted in time linear in its size).
+fn drawn_count(
+    all: &[Element],
+    ids: &HashMap<&str, usize>,
+    node: usize,
+    memo: &mut [Option<u64>],
+    active: &mut Vec<usize>,
+    path: &Path,
+) -> Result<u64, IoError> {
+    if let Some(n) = memo[node] {
+        return Ok(n);
+    }
+    if active.contains(&node) {
+        return Err(bad(path, format!("<{}> refers to itself through `<use>`", all[node].name)));
+    }
+    if active.len() > MAX_DEPTH {
+        return Err(bad(path, format!("`<use>` references are nested more than {MAX_DEPTH} deep")));
+    }
+    active.push(node);
+    let e = &all[node];
+    let mut n = 1u64;
+    if e.name == "use" {
+        if let Some(t) = use_target(e, ids, path)? {
+            n = n.saturating_add(drawn_count(all, ids, t, memo, active, path)?);
+        }
+    }
+    for &c in &e.children {
+        n = n.saturating_add(drawn_count(all, ids, c, memo, active, path)?);
+    }
+    active.pop();
+    memo[node] = Some(n);
+    Ok(n)
+}
+
+/// Reads the region an SVG document draws (see the [module documentation](self)).
+///
+/// # Errors
+/// [`IoError::Svg`] for malformed XML, a malformed path, number list or transform (naming the
+/// element), non-finite coordinates, more than [`MAX_POINTS`] points, `<use>` references that
+/// refer to themselves, leave the document, or expand to more than [`MAX_DRAWN_ELEMENTS`]
+/// elements, nesting deeper than [`MAX_DEPTH`], or a document that draws no region with area.
+pub fn read_svg(bytes: &[u8], path: &Path) -> Result<Profile, IoError> {
+    let all = elements(bytes, path)?;
+    if !all.iter().any(|e| e.name == "svg") {
         return Err(bad(path, "no <svg> element: not an SVG document"));
     }
-    let region = Profile::union_all(&shapes);
+    let ids: HashMap<&str, usize> =
+        all.iter().enumerate().rev().filter_map(|(i, e)| get(&e.attrs, "id").map(|id| (id, i))).collect();
+    let mut memo = vec![None; all.len()];
+    let drawn = drawn_count(&all, &ids, 0, &mut memo, &mut Vec::new(), path)?;
+    if drawn > MAX_DRAWN_ELEMENTS {
+        return Err(bad(
+            path,
+            format!(
+                "its `<use>` references expand to {drawn} elements, more than the {MAX_DRAWN_ELEMENTS} a document may draw"
+            ),
+        ));
+    }
+    let mut drawing = Drawing { all: &all, ids: &ids, path, shapes: Vec::new(), points: 0 };
+    let root = Inherited { transform: Affine::IDENTITY, fill: FillRule::NonZero };
+    for &c in &all[0].children {
+        drawing.draw(c, root, 0)?;
+    }
+    let region = Profile::union_all(&drawing.shapes);
     if region.is_empty() {
         return Err(bad(path, "the document draws no region with area (no closed path, polygon or shape)"));
     }
     Ok(region)
+}
+
+/// The walk that draws a document's elements into regions.
+struct Drawing<'a> {
+    all: &'a [Element],
+    ids: &'a HashMap<&'a str, usize>,
+    path: &'a Path,
+    shapes: Vec<Profile>,
+    points: usize,
+}
+
+impl Drawing<'_> {
+    /// Draws element `node` and its content under what its parent passes. `depth` counts
+    /// elements and references (bounded by the counts checked before drawing).
+    fn draw(&mut self, node: usize, parent: Inherited, depth: usize) -> Result<(), IoError> {
+        let e = &self.all[node];
+        if !displayed(e) || is_not_drawn_in_place(&e.name) {
+            return Ok(());
+        }
+        self.draw_content(node, parent, depth)
+    }
+
+    /// Draws `node` whether or not it is drawn in place (a `<use>` target inside `defs`, a
+    /// `symbol`).
+    fn draw_content(&mut self, node: usize, parent: Inherited, depth: usize) -> Result<(), IoError> {
+        let (all, path) = (self.all, self.path);
+        let e = &all[node];
+        if !displayed(e) {
+            return Ok(());
+        }
+        if depth > 2 * MAX_DEPTH {
+            return Err(bad(
+                path,
+                format!("elements and `<use>` references are nested more than {} deep", 2 * MAX_DEPTH),
+            ));
+        }
+        let name = e.name.as_str();
+        let own = match get(&e.attrs, "transform") {
+            Some(t) => transform(t).ok_or_else(|| bad(path, format!("<{name}>: malformed transform `{t:.60}`")))?,
+            None => Affine::IDENTITY,
+        };
+        let fill = match get(&e.attrs, "fill-rule") {
+            Some("evenodd") => FillRule::EvenOdd,
+            Some("nonzero") => FillRule::NonZero,
+            _ => parent.fill,
+        };
+        let here = Inherited { transform: parent.transform.then(own), fill };
+        self.add_shape(name, shape(name, &e.attrs, path)?, here)?;
+        if name == "use" {
+            // SVG 1.1 §5.6: the referenced element drawn as the `use`'s child, moved by (x, y).
+            if let Some(target) = use_target(e, self.ids, path)? {
+                let len = |key: &str| get(&e.attrs, key).and_then(length).unwrap_or(0.0);
+                let moved = Affine([1.0, 0.0, 0.0, 1.0, len("x"), len("y")]);
+                let inner = Inherited { transform: here.transform.then(moved), fill };
+                self.draw_content(target, inner, depth + 1)?;
+            }
+        }
+        for &c in &e.children {
+            self.draw(c, here, depth + 1)?;
+        }
+        Ok(())
+    }
+
+    /// Adds the region of one element's contours, placed and flipped to y up.
+    fn add_shape(&mut self, name: &str, contours: Vec<Vec<Vec2>>, here: Inherited) -> Result<(), IoError> {
+        if contours.is_empty() {
+            return Ok(());
+        }
+        let path = self.path;
+        // SVG's y down to the kernel's y up.
+        let placed: Vec<Vec<Vec2>> = contours
+            .into_iter()
+            .map(|c| {
+                c.into_iter()
+                    .map(|p| {
+                        let q = here.transform.apply(p);
+                        Vec2::new(q.x, -q.y)
+                    })
+                    .collect()
+            })
+            .collect();
+        self.points += placed.iter().map(Vec::len).sum::<usize>();
+        if self.points > MAX_POINTS {
+            return Err(bad(path, format!("the document has more than {MAX_POINTS} points")));
+        }
+        crate::limits::charge(placed.len() as u64 + 1).map_err(|e| bad(path, e.to_string()))?;
+        if let Some(i) = placed.iter().flatten().position(|p| !p.is_finite()) {
+            return Err(bad(path, format!("<{name}>: point {i} has a non-finite coordinate")));
+        }
+        // A shape enclosing nothing (a degenerate polygon) adds nothing.
+        match Profile::from_contours(&placed, here.fill) {
+            Ok(p) => self.shapes.push(p),
+            Err(ProfileError::ZeroArea { .. } | ProfileError::TooFewPoints { .. }) => {}
+            Err(e) => return Err(bad(path, format!("<{name}>: {e}"))),
+        }
+        Ok(())
+    }
 }
 
 /// The contours of one element in its own coordinates (none for elements that are not
@@ -578,8 +734,21 @@ fn shape(name: &str, attrs: &[(String, String)], path: &Path) -> Result<Vec<Vec<
         }
         "rect" => {
             let (x, y, w, h) = (len("x")?, len("y")?, len("width")?, len("height")?);
+            // Corner radii (SVG 1.1 §9.2): one given stands for both, negative ones are ignored,
+            // and each is at most half its side.
+            let given = |key: &str| -> Result<Option<f64>, IoError> {
+                Ok(if get(attrs, key).is_some_and(|v| v.trim() != "auto") { Some(len(key)?) } else { None })
+            };
+            let (rx, ry) = match (given("rx")?.filter(|r| *r >= 0.0), given("ry")?.filter(|r| *r >= 0.0)) {
+                (Some(rx), Some(ry)) => (rx, ry),
+                (Some(r), None) | (None, Some(r)) => (r, r),
+                (None, None) => (0.0, 0.0),
+            };
+            let (rx, ry) = (rx.min(w / 2.0), ry.min(h / 2.0));
             if w <= 0.0 || h <= 0.0 {
                 Vec::new()
+            } else if rx > 0.0 && ry > 0.0 {
+                rounded_rect(Vec2::new(x, y), Vec2::new(w, h), Vec2::new(rx, ry))
             } else {
                 vec![vec![Vec2::new(x, y), Vec2::new(x + w, y), Vec2::new(x + w, y + h), Vec2::new(x, y + h)]]
             }
@@ -591,6 +760,32 @@ fn shape(name: &str, attrs: &[(String, String)], path: &Path) -> Result<Vec<Vec<
         "ellipse" => ellipse(Vec2::new(len("cx")?, len("cy")?), Vec2::new(len("rx")?, len("ry")?)),
         _ => Vec::new(),
     })
+}
+
+/// A rectangle at `corner` of `size` with elliptical corners of radii `r`: a quarter of
+/// [`ARC_SEGMENTS`] per corner, the straight sides between them.
+fn rounded_rect(corner: Vec2, size: Vec2, r: Vec2) -> Vec<Vec<Vec2>> {
+    let quarter = ARC_SEGMENTS / 4;
+    let centres = [
+        Vec2::new(corner.x + size.x - r.x, corner.y + r.y),
+        Vec2::new(corner.x + size.x - r.x, corner.y + size.y - r.y),
+        Vec2::new(corner.x + r.x, corner.y + size.y - r.y),
+        Vec2::new(corner.x + r.x, corner.y + r.y),
+    ];
+    let mut out = Vec::with_capacity(4 * (quarter + 1));
+    for (k, c) in centres.iter().enumerate() {
+        for j in 0..=quarter {
+            let angle = std::f64::consts::FRAC_PI_2 * (k as f64 - 1.0 + j as f64 / quarter as f64);
+            let (s, co) = angle.sin_cos();
+            out.push(*c + Vec2::new(r.x * co, r.y * s));
+        }
+    }
+    // Where a radius is half the side, neighbouring arcs meet: drop the repeated points.
+    out.dedup_by(|a, b| (*a - *b).length() <= 1e-12 * (1.0 + b.length()));
+    if out.len() > 1 && (out[0] - out[out.len() - 1]).length() <= 1e-12 * (1.0 + out[0].length()) {
+        out.pop();
+    }
+    vec![out]
 }
 
 #[cfg(test)]
@@ -666,6 +861,81 @@ mod tests {
         assert_eq!((lo.x, hi.x), (-2.0, 106.0));
         // SVG y from 0 (the top of everything) to 52 (the circle's bottom), negated.
         assert_eq!((lo.y, hi.y), (-52.0, 0.0));
+    }
+
+    #[test]
+    fn use_draws_what_it_names_moved_and_symbols_and_defs_through_it() {
+        // A 2×1 rect in defs drawn twice by `use` (moved by x, and by a transform), a symbol's
+        // even-odd square with a hole drawn once (the fill rule is the symbol's own), a hidden
+        // group, and a dangling reference: 2 + 2 + (16 − 4).
+        let svg = r##"<svg xmlns="http://www.w3.org/2000/svg" xmlns:xlink="http://www.w3.org/1999/xlink">
+            <defs><rect id="bar" width="2" height="1"/></defs>
+            <symbol id="frame"><path fill-rule="evenodd" d="M0 0 h4 v4 h-4 z M1 1 h2 v2 h-2 z"/></symbol>
+            <use href="#bar" x="10"/>
+            <use xlink:href="#bar" transform="translate(0 20)"/>
+            <use href="#frame" x="30" y="30"/>
+            <g style="display:none"><rect width="100" height="100"/></g>
+            <use href="#nothing"/>
+          </svg>"##;
+        let p = read(svg).unwrap();
+        near(p.area(), 2.0 + 2.0 + 12.0, 1e-7);
+        let (lo, hi) = p.bounds().unwrap();
+        assert_eq!((lo.x, hi.x), (0.0, 34.0));
+        assert_eq!((lo.y, hi.y), (-34.0, 0.0));
+        // A `use` of a `use`: the moves compose.
+        let nested = read(
+            r##"<svg><rect id="a" width="1" height="1"/><use id="b" href="#a" x="5"/><use href="#b" y="5"/></svg>"##,
+        )
+        .unwrap();
+        near(nested.area(), 3.0, 1e-9);
+        assert_eq!(nested.bounds().unwrap(), (Vec2::new(0.0, -6.0), Vec2::new(6.0, 0.0)));
+    }
+
+    #[test]
+    fn rounded_rectangles_take_their_corner_radii() {
+        // Four quarter-ellipse corners of 16 segments each in a 10×6 rect.
+        let polygon_quarters = |rx: f64, ry: f64| 32.0 * rx * ry * (std::f64::consts::PI / 32.0).sin();
+        for (attrs, rx, ry) in [
+            (r#"rx="2" ry="1""#, 2.0, 1.0),
+            (r#"rx="2""#, 2.0, 2.0),
+            (r#"ry="1.5""#, 1.5, 1.5),
+            (r#"rx="9" ry="9""#, 5.0, 3.0),
+            (r#"rx="-1" ry="2""#, 2.0, 2.0),
+        ] {
+            let p = read(&format!(r#"<svg><rect width="10" height="6" {attrs}/></svg>"#)).unwrap();
+            near(p.area(), 60.0 - 4.0 * rx * ry + polygon_quarters(rx, ry), 1e-7);
+            assert_eq!(p.bounds().unwrap(), (Vec2::new(0.0, -6.0), Vec2::new(10.0, 0.0)), "{attrs}");
+        }
+        // A pill: radii half the sides meet without repeating a point.
+        let pill = read(r#"<svg><rect width="4" height="4" rx="2"/></svg>"#).unwrap();
+        assert_eq!(pill.contours()[0].len(), ARC_SEGMENTS);
+    }
+
+    #[test]
+    fn use_references_that_loop_multiply_or_leave_the_file_are_refused() {
+        // Ten uses of a group of ten uses of …, twelve deep, from under 2 KB: 10¹² shapes.
+        let mut svg = String::from(r#"<svg><defs><rect id="l0" width="1" height="1"/>"#);
+        for level in 1..=12 {
+            svg += &format!(r#"<g id="l{level}">"#);
+            for k in 0..10 {
+                svg += &format!(r##"<use href="#l{}" x="{k}"/>"##, level - 1);
+            }
+            svg += "</g>";
+        }
+        svg += r##"</defs><use href="#l12"/></svg>"##;
+        assert!(svg.len() < 4000);
+        let e = read(&svg).unwrap_err().to_string();
+        assert!(e.contains("expand to") && e.contains("more than the 1000000"), "{e}");
+        for (svg, reason) in [
+            (r##"<svg><g id="a"><use href="#a"/></g></svg>"##, "refers to itself"),
+            (r##"<svg><use id="a" href="#b"/><use id="b" href="#a"/></svg>"##, "refers to itself"),
+            (r#"<svg><use href="other.svg#a"/></svg>"#, "outside the document"),
+        ] {
+            let e = read(svg).unwrap_err().to_string();
+            assert!(e.contains(reason), "{svg}: {e}");
+        }
+        let deep = format!("<svg>{}<rect width=\"1\" height=\"1\"/>{}</svg>", "<g>".repeat(300), "</g>".repeat(300));
+        assert!(read(&deep).unwrap_err().to_string().contains("nested more than 256 deep"));
     }
 
     #[test]
