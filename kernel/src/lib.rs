@@ -11,6 +11,8 @@
 //! - [`solve`]: Shape-Up constraints (Bouaziz et al.) — the local/global solver, projections, cylinder fits.
 //! - [`anim`]: skeleton-driven animation of polar meshes — skinning, growth, gravity, rigged glTF export.
 //! - [`lsystem`]: L-systems (Brazzolotto part III) — grammars, seeded derivation, growth as polar operations.
+//! - [`diagnose`]: what is wrong with a mesh and where — components, boundaries, self-intersections
+//!   (exact predicates over a BVH), handle loops, defects; the repair of non-manifold files.
 //! - [`csg`]: union, difference and intersection of block models and meshes, through the one engine seam.
 //! - [`profile`]: 2D regions and the solids made from them — extrude, revolve, sweep, loft, hulls, cuts.
 //! - [`io`]: files — meshes in OBJ, STL, glTF 2.0 (Draco read too), PLY, 3MF; profiles in SVG, DXF.
@@ -24,6 +26,7 @@
 pub mod anim;
 pub mod blocks;
 pub mod csg;
+pub mod diagnose;
 pub mod io;
 pub mod limits;
 pub mod lsystem;
