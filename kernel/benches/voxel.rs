@@ -9,7 +9,8 @@
 //!   (Table 2), one of 8 (axis, angle) pairs per iteration, so times average over angles. Serial
 //!   like the paper; the 64³ stepping also in parallel.
 //! - `voxel/marching_cubes_{128,256}`: the peer's sphere (radius 0.8 of the half-side) as
-//!   densities, meshed from scratch (scikit-image and PyMCubes in marching_cubes_peer.py).
+//!   densities, meshed from scratch (scikit-image and PyMCubes in marching_cubes_peer.py), raw
+//!   and smoothed (`Surface::Smooth`, the default of `to_mesh`, which the serial fresh mesh uses).
 //! - `voxel/sculpt_256`: strokes of a 32³ ball tool turned 30° on a 256³ ball whose hierarchy and
 //!   level-0 surface cache exist: a stroke dragged by one voxel (cached rotation) vs one at a new
 //!   sub-voxel offset (all rotated again), and the re-mesh after a stroke vs a full mesh.
@@ -24,7 +25,7 @@ use std::time::Duration;
 
 use blocksmith_kernel::math::{Mat3, Quat};
 use blocksmith_kernel::voxel::{
-    marching_cubes, rotate_tool, HaarHierarchy, Placement, RotationMethod, SculptMode, SculptOptions, Voxels,
+    marching_cubes, rotate_tool, HaarHierarchy, Placement, RotationMethod, SculptMode, SculptOptions, Surface, Voxels,
     DEFAULT_ISO,
 };
 use blocksmith_kernel::{Mesh, Vec3};
@@ -125,7 +126,11 @@ fn mc(c: &mut Criterion) {
         let v = sphere(n, 0.4 * (n - 1) as f64, true);
         let mut g = c.benchmark_group(format!("voxel/marching_cubes_{n}"));
         g.sample_size(10).measurement_time(Duration::from_secs(5));
-        g.bench_function("marching_cubes", |b| b.iter(|| black_box(marching_cubes(v.data(), n, DEFAULT_ISO).unwrap())));
+        for (name, surface) in [("marching_cubes", Surface::Raw), ("marching_cubes_smooth", Surface::Smooth)] {
+            g.bench_function(name, |b| {
+                b.iter(|| black_box(marching_cubes(v.data(), n, DEFAULT_ISO, surface).unwrap()))
+            });
+        }
         let mut serial = v.clone();
         serial.set_parallel(false);
         g.bench_function("to_mesh_fresh_serial", |b| {

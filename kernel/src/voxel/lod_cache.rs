@@ -4,7 +4,7 @@
 //! [`Voxels::to_mesh`](super::Voxels::to_mesh) re-extracts and re-meshes only those (see `lod`).
 
 use super::haar3d::{sums_to_densities, HaarHierarchy};
-use super::marching_cubes::{assemble, block_count, mesh_block, Image, BLOCK, CELLS_PER_BLOCK};
+use super::marching_cubes::{assemble, block_count, mesh_block, Image, Surface, BLOCK, CELLS_PER_BLOCK};
 use super::{map_range_checked, VoxelError};
 use crate::math::Vec3;
 use crate::mesh::Mesh;
@@ -17,6 +17,7 @@ pub const DEFAULT_ISO: f64 = 127.5;
 #[derive(Clone, Debug)]
 pub(super) struct SurfaceCache {
     iso: f64,
+    surface: Surface,
     /// Side of the level's image.
     m: usize,
     /// The level's densities (empty for level 0, which reads the grid itself).
@@ -31,11 +32,12 @@ pub(super) struct SurfaceCache {
 }
 
 impl SurfaceCache {
-    pub(super) fn new(level: u32, iso: f64, n: usize) -> SurfaceCache {
+    pub(super) fn new(level: u32, iso: f64, surface: Surface, n: usize) -> SurfaceCache {
         let m = n >> level;
         let nb = block_count(m);
         SurfaceCache {
             iso,
+            surface,
             m,
             image: Vec::new(),
             blocks: vec![Vec::new(); nb * nb * nb],
@@ -63,9 +65,9 @@ impl SurfaceCache {
         });
     }
 
-    /// Whether the cache was built for iso level `iso` (bit for bit).
-    pub(super) fn is_for_iso(&self, iso: f64) -> bool {
-        self.iso.to_bits() == iso.to_bits()
+    /// Whether the cache was built for iso level `iso` (bit for bit) and field `surface`.
+    pub(super) fn is_for(&self, iso: f64, surface: Surface) -> bool {
+        self.iso.to_bits() == iso.to_bits() && self.surface == surface
     }
 
     /// Blocks re-meshed by the last [`SurfaceCache::refresh`].
@@ -83,7 +85,7 @@ impl SurfaceCache {
         parallel: bool,
     ) -> Result<Mesh, VoxelError> {
         let img = if level == 0 { Image { values: data, m: self.m } } else { Image { values: &self.image, m: self.m } };
-        assemble(img, self.iso, &self.blocks, to_world, parallel)
+        assemble(img, self.iso, self.surface, &self.blocks, to_world, parallel)
     }
 
     /// Brings the cache of `level` up to date: pulls the changed box into the level's image (from
@@ -96,7 +98,7 @@ impl SurfaceCache {
         hierarchy: Option<&HaarHierarchy>,
         parallel: bool,
     ) -> Result<(), VoxelError> {
-        let (m, iso) = (self.m, self.iso);
+        let (m, iso, surface) = (self.m, self.iso, self.surface);
         let nb = block_count(m);
         if let Some((lo, hi)) = self.pending.take() {
             // The level's voxels covering the changed box.
@@ -117,8 +119,11 @@ impl SurfaceCache {
                     }
                 }
             }
-            // Voxel v is padded sample v + 1, which cells v and v + 1 use.
-            let (blo, bhi) = (klo.map(|v| v / BLOCK), khi.map(|v| (v / BLOCK).min(nb - 1)));
+            // Voxel v is padded sample v + 1, which cells v and v + 1 use; the smoothed field at
+            // the samples within the filter's reach r of it changes too, which cells v − r to
+            // v + 1 + r use.
+            let r = surface.reach();
+            let (blo, bhi) = (klo.map(|v| v.saturating_sub(r) / BLOCK), khi.map(|v| ((v + r) / BLOCK).min(nb - 1)));
             for bz in blo[2]..=bhi[2] {
                 for by in blo[1]..=bhi[1] {
                     for bx in blo[0]..=bhi[0] {
@@ -131,7 +136,7 @@ impl SurfaceCache {
         let img = if level == 0 { Image { values: data, m } } else { Image { values: &self.image, m } };
         let fresh = map_range_checked(parallel, dirty.len(), CELLS_PER_BLOCK, |i| {
             let bi = dirty[i];
-            mesh_block(img, iso, [bi % nb, (bi / nb) % nb, bi / (nb * nb)])
+            mesh_block(img, iso, [bi % nb, (bi / nb) % nb, bi / (nb * nb)], surface)
         })?;
         self.last_remeshed = dirty.len();
         for (bi, tris) in dirty.into_iter().zip(fresh) {

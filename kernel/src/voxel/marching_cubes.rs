@@ -10,6 +10,7 @@
 //! for why it is closed and manifold).
 
 use super::mc_table::{table, EDGES};
+use super::smooth_field::{smooth_block, GAIN};
 use super::{map_range_checked, map_range_polled, VoxelError};
 use crate::math::Vec3;
 use crate::mesh::Mesh;
@@ -19,7 +20,56 @@ pub(super) const BLOCK: usize = 16;
 /// The work of meshing one block, in cancellation units (its cells).
 pub(super) const CELLS_PER_BLOCK: u64 = (BLOCK * BLOCK * BLOCK) as u64;
 /// Samples per block side (a block's cells reach one sample past the block).
-const BS: usize = BLOCK + 1;
+pub(super) const BS: usize = BLOCK + 1;
+
+/// Which field marching cubes contours.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Surface {
+    /// The densities smoothed by a 7-tap filter with no second moment (see `smooth_field`): no
+    /// terraces on curved surfaces, flat faces on rotated boxes, sharp edges rounded over about
+    /// three voxels. The default.
+    #[default]
+    Smooth,
+    /// The densities themselves, as Heurtebise & Thon §2.3 display them: exact where a voxel is
+    /// partly covered, stepped where the densities jump from 0 to 255.
+    Raw,
+}
+
+impl Surface {
+    /// How far (in samples) a density change can move this surface: the filter's reach.
+    pub(super) fn reach(self) -> usize {
+        match self {
+            Surface::Smooth => super::smooth_field::RADIUS,
+            Surface::Raw => 0,
+        }
+    }
+}
+
+/// The smoothed field of one block's BS³ padded samples, with the iso level on its scale.
+struct BlockField {
+    values: Vec<i32>,
+    iso: f64,
+}
+
+impl BlockField {
+    fn new(img: Image<'_>, iso: f64, origin: [usize; 3]) -> BlockField {
+        BlockField { values: smooth_block(img, origin), iso: iso * GAIN }
+    }
+
+    /// Whether local sample `s` is inside.
+    #[inline]
+    fn inside(&self, s: usize) -> bool {
+        f64::from(self.values[s]) > self.iso
+    }
+
+    /// Where the field crosses the iso level between local samples `a` (inside) and `b`, kept
+    /// 10⁻³ of a voxel from both: a smoothed sample can equal the iso level exactly, and two
+    /// crossings at one sample would make a triangle of no area.
+    fn crossing(&self, a: usize, b: usize) -> f64 {
+        let (va, vb) = (f64::from(self.values[a]), f64::from(self.values[b]));
+        ((va - self.iso) / (va - vb)).clamp(1e-3, 1.0 - 1e-3)
+    }
+}
 
 /// A density image of side m; samples outside it read as empty.
 #[derive(Clone, Copy)]
@@ -62,33 +112,51 @@ pub(super) fn check_iso(iso: f64) -> Result<(), VoxelError> {
 
 /// The triangles of block `b` as block-local edge keys, three per triangle:
 /// `((sz · 17 + sy) · 17 + sx) · 3 + axis` for the edge from local sample `s` along `axis`.
-pub(super) fn mesh_block(img: Image<'_>, iso: f64, b: [usize; 3]) -> Vec<u16> {
-    // A density is inside when above iso, i.e. at least ⌊iso⌋ + 1.
-    let threshold = iso.floor() as u16 + 1;
+pub(super) fn mesh_block(img: Image<'_>, iso: f64, b: [usize; 3], surface: Surface) -> Vec<u16> {
     let cells = img.m + 1;
     let origin = [b[0] * BLOCK, b[1] * BLOCK, b[2] * BLOCK];
     let lim = [(cells - origin[0]).min(BLOCK), (cells - origin[1]).min(BLOCK), (cells - origin[2]).min(BLOCK)];
     let mut inside = [false; BS * BS * BS];
     let (mut any_in, mut any_out) = (false, false);
-    let m = img.m;
-    for lz in 0..=lim[2] {
-        let pz = origin[2] + lz;
-        for ly in 0..=lim[1] {
-            let py = origin[1] + ly;
-            let row = &mut inside[(lz * BS + ly) * BS..][..=lim[0]];
-            if pz == 0 || pz > m || py == 0 || py > m {
-                row.fill(false);
-                any_out = true;
-                continue;
+    match surface {
+        Surface::Raw => {
+            // A density is inside when above iso, i.e. at least ⌊iso⌋ + 1.
+            let threshold = iso.floor() as u16 + 1;
+            let m = img.m;
+            for lz in 0..=lim[2] {
+                let pz = origin[2] + lz;
+                for ly in 0..=lim[1] {
+                    let py = origin[1] + ly;
+                    let row = &mut inside[(lz * BS + ly) * BS..][..=lim[0]];
+                    if pz == 0 || pz > m || py == 0 || py > m {
+                        row.fill(false);
+                        any_out = true;
+                        continue;
+                    }
+                    let r = ((pz - 1) * m + py - 1) * m;
+                    for (lx, slot) in row.iter_mut().enumerate() {
+                        let px = origin[0] + lx;
+                        let v = if px == 0 || px > m { 0 } else { img.values[r + px - 1] };
+                        let is_in = u16::from(v) >= threshold;
+                        *slot = is_in;
+                        any_in |= is_in;
+                        any_out |= !is_in;
+                    }
+                }
             }
-            let r = ((pz - 1) * m + py - 1) * m;
-            for (lx, slot) in row.iter_mut().enumerate() {
-                let px = origin[0] + lx;
-                let v = if px == 0 || px > m { 0 } else { img.values[r + px - 1] };
-                let is_in = u16::from(v) >= threshold;
-                *slot = is_in;
-                any_in |= is_in;
-                any_out |= !is_in;
+        }
+        Surface::Smooth => {
+            let field = BlockField::new(img, iso, origin);
+            for lz in 0..=lim[2] {
+                for ly in 0..=lim[1] {
+                    for lx in 0..=lim[0] {
+                        let s = (lz * BS + ly) * BS + lx;
+                        let is_in = field.inside(s);
+                        inside[s] = is_in;
+                        any_in |= is_in;
+                        any_out |= !is_in;
+                    }
+                }
             }
         }
     }
@@ -134,6 +202,7 @@ pub(super) fn mesh_block(img: Image<'_>, iso: f64, b: [usize; 3]) -> Vec<u16> {
 pub(super) fn assemble(
     img: Image<'_>,
     iso: f64,
+    surface: Surface,
     blocks: &[Vec<u16>],
     map: impl Fn(Vec3) -> Vec3 + Sync,
     parallel: bool,
@@ -197,15 +266,24 @@ pub(super) fn assemble(
     .concat();
     let positions: Vec<Vec3> = map_range_polled(parallel, count, |b| {
         let origin = [(b % nb) * BLOCK, ((b / nb) % nb) * BLOCK, (b / (nb * nb)) * BLOCK];
+        if owned[b].is_empty() {
+            return Vec::new();
+        }
+        let field = (surface == Surface::Smooth).then(|| BlockField::new(img, iso, origin));
         owned[b]
             .iter()
             .map(|&k| {
                 let (s, axis) = (usize::from(k) / 3, usize::from(k) % 3);
                 let p = [origin[0] + s % BS, origin[1] + (s / BS) % BS, origin[2] + s / (BS * BS)];
-                let mut q = p;
-                q[axis] += 1;
-                let (va, vb) = (f64::from(img.padded(p)), f64::from(img.padded(q)));
-                let t = (va - iso) / (va - vb);
+                let t = match &field {
+                    Some(f) => f.crossing(s, s + [1, BS, BS * BS][axis]),
+                    None => {
+                        let mut q = p;
+                        q[axis] += 1;
+                        let (va, vb) = (f64::from(img.padded(p)), f64::from(img.padded(q)));
+                        (va - iso) / (va - vb)
+                    }
+                };
                 let mut pos = Vec3::new(p[0] as f64 - 0.5, p[1] as f64 - 0.5, p[2] as f64 - 0.5);
                 pos[axis] += t;
                 map(pos)
@@ -221,7 +299,8 @@ pub(super) fn assemble(
 }
 
 /// Marching cubes of a density image: the closed, manifold triangle mesh of
-/// `{density > iso}` (iso in [0, 255); 127.5 puts the surface where coverage is one half).
+/// `{density > iso}` (iso in [0, 255); 127.5 puts the surface where coverage is one half), of the
+/// densities themselves ([`Surface::Raw`]) or of their smoothed field ([`Surface::Smooth`]).
 ///
 /// Inputs: `values` (side³, x fastest) with side ≥ 1. Output positions are in image coordinates
 /// (voxel i spans [i, i+1), its sample at i + 0.5); the object is capped at the image border.
@@ -232,7 +311,7 @@ pub(super) fn assemble(
 ///
 /// See also [`Voxels::to_mesh`](super::Voxels::to_mesh), which maps to world coordinates and
 /// caches per level of detail.
-pub fn marching_cubes(values: &[u8], side: usize, iso: f64) -> Result<Mesh, VoxelError> {
+pub fn marching_cubes(values: &[u8], side: usize, iso: f64, surface: Surface) -> Result<Mesh, VoxelError> {
     check_iso(iso)?;
     if side == 0 || side.checked_pow(3) != Some(values.len()) {
         return Err(VoxelError::InvalidArgument {
@@ -243,9 +322,9 @@ pub fn marching_cubes(values: &[u8], side: usize, iso: f64) -> Result<Mesh, Voxe
     let img = Image { values, m: side };
     let nb = block_count(side);
     let blocks = map_range_checked(true, nb * nb * nb, CELLS_PER_BLOCK, |bi| {
-        mesh_block(img, iso, [bi % nb, (bi / nb) % nb, bi / (nb * nb)])
+        mesh_block(img, iso, [bi % nb, (bi / nb) % nb, bi / (nb * nb)], surface)
     })?;
-    assemble(img, iso, &blocks, |p| p, true)
+    assemble(img, iso, surface, &blocks, |p| p, true)
 }
 
 #[cfg(test)]
@@ -265,7 +344,7 @@ mod tests {
         // triangle each, welded at the 6 edge midpoints (iso 127.5 halfway to 0 and 255).
         let m = Mesh::default();
         assert_eq!(m.face_count(), 0);
-        let mesh = marching_cubes(&[255], 1, 127.5).unwrap();
+        let mesh = marching_cubes(&[255], 1, 127.5, Surface::Raw).unwrap();
         assert_eq!((mesh.vertex_count(), mesh.face_count()), (6, 8));
         assert!(mesh.is_closed() && mesh.is_manifold());
         assert_eq!(mesh.genus(), 0);
@@ -277,15 +356,24 @@ mod tests {
     #[test]
     fn random_noise_gives_closed_manifold_meshes() {
         // Noise exercises every case and every ambiguous face; each output must weld into a
-        // closed 2-manifold with outward faces (positive volume).
+        // closed 2-manifold with outward faces (positive volume). The smoothed field of noise
+        // varies little about 127.5, so it is cut near there.
         for (side, seed) in [(4usize, 1u64), (7, 2), (9, 3), (20, 4), (33, 5)] {
             let values = random_bytes(side * side * side, seed);
-            for iso in [30.0, 127.5, 200.0] {
-                let mesh = marching_cubes(&values, side, iso).unwrap();
-                assert!(mesh.face_count() > 0);
-                assert!(mesh.is_closed(), "side {side} iso {iso}");
-                assert!(mesh.is_manifold(), "side {side} iso {iso}");
-                assert!(mesh.volume() > 0.0, "side {side} iso {iso}: volume {}", mesh.volume());
+            for (surface, isos) in [(Surface::Raw, [30.0, 127.5, 200.0]), (Surface::Smooth, [110.0, 127.5, 140.0])] {
+                for iso in isos {
+                    let mesh = marching_cubes(&values, side, iso, surface).unwrap();
+                    let at = format!("{surface:?} side {side} iso {iso}");
+                    assert!(mesh.face_count() > 0, "{at}");
+                    assert!(mesh.is_closed(), "{at}");
+                    assert!(mesh.is_manifold(), "{at}");
+                    assert!(mesh.volume() > 0.0, "{at}: volume {}", mesh.volume());
+                    // No smooth triangle of zero area (its crossings are kept off the samples; raw
+                    // ones sit on a sample equal to an integer iso level).
+                    if surface == Surface::Smooth {
+                        assert!((0..mesh.face_count() as u32).all(|f| mesh.face_area(f) > 0.0), "{at}");
+                    }
+                }
             }
         }
     }
@@ -298,7 +386,7 @@ mod tests {
         for (side, seed) in [(6usize, 7u64), (12, 8)] {
             let values: Vec<u8> = random_bytes(side * side * side, seed).iter().map(|v| v % 4).collect();
             for iso in [0.0, 1.0, 2.0] {
-                let mesh = marching_cubes(&values, side, iso).unwrap();
+                let mesh = marching_cubes(&values, side, iso, Surface::Raw).unwrap();
                 assert!(mesh.face_count() > 0 && mesh.is_closed() && mesh.is_manifold(), "side {side} iso {iso}");
             }
         }
@@ -310,7 +398,7 @@ mod tests {
         // 4³ checkerboard has 32 inside voxels and gives 32 octahedra (genus 0 each).
         let side = 4;
         let values: Vec<u8> = (0..64).map(|i| if (i % 4 + i / 4 % 4 + i / 16) % 2 == 0 { 255 } else { 0 }).collect();
-        let mesh = marching_cubes(&values, side, 127.5).unwrap();
+        let mesh = marching_cubes(&values, side, 127.5, Surface::Raw).unwrap();
         assert!(mesh.is_closed() && mesh.is_manifold());
         assert_eq!(mesh.component_count(), 32);
         assert_eq!(mesh.genus(), 0);
@@ -318,10 +406,10 @@ mod tests {
 
     #[test]
     fn bad_images_and_iso_levels_are_refused() {
-        assert!(matches!(marching_cubes(&[0; 7], 2, 127.5), Err(VoxelError::InvalidArgument { .. })));
-        assert!(matches!(marching_cubes(&[0; 8], 2, f64::NAN), Err(VoxelError::NonFinite { .. })));
-        assert!(matches!(marching_cubes(&[0; 8], 2, 255.0), Err(VoxelError::InvalidArgument { .. })));
-        assert!(matches!(marching_cubes(&[0; 8], 2, -1.0), Err(VoxelError::InvalidArgument { .. })));
-        assert_eq!(marching_cubes(&[0; 8], 2, 0.0).unwrap().face_count(), 0);
+        assert!(matches!(marching_cubes(&[0; 7], 2, 127.5, Surface::Raw), Err(VoxelError::InvalidArgument { .. })));
+        assert!(matches!(marching_cubes(&[0; 8], 2, f64::NAN, Surface::Raw), Err(VoxelError::NonFinite { .. })));
+        assert!(matches!(marching_cubes(&[0; 8], 2, 255.0, Surface::Raw), Err(VoxelError::InvalidArgument { .. })));
+        assert!(matches!(marching_cubes(&[0; 8], 2, -1.0, Surface::Raw), Err(VoxelError::InvalidArgument { .. })));
+        assert_eq!(marching_cubes(&[0; 8], 2, 0.0, Surface::Raw).unwrap().face_count(), 0);
     }
 }

@@ -9,7 +9,9 @@
 //!   transform along x, y and z at each level, in Pinnamaneni's in-place layout, stored in
 //!   integers scaled by 8ˡ so that reconstruction is exact.
 //! - Marching cubes per level of detail (§2.3, [`Voxels::to_mesh`]): closed, manifold output,
-//!   cached per level in blocks so a sculpt re-meshes only the blocks it touched.
+//!   cached per level in blocks so a sculpt re-meshes only the blocks it touched; by default over
+//!   the densities smoothed by a small filter ([`Surface::Smooth`], no terraces), or over the
+//!   densities themselves ([`Surface::Raw`]).
 //! - Tools (§3): [`rotate_tool`] (inverse mapping §3.1.3, the incremental stepping of Algorithm 1,
 //!   trilinear antialiasing §3.2) and [`Voxels::sculpt`] (§3.3: add or subtract the filling
 //!   percentage, clamped to 0–255, computing only the tool voxels in contact and reusing a cache
@@ -24,6 +26,7 @@
 //! Heavy loops run on rayon's pool when [`Voxels::set_parallel`] is on (the default), slice by
 //! slice, with results identical to the serial path.
 
+mod centred_tools;
 mod error;
 mod fill;
 mod grid;
@@ -35,6 +38,7 @@ mod marching_cubes;
 mod mc_table;
 mod rotate;
 mod sculpt;
+mod smooth_field;
 mod tool_cache;
 mod voxelize;
 
@@ -43,7 +47,7 @@ pub use grid::{Voxels, MAX_SIZE};
 pub use haar1d::{haar1d, ihaar1d};
 pub use haar3d::HaarHierarchy;
 pub use lod_cache::DEFAULT_ISO;
-pub use marching_cubes::marching_cubes;
+pub use marching_cubes::{marching_cubes, Surface};
 pub use rotate::{rotate_tool, sample_tool, Placement, RotatedVoxels, RotationMethod};
 pub use sculpt::{SculptMode, SculptOptions, SculptReport};
 
@@ -109,3 +113,6 @@ pub(crate) fn map_range<R: Send>(parallel: bool, count: usize, f: impl Fn(usize)
         (0..count).map(f).collect()
     }
 }
+
+#[cfg(test)]
+mod tests_smooth;

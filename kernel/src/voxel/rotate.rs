@@ -90,7 +90,30 @@ impl Placement {
         let Some(axis) = axis.try_normalize() else {
             return Err(VoxelError::InvalidArgument { what: "rotation axis", reason: "it is the zero vector".into() });
         };
-        let rotation = Mat3::from_quat(Quat::from_axis_angle(axis, degrees.to_radians()));
+        Placement::with_quat(object, tool, at, Quat::from_axis_angle(axis, degrees.to_radians()))
+    }
+
+    /// The placement of `tool`'s centre at world position `at` of `object`, turned by the
+    /// quaternion `q` (normalised first, so any non-zero length will do) about that centre.
+    ///
+    /// # Errors
+    /// [`VoxelError::NonFinite`] for a non-finite position or quaternion;
+    /// [`VoxelError::InvalidArgument`] for a zero quaternion or a position absurdly far from the grid.
+    pub fn with_quat(object: &Voxels, tool: &Voxels, at: Vec3, q: Quat) -> Result<Placement, VoxelError> {
+        if !is_finite(at) {
+            return Err(VoxelError::NonFinite { what: "sculpt position", value: format!("{at}") });
+        }
+        if !q.is_finite() {
+            return Err(VoxelError::NonFinite { what: "rotation quaternion", value: format!("{q}") });
+        }
+        let len = q.length();
+        if len < 1e-12 {
+            return Err(VoxelError::InvalidArgument {
+                what: "rotation quaternion",
+                reason: format!("{q} has no length, so it is no rotation"),
+            });
+        }
+        let rotation = Mat3::from_quat(q / len);
         let p = object.to_grid(at);
         if !is_finite(p) || p.abs().max_element() > 1e12 {
             return Err(VoxelError::InvalidArgument {

@@ -7,7 +7,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use super::rotate::{clip_row, frame, sample_bounds, step_row, Placement};
 use super::tool_cache::{CacheKey, ToolCache, UNSET};
 use super::{for_each_chunk, VoxelError, Voxels};
-use crate::math::Vec3;
+use crate::math::{Quat, Vec3};
 
 /// Whether a sculpt adds or removes material.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -45,6 +45,9 @@ pub struct SculptOptions {
     pub axis: Vec3,
     /// Rotation angle in degrees (right-handed about `axis`). Default value: 0.
     pub angle: f64,
+    /// A rotation as a quaternion (any non-zero length; it is normalised), used instead of
+    /// `axis` and `angle` when set. Default value: `None`.
+    pub rotation: Option<Quat>,
     /// Add or subtract. Default value: [`SculptMode::Add`].
     pub mode: SculptMode,
     /// Trilinear resampling of the rotated tool (§3.2) rather than nearest voxel. Default value:
@@ -56,14 +59,23 @@ impl SculptOptions {
     /// Options placing the tool's centre at `at`, with every other field at its default.
     #[must_use]
     pub fn at(at: Vec3) -> SculptOptions {
-        SculptOptions { at, axis: Vec3::Z, angle: 0.0, mode: SculptMode::Add, antialias: true }
+        SculptOptions { at, axis: Vec3::Z, angle: 0.0, rotation: None, mode: SculptMode::Add, antialias: true }
     }
 
-    /// These options turned by `degrees` about `axis`.
+    /// These options turned by the quaternion `q` (normalised when placed; see
+    /// [`SculptOptions::rotation`]), e.g. composed turns `q₂ · q₁` (q₁ first).
+    #[must_use]
+    pub fn with_quat(mut self, q: Quat) -> SculptOptions {
+        self.rotation = Some(q);
+        self
+    }
+
+    /// These options turned by `degrees` about `axis` (clearing a quaternion set before).
     #[must_use]
     pub fn with_rotation(mut self, axis: Vec3, degrees: f64) -> SculptOptions {
         self.axis = axis;
         self.angle = degrees;
+        self.rotation = None;
         self
     }
 
@@ -98,7 +110,8 @@ pub struct SculptReport {
 
 impl Voxels {
     /// Sculpts this grid with `tool` (§3.3): the tool grid's centre is placed at `options.at`
-    /// (world coordinates), turned by `options.angle` degrees about `options.axis`, and every
+    /// (world coordinates), turned by `options.angle` degrees about `options.axis` (or by the
+    /// quaternion `options.rotation` when set), and every
     /// object voxel in contact gains (add) or loses (subtract) the tool's density at its centre,
     /// clamped to 0–255. The tool's voxels are resampled at the object's voxel centres (their
     /// voxel sizes may differ; a tool much finer than the object is point-sampled).
@@ -110,13 +123,16 @@ impl Voxels {
     /// changed box. A tool wholly outside the grid changes nothing.
     ///
     /// # Errors
-    /// [`VoxelError::NonFinite`] for a non-finite position, axis or angle;
-    /// [`VoxelError::InvalidArgument`] for a zero axis, a position absurdly far from the grid, or a
+    /// [`VoxelError::NonFinite`] for a non-finite position, axis, angle or quaternion;
+    /// [`VoxelError::InvalidArgument`] for a zero axis or quaternion, a position absurdly far from the grid, or a
     /// tool whose rotated reach exceeds 2²⁷ object voxels. The grid is unchanged on error.
     ///
     /// See also [`rotate_tool`](super::rotate_tool); Heurtebise & Thon §3.1–3.3, Algorithm 1.
     pub fn sculpt(&mut self, tool: &Voxels, options: &SculptOptions) -> Result<SculptReport, VoxelError> {
-        let p = Placement::new(self, tool, options.at, options.axis, options.angle)?;
+        let p = match options.rotation {
+            Some(q) => Placement::with_quat(self, tool, options.at, q)?,
+            None => Placement::new(self, tool, options.at, options.axis, options.angle)?,
+        };
         let (rel, dims) = p.reach(tool.n)?;
         let n = self.n as i64;
         let glo = [p.anchor[0] + rel[0], p.anchor[1] + rel[1], p.anchor[2] + rel[2]];
