@@ -74,14 +74,14 @@ pub enum IoError {
     /// degenerate face, a face that cannot be triangulated for writing).
     #[error("{}: {source}", path.display())]
     Mesh { path: PathBuf, source: MeshError },
-    /// The file's faces make a valid mesh only with their vertices apart: welding joined
-    /// vertices that lie within the tolerance of each other (two sheets touching, a model
-    /// thinner than the tolerance) into a non-manifold mesh.
+    /// The file's faces do not make a manifold surface as written (a vertex where sheets
+    /// touch, an edge of more than two faces, neighbours of opposite orientations, a face
+    /// repeating a vertex), and the load was asked not to repair it (`repair: false`).
     #[error(
-        "{}: {source} after welding vertices that lie within the weld tolerance of each other; load with `weld: false` to keep the file's vertices apart",
+        "{}: {source}; the file is not a manifold surface as written (load it without `repair: false` to have it split into one, no vertex moved)",
         path.display()
     )]
-    Welded { path: PathBuf, source: MeshError },
+    NotManifold { path: PathBuf, source: MeshError },
     /// A broken internal invariant: a bug in blocksmith, please file an issue.
     #[error("{}: internal error (please file an issue): {reason}", path.display())]
     Internal { path: PathBuf, reason: String },
@@ -115,7 +115,7 @@ impl IoError {
             | IoError::IndexOutOfRange { path, .. }
             | IoError::NonFinite { path, .. }
             | IoError::Mesh { path, .. }
-            | IoError::Welded { path, .. }
+            | IoError::NotManifold { path, .. }
             | IoError::Internal { path, .. } => path,
         }
     }
@@ -127,19 +127,6 @@ impl IoError {
         match source {
             MeshError::NonFinite { vertex, x, y, z } => IoError::NonFinite { path: path.into(), vertex, x, y, z },
             source => IoError::Mesh { path: path.into(), source },
-        }
-    }
-
-    /// Wraps a [`MeshError`] raised while building a mesh whose vertices were welded: when
-    /// welding `merged` some and the mesh is not manifold, [`IoError::Welded`], which says how
-    /// to keep them apart; otherwise as [`IoError::from_mesh`].
-    #[must_use]
-    pub fn from_welded(path: &std::path::Path, source: MeshError, merged: bool) -> IoError {
-        match source {
-            MeshError::NonManifoldEdge { .. } | MeshError::NonManifoldVertex { .. } if merged => {
-                IoError::Welded { path: path.into(), source }
-            }
-            source => IoError::from_mesh(path, source),
         }
     }
 

@@ -45,6 +45,7 @@ use json::validation::{Checked::Valid, USize64};
 use super::error::IoError;
 use super::options::UpAxis;
 use super::weld::Weld;
+use crate::diagnose::Repairs;
 use crate::limits::LimitError;
 use crate::math::{Mat4, Vec3};
 use crate::mesh::{BoundaryInterpolation, CreaseMethod, Mesh, MeshError, SubdivOptions, TriangleSubdivision};
@@ -591,6 +592,22 @@ const GEOMETRY_EXTENSIONS: &[&str] = &["EXT_meshopt_compression", "KHR_mesh_quan
 ///
 /// See also [`write_glb`], [`super::load_with`].
 pub fn read_gltf_with(bytes: &[u8], base: Option<&Path>, path: &Path, weld: Weld) -> Result<Mesh, IoError> {
+    read_gltf_report(bytes, base, path, weld, true).map(|r| r.0)
+}
+
+/// [`read_gltf_with`], repairing a file that is not manifold as written (or refusing it when
+/// `repair` is false), with what was repaired (see [`super::assemble`]).
+///
+/// # Errors
+/// As [`read_gltf_with`]; [`IoError::NotManifold`] when `repair` is false and the file is not a
+/// manifold surface as written.
+pub(crate) fn read_gltf_report(
+    bytes: &[u8],
+    base: Option<&Path>,
+    path: &Path,
+    weld: Weld,
+    repair: bool,
+) -> Result<(Mesh, Repairs), IoError> {
     if let Some(h) = bytes.get(..12).filter(|h| h.starts_with(b"glTF")) {
         // gltf subtracts the header size from this length unchecked.
         let length = u32::from_le_bytes([h[8], h[9], h[10], h[11]]);
@@ -655,7 +672,7 @@ pub fn read_gltf_with(bytes: &[u8], base: Option<&Path>, path: &Path, weld: Weld
             soup.add_primitive(&prim, &buffers, world, if single { extras.as_ref() } else { None }, &at, path)?;
         }
     }
-    soup.build(weld, path)
+    soup.build(weld, repair, path)
 }
 
 /// Bytes the parsed JSON takes per object or array of its text (a node, with its vectors and
@@ -962,6 +979,9 @@ struct Soup {
     options: Option<SubdivOptions>,
     /// The file's buffer views (buffer, offset, length), for Draco data.
     views: Vec<(usize, usize, usize)>,
+    /// Whether some primitive has indices (its vertices are shared by name); a file of
+    /// unindexed primitives only is a triangle soup.
+    indexed: bool,
 }
 
 impl Soup {
@@ -1057,6 +1077,7 @@ impl Soup {
 
             let local_indices: Vec<u32> = match prim.indices() {
                 Some(acc) => {
+                    self.indexed = true;
                     check_accessor(
                         &acc,
                         buffers,
@@ -1158,40 +1179,33 @@ impl Soup {
         }
     }
 
-    /// Welds by `rule` and builds the mesh, with colours and tags carried to the kept
-    /// vertices.
-    fn build(self, rule: Weld, path: &Path) -> Result<Mesh, IoError> {
-        let (map, kept) = super::weld::weld(&self.positions, rule).map_err(|e| IoError::from_mesh(path, e.into()))?;
+    /// Welds by `rule` and builds the mesh (repaired if need be: see [`super::assemble`]),
+    /// with colours and tags carried to the kept vertices.
+    fn build(self, rule: Weld, repair: bool, path: &Path) -> Result<(Mesh, Repairs), IoError> {
         let Soup {
-            mut positions,
-            mut colors,
-            any_color,
-            mut indices,
-            mut arities,
-            mut creases,
-            mut corners,
-            options,
-            ..
+            positions, mut colors, any_color, indices, arities, mut creases, mut corners, options, indexed, ..
         } = self;
-        let merged = kept.len() < positions.len();
-        if merged {
-            positions = kept.iter().map(|&i| positions[i as usize]).collect();
-            if any_color {
-                colors.resize(map.len(), [1.0; 4]);
-                colors = kept.iter().map(|&i| colors[i as usize]).collect();
-            }
-            (indices, arities, _) = super::weld::remap_faces(&indices, &arities, &map);
-            for pairs in &mut creases {
-                for p in pairs.iter_mut() {
-                    p.0 = p.0.map(|v| map[v as usize]);
-                }
-            }
-            for (v, _) in &mut corners {
-                *v = map[*v as usize];
+        let topology = if indexed { super::assemble::Topology::Indexed } else { super::assemble::Topology::Soup };
+        let a = super::assemble::assemble(&positions, &indices, &arities, topology, rule, repair, path)?;
+        // Each input vertex's first vertex in the mesh (u32::MAX: none), for the tags.
+        let mut first = vec![u32::MAX; positions.len()];
+        for (v, &from) in a.vertex_from.iter().enumerate().rev() {
+            first[from as usize] = v as u32;
+        }
+        if any_color {
+            colors.resize(positions.len(), [1.0; 4]);
+            colors = a.vertex_from.iter().map(|&i| colors[i as usize]).collect();
+        }
+        for pairs in &mut creases {
+            for p in pairs.iter_mut() {
+                p.0 = p.0.map(|v| first[v as usize]);
             }
         }
-        let mut mesh = Mesh::from_indexed_stoppable(positions, &indices, &arities)
-            .map_err(|e| IoError::from_welded(path, e, merged))?;
+        for (v, _) in &mut corners {
+            *v = first[*v as usize];
+        }
+        corners.retain(|&(v, _)| v != u32::MAX);
+        let mut mesh = a.mesh;
         if any_color {
             colors.resize(mesh.vertex_count(), [1.0; 4]);
             mesh.set_vertex_colors(Some(colors)).map_err(|e| IoError::from_mesh(path, e))?;
@@ -1199,8 +1213,12 @@ impl Soup {
         for pairs in &creases {
             // All or nothing per primitive: pairs that are not edges mean the extras do not
             // belong to these triangles, and are ignored.
-            let hs: Option<Vec<(u32, f64)>> =
-                pairs.iter().map(|&([a, b], s)| mesh.find_halfedge(a, b).map(|h| (h, s))).collect();
+            let hs: Option<Vec<(u32, f64)>> = pairs
+                .iter()
+                .map(|&([u, v], s)| {
+                    (u != u32::MAX && v != u32::MAX).then(|| mesh.find_halfedge(u, v)).flatten().map(|h| (h, s))
+                })
+                .collect();
             for (h, s) in hs.unwrap_or_default() {
                 mesh.set_edge_sharpness_halfedge(h, s);
             }
@@ -1211,7 +1229,7 @@ impl Soup {
         if let Some(o) = options {
             mesh.set_subdiv_options(o);
         }
-        Ok(mesh)
+        Ok((mesh, a.repairs))
     }
 }
 

@@ -29,6 +29,7 @@
 //! | PLY | exact (f64) | yes | yes (unless welded) | no | RGB(A), 8 bits |
 //! | 3MF | exact (shortest decimal) | triangles | yes | no | RGBA, 8 bits (colour group); sources as base materials |
 
+mod assemble;
 mod atomic;
 mod draco;
 pub mod dxf;
@@ -116,21 +117,37 @@ pub fn load(path: impl AsRef<Path>) -> Result<Mesh, IoError> {
 ///
 /// See also [`save_with`].
 pub fn load_with(path: impl AsRef<Path>, options: &LoadOptions) -> Result<Mesh, IoError> {
+    load_report(path, options).map(|r| r.0)
+}
+
+/// [`load_with`], also returning what was repaired: a file whose faces do not make a manifold
+/// surface as written is loaded as the nearest one without moving a vertex (see
+/// [`crate::diagnose::repair_polygons`]) unless `options.repair` is false, and the
+/// [`Repairs`](crate::diagnose::Repairs) say what was split, separated, flipped or dropped,
+/// and where (empty for a valid file). Welding never makes a manifold file non-manifold: what
+/// it would break is kept apart, silently.
+///
+/// # Errors
+/// As [`load_with`]; [`IoError::NotManifold`] when `options.repair` is false and the file is
+/// not a manifold surface as written.
+pub fn load_report(path: impl AsRef<Path>, options: &LoadOptions) -> Result<(Mesh, crate::diagnose::Repairs), IoError> {
     let path = path.as_ref();
     let format = Format::from_path(path)?;
     let up = file_up(format, options.up, path)?;
     let bytes = uri::read_regular(path).map_err(|e| e.into_io(path))?;
-    let mesh = match format {
-        Format::Obj => obj::read_obj(&bytes, path)?,
-        Format::Glb | Format::Gltf => gltf::read_gltf_with(&bytes, path.parent(), path, options.weld)?,
-        Format::Stl => stl::read_stl_with(&bytes, path, options.weld)?,
-        Format::Ply => ply::read_ply_with(&bytes, path, options.weld)?,
-        Format::ThreeMf => threemf::read_3mf(&bytes, path)?,
+    let repair = options.repair;
+    let (mesh, repairs) = match format {
+        Format::Obj => obj::read_obj_report(&bytes, path, repair)?,
+        Format::Glb | Format::Gltf => gltf::read_gltf_report(&bytes, path.parent(), path, options.weld, repair)?,
+        Format::Stl => stl::read_stl_report(&bytes, path, options.weld, repair)?,
+        Format::Ply => ply::read_ply_report(&bytes, path, options.weld, repair)?,
+        Format::ThreeMf => threemf::read_3mf_report(&bytes, path, repair)?,
     };
-    Ok(match up {
+    let mesh = match up {
         UpAxis::Z => mesh,
         up => mesh.map_positions(|p| up.from_file(p)),
-    })
+    };
+    Ok((mesh, repairs))
 }
 
 /// The up axis asked of a format that has no convention (OBJ, STL), Z when none is asked;

@@ -27,6 +27,7 @@ use std::io::Write;
 use std::path::Path;
 
 use super::error::IoError;
+use crate::diagnose::Repairs;
 use crate::math::Vec3;
 use crate::mesh::{BoundaryInterpolation, CreaseMethod, Mesh, SubdivOptions, TriangleSubdivision};
 
@@ -410,6 +411,18 @@ fn tobj_options() -> tobj::LoadOptions {
 ///
 /// See also [`write_obj`], [`super::load`].
 pub fn read_obj(bytes: &[u8], path: &Path) -> Result<Mesh, IoError> {
+    read_obj_report(bytes, path, true).map(|r| r.0)
+}
+
+/// [`read_obj`], repairing a file that is not manifold as written (or refusing it when
+/// `repair` is false), with what was repaired (see [`super::assemble`]). Repairs keep every
+/// vertex id of the file (vertices split per fan get new ids after them), so tags still name
+/// the file's vertices.
+///
+/// # Errors
+/// As [`read_obj`]; [`IoError::NotManifold`] when `repair` is false and the file is not a
+/// manifold surface as written.
+pub(crate) fn read_obj_report(bytes: &[u8], path: &Path, repair: bool) -> Result<(Mesh, Repairs), IoError> {
     let text = std::str::from_utf8(bytes).map_err(|e| {
         let line = bytes[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count() + 1;
         obj_error(path, line, "the text is not valid UTF-8")
@@ -437,10 +450,20 @@ pub fn read_obj(bytes: &[u8], path: &Path) -> Result<Mesh, IoError> {
     }
     let positions: Vec<Vec3> = m.positions.chunks_exact(3).map(|p| Vec3::new(p[0], p[1], p[2])).collect();
     let arities = &m.face_arities[n..];
-    let mut mesh =
-        Mesh::from_indexed_stoppable(positions, &m.indices[n..], arities).map_err(|e| IoError::from_mesh(path, e))?;
+    let a = super::assemble::assemble(
+        &positions,
+        &m.indices[n..],
+        arities,
+        super::assemble::Topology::Indexed,
+        super::weld::Weld::Off,
+        repair,
+        path,
+    )?;
+    let (mut mesh, repairs) = (a.mesh, a.repairs);
     if scan.has_colors {
-        let colors = m.vertex_color.chunks_exact(3).map(|c| [c[0] as f32, c[1] as f32, c[2] as f32, 1.0]).collect();
+        let colors: Vec<[f32; 4]> =
+            m.vertex_color.chunks_exact(3).map(|c| [c[0] as f32, c[1] as f32, c[2] as f32, 1.0]).collect();
+        let colors = a.vertex_from.iter().map(|&v| colors[v as usize]).collect();
         mesh.set_vertex_colors(Some(colors)).map_err(|e| IoError::from_mesh(path, e))?;
     }
     let mut options = SubdivOptions::default();
@@ -474,7 +497,7 @@ pub fn read_obj(bytes: &[u8], path: &Path) -> Result<Mesh, IoError> {
         }
     }
     mesh.set_subdiv_options(options);
-    Ok(mesh)
+    Ok((mesh, repairs))
 }
 
 /// Writes `mesh` as OBJ text: a header comment, one `v` line per vertex (with `r g b` when the
@@ -664,11 +687,15 @@ mod tests {
     }
 
     #[test]
-    fn non_manifold_soup_is_an_error_naming_the_edge() {
-        // Three triangles on the edge 1–2.
+    fn non_manifold_faces_are_repaired_or_refused_naming_the_edge() {
+        // Three triangles on the edge 1–2: by default the third becomes a sheet of its own
+        // (no vertex moves); with repair off, the load is refused naming the edge.
         let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 0 0 -1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n";
-        let e = read(text).unwrap_err();
-        assert!(matches!(e, IoError::Mesh { .. }), "{e}");
+        let (m, repairs) = read_obj_report(text.as_bytes(), Path::new("t/test.obj"), true).unwrap();
+        assert!(m.is_manifold() && m.face_count() == 3 && m.component_count() == 2);
+        assert_eq!((repairs.separated_edges.len(), repairs.separated_edges[0].separated), (1, 1));
+        let e = read_obj_report(text.as_bytes(), Path::new("t/test.obj"), false).unwrap_err();
+        assert!(matches!(e, IoError::NotManifold { .. }), "{e}");
         assert!(e.to_string().contains("edge (0, 1)") && e.to_string().starts_with("t/test.obj"), "{e}");
     }
 

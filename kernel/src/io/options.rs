@@ -63,7 +63,7 @@ impl UpAxis {
 }
 
 /// Options of [`load_with`](super::load_with).
-#[derive(Clone, Copy, Debug, PartialEq, Default)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub struct LoadOptions {
     /// The file's up axis; `None` takes the format's convention (glTF Y, 3MF Z, others Z).
@@ -72,11 +72,22 @@ pub struct LoadOptions {
     /// How corners are welded (STL, glTF and PLY; OBJ and 3MF name shared vertices and are
     /// never welded). Default value: [`Weld::DEFAULT`].
     pub weld: Weld,
+    /// Whether a file that is not a manifold surface as written is repaired (vertices split
+    /// per fan, faces beyond two on an edge separated, components re-oriented, faces repeating
+    /// a vertex dropped; no vertex moved) rather than refused. Default value: `true`.
+    pub repair: bool,
 }
 
 impl LoadOptions {
     /// The defaults (see each field).
-    pub const DEFAULT: LoadOptions = LoadOptions { up: None, weld: Weld::DEFAULT };
+    pub const DEFAULT: LoadOptions = LoadOptions { up: None, weld: Weld::DEFAULT, repair: true };
+
+    /// With repair on or off.
+    #[must_use]
+    pub fn with_repair(mut self, repair: bool) -> Self {
+        self.repair = repair;
+        self
+    }
 
     /// With the file's up axis.
     #[must_use]
@@ -90,6 +101,12 @@ impl LoadOptions {
     pub fn with_weld(mut self, weld: Weld) -> Self {
         self.weld = weld;
         self
+    }
+}
+
+impl Default for LoadOptions {
+    fn default() -> Self {
+        LoadOptions::DEFAULT
     }
 }
 

@@ -21,6 +21,7 @@ use std::path::Path;
 
 use super::error::IoError;
 use super::weld::Weld;
+use crate::diagnose::Repairs;
 use crate::math::Vec3;
 use crate::mesh::Mesh;
 
@@ -160,6 +161,16 @@ pub fn read_ply(bytes: &[u8], path: &Path) -> Result<Mesh, IoError> {
 ///
 /// See also [`write_ply`], [`super::load_with`].
 pub fn read_ply_with(bytes: &[u8], path: &Path, weld: Weld) -> Result<Mesh, IoError> {
+    read_ply_report(bytes, path, weld, true).map(|r| r.0)
+}
+
+/// [`read_ply_with`], repairing a file that is not manifold as written (or refusing it when
+/// `repair` is false), with what was repaired (see [`super::assemble`]).
+///
+/// # Errors
+/// As [`read_ply_with`]; [`IoError::NotManifold`] when `repair` is false and the file is not a
+/// manifold surface as written.
+pub(crate) fn read_ply_report(bytes: &[u8], path: &Path, weld: Weld, repair: bool) -> Result<(Mesh, Repairs), IoError> {
     let (encoding, elements, body) = parse_header(bytes, path)?;
     check_sizes(encoding, &elements, bytes.len() - body, path)?;
     let mut src = match encoding {
@@ -255,7 +266,7 @@ pub fn read_ply_with(bytes: &[u8], path: &Path, weld: Weld) -> Result<Mesh, IoEr
     if !src.is_done() {
         return Err(ply_error(path, "data is left after the last element the header declares".into()));
     }
-    build(positions, colors, indices, arities, weld, path)
+    build(positions, colors, indices, arities, weld, repair, path)
 }
 
 /// Where a value is read, for errors: entry `i` of element `element` ("face 12"). Formatted only
@@ -288,36 +299,38 @@ fn index(v: f64, vertex_count: usize, path: &Path, at: At<'_>) -> Result<u32, Io
     Ok(v as u32)
 }
 
-/// Welds by `rule` and builds the mesh, colours carried to the kept vertices.
+/// Welds by `rule` and builds the mesh (repaired if need be: see [`super::assemble`]), colours
+/// carried to the kept vertices.
 fn build(
-    mut positions: Vec<Vec3>,
-    mut colors: Option<Vec<[f32; 4]>>,
-    mut indices: Vec<u32>,
-    mut arities: Vec<u32>,
+    positions: Vec<Vec3>,
+    colors: Option<Vec<[f32; 4]>>,
+    indices: Vec<u32>,
+    arities: Vec<u32>,
     rule: Weld,
+    repair: bool,
     path: &Path,
-) -> Result<Mesh, IoError> {
+) -> Result<(Mesh, Repairs), IoError> {
     // Faces only name existing vertices (checked while reading), so a vertex used by no face
     // is kept as it is, like in OBJ.
     if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
         let p = positions[v];
         return Err(IoError::NonFinite { path: path.into(), vertex: v, x: p.x, y: p.y, z: p.z });
     }
-    let (map, kept) = super::weld::weld(&positions, rule).map_err(|e| IoError::from_mesh(path, e.into()))?;
-    let merged = kept.len() < positions.len();
-    if merged {
-        positions = kept.iter().map(|&i| positions[i as usize]).collect();
-        if let Some(c) = &mut colors {
-            *c = kept.iter().map(|&i| c[i as usize]).collect();
-        }
-        (indices, arities, _) = super::weld::remap_faces(&indices, &arities, &map);
+    let a = super::assemble::assemble(
+        &positions,
+        &indices,
+        &arities,
+        super::assemble::Topology::Indexed,
+        rule,
+        repair,
+        path,
+    )?;
+    let mut mesh = a.mesh;
+    if let Some(c) = colors {
+        let colors = a.vertex_from.iter().map(|&v| c[v as usize]).collect();
+        mesh.set_vertex_colors(Some(colors)).map_err(|e| IoError::from_mesh(path, e))?;
     }
-    let mut mesh = Mesh::from_indexed_stoppable(positions, &indices, &arities)
-        .map_err(|e| IoError::from_welded(path, e, merged))?;
-    if colors.is_some() {
-        mesh.set_vertex_colors(colors).map_err(|e| IoError::from_mesh(path, e))?;
-    }
-    Ok(mesh)
+    Ok((mesh, a.repairs))
 }
 
 /// Parses the header: the encoding, the elements, and where the data starts.
@@ -745,7 +758,7 @@ mod tests {
     }
 
     #[test]
-    fn welding_two_touching_solids_into_one_vertex_says_how_to_keep_them_apart() {
+    fn welding_never_joins_two_touching_solids_into_one_vertex() {
         // Two tetrahedra whose tips meet at (0, 0, 1), each with its own vertex there.
         let p = [(0., 0., 0.), (1., 0., 0.), (0., 1., 0.), (0., 0., 1.), (0., 0., 2.), (1., 0., 2.), (0., 1., 2.)];
         let mut p: Vec<Vec3> = p.iter().map(|&(x, y, z)| Vec3::new(x, y, z)).collect();
@@ -753,11 +766,13 @@ mod tests {
         let faces = [[0u32, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3], [4, 5, 6], [4, 7, 5], [4, 6, 7], [5, 7, 6]];
         let two = Mesh::from_polygons(p, &faces).unwrap();
         let bytes = written(&two, PlyEncoding::BinaryLittleEndian);
-        let e = read_ply(&bytes, Path::new("touch.ply")).unwrap_err();
-        assert!(matches!(e, IoError::Welded { .. }), "{e}");
-        assert!(e.to_string().starts_with("touch.ply: ") && e.to_string().contains("`weld: false`"), "{e}");
-        let m = read_ply_with(&bytes, Path::new("touch.ply"), Weld::Off).unwrap();
+        // The weld would join the tips into a bowtie vertex: it keeps them apart, and the
+        // file (manifold as written) needs no repair.
+        let (m, repairs) = read_ply_report(&bytes, Path::new("touch.ply"), Weld::DEFAULT, false).unwrap();
+        assert!(repairs.is_empty());
+        assert!(m.is_closed() && m.is_manifold());
         assert_eq!((m.vertex_count(), m.component_count()), (8, 2));
+        assert_eq!(m, read_ply_with(&bytes, Path::new("touch.ply"), Weld::Off).unwrap());
     }
 
     #[test]

@@ -11,6 +11,7 @@ use std::path::Path;
 
 use super::error::IoError;
 use super::weld::Weld;
+use crate::diagnose::Repairs;
 use crate::math::Vec3;
 use crate::mesh::{Mesh, MeshError};
 
@@ -81,6 +82,16 @@ pub fn read_stl(bytes: &[u8], path: &Path) -> Result<Mesh, IoError> {
 ///
 /// See also [`write_stl`], [`super::load_with`].
 pub fn read_stl_with(bytes: &[u8], path: &Path, weld: Weld) -> Result<Mesh, IoError> {
+    read_stl_report(bytes, path, weld, true).map(|r| r.0)
+}
+
+/// [`read_stl_with`], repairing a file that is not manifold as written (or refusing it when
+/// `repair` is false), with what was repaired (see [`super::assemble`]).
+///
+/// # Errors
+/// As [`read_stl_with`]; [`IoError::NotManifold`] when `repair` is false and the file is not a
+/// manifold surface as written.
+pub(crate) fn read_stl_report(bytes: &[u8], path: &Path, weld: Weld, repair: bool) -> Result<(Mesh, Repairs), IoError> {
     let binary_count = bytes.get(80..84).map(|c| u32::from_le_bytes([c[0], c[1], c[2], c[3]]) as u64);
     let corners = match binary_count {
         Some(n) if 84 + 50 * n == bytes.len() as u64 => read_binary(&bytes[84..], n as usize),
@@ -99,7 +110,7 @@ pub fn read_stl_with(bytes: &[u8], path: &Path, weld: Weld) -> Result<Mesh, IoEr
             ))
         }
     };
-    build(&corners, weld, path)
+    build(&corners, weld, repair, path)
 }
 
 fn stl_error(path: &Path, reason: String) -> IoError {
@@ -200,15 +211,15 @@ fn read_facets<'a>(
     }
 }
 
-/// Welds the corners by `rule` and builds the mesh of the triangles that keep three corners.
-fn build(corners: &[Vec3], rule: Weld, path: &Path) -> Result<Mesh, IoError> {
-    let (map, kept) = super::weld::weld(corners, rule).map_err(|e| IoError::from_mesh(path, e.into()))?;
-    let indices: Vec<u32> =
-        map.chunks_exact(3).filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2]).flatten().copied().collect();
-    let merged = kept.len() < corners.len();
-    let positions = kept.iter().map(|&i| corners[i as usize]).collect();
-    let arities = vec![3; indices.len() / 3];
-    Mesh::from_indexed_stoppable(positions, &indices, &arities).map_err(|e| IoError::from_welded(path, e, merged))
+/// Welds the corners by `rule` and builds the mesh of the triangles that keep three corners
+/// (see [`super::assemble`]: a weld that would break the surface is split back, and a file
+/// that is not manifold as written is repaired when `repair` says so).
+fn build(corners: &[Vec3], rule: Weld, repair: bool, path: &Path) -> Result<(Mesh, Repairs), IoError> {
+    let indices: Vec<u32> = (0..corners.len() as u32).collect();
+    let arities = vec![3; corners.len() / 3];
+    let a =
+        super::assemble::assemble(corners, &indices, &arities, super::assemble::Topology::Soup, rule, repair, path)?;
+    Ok((a.mesh, a.repairs))
 }
 
 #[cfg(test)]

@@ -35,6 +35,7 @@ use std::path::Path;
 use quick_xml::events::{BytesStart, Event};
 
 use super::error::IoError;
+use crate::diagnose::Repairs;
 use crate::limits::LimitError;
 use crate::math::Vec3;
 use crate::mesh::{Mesh, MeshError};
@@ -293,6 +294,16 @@ const KNOWN_NS: [&str; 3] = [MATERIAL_NS, PRODUCTION_NS, CORE_NS];
 ///
 /// See also [`write_3mf`], [`super::load`].
 pub fn read_3mf(bytes: &[u8], path: &Path) -> Result<Mesh, IoError> {
+    read_3mf_report(bytes, path, true).map(|r| r.0)
+}
+
+/// [`read_3mf`], repairing a file that is not manifold as written (or refusing it when
+/// `repair` is false), with what was repaired (see [`super::assemble`]).
+///
+/// # Errors
+/// As [`read_3mf`]; [`IoError::NotManifold`] when `repair` is false and the file is not a
+/// manifold surface as written.
+pub(crate) fn read_3mf_report(bytes: &[u8], path: &Path, repair: bool) -> Result<(Mesh, Repairs), IoError> {
     let mut zip = zip::ZipArchive::new(Cursor::new(bytes))
         .map_err(|e| tmf_error(path, format!("not a 3MF package (a zip archive): {e}")))?;
     let model_name = match read_part(&mut zip, "_rels/.rels", path)? {
@@ -328,7 +339,7 @@ pub fn read_3mf(bytes: &[u8], path: &Path) -> Result<Mesh, IoError> {
     }
     let scale = root.scale;
     parts.insert(model_name.clone(), root);
-    build_mesh(&parts, &model_name, scale, path)
+    build_mesh(&parts, &model_name, scale, repair, path)
 }
 
 /// The bytes of the part `name` (without a leading `/`), `None` when there is none. Its
@@ -655,7 +666,13 @@ fn place(parts: &Parts, part: &str, id: u32, t: &Affine, out: &mut Placed, path:
 
 /// The mesh of the build of the root part `root`, its positions scaled by `scale` to
 /// millimetres.
-fn build_mesh<'a>(parts: &'a Parts, root: &'a str, scale: f64, path: &Path) -> Result<Mesh, IoError> {
+fn build_mesh<'a>(
+    parts: &'a Parts,
+    root: &'a str,
+    scale: f64,
+    repair: bool,
+    path: &Path,
+) -> Result<(Mesh, Repairs), IoError> {
     let model = &parts[root];
     let mut total: u128 = 0;
     let mut memo = HashMap::new();
@@ -682,13 +699,21 @@ fn build_mesh<'a>(parts: &'a Parts, root: &'a str, scale: f64, path: &Path) -> R
     }
     let any_color = out.colors.iter().any(Option::is_some);
     let arities = vec![3u32; out.indices.len() / 3];
-    let mut mesh =
-        Mesh::from_indexed_stoppable(out.positions, &out.indices, &arities).map_err(|e| IoError::from_mesh(path, e))?;
+    let a = super::assemble::assemble(
+        &out.positions,
+        &out.indices,
+        &arities,
+        super::assemble::Topology::Indexed,
+        super::weld::Weld::Off,
+        repair,
+        path,
+    )?;
+    let mut mesh = a.mesh;
     if any_color {
-        let colors = out.colors.iter().map(|c| c.unwrap_or([1.0; 4])).collect();
+        let colors = a.vertex_from.iter().map(|&v| out.colors[v as usize].unwrap_or([1.0; 4])).collect();
         mesh.set_vertex_colors(Some(colors)).map_err(|e| IoError::from_mesh(path, e))?;
     }
-    Ok(mesh)
+    Ok((mesh, a.repairs))
 }
 
 #[cfg(test)]

@@ -116,8 +116,14 @@ pub mod files_api {
     /// takes no other), `weld` (STL, glTF and PLY: corners closer than this fraction of the model's
     /// bounding-box diagonal in every coordinate become one vertex — default `true`, 1e-8;
     /// `0` joins equal coordinates only; `false` keeps every vertex of the file, so a glTF
-    /// split at normal or UV seams stays split; when welding joins two sheets that touch into a
-    /// non-manifold mesh, the error says so).
+    /// split at normal or UV seams stays split; welding never joins sheets that touch into a
+    /// non-manifold mesh: such vertices are kept apart), `repair` (default `true`: a file whose
+    /// faces are not a manifold surface as written — two sheets touching at a vertex, an edge
+    /// of three or more faces, neighbours facing opposite ways, a face repeating a vertex — is
+    /// loaded as the nearest manifold mesh without moving a vertex: vertices split into one per
+    /// fan, faces beyond two on an edge separated into their own sheets, components re-oriented
+    /// where a consistent orientation exists, such faces dropped; each repair is a warning with
+    /// counts and where; `false` refuses such a file).
     ///
     /// ```rhai
     /// let c = box(vec3(0, 0, 0), vec3(1, 1, 3));
@@ -125,6 +131,7 @@ pub mod files_api {
     /// let back = load("doc_example_tall.stl", #{ up: "y", weld: 1e-6 });
     /// assert_eq(back.bounds().max, vec3(1, 1, 3));
     /// assert_eq(load("doc_example_tall.stl", #{ weld: false }).vertex_count, 36);
+    /// assert(load("doc_example_tall.stl", #{ repair: false }).is_closed(), "a valid file loads as it is");
     /// ```
     #[rhai_fn(name = "load", return_raw)]
     pub fn load_with_options(ctx: NativeCallContext, path: &str, options: Map) -> ScriptResult<Dynamic> {
@@ -132,8 +139,8 @@ pub mod files_api {
             Options::new("load", options, &[])?;
             return read_profile_file(&ctx, path).map(Dynamic::from);
         }
-        let o = Options::new("load", options, &["up", "weld"])?;
-        let mut opts = LoadOptions::DEFAULT.with_weld(weld_option(&o)?);
+        let o = Options::new("load", options, &["up", "weld", "repair"])?;
+        let mut opts = LoadOptions::DEFAULT.with_weld(weld_option(&o)?).with_repair(o.bool("repair", true)?);
         if let Some(up) = up_option(&o, "load")? {
             opts = opts.with_up(up);
         }
@@ -149,8 +156,20 @@ pub mod files_api {
                 }
             }
         }
-        match io::load_with(&p, &opts) {
-            Ok(m) => Ok(Dynamic::from(SharedMesh::new(m))),
+        match io::load_report(&p, &opts) {
+            Ok((m, repairs)) => {
+                let run = RunContext::of(&ctx);
+                for line in repairs.summary() {
+                    run.warnings.push(
+                        &ctx,
+                        format!(
+                            "load: {}: {line} (no vertex moved; `repair: false` refuses the file instead)",
+                            p.display()
+                        ),
+                    );
+                }
+                Ok(Dynamic::from(SharedMesh::new(m)))
+            }
             Err(e) => fail("load", e),
         }
     }

@@ -1,0 +1,174 @@
+//! From a file's faces to a mesh: welded where welding keeps the surface manifold, and
+//! repaired (without moving a vertex) where the file itself is not.
+//!
+//! The fast path welds by the rule and builds, as readers always did: a valid file costs
+//! nothing more. When that build fails, the faces are taken again in two stages:
+//! 1. **The file's own topology**: its indices (OBJ, 3MF, indexed glTF, PLY), or for a
+//!    triangle soup (STL, glTF without indices) its corners joined where their coordinates are
+//!    equal. If that is not a manifold surface, it is repaired by
+//!    [`repair_polygons`](crate::diagnose::repair_polygons) with re-orientation — vertices
+//!    split per fan, faces beyond two on an edge separated, components re-oriented, faces
+//!    repeating a vertex dropped — and each repair is reported (the loader's warnings); with
+//!    `repair: false` the file is refused instead ([`IoError::NotManifold`]).
+//! 2. **The weld**: the manifold result is welded by the rule, and whatever the weld made
+//!    non-manifold (two sheets joined at a bowtie vertex or an edge of three or four faces, two
+//!    sheets of opposite orientations joined along a seam) is split back, pairing first the
+//!    edges the file paired: a weld never turns a manifold file non-manifold. This stage
+//!    reports nothing; it never flips a face.
+
+use super::weld::{weld, Weld};
+use super::IoError;
+use crate::diagnose::{repair_polygons, RepairOptions, Repairs};
+use crate::math::Vec3;
+use crate::mesh::{Mesh, MeshError};
+use std::path::Path;
+
+/// How a file names its shared corners.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Topology {
+    /// Faces index shared vertices (OBJ, PLY, 3MF, indexed glTF).
+    Indexed,
+    /// Each face has corners of its own (STL, glTF without indices): corners at equal
+    /// coordinates are the file's shared vertices.
+    Soup,
+}
+
+/// A file's mesh, with where each vertex and face came from and what was repaired.
+pub(crate) struct Assembled {
+    pub mesh: Mesh,
+    /// For each mesh vertex, the input vertex it comes from.
+    pub vertex_from: Vec<u32>,
+    /// The repairs of the file's own topology (empty for a valid file).
+    pub repairs: Repairs,
+}
+
+/// The mesh of `indices` (split by `arities`) over `positions`: see the module documentation.
+///
+/// # Errors
+/// The build's errors ([`IoError::NonFinite`], [`IoError::Mesh`]); [`IoError::NotManifold`]
+/// when `repair` is false and the file is not a manifold surface as written.
+pub(crate) fn assemble(
+    positions: &[Vec3],
+    indices: &[u32],
+    arities: &[u32],
+    topology: Topology,
+    rule: Weld,
+    repair: bool,
+    path: &Path,
+) -> Result<Assembled, IoError> {
+    let io = |e: MeshError| IoError::from_mesh(path, e);
+    // Fast path: weld and build.
+    let (map, kept) = weld(positions, rule).map_err(|e| io(e.into()))?;
+    let merged = kept.len() < positions.len();
+    let welded;
+    let (idx, ar): (&[u32], &[u32]) = if merged {
+        let (i, a, _) = super::weld::remap_faces(indices, arities, &map);
+        welded = (i, a);
+        (&welded.0, &welded.1)
+    } else {
+        (indices, arities)
+    };
+    let pos: Vec<Vec3> =
+        if merged { kept.iter().map(|&i| positions[i as usize]).collect() } else { positions.to_vec() };
+    match Mesh::from_indexed_stoppable(pos, idx, ar) {
+        Ok(mesh) => return Ok(Assembled { vertex_from: kept, mesh, repairs: Repairs::default() }),
+        Err(
+            MeshError::NonManifoldEdge { .. } | MeshError::NonManifoldVertex { .. } | MeshError::DegenerateFace { .. },
+        ) => {}
+        Err(e) => return Err(io(e)),
+    }
+
+    // 1. The file's own topology.
+    let (a_idx, a_ar, a_from, a_vertex_from, a_pos) = match topology {
+        Topology::Indexed => (indices.to_vec(), arities.to_vec(), None, None, positions.to_vec()),
+        Topology::Soup => {
+            let (m, k) = weld(positions, Weld::Relative(0.0)).map_err(|e| io(e.into()))?;
+            let (i, a, f) = super::weld::remap_faces(indices, arities, &m);
+            let p = k.iter().map(|&v| positions[v as usize]).collect();
+            (i, a, Some(f), Some(k), p)
+        }
+    };
+    let file = match Mesh::from_indexed_stoppable(a_pos.clone(), &a_idx, &a_ar) {
+        Ok(mesh) => (mesh, (0..a_pos.len() as u32).collect::<Vec<u32>>(), Repairs::default()),
+        Err(
+            e @ (MeshError::NonManifoldEdge { .. }
+            | MeshError::NonManifoldVertex { .. }
+            | MeshError::DegenerateFace { .. }),
+        ) if !repair => {
+            return Err(IoError::NotManifold { path: path.into(), source: e });
+        }
+        Err(
+            MeshError::NonManifoldEdge { .. } | MeshError::NonManifoldVertex { .. } | MeshError::DegenerateFace { .. },
+        ) => {
+            let r = repair_polygons(&a_pos, &a_idx, &a_ar, RepairOptions::DEFAULT.with_reorient(true)).map_err(io)?;
+            // Name the file's faces and vertices in the report (a soup's faces are the file's
+            // triangles; its vertices the first corner at each position).
+            let mut repairs = r.repairs;
+            if let Some(f) = &a_from {
+                for d in &mut repairs.dropped_faces {
+                    d.0 = f[d.0 as usize];
+                }
+                for c in &mut repairs.flipped {
+                    for x in &mut c.faces {
+                        *x = f[*x as usize];
+                    }
+                }
+            }
+            (r.mesh, r.vertex_from, repairs)
+        }
+        Err(e) => return Err(io(e)),
+    };
+    let (file_mesh, file_vertex_from, repairs) = file;
+    // Back to the input's ids.
+    let to_input_vertex = |v: u32| match &a_vertex_from {
+        Some(k) => k[file_vertex_from[v as usize] as usize],
+        None => file_vertex_from[v as usize],
+    };
+
+    // 2. The weld, split back where it breaks the surface.
+    if rule == Weld::Off {
+        let vertex_from = (0..file_mesh.vertex_count() as u32).map(to_input_vertex).collect();
+        return Ok(Assembled { mesh: file_mesh, vertex_from, repairs });
+    }
+    let (fi, fa) = file_mesh.to_indexed();
+    let (map, kept) = weld(file_mesh.positions(), rule).map_err(|e| io(e.into()))?;
+    let (w_idx, w_ar, w_prior) = remap_with_prior(&fi, &fa, &map);
+    let w_pos: Vec<Vec3> = kept.iter().map(|&i| file_mesh.position(i)).collect();
+    let r = repair_polygons(&w_pos, &w_idx, &w_ar, RepairOptions::DEFAULT.with_prior(&w_prior)).map_err(io)?;
+    let vertex_from = r.vertex_from.iter().map(|&v| to_input_vertex(kept[v as usize])).collect();
+    Ok(Assembled { mesh: r.mesh, vertex_from, repairs })
+}
+
+/// [`super::weld::remap_faces`] that also gives, for each kept corner, the vertex it had before
+/// the weld: (indices, arities, prior vertex of each corner).
+fn remap_with_prior(indices: &[u32], arities: &[u32], map: &[u32]) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
+    let mut out = Vec::with_capacity(indices.len());
+    let mut prior = Vec::with_capacity(indices.len());
+    let mut out_ar = Vec::with_capacity(arities.len());
+    let mut start = 0;
+    for &a in arities {
+        let face = &indices[start..start + a as usize];
+        start += a as usize;
+        let begin = out.len();
+        for &v in face {
+            let w = map[v as usize];
+            if out.len() == begin || out[out.len() - 1] != w {
+                out.push(w);
+                prior.push(v);
+            }
+        }
+        while out.len() > begin + 1 && out[out.len() - 1] == out[begin] {
+            out.pop();
+            prior.pop();
+        }
+        let n = out.len() - begin;
+        let corners = &out[begin..];
+        if n < 3 || (1..n).any(|i| corners[..i].contains(&corners[i])) {
+            out.truncate(begin);
+            prior.truncate(begin);
+            continue;
+        }
+        out_ar.push(n as u32);
+    }
+    (out, out_ar, prior)
+}
