@@ -51,6 +51,9 @@ struct Declared {
     context: bool,
     returns: String,
     params: Vec<String>,
+    /// The api file that registers it (`mesh` for `src/api/mesh.rs`): the reference's topic of a
+    /// free function without a `Topic:` line (`doc::topics`).
+    module: String,
 }
 
 /// Reads every `#[export_module]` module of `src/api/*.rs` and writes the table of registered
@@ -68,7 +71,8 @@ fn registry() {
     for p in files {
         println!("cargo:rerun-if-changed={}", p.display());
         let text = std::fs::read_to_string(&p).expect("read api file");
-        all.extend(declared(&text));
+        let module = p.file_stem().and_then(|s| s.to_str()).unwrap_or_default().to_string();
+        all.extend(declared(&text).into_iter().map(|d| Declared { module: module.clone(), ..d }));
     }
     let mut out = String::from(
         "/// Every function of the script API's `#[export_module]`s (generated from their declarations).\n\
@@ -78,8 +82,8 @@ fn registry() {
         for n in &d.names {
             writeln!(
                 out,
-                "    Declared {{ name: {n:?}, receiver: {:?}, arity: {}, pure: {}, context: {}, returns: {:?}, params: &{:?} }},",
-                d.receiver, d.arity, d.pure, d.context, d.returns, d.params
+                "    Declared {{ name: {n:?}, receiver: {:?}, arity: {}, pure: {}, context: {}, returns: {:?}, params: &{:?}, module: {:?} }},",
+                d.receiver, d.arity, d.pure, d.context, d.returns, d.params, d.module
             )
             .unwrap();
         }
@@ -182,5 +186,14 @@ fn parse(sig: &str, attrs: &str) -> Option<Declared> {
     }
     let pure = attrs.split(|c: char| !c.is_alphanumeric() && c != '_').any(|w| w == "pure");
     let types = params.iter().map(|p| ty(p).trim_start_matches("&mut ").trim_start_matches('&').to_string()).collect();
-    Some(Declared { names, receiver, arity: params.len(), pure, context, returns: ret.to_string(), params: types })
+    Some(Declared {
+        names,
+        receiver,
+        arity: params.len(),
+        pure,
+        context,
+        returns: ret.to_string(),
+        params: types,
+        module: String::new(),
+    })
 }

@@ -116,6 +116,24 @@ impl Mesh {
         Ok(Mesh::cylinder(check_length("radius", radius)?, check_length("height", height)?, segments))
     }
 
+    /// [`Mesh::cone`] with `height` checked by [`check_length`], and each radius either 0 (an
+    /// apex) or a length [`check_length`] accepts, not both 0.
+    ///
+    /// # Errors
+    /// [`MeshError::OutOfRange`] for a radius or `height`, or when both radii are 0.
+    pub fn try_cone(bottom: f64, top: f64, height: f64, segments: u32) -> Result<Mesh, MeshError> {
+        let radius = |name: &str, r: f64| if r == 0.0 { Ok(0.0) } else { check_length(name, r) };
+        let (b, t) = (radius("bottom", bottom)?, radius("top", top)?);
+        if b == 0.0 && t == 0.0 {
+            return Err(MeshError::OutOfRange {
+                name: "top".into(),
+                value: "0".into(),
+                range: format!("{} and {} when `bottom` is 0 too", fmt_num(MIN_LENGTH), fmt_num(MAX_LENGTH)),
+            });
+        }
+        Ok(Mesh::cone(b, t, check_length("height", height)?, segments))
+    }
+
     /// [`Mesh::torus`] with the radii checked by [`check_length`] and the
     /// `major_segments` × `minor_segments` mesh by the memory budget.
     ///

@@ -226,6 +226,47 @@ impl Mesh {
         built(positions, &faces)
     }
 
+    /// A closed cone or frustum around the z axis from z = −height/2 (radius `bottom`) to
+    /// +height/2 (radius `top`), `segments` ≥ 3 quads around; a radius of 0 makes an apex (a fan
+    /// of triangles meeting at one vertex on the axis) in place of that end's cap. At most one
+    /// radius may be 0 (the caller checks).
+    #[must_use]
+    pub fn cone(bottom: f64, top: f64, height: f64, segments: u32) -> Mesh {
+        let s = segments.max(3);
+        let mut positions = Vec::with_capacity(2 * s as usize);
+        // Each end: a ring of `s` vertices, or one apex vertex.
+        let mut ends = [(0u32, false); 2];
+        for (k, (r, z)) in [(bottom, -height / 2.0), (top, height / 2.0)].into_iter().enumerate() {
+            ends[k] = (positions.len() as u32, r == 0.0);
+            if r == 0.0 {
+                positions.push(Vec3::new(0.0, 0.0, z));
+            } else {
+                for i in 0..s {
+                    let phi = TAU * f64::from(i) / f64::from(s);
+                    positions.push(Vec3::new(r * phi.cos(), r * phi.sin(), z));
+                }
+            }
+        }
+        let at = |end: usize, i: u32| if ends[end].1 { ends[end].0 } else { ends[end].0 + i % s };
+        let mut faces: Vec<Vec<u32>> = (0..s)
+            .map(|i| {
+                let mut f = vec![at(0, i), at(0, i + 1), at(1, i + 1), at(1, i)];
+                f.dedup();
+                if f.first() == f.last() {
+                    f.pop();
+                }
+                f
+            })
+            .collect();
+        if !ends[0].1 {
+            faces.push((0..s).rev().map(|i| at(0, i)).collect());
+        }
+        if !ends[1].1 {
+            faces.push((0..s).map(|i| at(1, i)).collect());
+        }
+        built(positions, &faces)
+    }
+
     /// A torus around the z axis: tube centre at distance `major` from the axis, tube radius
     /// `minor`, `major_segments` × `minor_segments` quads. Genus 1.
     #[must_use]
@@ -320,5 +361,26 @@ mod tests {
         let m = Mesh::cuboid(Vec3::new(-1.0, 0.0, 2.0), Vec3::new(2.0, 0.5, 6.0));
         assert_rel(m.volume(), 3.0 * 0.5 * 4.0, 1e-15);
         assert_rel(m.area(), 2.0 * (3.0 * 0.5 + 0.5 * 4.0 + 3.0 * 4.0), 1e-15);
+    }
+
+    #[test]
+    fn cones_and_frustums_are_closed_with_the_volume_of_their_polygon_frustum() {
+        // The solid between two regular n-gons of circumradii a and b, height h, is a prismatoid:
+        // V = h/3 (A + √(A B) + B) with A = n/2 a² sin(2π/n) (similar polygons).
+        let n = 24u32;
+        let poly = |r: f64| f64::from(n) / 2.0 * r * r * (TAU / f64::from(n)).sin();
+        for (a, b, h) in [(1.0, 0.5, 2.0), (1.0, 0.0, 3.0), (0.0, 2.0, 1.0), (1.5, 1.5, 1.0)] {
+            let m = Mesh::cone(a, b, h, n);
+            assert!(m.is_closed() && m.is_manifold(), "({a}, {b}, {h})");
+            assert_eq!(m.genus(), 0);
+            let v = h / 3.0 * (poly(a) + (poly(a) * poly(b)).sqrt() + poly(b));
+            assert_rel(m.volume(), v, 1e-12);
+            // An apex is one vertex and a fan of triangles; a ring end has a cap.
+            let apexes = usize::from(a == 0.0) + usize::from(b == 0.0);
+            assert_eq!(m.vertex_count(), 2 * n as usize - apexes * (n as usize - 1));
+            assert_eq!(m.face_count(), n as usize + 2 - apexes);
+            let bb = m.bounds();
+            assert_rel(bb.max.z - bb.min.z, h, 1e-15);
+        }
     }
 }

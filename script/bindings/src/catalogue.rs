@@ -23,6 +23,9 @@ pub struct Overload {
     pub doc: String,
     /// Registered by blocksmith (not one of Rhai's built-ins).
     pub ours: bool,
+    /// The reference topic its doc comment names on a line `Topic: KEY` (a line kept out of
+    /// [`Overload::doc`]); see [`crate::doc::topics`].
+    pub topic: Option<String>,
 }
 
 impl Overload {
@@ -162,14 +165,8 @@ fn overloads_of(engine: &Engine, include_builtins: bool) -> Vec<Overload> {
         let returns = script_type(f.get("returnType").and_then(Value::as_str).unwrap_or("()"));
         let comments: Vec<&str> =
             f.get("docComments").and_then(Value::as_array).into_iter().flatten().filter_map(Value::as_str).collect();
-        out.push(Overload {
-            name: name.to_string(),
-            property,
-            params,
-            returns,
-            doc: clean_comments(&comments),
-            ours: false,
-        });
+        let (doc, topic) = crate::doc::topics::split_tag(&clean_comments(&comments));
+        out.push(Overload { name: name.to_string(), property, params, returns, doc, ours: false, topic });
     }
     out
 }
@@ -246,7 +243,7 @@ mod tests {
             all.iter().filter(|o| o.name == name && o.ours).map(Overload::signature).collect()
         };
         // No leaked Rust names: a context parameter, `segments_`, `SharedMesh`, `()`.
-        assert_eq!(sig("cylinder"), ["cylinder(radius: number, height: number, segments: int) -> Mesh"]);
+        assert_eq!(sig("cylinder")[0], "cylinder(radius: number, height: number, segments: int) -> Mesh");
         // Arguments the binding reads itself say what they take, not `any`.
         assert!(
             sig("scale").contains(&"scale(m: Mesh, factor: number|Vec3) -> Mesh".to_string()),

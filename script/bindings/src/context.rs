@@ -38,6 +38,20 @@ pub struct RunContext {
     /// What the run may read and write (its project, granted paths, write limits), and what
     /// it has written: the process's policy by default ([`crate::access`]).
     pub access: crate::access::Access,
+    /// Where the script's `print` and `debug` go: standard output (Rhai's own, the default),
+    /// or standard error when standard output carries something a parser reads alone
+    /// (`run --stats json`).
+    pub print_to: PrintTo,
+}
+
+/// Where a script's `print` and `debug` lines go.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum PrintTo {
+    /// Standard output, as Rhai prints them.
+    #[default]
+    Stdout,
+    /// Standard error, leaving standard output to the host (`run --stats json | jq`).
+    Stderr,
 }
 
 /// A warning a running script gave: where (the module's source name, `None` for the script

@@ -73,7 +73,14 @@ pub fn format_error(engine: &Engine, name: &str, source: &str, err: &EvalAltResu
         }
     }
     let pos = innermost_position(err);
-    format_at(name, source, pos, &explained_message(engine, err))
+    let text = explained_message(engine, err);
+    // A data race carries no position: find the call whose closure causes it.
+    if pos.is_none() {
+        if let Some(race) = crate::data_race::function_of(&text).and_then(|f| crate::data_race::locate(source, f)) {
+            return format_at(name, source, race.position, &race.message);
+        }
+    }
+    format_at(name, source, pos, &text)
 }
 
 /// The text of the module file at `path` (a file, or a standard-library module written

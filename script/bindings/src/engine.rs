@@ -64,6 +64,16 @@ pub fn new_engine(options: EngineOptions) -> Engine {
             .recording(options.context.record.clone())
             .confined_by(options.context.access.clone()),
     );
+    if options.context.print_to == crate::context::PrintTo::Stderr {
+        // The lines Rhai would print on standard output, on standard error (same text).
+        engine.on_print(|s| eprintln!("{s}"));
+        engine.on_debug(|s, source, pos| match (source, pos.is_none()) {
+            (Some(source), true) => eprintln!("{source} | {s}"),
+            (Some(source), false) => eprintln!("{source} @ {pos:?} | {s}"),
+            (None, true) => eprintln!("{s}"),
+            (None, false) => eprintln!("{pos:?} | {s}"),
+        });
+    }
     engine.set_default_tag(options.context.clone().into_tag());
     set_limits(&mut engine, &options);
     engine

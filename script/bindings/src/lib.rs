@@ -25,6 +25,7 @@ pub mod api;
 pub mod catalogue;
 pub mod context;
 pub mod convert;
+pub mod data_race;
 pub mod diagnostics;
 pub mod doc;
 pub mod editing_rules;

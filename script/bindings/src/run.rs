@@ -210,7 +210,11 @@ pub fn save_value(engine: &Engine, functions: &AST, value: Dynamic, out: &Path) 
 /// that return a type with a `save` (`model.mesh()`, `vx.to_mesh()`), as advice.
 fn savable_from(engine: &Engine, type_name: &str) -> String {
     let all = crate::catalogue::of(engine);
-    let savable: Vec<&str> = all.iter().filter(|o| o.name == "save" && o.ours).filter_map(|o| o.receiver()).collect();
+    // Each type once, however many `save` overloads it has (with and without options).
+    let mut savable: Vec<&str> =
+        all.iter().filter(|o| o.name == "save" && o.ours).filter_map(|o| o.receiver()).collect();
+    savable.sort_unstable();
+    savable.dedup();
     let mut ways: Vec<String> = all
         .iter()
         .filter(|o| o.ours && o.property.is_none() && o.receiver() == Some(type_name) && o.params.len() == 1)

@@ -35,7 +35,8 @@ pub enum Command {
         #[command(flatten)]
         access: AccessArgs,
         /// Print the written model's facts (counts, closed, manifold, genus, volume, area,
-        /// bounds, run time) to standard output as JSON; needs -o.
+        /// bounds, run time) to standard output as JSON, alone: the recipe's print() and
+        /// debug() go to standard error instead; needs -o.
         #[arg(long, value_parser = ["json"], requires = "output")]
         stats: Option<String>,
         /// Write a manifest (hashes of the recipe, its inputs and the output; the parameters;
@@ -139,6 +140,9 @@ pub enum Command {
         #[arg(long, default_value = "text", value_parser = ["text", "markdown", "html", "json"])]
         format: String,
     },
+    /// A language server for editors over standard input and output: diagnostics as you type,
+    /// completion, hover, signature help, go-to-definition, symbols, inlay hints, a run lens.
+    Lsp,
 }
 
 /// The limits of a run (for the REPL: of each entry; for tests: of each script).

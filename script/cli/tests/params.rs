@@ -125,6 +125,28 @@ fn stats_json_prints_the_written_models_facts() {
     assert_fails_with(&o, "--output");
 }
 
+/// A recipe that prints does not spoil the stats: with `--stats json` on standard output, its
+/// `print` and `debug` lines go to standard error, and `… --stats json | jq` reads JSON alone.
+#[test]
+fn stats_json_stays_alone_on_stdout_when_the_recipe_prints() {
+    let d = tempfile::tempdir().unwrap();
+    let p = script(
+        d.path(),
+        "noisy.rhai",
+        "print(\"building\");\ndebug(42);\nlet m = cube(2);\nprint(`volume ${m.volume()}`);\nm\n",
+    );
+    let out = d.path().join("noisy.stl");
+    let o = blocksmith().arg("run").arg(&p).args(["--stats", "json", "-o"]).arg(&out).output().unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("standard output is the stats alone");
+    assert!((v["volume"].as_f64().unwrap() - 8.0).abs() < 1e-6, "{v}");
+    let err = stderr(&o);
+    assert!(err.contains("building") && err.contains("volume 8.0") && err.contains("42"), "{err}");
+    // Without --stats, print stays on standard output.
+    let o = blocksmith().arg("run").arg(&p).arg("-o").arg(&out).output().unwrap();
+    assert!(stdout(&o).contains("building") && !stderr(&o).contains("building"), "{}", stdout(&o));
+}
+
 /// The manifest of one run, read back.
 fn manifest(recipe: &Path, out: &Path, sets: &[&str]) -> String {
     let m = out.with_extension("json");

@@ -83,6 +83,8 @@ pub mod anim_api {
     /// An animation of a polar mesh (Brazzolotto §8.1) with the skeleton rooted at the first
     /// pole's node and smooth skinning; see `animation(pm, options)`.
     ///
+    /// Topic: animation
+    ///
     /// ```rhai
     /// let anim = animation(polar_sphere(0.2, 8, 6));
     /// assert_eq(anim.node_count, 7);
@@ -96,6 +98,8 @@ pub mod anim_api {
     /// vertex's node); `skinning` — `"smooth"` (default: each joint turned halfway between its
     /// arriving and leaving segments, Fig. 7.5) or `"simple"` (each vertex follows one joint,
     /// §7.3).
+    ///
+    /// Topic: animation
     ///
     /// ```rhai
     /// let pm = polar_sphere(0.2, 8, 6);

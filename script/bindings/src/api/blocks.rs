@@ -303,6 +303,8 @@ pub mod blocks_api {
     /// `let c = b.translate(v);` is b itself. `m.add(b)` adds a copy. Nothing connects until
     /// `m.allow(g1, g2)`.
     ///
+    /// Topic: blocks
+    ///
     /// ```rhai
     /// let b = block([0, 0, 0], [1, 2, 3]);
     /// assert_eq(b.corners()[6], vec3(0, 2, 3));
@@ -318,6 +320,8 @@ pub mod blocks_api {
     /// side of axis `i`, i.e. corner `k` stands where `(k&1 ? max.x : min.x, k&2 ? max.y :
     /// min.y, k&4 ? max.z : min.z)` would for a box. Faces are bilinear (they need not be
     /// planar). Coincident corners, folded faces and inside-out blocks are errors.
+    ///
+    /// Topic: blocks
     ///
     /// ```rhai
     /// // A box whose top is skewed by 0.5 in x.

@@ -173,6 +173,8 @@ pub mod csg_api {
     /// input edges they lie on (a block's sharp edges among them). Errors name the side: an
     /// operand that is open, empty, touches itself or is not a solid type.
     ///
+    /// Topic: booleans
+    ///
     /// ```rhai
     /// let u = union(box([0, 0, 0], [1, 1, 1]), box([0.5, 0, 0], [1.5, 1, 1]));
     /// assert_near(u.volume(), 1.5, 1e-12);
@@ -186,6 +188,8 @@ pub mod csg_api {
 
     /// `union(a, b)` with options: `tolerance`, the chord tolerance for tessellating
     /// `BlockModel` operands (default 0.001 × each model's diagonal).
+    ///
+    /// Topic: booleans
     ///
     /// ```rhai
     /// let m = blocks();
@@ -202,6 +206,8 @@ pub mod csg_api {
     /// The difference `a − b`: `a` with the solid `b` carved out (same as `a - b`); operands and
     /// result as for `union`.
     ///
+    /// Topic: booleans
+    ///
     /// ```rhai
     /// let cube = box([0, 0, 0], [1, 1, 1]);
     /// let hole = subtract(cube, box([0.25, 0.25, -1], [0.75, 0.75, 2]));
@@ -215,6 +221,8 @@ pub mod csg_api {
     }
 
     /// `subtract(a, b)` with options (`tolerance`, as for `union`).
+    ///
+    /// Topic: booleans
     ///
     /// ```rhai
     /// let m = blocks();
@@ -231,6 +239,8 @@ pub mod csg_api {
     /// (or only touch, over a whole face or part of one) give a mesh without faces: booleans
     /// are regularised, no zero-thickness sheet is left where solids meet.
     ///
+    /// Topic: booleans
+    ///
     /// ```rhai
     /// let i = intersect(box([0, 0, 0], [1, 1, 1]), box([0.5, 0.5, 0.5], [2, 2, 2]));
     /// assert_near(i.volume(), 0.125, 1e-12);
@@ -243,6 +253,8 @@ pub mod csg_api {
     }
 
     /// `intersect(a, b)` with options (`tolerance`, as for `union`).
+    ///
+    /// Topic: booleans
     ///
     /// ```rhai
     /// let m = blocks();

@@ -98,6 +98,8 @@ pub mod files_api {
     /// A `.svg` or `.dxf` file is read as a 2D `Profile` (SVG paths, polygons and basic shapes
     /// with their transforms; DXF LWPOLYLINE, POLYLINE, LINE, ARC and CIRCLE).
     ///
+    /// Topic: files
+    ///
     /// ```rhai
     /// let c = cube(2);
     /// c.save("doc_example_cube.obj");
@@ -124,6 +126,8 @@ pub mod files_api {
     /// fan, faces beyond two on an edge separated into their own sheets, components re-oriented
     /// where a consistent orientation exists, such faces dropped; each repair is a warning with
     /// counts and where; `false` refuses such a file).
+    ///
+    /// Topic: files
     ///
     /// ```rhai
     /// let c = box(vec3(0, 0, 0), vec3(1, 1, 3));
@@ -186,6 +190,8 @@ pub mod files_api {
     /// §3.4), converted exactly, so models stand upright in glTF viewers and read back to the
     /// same positions. OBJ, STL and PLY are written as they are (see `save(mesh, path, #{up})`).
     ///
+    /// Topic: files
+    ///
     /// ```rhai
     /// save(icosphere(1, 1), "doc_example_ico.glb");
     /// ```
@@ -198,6 +204,8 @@ pub mod files_api {
     /// OBJ, STL and PLY in, for tools that expect Y-up; default `"z"`, as it is; glTF is always
     /// written Y-up and takes no other), `ply` (`"binary"` — little-endian, the default —,
     /// `"binary_big_endian"` or `"ascii"`: how a `.ply` stores its data).
+    ///
+    /// Topic: files
     ///
     /// ```rhai
     /// let c = box(vec3(0, 0, 0), vec3(1, 1, 3));
@@ -237,6 +245,8 @@ pub mod files_api {
     /// per unit) or `.dxf` (closed polylines), for laser cutters, plotters and CAD. A relative
     /// path goes under the output directory; parent directories are created; the file is
     /// replaced only once the new one is complete. `load` reads both back.
+    ///
+    /// Topic: files
     ///
     /// ```rhai
     /// let p = rect([0, 0], [4, 2]) - circle(0.5, 24).translate([1, 1]);

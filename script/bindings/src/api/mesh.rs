@@ -150,6 +150,8 @@ pub mod mesh_api {
 
     /// The axis-aligned box from corner `min` to corner `max` (8 vertices, 6 quads).
     ///
+    /// Topic: primitives
+    ///
     /// ```rhai
     /// let b = box([0, 0, 0], [1, 2, 3]);
     /// assert_near(b.volume(), 6.0, 1e-12);
@@ -208,6 +210,127 @@ pub mod mesh_api {
         let h = positive("cylinder", "height", &height)?;
         let s = segments("cylinder", "segments", segments_)?;
         kernel("cylinder", Mesh::try_cylinder(r, h, s)).map(SharedMesh::new)
+    }
+
+    /// `cylinder(radius, height, segments)` with options: `center` (default `true`: from
+    /// −height/2 to +height/2; `false`: from z = 0 to z = height, as OpenSCAD's default).
+    ///
+    /// ```rhai
+    /// let c = cylinder(1, 2, 32, #{ center: false });
+    /// assert_eq(c.bounds().min.z, 0.0);
+    /// assert_eq(c.bounds().max.z, 2.0);
+    /// ```
+    #[rhai_fn(name = "cylinder", return_raw)]
+    pub fn cylinder_with(radius: Number, height: Number, segments_: INT, options: Map) -> ScriptResult<SharedMesh> {
+        let opts = Options::new("cylinder", options, &["center"])?;
+        let center = opts.bool("center", true)?;
+        let m = cylinder(radius, height, segments_)?;
+        Ok(if center { m } else { SharedMesh::new(m.0.translate(Vec3::new(0.0, 0.0, m.0.bounds().max.z))) })
+    }
+
+    /// A closed cone or frustum around z from −height/2 (radius `bottom`) to +height/2 (radius
+    /// `top`): `segments` quads around and an n-gon cap at each end; a radius of 0 makes a
+    /// point (triangles meeting at the apex) instead of a cap. Not both radii 0.
+    ///
+    /// ```rhai
+    /// let spike = cone(1, 0, 2, 32);
+    /// assert(spike.is_closed(), "closed");
+    /// assert_eq(spike.vertex_count, 33);
+    /// let frustum = cone(2, 1, 1, 48);
+    /// assert_eq(frustum.face_count, 50);
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn cone(bottom: Number, top: Number, height: Number, segments_: INT) -> ScriptResult<SharedMesh> {
+        let radius = |arg: &str, v: &Number| -> ScriptResult<f64> {
+            let r = number("cone", arg, v)?;
+            if r < 0.0 {
+                return fail("cone", format!("argument `{arg}` must be 0 (a point) or positive, got {}", fmt_num(r)));
+            }
+            Ok(r)
+        };
+        let (b, t) = (radius("bottom", &bottom)?, radius("top", &top)?);
+        let h = positive("cone", "height", &height)?;
+        let s = segments("cone", "segments", segments_)?;
+        kernel("cone", Mesh::try_cone(b, t, h, s)).map(SharedMesh::new)
+    }
+
+    /// `cone(bottom, top, height, segments)` with options: `center` (default `true`; `false`
+    /// puts the base at z = 0 and the top at z = height).
+    ///
+    /// ```rhai
+    /// let c = cone(1, 0, 3, 24, #{ center: false });
+    /// assert_eq(c.bounds().min.z, 0.0);
+    /// ```
+    #[rhai_fn(name = "cone", return_raw)]
+    pub fn cone_with(
+        bottom: Number,
+        top: Number,
+        height: Number,
+        segments_: INT,
+        options: Map,
+    ) -> ScriptResult<SharedMesh> {
+        let opts = Options::new("cone", options, &["center"])?;
+        let center = opts.bool("center", true)?;
+        let m = cone(bottom, top, height, segments_)?;
+        Ok(if center { m } else { SharedMesh::new(m.0.translate(Vec3::new(0.0, 0.0, m.0.bounds().max.z))) })
+    }
+
+    /// A closed cylinder of `radius` whose axis runs from point `a` to point `b` (its caps'
+    /// centres), with 32 segments around: a rod, a strut, a pin between two holes.
+    ///
+    /// Topic: primitives
+    ///
+    /// ```rhai
+    /// let rod = cylinder_between([0, 0, 0], [3, 4, 0], 0.5);
+    /// assert_near(rod.volume(), cylinder(0.5, 5, 32).volume(), 1e-9);
+    /// assert_near(rod.centroid().x, 1.5, 1e-9);
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn cylinder_between(a: Vector, b: Vector, radius: Number) -> ScriptResult<SharedMesh> {
+        cylinder_between_with(a, b, radius, 32)
+    }
+
+    /// `cylinder_between(a, b, radius)` with `segments` (≥ 3) around.
+    ///
+    /// Topic: primitives
+    ///
+    /// ```rhai
+    /// let rod = cylinder_between([1, 1, 1], [1, 1, -2], 0.25, 8);
+    /// assert_eq(rod.face_count, 10);
+    /// assert_near(rod.bounds().min.z, -2.0, 1e-12);
+    /// ```
+    #[rhai_fn(name = "cylinder_between", return_raw)]
+    pub fn cylinder_between_with(a: Vector, b: Vector, radius: Number, segments_: INT) -> ScriptResult<SharedMesh> {
+        let (p, q) = (vec3("cylinder_between", "a", &a)?, vec3("cylinder_between", "b", &b)?);
+        let d = q - p;
+        let length = d.length();
+        if length == 0.0 || !length.is_finite() {
+            return fail(
+                "cylinder_between",
+                format!(
+                    "arguments `a` and `b` must be two different finite points, got {} and {}",
+                    fmt_vec(p),
+                    fmt_vec(q)
+                ),
+            );
+        }
+        let r = positive("cylinder_between", "radius", &radius)?;
+        let s = segments("cylinder_between", "segments", segments_)?;
+        let c =
+            kernel("cylinder_between", Mesh::try_cylinder(r, length, s))?.translate(Vec3::new(0.0, 0.0, length / 2.0));
+        // Turn +z onto the direction a → b (about x by 180° when they are opposite), then move to a.
+        let dir = d / length;
+        let axis = Vec3::Z.cross(dir);
+        let turned = if axis.length() > 1e-12 {
+            c.rotate(axis, Vec3::Z.dot(dir).clamp(-1.0, 1.0).acos().to_degrees())
+        } else if dir.z < 0.0 {
+            c.rotate(Vec3::X, 180.0)
+        } else {
+            c
+        };
+        let m = turned.translate(p);
+        finite("cylinder_between", "b", &fmt_vec(q), &m)?;
+        Ok(SharedMesh::new(m))
     }
 
     /// A torus around z: tube centre at `major` from the axis, tube radius `minor` < `major`,
@@ -440,6 +563,52 @@ pub mod mesh_api {
         map.insert("min".into(), Dynamic::from(b.min));
         map.insert("max".into(), Dynamic::from(b.max));
         Ok(map)
+    }
+    /// The size of the bounds along x, y and z (`bounds().max - bounds().min`).
+    ///
+    /// ```rhai
+    /// assert_eq(box([0, 0, 0], [2, 3, 4]).size(), vec3(2, 3, 4));
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn size(m: &mut SharedMesh) -> ScriptResult<Vec3> {
+        let b = m.0.bounds();
+        if b.is_empty() {
+            return fail("size", "the mesh has no faces, so it has no bounds");
+        }
+        Ok(b.max - b.min)
+    }
+    /// The centre of the bounds (half-way between `bounds().min` and `bounds().max`); see
+    /// `centroid()` for the centre of mass.
+    ///
+    /// ```rhai
+    /// let m = box([0, 0, 0], [2, 4, 6]);
+    /// assert_eq(m.center(), vec3(1, 2, 3));
+    /// let on_floor = m.translate([-m.center().x, -m.center().y, -m.bounds().min.z]);
+    /// assert_eq(on_floor.bounds().min, vec3(-1, -2, 0));
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn center(m: &mut SharedMesh) -> ScriptResult<Vec3> {
+        let b = m.0.bounds();
+        if b.is_empty() {
+            return fail("center", "the mesh has no faces, so it has no bounds");
+        }
+        Ok((b.min + b.max) * 0.5)
+    }
+    /// The position of vertex `v` (an id as `faces()` gives them). Reads one point:
+    /// `m.positions()[v]` copies every position first, which in a loop costs the mesh's size
+    /// on every call.
+    ///
+    /// ```rhai
+    /// let m = cube(2);
+    /// assert_eq(m.position(0), m.positions()[0]);
+    /// let far = 0;
+    /// for v in 0..m.vertex_count { if m.position(v).x > m.position(far).x { far = v; } }
+    /// assert_eq(m.position(far).x, 1.0);
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn position(m: &mut SharedMesh, v: INT) -> ScriptResult<Vec3> {
+        let v = kernel("position", m.0.check_vertex(v))?;
+        Ok(m.0.position(v))
     }
     /// The vertex positions, indexed by vertex id.
     ///

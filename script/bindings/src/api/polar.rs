@@ -182,6 +182,8 @@ pub mod polar_api {
     /// edge in every part no pole reaches. An invalid marking is an error naming the first broken
     /// rule.
     ///
+    /// Topic: polar
+    ///
     /// ```rhai
     /// let s = uv_sphere(1, 8, 4);
     /// let pm = polar_from(s, #{ poles: [0, s.vertex_count - 1] });

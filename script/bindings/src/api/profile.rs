@@ -380,6 +380,8 @@ pub mod profile_api {
 
     /// `a + b`: the union of two profiles.
     ///
+    /// Topic: booleans
+    ///
     /// ```rhai
     /// let p = rect([0, 0], [2, 2]) + rect([1, 1], [3, 3]);
     /// assert_near(p.area(), 7.0, 1e-12);
@@ -390,6 +392,8 @@ pub mod profile_api {
     }
 
     /// `a - b`: `a` with `b` cut away.
+    ///
+    /// Topic: booleans
     ///
     /// ```rhai
     /// let frame = rect([0, 0], [4, 4]) - rect([1, 1], [3, 3]);
@@ -402,6 +406,8 @@ pub mod profile_api {
     }
 
     /// The region inside both profiles.
+    ///
+    /// Topic: booleans
     ///
     /// ```rhai
     /// let p = intersect(rect([0, 0], [2, 2]), rect([1, 1], [3, 3]));
@@ -596,6 +602,8 @@ pub mod profile_api {
     /// The profile extruded up z to `height`: a closed manifold `Mesh` (OpenSCAD's
     /// `linear_extrude`).
     ///
+    /// Topic: 2d
+    ///
     /// ```rhai
     /// let m = extrude(rect([0, 0], [2, 3]), 4);
     /// assert(m.is_closed(), "closed");
@@ -610,6 +618,8 @@ pub mod profile_api {
     /// As `extrude(p, height)`, with options `twist` (degrees the top turns), `scale` (the
     /// top's scale: a number or `[sx, sy]`), `slices` (layers; default one per 5° of twist) and
     /// `center` (span z from −height/2 to height/2).
+    ///
+    /// Topic: 2d
     ///
     /// ```rhai
     /// // A frustum: V = h/3 (A1 + A2 + √(A1 A2)).
@@ -626,6 +636,8 @@ pub mod profile_api {
     /// The profile turned a full turn about the z axis in 32 segments: its x is the radius and
     /// its y becomes z (OpenSCAD's `rotate_extrude`). A profile reaching to x < 0 is refused.
     ///
+    /// Topic: 2d
+    ///
     /// ```rhai
     /// // An annulus of radii 1 and 2, height 1, as a 32-gon ring.
     /// let m = revolve(rect([1, 0], [2, 1]));
@@ -639,6 +651,8 @@ pub mod profile_api {
 
     /// As `revolve(p)`, with options `angle` (degrees, up to 360; a partial turn is capped) and
     /// `segments` (per full turn; default 32).
+    ///
+    /// Topic: 2d
     ///
     /// ```rhai
     /// let half = revolve(rect([1, 0], [2, 1]), #{ angle: 180, segments: 64 });
@@ -655,6 +669,8 @@ pub mod profile_api {
     /// with repeated points, or turning so sharply that the profile would cross itself, is
     /// refused naming the point.
     ///
+    /// Topic: 2d
+    ///
     /// ```rhai
     /// let m = sweep(circle(0.5, 16), [[0, 0, 0], [0, 0, 2], [2, 0, 4]]);
     /// assert(m.is_closed() && m.genus() == 0, "a bent tube");
@@ -667,6 +683,8 @@ pub mod profile_api {
     /// As `sweep(p, path)`, with options `up` (the direction the profile's +y faces at the
     /// start), `twist` (degrees over the path), `scale` (at the end: a number or `[sx, sy]`)
     /// and `closed` (the path is a loop: a ring with no caps).
+    ///
+    /// Topic: 2d
     ///
     /// ```rhai
     /// let ring = [];
@@ -688,6 +706,8 @@ pub mod profile_api {
     /// A solid through `profiles` one unit apart up z (contours matched and resampled, so any
     /// profiles with the same contour structure loft).
     ///
+    /// Topic: 2d
+    ///
     /// ```rhai
     /// let m = loft([rect([-1, -1], [1, 1]), circle(0.5, 32)]);
     /// assert(m.is_closed() && m.genus() == 0, "closed");
@@ -700,6 +720,8 @@ pub mod profile_api {
     /// As `loft(profiles)`, with option `heights` (the z of each profile, increasing) or
     /// `transforms` (for each profile a 4×4 matrix, four rows of four numbers, placing its
     /// plane), and `closed` (the last joins back to the first: a ring with no caps).
+    ///
+    /// Topic: 2d
     ///
     /// ```rhai
     /// // Equal squares at heights 0 and 2: a box.
@@ -715,6 +737,8 @@ pub mod profile_api {
 
     /// The convex hull of `items`: of profiles (a `Profile`), or of meshes and 3D points
     /// (`[x, y, z]` or `Vec3`) together (a closed `Mesh`).
+    ///
+    /// Topic: booleans
     ///
     /// ```rhai
     /// let corners = [];
@@ -754,6 +778,8 @@ pub mod profile_api {
 
     /// The Minkowski sum of two meshes: `a` grown by the shape of `b` (a cube with a sphere
     /// gives a rounded cube). Convex operands are summed exactly; others by convex parts.
+    ///
+    /// Topic: booleans
     ///
     /// ```rhai
     /// let m = minkowski(cube(2), cube(1));

@@ -24,6 +24,9 @@ pub struct Declared {
     /// The Rust type of each script argument, the receiver included (without `&mut`), e.g.
     /// `["BlockModel", "Block"]`.
     pub params: &'static [&'static str],
+    /// The api file that registers it (`mesh` for `src/api/mesh.rs`); the reference files a
+    /// free function under its file's topic (`crate::doc::topics`).
+    pub module: &'static str,
 }
 
 impl Declared {

@@ -33,6 +33,8 @@ pub mod solve_api {
     /// A Shape-Up constraint system on `mesh`'s vertices, starting from its positions. Add
     /// constraints and energies, then `solve(iterations)`.
     ///
+    /// Topic: shape_up
+    ///
     /// ```rhai
     /// let m = icosphere(1, 1);
     /// let s = shape_up(m);
@@ -198,6 +200,8 @@ pub mod solve_api {
     /// Fits the cylinder of a circular feature (§5, Eqs. 13–14): the axis by PCA of `verts`
     /// (at least 3), the radius their minimum distance to it. Returns `#{center, axis, radius}`.
     ///
+    /// Topic: shape_up
+    ///
     /// ```rhai
     /// let bottom = [];
     /// for v in 0..24 { bottom.push(v); }
@@ -210,6 +214,8 @@ pub mod solve_api {
         fit_cylinder_with(mesh, verts, Map::new())
     }
     /// `fit_cylinder` with option `radius`: `"min"` (default, Eq. 14) or `"mean"`.
+    ///
+    /// Topic: shape_up
     #[rhai_fn(name = "fit_cylinder", return_raw)]
     pub fn fit_cylinder_with(mesh: SharedMesh, verts: Array, options: Map) -> ScriptResult<Map> {
         let opts = Options::new("fit_cylinder", options, &["radius"])?;
@@ -240,6 +246,8 @@ pub mod solve_api {
     /// `tolerance` (1e-5, relative radius error), `levels` (0: match the radii on the Loop limit
     /// surface; L > 0: on the feature vertices after L Loop levels).
     ///
+    /// Topic: shape_up
+    ///
     /// ```rhai
     /// let t = torus(2, 0.5, 24, 12).triangulate();
     /// let ring = [];
@@ -257,6 +265,8 @@ pub mod solve_api {
         retain_circular_features_with(original, deformed, features, Map::new())
     }
     /// `retain_circular_features` with options.
+    ///
+    /// Topic: shape_up
     #[rhai_fn(name = "retain_circular_features", return_raw)]
     pub fn retain_circular_features_with(
         original: SharedMesh,

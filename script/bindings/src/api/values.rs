@@ -161,6 +161,8 @@ pub mod vec3_api {
 
     /// Dot product. Arrays of 3 numbers are accepted for either vector.
     ///
+    /// Topic: math
+    ///
     /// ```rhai
     /// assert_eq(dot(vec3(1, 2, 3), [4, 5, 6]), 32.0);
     /// ```
@@ -169,6 +171,8 @@ pub mod vec3_api {
         Ok(to_vec3("dot", "a", &a)?.dot(to_vec3("dot", "b", &b)?))
     }
     /// Cross product (right-handed).
+    ///
+    /// Topic: math
     ///
     /// ```rhai
     /// assert_eq(cross(vec3(1, 0, 0), vec3(0, 1, 0)), vec3(0, 0, 1));
@@ -179,6 +183,8 @@ pub mod vec3_api {
     }
     /// Euclidean length.
     ///
+    /// Topic: math
+    ///
     /// ```rhai
     /// assert_eq(length(vec3(3, 4, 0)), 5.0);
     /// ```
@@ -187,6 +193,8 @@ pub mod vec3_api {
         Ok(to_vec3("length", "v", &v)?.length())
     }
     /// The unit vector in the direction of `v`; an error for the zero vector.
+    ///
+    /// Topic: math
     ///
     /// ```rhai
     /// assert_eq(normalize(vec3(0, 0, 2)), vec3(0, 0, 1));
@@ -199,6 +207,8 @@ pub mod vec3_api {
     }
     /// Distance between two points.
     ///
+    /// Topic: math
+    ///
     /// ```rhai
     /// assert_eq(distance(vec3(0, 0, 0), [3, 4, 0]), 5.0);
     /// ```
@@ -207,6 +217,8 @@ pub mod vec3_api {
         Ok(to_vec3("distance", "a", &a)?.distance(to_vec3("distance", "b", &b)?))
     }
     /// Linear interpolation `a + (b − a)·t`.
+    ///
+    /// Topic: math
     ///
     /// ```rhai
     /// assert_eq(lerp(vec3(0, 0, 0), vec3(2, 4, 6), 0.5), vec3(1, 2, 3));

@@ -4,14 +4,17 @@
 use std::rc::Rc;
 
 use blocksmith_kernel::math::fmt_num;
+use blocksmith_kernel::math::Quat;
 use blocksmith_kernel::voxel::{
-    haar1d as k_haar1d, ihaar1d as k_ihaar1d, SculptMode, SculptOptions, Voxels as KernelVoxels, DEFAULT_ISO,
+    haar1d as k_haar1d, ihaar1d as k_ihaar1d, SculptMode, SculptOptions, Surface, Voxels as KernelVoxels, DEFAULT_ISO,
 };
 use rhai::plugin::*;
 use rhai::{exported_module, Array, Engine, Map, INT};
 
 use super::mesh::SharedMesh;
-use crate::convert::{fail, kernel, number, type_name, vec3, Number, Options, ScriptResult, Vector};
+use crate::convert::{
+    factor3, fail, kernel, number, type_name, vec3, Number, NumberOrVector, Options, ScriptResult, Vector,
+};
 
 /// A voxel grid as scripts hold it (script type `Voxels`): shared and copied on write, like
 /// meshes, so passing a grid (e.g. as a tool) is cheap and no script ever sees another variable's
@@ -39,6 +42,71 @@ fn level(func: &str, v: &Dynamic) -> ScriptResult<INT> {
     v.as_int().or_else(|_| fail(func, format!("option `level` must be an integer, got {}", type_name(v))))
 }
 
+/// One turn of a `rotate` list: `[axis, degrees]`, the axis a vector or `"x"`, `"y"`, `"z"`.
+fn turn(i: usize, v: &Dynamic) -> ScriptResult<Quat> {
+    let what = format!("option `rotate`[{i}]");
+    let Some(pair) = v.read_lock::<Array>().filter(|a| a.len() == 2) else {
+        return fail("sculpt", format!("{what} must be a pair [axis, degrees], got {}", type_name(v)));
+    };
+    let axis = match pair[0].clone().into_string() {
+        Ok(name) => match name.as_str() {
+            "x" => blocksmith_kernel::Vec3::X,
+            "y" => blocksmith_kernel::Vec3::Y,
+            "z" => blocksmith_kernel::Vec3::Z,
+            other => return fail("sculpt", format!("{what}: axis \"{other}\" is not one of \"x\", \"y\", \"z\"")),
+        },
+        Err(_) => vec3("sculpt", &format!("{what} axis"), &pair[0])?,
+    };
+    let Some(axis) = axis.try_normalize() else {
+        return fail("sculpt", format!("{what}: the axis {axis} has no direction"));
+    };
+    let deg = number("sculpt", &format!("{what} angle"), &pair[1])?;
+    if !deg.is_finite() {
+        return fail("sculpt", format!("{what}: the angle {deg} is not finite"));
+    }
+    Ok(Quat::from_axis_angle(axis, deg.to_radians()))
+}
+
+/// The rotation a sculpt's options give: `rotate` (turns applied in order), `quaternion`
+/// (`[x, y, z, w]`), or `axis`/`angle` (None: the kernel takes those); at most one way.
+fn sculpt_rotation(opts: &Options) -> ScriptResult<Option<Quat>> {
+    let given: Vec<&str> = ["rotate", "quaternion", "axis", "angle"].into_iter().filter(|k| opts.has(k)).collect();
+    let ways = usize::from(opts.has("rotate"))
+        + usize::from(opts.has("quaternion"))
+        + usize::from(opts.has("axis") || opts.has("angle"));
+    if ways > 1 {
+        return fail(
+            "sculpt",
+            format!(
+                "options {} each give a rotation: use one of `rotate`, `quaternion` or `axis`/`angle`",
+                given.join(", ")
+            ),
+        );
+    }
+    if let Some(list) = opts.raw("rotate") {
+        let Some(list) = list.read_lock::<Array>() else {
+            return fail(
+                "sculpt",
+                format!("option `rotate` must be a list of [axis, degrees] turns, got {}", type_name(list)),
+            );
+        };
+        // The first turn is applied first: q = qₙ ⋯ q₂ q₁.
+        return list.iter().enumerate().try_fold(Quat::IDENTITY, |q, (i, t)| Ok(turn(i, t)? * q)).map(Some);
+    }
+    if let Some(q) = opts.raw("quaternion") {
+        let Some(a) = q.read_lock::<Array>().filter(|a| a.len() == 4) else {
+            return fail("sculpt", format!("option `quaternion` must be [x, y, z, w], got {}", type_name(q)));
+        };
+        let c: Vec<f64> = a
+            .iter()
+            .enumerate()
+            .map(|(i, v)| number("sculpt", &format!("option `quaternion`[{i}]"), v))
+            .collect::<ScriptResult<_>>()?;
+        return Ok(Some(Quat::from_xyzw(c[0], c[1], c[2], c[3])));
+    }
+    Ok(None)
+}
+
 fn floats(func: &str, values: &Array) -> ScriptResult<Vec<f64>> {
     values.iter().enumerate().map(|(i, v)| number(func, &format!("values[{i}]"), v)).collect()
 }
@@ -64,6 +132,8 @@ pub mod voxel_api {
     /// A closed mesh voxelized into an n³ grid with partial coverage as density. The mesh's
     /// bounds plus one voxel of margin map into the grid, and the grid keeps that mapping: its
     /// `to_mesh` results, shapes filled into it and sculpt positions are in the mesh's coordinates.
+    ///
+    /// Topic: voxels
     ///
     /// ```rhai
     /// let vx = voxelize(cube(2), 32);
@@ -237,9 +307,12 @@ pub mod voxel_api {
         vx.0.memory_bytes() as INT
     }
 
-    /// Sculpts this grid with `tool` (another `Voxels`, e.g. an object sculpted earlier): the
-    /// tool grid's centre goes to `at` (world coordinates, required), turned by `angle` degrees
-    /// (default 0) about `axis` (default `[0, 0, 1]`) through that centre; each voxel in contact
+    /// Sculpts this grid with `tool` (another `Voxels`, e.g. an object sculpted earlier, or
+    /// `voxel_sphere(r)` / `voxel_box(size)`): the tool grid's centre goes to `at` (world
+    /// coordinates, required), turned about that centre by one of: `angle` degrees (default 0)
+    /// about `axis` (default `[0, 0, 1]`); `rotate`, a list of turns `[axis, degrees]` applied in
+    /// order (the axis a vector or `"x"`, `"y"`, `"z"`); or `quaternion`, `[x, y, z, w]` of any
+    /// non-zero length (normalised). Each voxel in contact
     /// gains (`mode: "add"`, the default) or loses (`"subtract"`) the tool's density there,
     /// clamped to 0–255. `antialias` (default true) resamples the rotated tool trilinearly.
     /// Returns `#{contact, rotated, reused, changed}` voxel counts: rotated tool voxels are
@@ -255,10 +328,16 @@ pub mod voxel_api {
     /// assert(r.changed > 0, "the ball bit into the block");
     /// assert(block.volume() < before, "material was removed");
     /// block.sculpt(ball, #{ at: [16, 16, 4], axis: [1, 1, 0], angle: 30, mode: "subtract", antialias: false });
+    /// // A box tool turned 30° about z, then 20° about x; the same turn as a quaternion.
+    /// let key = voxel_box([8, 4, 4]);
+    /// block.sculpt(key, #{ at: [10, 16, 16], rotate: [["z", 30], ["x", 20]], mode: "subtract" });
+    /// let s = sin(PI() / 12.0);
+    /// block.sculpt(key, #{ at: [22, 16, 16], quaternion: [0, 0, s, cos(PI() / 12.0)], mode: "subtract" });
     /// ```
     #[rhai_fn(return_raw)]
     pub fn sculpt(vx: &mut Voxels, tool: Voxels, options: Map) -> ScriptResult<Map> {
-        let opts = Options::new("sculpt", options, &["at", "axis", "angle", "mode", "antialias"])?;
+        let opts =
+            Options::new("sculpt", options, &["at", "axis", "angle", "rotate", "quaternion", "mode", "antialias"])?;
         let Some(at) = opts.raw("at") else {
             return fail("sculpt", "option `at` (where the tool's centre goes) is required");
         };
@@ -272,10 +351,13 @@ pub mod voxel_api {
             "subtract" => SculptMode::Subtract,
             _ => SculptMode::Add,
         };
-        let o = SculptOptions::at(at)
+        let mut o = SculptOptions::at(at)
             .with_rotation(axis, angle)
             .with_mode(mode)
             .with_antialias(opts.bool("antialias", true)?);
+        if let Some(q) = sculpt_rotation(&opts)? {
+            o = o.with_quat(q);
+        }
         let r = kernel("sculpt", vx.get_mut().sculpt(&tool.0, &o))?;
         let mut m = Map::new();
         m.insert("contact".into(), Dynamic::from(r.contact as INT));
@@ -303,7 +385,10 @@ pub mod voxel_api {
     }
 
     /// The surface of level 0 at iso level 127.5 (half coverage) by marching cubes, in world
-    /// coordinates: a closed, manifold triangle mesh (the grid border caps the object).
+    /// coordinates: a closed, manifold triangle mesh (the grid border caps the object). The
+    /// densities are first smoothed by a small filter (7 taps, zero second moment), so curved
+    /// surfaces show no terraces and rotated flat faces stay flat; sharp edges round over about
+    /// three voxels. `to_mesh(#{ surface: "raw" })` meshes the densities themselves.
     ///
     /// ```rhai
     /// let vx = voxels(32);
@@ -317,9 +402,12 @@ pub mod voxel_api {
         kernel("to_mesh", vx.get_mut().to_mesh(0, DEFAULT_ISO)).map(SharedMesh::new)
     }
 
-    /// The surface with options `level` (level of detail, default 0) and `iso` (density above
-    /// which a voxel is inside, in [0, 255), default 127.5). Each level's surface is cached and
-    /// only the parts a sculpt touched are re-meshed.
+    /// The surface with options `level` (level of detail, default 0), `iso` (density above
+    /// which a voxel is inside, in [0, 255), default 127.5) and `surface`: `"smooth"` (default,
+    /// the densities smoothed first: no terraces, edges rounded over about three voxels) or
+    /// `"raw"` (the densities themselves, stepped where they jump from 0 to 255, exact for small
+    /// features). Each level's surface is cached and only the parts a sculpt touched are
+    /// re-meshed.
     ///
     /// ```rhai
     /// let vx = voxels(32);
@@ -328,16 +416,57 @@ pub mod voxel_api {
     /// let coarse = vx.to_mesh(#{ level: 2, iso: 100 });
     /// assert(coarse.face_count < fine.face_count, "coarser level, fewer faces");
     /// assert(coarse.is_closed(), "closed at every level");
+    /// let raw = vx.to_mesh(#{ surface: "raw" });
+    /// assert(raw.is_closed() && raw.genus() == 0, "the raw surface is kept");
     /// ```
     #[rhai_fn(name = "to_mesh", pure, return_raw)]
     pub fn to_mesh_with(vx: &mut Voxels, options: Map) -> ScriptResult<SharedMesh> {
-        let opts = Options::new("to_mesh", options, &["level", "iso"])?;
+        let opts = Options::new("to_mesh", options, &["level", "iso", "surface"])?;
         let lvl = match opts.raw("level") {
             Some(v) => level("to_mesh", v)?,
             None => 0,
         };
         let iso = opts.number("iso", DEFAULT_ISO)?;
-        kernel("to_mesh", vx.get_mut().to_mesh(lvl, iso)).map(SharedMesh::new)
+        let surface = match opts.choice("surface", "smooth", &["smooth", "raw"])?.as_str() {
+            "raw" => Surface::Raw,
+            _ => Surface::Smooth,
+        };
+        kernel("to_mesh", vx.get_mut().to_mesh_with(lvl, iso, surface)).map(SharedMesh::new)
+    }
+
+    /// A tool grid holding a ball of radius `r` (voxel units) at its centre, with one empty voxel
+    /// of margin (the smallest power-of-two side above 2r + 2), mapped so its centre is world
+    /// position 0: `sculpt` places it by that centre, and its `to_mesh` is centred on the origin.
+    ///
+    /// ```rhai
+    /// let ball = voxel_sphere(5);
+    /// assert_eq(ball.size, 16);
+    /// assert_near(ball.volume(), 4.0 / 3.0 * PI() * 125.0, 1.0);
+    /// let block = voxels(32);
+    /// block.fill_box([0, 0, 0], [32, 32, 16]);
+    /// block.sculpt(ball, #{ at: [16, 16, 16], mode: "subtract" });   // a hemispherical dent
+    /// assert_near(block.volume(), 32.0 * 32.0 * 16.0 - 2.0 / 3.0 * PI() * 125.0, 2.0);
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn voxel_sphere(r: Number) -> ScriptResult<Voxels> {
+        let r = number("voxel_sphere", "r", &r)?;
+        kernel("voxel_sphere", KernelVoxels::centred_sphere(r)).map(|v| Voxels(Rc::new(v)))
+    }
+
+    /// A tool grid holding an axis-aligned box of `size` (a number for a cube, or `[x, y, z]`, in
+    /// voxel units) at its centre, with one empty voxel of margin, mapped so its centre is world
+    /// position 0 (see `voxel_sphere`).
+    ///
+    /// ```rhai
+    /// let key = voxel_box([6, 4, 2]);
+    /// assert_eq(key.size, 8);
+    /// assert_near(key.volume(), 48.0, 1e-9);
+    /// assert_near(voxel_box(3).volume(), 27.0, 1e-9);
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn voxel_box(size: NumberOrVector) -> ScriptResult<Voxels> {
+        let s = factor3("voxel_box", "size", &size)?;
+        kernel("voxel_box", KernelVoxels::centred_box(s)).map(|v| Voxels(Rc::new(v)))
     }
 
     /// The 1D Haar decomposition of `values` (length a power of two): the coarsest average, then

@@ -14,10 +14,13 @@ use crate::catalogue::Overload;
 ///   "functions": [ { "name": "cube", "overloads": [ { "signature": "cube(size: any) -> Mesh",
 ///       "kind": "function" | "method" | "property" | "operator", "property": null | "get" | "set",
 ///       "receiver": null | "Mesh", "params": [ { "name": "size", "type": "any" } ],
-///       "returns": "Mesh", "doc": "...", "examples": ["..."] } ] } ],
+///       "returns": "Mesh", "doc": "...", "examples": ["..."],
+///       "topic": null | "primitives", "section": "Primitives" } ] } ],
 ///   "modules": [ { "name": "check", "import": "import \"check\" as check;", "doc": "...",
 ///       "functions": [ { "name": "check::solid", "signature": "check::solid(m, genus)",
-///         "params": [ { "name": "m", "type": "any" } ], "doc": "...", "examples": [] } ] } ] }
+///         "params": [ { "name": "m", "type": "any" } ], "doc": "...", "examples": [] } ] } ],
+///   "builtins": [ { "name": "sin", "signature": "sin(x: float) -> float", "params": [...],
+///       "returns": "float", "doc": "..." } ] }
 /// ```
 #[must_use]
 pub fn reference(r: &Reference) -> Value {
@@ -62,16 +65,31 @@ pub fn reference(r: &Reference) -> Value {
             })
         })
         .collect();
-    json!({ "version": env!("CARGO_PKG_VERSION"), "functions": functions, "modules": modules })
+    let builtins: Vec<Value> = r
+        .builtins
+        .iter()
+        .map(|f| {
+            json!({
+                "name": f.name,
+                "signature": f.signature(),
+                "params": f.params.iter().map(|(n, t)| json!({ "name": n, "type": t })).collect::<Vec<_>>(),
+                "returns": f.returns,
+                "doc": f.doc,
+            })
+        })
+        .collect();
+    json!({ "version": env!("CARGO_PKG_VERSION"), "functions": functions, "modules": modules, "builtins": builtins })
 }
 
 /// One overload's object.
 fn overload(f: &Overload) -> Value {
-    let kind = match (Section::of(f), f.property) {
-        (Section::Operators, _) => "operator",
-        (_, Some(_)) => "property",
-        (Section::Type(_), None) => "method",
-        (Section::Functions, None) => "function",
+    // `kind` keeps its first meaning (by the first parameter's type), whatever the topic.
+    let operator = !f.name.starts_with(|c: char| c.is_alphabetic() || c == '_');
+    let kind = match (operator, f.property, f.receiver()) {
+        (true, _, _) => "operator",
+        (_, Some(_), _) => "property",
+        (_, None, Some(_)) => "method",
+        (_, None, None) => "function",
     };
     json!({
         "signature": f.signature(),
@@ -82,5 +100,7 @@ fn overload(f: &Overload) -> Value {
         "returns": f.returns,
         "doc": f.doc,
         "examples": super::examples_in(&f.doc),
+        "topic": f.topic,
+        "section": Section::of(f).title(),
     })
 }

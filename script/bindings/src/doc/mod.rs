@@ -1,10 +1,13 @@
 //! `blocksmith doc`: the API reference, generated from the engine's own function metadata and
 //! the doc comments of the bindings (never a hand-written list).
 
+pub mod guides;
 pub mod html;
 pub mod json;
 pub mod modules;
 pub mod reference;
+pub mod topics;
+pub mod traps;
 
 use std::collections::BTreeMap;
 

@@ -1,11 +1,13 @@
 //! `blocksmith run FILE.rhai [-o OUT]`: evaluates a recipe through the runner
 //! ([`blocksmith_script::run::run_recipe`]) and writes its last value to a model file; with
-//! `--stats json` also prints the written model's facts, with `--manifest` writes a manifest.
+//! `--stats json` also prints the written model's facts (alone on standard output: the recipe's
+//! `print` and `debug` then go to standard error), with `--manifest` writes a manifest.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Duration;
 
+use blocksmith_script::context::PrintTo;
 use blocksmith_script::progress::Progress;
 use blocksmith_script::run::{describe, run_recipe, save_value, RecipeRun, RunError};
 use blocksmith_script::{EngineOptions, RunContext};
@@ -62,7 +64,10 @@ pub fn execute_with_outcome(cmd: &RunCommand) -> Result<RunOutcome, RunError> {
     if cmd.stats && cmd.output.is_none() {
         return Err(RunError("error: --stats needs -o OUT: the facts are those of the written model".into()));
     }
-    let context = RunContext { params: cmd.params.iter().cloned().collect(), ..RunContext::default() };
+    // With the stats on standard output, the recipe's `print` and `debug` go to standard error:
+    // `run --stats json | jq` reads the stats alone.
+    let print_to = if cmd.stats { PrintTo::Stderr } else { PrintTo::Stdout };
+    let context = RunContext { params: cmd.params.iter().cloned().collect(), print_to, ..RunContext::default() };
     let options = EngineOptions {
         context,
         max_operations: cmd.max_operations,

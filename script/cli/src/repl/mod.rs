@@ -31,7 +31,9 @@ Commands:
   :help          this text
   :doc NAME      the reference of a function (`:doc` alone lists everything)
   :load FILE     run a script in this session (its functions and variables stay)
-  :save PATH     write the last value (a mesh...) to PATH by extension
+  :save PATH [EXPR]
+                 write EXPR's value (or the last value) to PATH by extension and say
+                 which value it wrote; quote a PATH with spaces: :save \"my part.stl\" m
   :show [EXPR]   show EXPR (or the last value) in the studio page, started on first use;
                  show(value) in code does the same
   :quit          leave (Ctrl-D too)
@@ -108,6 +110,18 @@ fn imports_of(entry: &str) -> Vec<(String, String)> {
         }
     }
     out
+}
+
+/// `:save`'s argument as `(path, expression)`: the path is the first word, or a quoted
+/// string (`"my part.stl"`); the rest, trimmed, is the expression (empty for the last value).
+fn split_path(arg: &str) -> (&str, &str) {
+    let arg = arg.trim();
+    if let Some(quoted) = arg.strip_prefix('"') {
+        if let Some(end) = quoted.find('"') {
+            return (&quoted[..end], quoted[end + 1..].trim());
+        }
+    }
+    arg.split_once(char::is_whitespace).map_or((arg, ""), |(p, e)| (p, e.trim()))
 }
 
 /// One REPL session: the engine, the variables, the functions defined so far and the last value.
@@ -222,14 +236,7 @@ impl Session {
                 "help" | "h" => Some(HELP.to_string()),
                 "doc" => Some(doc::render(&self.engine, (!arg.is_empty()).then_some(arg)).unwrap_or_else(|e| e)),
                 "load" if !arg.is_empty() => Some(self.load(arg)),
-                "save" if !arg.is_empty() => {
-                    self.interrupt.store(false, Ordering::SeqCst);
-                    blocksmith_script::set_limits(&mut self.engine, &self.limits);
-                    Some(match save_value(&self.engine, &self.functions, self.last.clone(), &PathBuf::from(arg)) {
-                        Ok(()) => format!("wrote {arg}"),
-                        Err(e) => e.0,
-                    })
-                }
+                "save" if !arg.is_empty() => Some(self.save_command(arg)),
                 "load" | "save" => Some(format!(":{name} needs a path")),
                 "show" => Some(self.show_command(arg)),
                 _ => Some(format!("unknown command :{name} (try :help)")),
@@ -250,6 +257,36 @@ impl Session {
             said
         } else {
             format!("{out}\n{said}")
+        }
+    }
+
+    /// `:save PATH [EXPR]`: writes the value of `EXPR` (or the last value) to `PATH` and says
+    /// which value it wrote, so a save of the wrong value does not pass unnoticed.
+    fn save_command(&mut self, arg: &str) -> String {
+        let (path, expr) = split_path(arg);
+        if path.is_empty() {
+            return ":save needs a path: `:save PATH [EXPR]`".into();
+        }
+        let (value, from) = if expr.is_empty() {
+            if self.last.is_unit() {
+                return format!(
+                    "nothing to save to {path}: evaluate a value first, or name one (`:save {path} cube(1)`)"
+                );
+            }
+            (self.last.clone(), "the last value".to_string())
+        } else {
+            match self.eval_value(expr, "<repl>") {
+                Ok(v) if v.is_unit() => return format!("nothing to save to {path}: `{expr}` has no value"),
+                Ok(v) => (v, format!("`{expr}`")),
+                Err(e) => return e,
+            }
+        };
+        let what = describe(&self.engine, &value);
+        self.interrupt.store(false, Ordering::SeqCst);
+        blocksmith_script::set_limits(&mut self.engine, &self.limits);
+        match save_value(&self.engine, &self.functions, value, &PathBuf::from(path)) {
+            Ok(()) => format!("wrote {path}: {from}, {what}"),
+            Err(e) => e.0,
         }
     }
 
@@ -548,5 +585,49 @@ mod tests {
         assert_eq!(complete::candidates(&known, cat, "sh::bo", 6).1, ["bowl", "box_of"]);
         assert_eq!(complete::candidates(&known, cat, "sh::S", 5).1, ["SIDE"]);
         assert!(s.handle("sh::box_of(2)").unwrap().contains("Mesh(8 vertices"));
+    }
+
+    #[test]
+    fn save_writes_the_expression_or_the_last_value_and_says_which() {
+        let dir = tempfile::tempdir().unwrap();
+        let at = |name: &str| dir.path().join(name).to_string_lossy().replace('\\', "/");
+        let mut s = Session::new(Arc::new(AtomicBool::new(false)));
+        let none = s.handle(&format!(":save {}", at("none.stl"))).unwrap();
+        assert!(none.starts_with("nothing to save to "), "{none}");
+        s.handle("let small = cube(1);").unwrap();
+        s.handle("let big = cube(4);").unwrap();
+        s.handle("big").unwrap();
+        // An expression names the value; the answer says which value went where.
+        let said = s.handle(&format!(":save {} small", at("small.stl"))).unwrap();
+        assert!(said.starts_with(&format!("wrote {}: `small`, Mesh(8 vertices", at("small.stl"))), "{said}");
+        let back = blocksmith_kernel::io::load(std::path::Path::new(&at("small.stl"))).unwrap();
+        assert!((back.volume() - 1.0).abs() < 1e-6, "the small cube was written: {}", back.volume());
+        // Without one, the last value, said so.
+        let said = s.handle(&format!(":save {}", at("last.stl"))).unwrap();
+        assert!(said.contains(": the last value, Mesh(8 vertices"), "{said}");
+        // A quoted path with a space, then an expression.
+        let said = s.handle(&format!(":save \"{}\" big.translate([1, 0, 0])", at("a b.stl"))).unwrap();
+        assert!(said.contains("`big.translate([1, 0, 0])`"), "{said}");
+        assert!(std::path::Path::new(&at("a b.stl")).exists());
+        // A failing expression is reported at its place, nothing written.
+        let err = s.handle(&format!(":save {} nope", at("nope.stl"))).unwrap();
+        assert!(err.contains("nope") && !std::path::Path::new(&at("nope.stl")).exists(), "{err}");
+        assert_eq!(split_path("out.glb  m.translate([1, 0, 0])"), ("out.glb", "m.translate([1, 0, 0])"));
+        assert_eq!(split_path("\"a b.glb\""), ("a b.glb", ""));
+    }
+
+    #[test]
+    fn save_of_a_value_that_cannot_be_saved_lists_each_savable_type_once() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut s = Session::new(Arc::new(AtomicBool::new(false)));
+        let path = dir.path().join("x.glb").to_string_lossy().replace('\\', "/");
+        let said = s.handle(&format!(":save {path} 42")).unwrap();
+        assert!(said.contains("cannot be saved"), "{said}");
+        let list = &said[said.find("one of ").expect("a list of types") + "one of ".len()..];
+        let types: Vec<&str> = list.trim_end_matches(')').split(", ").collect();
+        let mut unique = types.clone();
+        unique.dedup();
+        assert_eq!(types, unique, "{said}");
+        assert!(types.contains(&"Mesh"), "{said}");
     }
 }
