@@ -71,3 +71,5 @@ pub enum CsgOp {
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod tests_colors;

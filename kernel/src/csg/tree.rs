@@ -30,7 +30,7 @@ use super::{CsgError, CsgOp, Side};
 use crate::blocks::{BlockError, BlockModel, MeshOptions};
 use crate::limits::{check_memory, CancelToken, LimitError, StopReason};
 use crate::math::{Aabb, Vec3};
-use crate::mesh::{FaceSource, Mesh, MeshError};
+use crate::mesh::{FacePart, FaceSource, Mesh, MeshError};
 
 /// A CSG tree. Cloning is cheap (inputs are shared).
 #[derive(Clone, Debug)]
@@ -136,6 +136,10 @@ impl Csg {
         }
         check_memory(|| format!("a boolean of {total} triangles"), total as f64 * ENGINE_BYTES_PER_TRIANGLE)?;
         let mut offsets = Vec::with_capacity(prepared.len());
+        // Face parts (colours, origins): the leaves' tables joined, and the joined part of every
+        // face tag (a leaf without parts gets one default part).
+        let any_parts = prepared.iter().any(|p| !p.parts.is_empty());
+        let (mut part_table, mut tag_parts) = (Vec::new(), Vec::new());
         let mut first_leaf = 0u32;
         let mut tag = 0u32;
         let mut sources = Vec::new();
@@ -153,6 +157,16 @@ impl Csg {
             }
             tag += p.face_sources.len() as u32;
             first_leaf += p.leaf_span;
+            if any_parts {
+                let base = part_table.len() as u32;
+                if p.parts.is_empty() {
+                    part_table.push(FacePart::default());
+                    tag_parts.extend(std::iter::repeat_n(base, p.face_sources.len()));
+                } else {
+                    part_table.extend_from_slice(&p.parts);
+                    tag_parts.extend(p.group_parts.iter().map(|&g| base + g));
+                }
+            }
         }
         // The import plan: which pieces (a mesh leaf, or one connected part of a block model)
         // go into the engine together, with engine ids reserved in plan order so the same tree
@@ -210,6 +224,10 @@ impl Csg {
             }
         }
         mesh.set_face_sources(Some(face_sources)).map_err(|e| CsgError::Engine { reason: e.to_string() })?;
+        if any_parts {
+            let ids = out.tags.iter().map(|&t| tag_parts.get(t as usize).copied().unwrap_or(0)).collect();
+            mesh.set_face_parts(ids, part_table).map_err(|e| CsgError::Engine { reason: e.to_string() })?;
+        }
         Ok(mesh)
     }
 }
@@ -552,6 +570,11 @@ struct Prepared {
     faces: Vec<u32>,
     /// The source of each face.
     face_sources: Vec<FaceSource>,
+    /// The part (colour, origin) of each face, indexing `parts`; both empty when the input has
+    /// no parts. Looked up by face tag rather than through the sources, which name the leaves of
+    /// an earlier boolean rather than this input's faces.
+    group_parts: Vec<u32>,
+    parts: Vec<FacePart>,
     /// Crease edges: the faces on their two sides, the segment and its sharpness.
     creases: Vec<(u32, u32, [Vec3; 2], f64)>,
     /// Vertices with a corner sharpness: position and sharpness.
@@ -641,6 +664,17 @@ fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
     crate::limits::charge(triangles.len() as u64)?;
     let (faces, face_sources, creases) = coplanar_faces(&mesh, &triangles, &sources, raw)?;
     crate::limits::charge(triangles.len() as u64)?;
+    // Faces never span two parts (see `coplanar_faces`): each takes its first triangle's.
+    let (group_parts, parts) = match mesh.face_part_ids() {
+        Some(ids) => {
+            let mut group_parts = vec![0; face_sources.len()];
+            for (t, &g) in faces.iter().enumerate().rev() {
+                group_parts[g as usize] = ids[t];
+            }
+            (group_parts, mesh.parts().to_vec())
+        }
+        None => (Vec::new(), Vec::new()),
+    };
     let corners = (0..mesh.vertex_count() as u32)
         .filter(|&v| mesh.is_corner(v))
         .map(|v| (mesh.position(v), mesh.corner_sharpness(v)))
@@ -650,6 +684,8 @@ fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
         triangles,
         faces,
         face_sources,
+        group_parts,
+        parts,
         creases,
         corners,
         leaf_span,
@@ -662,7 +698,7 @@ fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
 const COPLANAR_SINE: f64 = 1e-10;
 
 /// The faces of a leaf (see [`Prepared`]): triangles joined across every edge that is no crease,
-/// between triangles of one source (any two, when `any_source`) whose normals agree; with the
+/// between triangles of one source (any two, when `any_source`) and one part whose normals agree; with the
 /// face sources (a face's first triangle's) and the crease edges between faces with their
 /// sharpness.
 ///
@@ -692,7 +728,8 @@ pub(super) fn coplanar_faces(
     let mut parent: Vec<u32> = (0..triangles.len() as u32).collect();
     let joinable = |h: u32| {
         let (f, g) = (mesh.face(h) as usize, mesh.face(mesh.twin(h)) as usize);
-        (!mesh.is_crease(h) && (any_source || sources[f] == sources[g])).then_some((f, g))
+        let same_part = mesh.face_part_ids().is_none_or(|ids| ids[f] == ids[g]);
+        (!mesh.is_crease(h) && (any_source || sources[f] == sources[g]) && same_part).then_some((f, g))
     };
     let join = |parent: &mut [u32], f: usize, g: usize| {
         let (a, b) = (root(parent, f as u32), root(parent, g as u32));

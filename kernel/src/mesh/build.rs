@@ -249,6 +249,8 @@ impl Mesh {
             subdiv_options: SubdivOptions::default(),
             vertex_colors: None,
             face_sources: None,
+            face_parts: None,
+            parts: Vec::new(),
         })
     }
 }
@@ -358,6 +360,8 @@ impl Mesh {
             subdiv_options: SubdivOptions::default(),
             vertex_colors: None,
             face_sources: None,
+            face_parts: None,
+            parts: Vec::new(),
         })
     }
 }

@@ -1,12 +1,13 @@
 //! Disjoint union: several meshes gathered into one without joining them.
 
+use super::face_part::{joined_id, joined_parts};
 use super::{FaceSource, Mesh, MeshError};
 
 impl Mesh {
     /// One mesh holding every mesh of `parts` side by side: vertex and face ids of part k are
-    /// offset by the counts of the parts before it; crease tags, corners, colours and face sources are
-    /// kept (parts without colours get white where another part has colours, parts without sources
-    /// [`FaceSource::Unknown`]).
+    /// offset by the counts of the parts before it; crease tags, corners, colours, face sources and
+    /// face parts are kept (parts without colours get white where another part has colours, parts
+    /// without sources [`FaceSource::Unknown`], meshes without face parts a default part each).
     ///
     /// No intersection is resolved: overlapping parts stay overlapping (see the CSG module for
     /// booleans).
@@ -46,6 +47,15 @@ impl Mesh {
             positions.extend_from_slice(&m.positions);
         }
         let mut out = Mesh::from_indexed(positions, &indices, &arities)?;
+        if let Some((table, offsets)) = joined_parts(parts) {
+            let ids = parts
+                .iter()
+                .zip(&offsets)
+                .flat_map(|(m, &o)| (0..m.face_count() as u32).map(move |f| joined_id(m, o, f)))
+                .collect();
+            out.face_parts = Some(ids);
+            out.parts = table;
+        }
         for ([a, b], s) in creases {
             let h = out.find_halfedge(a, b).ok_or(MeshError::NotAnEdge { a, b })?;
             out.set_edge_sharpness_halfedge(h, s);

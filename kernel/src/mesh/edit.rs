@@ -294,7 +294,8 @@ impl Mesh {
     /// - `new_positions`: the positions of the new vertices (each must be used by a polygon).
     ///
     /// The result: the removed faces are gone with every edge and vertex only they used; the new
-    /// polygons are faces. Edges around the patch keep their half-edge ids (and crease tags);
+    /// polygons are faces, in the part (colour, origin) of the first removed face. Edges around
+    /// the patch keep their half-edge ids (and crease tags);
     /// vertices and half-edges left without a face are deleted. Time and memory are
     /// proportional to the patch (the corners of removed and added faces, and the valences of
     /// their vertices), whatever the size of the mesh.
@@ -500,8 +501,10 @@ impl Mesh {
         }
 
         // ---- Everything is valid: mutate. ----
-        // A topological edit does not know where its new faces came from.
+        // A topological edit does not know where its new faces came from; their part (colour,
+        // origin) is the first removed face's.
         self.face_sources = None;
+        let new_part = self.face_parts.as_ref().map(|ids| remove.first().map_or(0, |&f| ids[f as usize]));
         let mut log = EditLog { removed_vertices: dead_v.clone(), ..EditLog::default() };
 
         // 5. Slots: new elements take the slots of deleted ones first.
@@ -561,12 +564,19 @@ impl Mesh {
         dead_f.sort_unstable();
         let mut face_slot: Vec<u32> = Vec::with_capacity(add.len());
         for i in 0..add.len() {
-            face_slot.push(if i < dead_f.len() {
+            let slot = if i < dead_f.len() {
                 dead_f[i]
             } else {
                 self.face_he.push(NONE);
+                if let Some(ids) = &mut self.face_parts {
+                    ids.push(0);
+                }
                 (self.face_he.len() - 1) as u32
-            });
+            };
+            if let (Some(ids), Some(part)) = (&mut self.face_parts, new_part) {
+                ids[slot as usize] = part;
+            }
+            face_slot.push(slot);
         }
         let mut leftover_f: Vec<u32> = dead_f.iter().skip(add.len()).copied().collect();
         let mut leftover_v: Vec<u32> = dead_v.iter().skip(nnew).copied().collect();
@@ -642,6 +652,9 @@ impl Mesh {
                 log.face_moves.push((last, x));
             }
             self.face_he.pop();
+            if let Some(ids) = &mut self.face_parts {
+                ids.pop();
+            }
         }
         log.final_len = [self.positions.len(), self.he_origin.len(), self.face_he.len()];
         debug_assert!(log.face_moves.iter().all(|&(from, _)| !face_slot.contains(&from)));
@@ -708,6 +721,9 @@ impl Mesh {
             self.he_face[h as usize] = to;
         }
         self.face_he[to as usize] = self.face_he[from as usize];
+        if let Some(ids) = &mut self.face_parts {
+            ids[to as usize] = ids[from as usize];
+        }
     }
 
     /// The two faces of an interior edge, or an error naming the edge.

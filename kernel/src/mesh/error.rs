@@ -37,6 +37,9 @@ pub enum MeshError {
     /// A crease or corner sharpness that is NaN or negative.
     #[error("sharpness {sharpness} is not valid: it must be 0 (smooth) or more, up to infinity")]
     BadSharpness { sharpness: f64 },
+    /// A colour component outside `0..=1` (or NaN).
+    #[error("colour component {component} must be between 0 and 1, got {value}")]
+    BadColor { component: usize, value: f64 },
     /// A face that cannot be triangulated in its plane.
     #[error("face {face} cannot be triangulated: {reason}")]
     Triangulation { face: usize, reason: String },

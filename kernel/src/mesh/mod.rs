@@ -15,6 +15,7 @@ mod combine;
 pub mod edit;
 mod error;
 mod estimate;
+mod face_part;
 mod face_source;
 mod measure;
 mod primitive_checks;
@@ -26,6 +27,7 @@ mod triangulate;
 pub use attributes::check_sharpness;
 pub use error::MeshError;
 pub use estimate::{check_mesh_size, mesh_bytes};
+pub use face_part::{check_color, parse_hex_color, to_hex_color, FacePart, Origin, Rgba, Span};
 pub use face_source::{BlockSubFace, FaceSource};
 pub use measure::Measures;
 pub use primitive_checks::{check_length, check_point, MAX_LENGTH, MIN_LENGTH};
@@ -62,6 +64,10 @@ pub struct Mesh {
     vertex_colors: Option<Vec<[f32; 4]>>,
     /// Optional provenance per face: the input each face of a boolean result came from.
     face_sources: Option<Vec<FaceSource>>,
+    /// Optional part id per face (colour, name, recipe origin), indexing `parts`; see [`FacePart`].
+    face_parts: Option<Vec<u32>>,
+    /// The part table the ids of `face_parts` index (empty when `face_parts` is `None`).
+    parts: Vec<FacePart>,
 }
 
 impl Mesh {

@@ -61,7 +61,7 @@ impl Mesh {
     }
 
     /// Copies crease sharpness (by vertex pair), corner sharpness and colours from `other`, a mesh with
-    /// the same vertices, and its face sources when it has as many faces (face ids kept).
+    /// the same vertices, and its face sources and parts when it has as many faces (face ids kept).
     pub(crate) fn copy_attributes_from(&mut self, other: &Mesh) {
         for ([a, b], s) in other.crease_sharpnesses() {
             if let Some(h) = self.find_halfedge(a, b) {
@@ -73,6 +73,8 @@ impl Mesh {
         self.vertex_colors.clone_from(&other.vertex_colors);
         if other.face_count() == self.face_count() {
             self.face_sources.clone_from(&other.face_sources);
+            self.face_parts.clone_from(&other.face_parts);
+            self.parts.clone_from(&other.parts);
         }
     }
 }

@@ -387,8 +387,8 @@ impl Mesh {
     /// triangles (see [`Mesh::triangulate_faces`]), and a vertex added at the centre of each
     /// face that no cut between its corners fits (ids from the vertex count on; see the module
     /// documentation), so that any manifold polygon mesh gives a manifold triangle mesh. Crease
-    /// tags, corners, colours (an added vertex takes the mean of its face's) and face sources
-    /// kept. Returns also, for each triangle, the face it came from.
+    /// tags, corners, colours (an added vertex takes the mean of its face's), face sources and
+    /// face parts kept. Returns also, for each triangle, the face it came from.
     ///
     /// # Errors
     /// [`MeshError::Triangulation`] naming the first face that cannot be triangulated (a planar
@@ -416,6 +416,7 @@ impl Mesh {
         if let Some(fs) = &self.face_sources {
             m.face_sources = Some(sources.iter().map(|&f| fs[f as usize]).collect());
         }
+        m.inherit_parts(self, &sources)?;
         Ok((m, sources))
     }
 

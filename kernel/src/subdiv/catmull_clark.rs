@@ -12,8 +12,9 @@ impl Mesh {
     /// Any polygons in; after one step every face is a quad (a face of arity n makes n quads).
     /// Crease-tagged edges and boundary edges are infinitely sharp; corner-marked vertices and
     /// vertices with three or more sharp edges stay put. Tags survive: each sharp edge becomes two,
-    /// corner marks stay on the vertex. Vertex ids: the input's vertices keep theirs, then edge
-    /// points, then face points; the layout is documented in [`super::refiner`].
+    /// corner marks stay on the vertex, each child face keeps its parent's part (colour, origin).
+    /// Vertex ids: the input's vertices keep theirs, then edge points, then face points; the
+    /// layout is documented in [`super::refiner`].
     ///
     /// One step of the ±1 cube: 26 vertices, 24 quads; corners at (±5/9, ±5/9, ±5/9), edge
     /// midpoints at (±3/4, ±3/4, 0) and the like, face points at the face centres.
@@ -47,7 +48,11 @@ impl Mesh {
         }
         let r = Refiner::with_options(self, Scheme::CatmullClark, levels, options)?;
         let p = r.try_refine_positions(self.positions())?;
-        r.to_mesh(p)
+        let mut m = r.to_mesh(p)?;
+        if self.face_part_ids().is_some() {
+            m.inherit_parts(self, &r.base_faces()).map_err(|e| SubdivError::Internal(e.to_string()))?;
+        }
+        Ok(m)
     }
 }
 

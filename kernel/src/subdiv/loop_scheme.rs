@@ -37,7 +37,11 @@ impl Mesh {
             return Ok(self.clone());
         }
         let p = r.try_refine_positions(self.positions())?;
-        r.to_mesh(p)
+        let mut m = r.to_mesh(p)?;
+        if self.face_part_ids().is_some() {
+            m.inherit_parts(self, &r.base_faces()).map_err(|e| SubdivError::Internal(e.to_string()))?;
+        }
+        Ok(m)
     }
 }
 

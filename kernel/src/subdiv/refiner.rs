@@ -251,6 +251,27 @@ impl Refiner {
         self.levels.last().expect("base level").child_faces(self.scheme == Scheme::Loop)
     }
 
+    /// For each face of the last level, the base-level (input mesh) face it lies in: Catmull–Clark
+    /// makes one child quad per corner of a face, in corner order, and Loop four children per
+    /// triangle (see [`super::refiner`]'s layout), so each level maps its children to their parents
+    /// in one pass.
+    #[must_use]
+    pub fn base_faces(&self) -> Vec<u32> {
+        let base = &self.levels[0];
+        let mut ids: Vec<u32> = (0..base.face_count() as u32).collect();
+        if self.depth == 0 {
+            return ids;
+        }
+        for lv in &self.levels {
+            ids = if self.scheme == Scheme::Loop {
+                ids.iter().flat_map(|&f| [f; 4]).collect()
+            } else {
+                (0..lv.face_count()).flat_map(|f| std::iter::repeat_n(ids[f], lv.face_range(f).len())).collect()
+            };
+        }
+        ids
+    }
+
     /// The mesh of the last level with the given positions (from [`Refiner::refine_positions`]),
     /// carrying the crease and corner sharpness down (semi-sharp values less one per level, or as
     /// the Chaikin option decays them; a corner the boundary mode sharpens is marked as one).
