@@ -119,12 +119,16 @@ fn first_misfit(o: &Overload, given: &[String]) -> Option<String> {
 }
 
 /// Whether a value of script type `given` fits a parameter of script type `param` (a `number`
-/// takes an int or a float, a `Vec3` an array too).
-fn fits(param: &str, given: &str) -> bool {
+/// takes an int or a float, a `Vec3` an array too). The language server judges calls with it
+/// before a run.
+#[must_use]
+pub fn fits(param: &str, given: &str) -> bool {
     param == "any"
         || param == given
         || param.split('|').any(|p| {
-            p == given || (p == "number" && matches!(given, "int" | "float")) || (p == "Vec3" && given == "array")
+            p == given
+                || (p == "number" && matches!(given, "int" | "float"))
+                || ((p == "Vec3" || p == "[x, y]") && given == "array")
         })
 }
 

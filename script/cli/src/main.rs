@@ -79,6 +79,7 @@ fn command() -> ExitCode {
         }
         Command::View { file, port, open } => commands::watch::execute(&file, Default::default(), port, open),
         Command::Doc { name, format } => commands::doc::execute(name.as_deref(), &format),
+        Command::Lsp => commands::lsp::execute(),
     }
 }
 
@@ -103,6 +104,6 @@ fn confine(command: &Command) -> Result<(), String> {
         }
         Command::Render { file, access, .. } => access.apply(file, &[], Saves::Report),
         Command::Watch { file, access, .. } => access.apply(file, &[], Saves::Report),
-        Command::View { .. } | Command::Doc { .. } => Ok(()),
+        Command::View { .. } | Command::Doc { .. } | Command::Lsp => Ok(()),
     }
 }

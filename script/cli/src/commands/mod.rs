@@ -2,6 +2,7 @@
 //! and returns the exit status.
 
 pub mod doc;
+pub mod lsp;
 pub mod params;
 pub mod render;
 pub mod repl;

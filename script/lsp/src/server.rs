@@ -1,0 +1,265 @@
+//! The protocol: rust-analyzer's `lsp-server` over standard input and output, one thread,
+//! full-text sync. Each open or changed document is diagnosed at once and its diagnostics
+//! published; requests are answered from the document's current text.
+
+use std::collections::HashMap;
+use std::path::PathBuf;
+
+use lsp_server::{Connection, ExtractError, Message, Notification, Request, RequestId, Response};
+use lsp_types::notification::{
+    DidChangeTextDocument, DidCloseTextDocument, DidOpenTextDocument, DidSaveTextDocument, Notification as _,
+    PublishDiagnostics,
+};
+use lsp_types::request::{
+    CodeLensRequest, Completion, DocumentSymbolRequest, ExecuteCommand, GotoDefinition, HoverRequest, InlayHintRequest,
+    Request as _, SignatureHelpRequest,
+};
+use lsp_types::{
+    CodeLensOptions, CompletionOptions, CompletionResponse, DocumentSymbolResponse, ExecuteCommandOptions,
+    GotoDefinitionResponse, HoverProviderCapability, OneOf, PublishDiagnosticsParams, ServerCapabilities, ServerInfo,
+    SignatureHelpOptions, TextDocumentSyncCapability, TextDocumentSyncKind, Uri,
+};
+
+use crate::lens::Outcome;
+use crate::navigate::path_of;
+use crate::text::Lines;
+use crate::Analyzer;
+
+/// What the server says it can do.
+#[must_use]
+pub fn capabilities() -> ServerCapabilities {
+    ServerCapabilities {
+        text_document_sync: Some(TextDocumentSyncCapability::Kind(TextDocumentSyncKind::FULL)),
+        completion_provider: Some(CompletionOptions {
+            trigger_characters: Some([".", ":", "\"", "{", ",", "/"].map(String::from).to_vec()),
+            ..CompletionOptions::default()
+        }),
+        hover_provider: Some(HoverProviderCapability::Simple(true)),
+        signature_help_provider: Some(SignatureHelpOptions {
+            trigger_characters: Some(vec!["(".into(), ",".into()]),
+            ..SignatureHelpOptions::default()
+        }),
+        definition_provider: Some(OneOf::Left(true)),
+        document_symbol_provider: Some(OneOf::Left(true)),
+        inlay_hint_provider: Some(OneOf::Left(true)),
+        code_lens_provider: Some(CodeLensOptions { resolve_provider: Some(false) }),
+        execute_command_provider: Some(ExecuteCommandOptions {
+            commands: vec![crate::lens::RUN.into()],
+            ..ExecuteCommandOptions::default()
+        }),
+        ..ServerCapabilities::default()
+    }
+}
+
+/// `blocksmith lsp`: serves the editor on standard input and output until it says `exit`.
+///
+/// # Errors
+/// The connection failed (the editor went away mid-message).
+pub fn serve_stdio() -> Result<(), String> {
+    let (connection, io_threads) = Connection::stdio();
+    let init = serde_json::json!({
+        "capabilities": capabilities(),
+        "serverInfo": ServerInfo { name: "blocksmith".into(), version: Some(env!("CARGO_PKG_VERSION").into()) },
+    });
+    let (id, _params) = connection.initialize_start().map_err(|e| format!("lsp: {e}"))?;
+    connection.initialize_finish(id, init).map_err(|e| format!("lsp: {e}"))?;
+    let mut server = Server { analyzer: Analyzer::new(), documents: HashMap::new(), outcomes: HashMap::new() };
+    server.main_loop(&connection)?;
+    drop(connection);
+    io_threads.join().map_err(|e| format!("lsp: {e}"))
+}
+
+/// The server's state: open documents and each one's last run.
+pub struct Server {
+    pub analyzer: Analyzer,
+    pub documents: HashMap<String, String>,
+    outcomes: HashMap<String, Outcome>,
+}
+
+impl Server {
+    /// A server with no documents open.
+    #[must_use]
+    pub fn new() -> Server {
+        Server { analyzer: Analyzer::new(), documents: HashMap::new(), outcomes: HashMap::new() }
+    }
+
+    fn main_loop(&mut self, connection: &Connection) -> Result<(), String> {
+        for message in &connection.receiver {
+            match message {
+                Message::Request(req) => {
+                    if connection.handle_shutdown(&req).map_err(|e| format!("lsp: {e}"))? {
+                        return Ok(());
+                    }
+                    let run = req.method == ExecuteCommand::METHOD;
+                    let response = self.request(req);
+                    connection.sender.send(Message::Response(response)).map_err(|e| format!("lsp: {e}"))?;
+                    if run {
+                        // The lenses changed: ask the editor to fetch them again.
+                        let refresh = Request::new(
+                            RequestId::from("codeLens/refresh".to_string()),
+                            "workspace/codeLens/refresh".into(),
+                            serde_json::Value::Null,
+                        );
+                        let _ = connection.sender.send(Message::Request(refresh));
+                    }
+                }
+                Message::Notification(n) => {
+                    for out in self.notification(n) {
+                        connection.sender.send(Message::Notification(out)).map_err(|e| format!("lsp: {e}"))?;
+                    }
+                }
+                Message::Response(_) => {}
+            }
+        }
+        Ok(())
+    }
+
+    /// Handles a notification; returns the notifications to send (published diagnostics).
+    pub fn notification(&mut self, n: Notification) -> Vec<Notification> {
+        let uri = match n.method.as_str() {
+            DidOpenTextDocument::METHOD => {
+                let Ok(p) = n.extract::<lsp_types::DidOpenTextDocumentParams>(DidOpenTextDocument::METHOD) else {
+                    return Vec::new();
+                };
+                self.documents.insert(p.text_document.uri.as_str().to_string(), p.text_document.text);
+                p.text_document.uri
+            }
+            DidChangeTextDocument::METHOD => {
+                let Ok(p) = n.extract::<lsp_types::DidChangeTextDocumentParams>(DidChangeTextDocument::METHOD) else {
+                    return Vec::new();
+                };
+                let key = p.text_document.uri.as_str().to_string();
+                for change in p.content_changes {
+                    match change.range {
+                        None => {
+                            self.documents.insert(key.clone(), change.text);
+                        }
+                        Some(range) => {
+                            let doc = self.documents.entry(key.clone()).or_default();
+                            let lines = Lines::new(doc);
+                            let (a, b) = (lines.offset(range.start), lines.offset(range.end));
+                            let (a, b) = (a.min(b), a.max(b));
+                            doc.replace_range(a..b, &change.text);
+                        }
+                    }
+                }
+                p.text_document.uri
+            }
+            DidCloseTextDocument::METHOD => {
+                let Ok(p) = n.extract::<lsp_types::DidCloseTextDocumentParams>(DidCloseTextDocument::METHOD) else {
+                    return Vec::new();
+                };
+                self.documents.remove(p.text_document.uri.as_str());
+                let params = PublishDiagnosticsParams::new(p.text_document.uri, Vec::new(), None);
+                return vec![Notification::new(PublishDiagnostics::METHOD.into(), params)];
+            }
+            DidSaveTextDocument::METHOD => return Vec::new(),
+            _ => return Vec::new(),
+        };
+        let text = self.documents.get(uri.as_str()).cloned().unwrap_or_default();
+        let path = path_of(&uri);
+        let diagnostics = crate::diagnose::diagnostics(&self.analyzer, &text, path.as_deref());
+        let params = PublishDiagnosticsParams::new(uri, diagnostics, None);
+        vec![Notification::new(PublishDiagnostics::METHOD.into(), params)]
+    }
+
+    /// The document at `uri`: its text and folder.
+    fn document(&self, uri: &Uri) -> (String, Option<PathBuf>) {
+        let path = path_of(uri);
+        let text = self
+            .documents
+            .get(uri.as_str())
+            .cloned()
+            .or_else(|| path.as_ref().and_then(|p| std::fs::read_to_string(p).ok()))
+            .unwrap_or_default();
+        (text, path.and_then(|p| p.parent().map(PathBuf::from)))
+    }
+
+    /// Answers a request.
+    pub fn request(&mut self, req: Request) -> Response {
+        let id = req.id.clone();
+        match self.answer(req) {
+            Ok(value) => Response::new_ok(id, value),
+            Err(message) => Response::new_err(id, lsp_server::ErrorCode::InvalidParams as i32, message),
+        }
+    }
+
+    fn answer(&mut self, req: Request) -> Result<serde_json::Value, String> {
+        fn params<R: lsp_types::request::Request>(req: Request) -> Result<R::Params, String> {
+            req.extract::<R::Params>(R::METHOD).map(|(_, p)| p).map_err(|e| match e {
+                ExtractError::MethodMismatch(r) => format!("unexpected method {}", r.method),
+                ExtractError::JsonError { method, error } => format!("{method}: {error}"),
+            })
+        }
+        let a = &self.analyzer;
+        let json = |v: serde_json::Result<serde_json::Value>| v.map_err(|e| e.to_string());
+        match req.method.as_str() {
+            Completion::METHOD => {
+                let p = params::<Completion>(req)?;
+                let (text, dir) = self.document(&p.text_document_position.text_document.uri);
+                let offset = Lines::new(&text).offset(p.text_document_position.position);
+                let items = crate::complete::complete(a, &text, offset, dir.as_deref());
+                json(serde_json::to_value(CompletionResponse::Array(items)))
+            }
+            HoverRequest::METHOD => {
+                let p = params::<HoverRequest>(req)?;
+                let (text, dir) = self.document(&p.text_document_position_params.text_document.uri);
+                let offset = Lines::new(&text).offset(p.text_document_position_params.position);
+                json(serde_json::to_value(crate::describe::hover(a, &text, offset, dir.as_deref())))
+            }
+            SignatureHelpRequest::METHOD => {
+                let p = params::<SignatureHelpRequest>(req)?;
+                let (text, dir) = self.document(&p.text_document_position_params.text_document.uri);
+                let offset = Lines::new(&text).offset(p.text_document_position_params.position);
+                json(serde_json::to_value(crate::describe::signature_help(a, &text, offset, dir.as_deref())))
+            }
+            GotoDefinition::METHOD => {
+                let p = params::<GotoDefinition>(req)?;
+                let uri = p.text_document_position_params.text_document.uri;
+                let (text, dir) = self.document(&uri);
+                let offset = Lines::new(&text).offset(p.text_document_position_params.position);
+                let found = crate::navigate::definition(&text, offset, &uri, dir.as_deref());
+                json(serde_json::to_value(found.map(GotoDefinitionResponse::Scalar)))
+            }
+            DocumentSymbolRequest::METHOD => {
+                let p = params::<DocumentSymbolRequest>(req)?;
+                let (text, _) = self.document(&p.text_document.uri);
+                json(serde_json::to_value(DocumentSymbolResponse::Nested(crate::navigate::symbols(a, &text))))
+            }
+            InlayHintRequest::METHOD => {
+                let p = params::<InlayHintRequest>(req)?;
+                let (text, _) = self.document(&p.text_document.uri);
+                json(serde_json::to_value(crate::inlay::hints(a, &text, Some(p.range))))
+            }
+            CodeLensRequest::METHOD => {
+                let p = params::<CodeLensRequest>(req)?;
+                let outcome = self.outcomes.get(p.text_document.uri.as_str());
+                json(serde_json::to_value(crate::lens::lenses(&p.text_document.uri, outcome)))
+            }
+            ExecuteCommand::METHOD => {
+                let p = params::<ExecuteCommand>(req)?;
+                if p.command != crate::lens::RUN {
+                    return Err(format!("unknown command `{}`; the server runs `{}`", p.command, crate::lens::RUN));
+                }
+                let uri: Uri =
+                    p.arguments.first().and_then(serde_json::Value::as_str).and_then(|s| s.parse().ok()).ok_or_else(
+                        || format!("{}: the argument must be the recipe's file:// address", crate::lens::RUN),
+                    )?;
+                let path =
+                    path_of(&uri).ok_or_else(|| format!("{}: not a file: {}", crate::lens::RUN, uri.as_str()))?;
+                let (text, _) = self.document(&uri);
+                let outcome = crate::lens::run(&path, &text);
+                let shown = serde_json::json!({ "line": outcome.line, "text": outcome.text });
+                self.outcomes.insert(uri.as_str().to_string(), outcome);
+                Ok(shown)
+            }
+            other => Err(format!("blocksmith lsp does not answer `{other}`")),
+        }
+    }
+}
+
+impl Default for Server {
+    fn default() -> Server {
+        Server::new()
+    }
+}
