@@ -61,9 +61,10 @@ pub fn serve_stdio() -> Result<(), String> {
         "capabilities": capabilities(),
         "serverInfo": ServerInfo { name: "blocksmith".into(), version: Some(env!("CARGO_PKG_VERSION").into()) },
     });
-    let (id, _params) = connection.initialize_start().map_err(|e| format!("lsp: {e}"))?;
+    let (id, params) = connection.initialize_start().map_err(|e| format!("lsp: {e}"))?;
     connection.initialize_finish(id, init).map_err(|e| format!("lsp: {e}"))?;
-    let mut server = Server { analyzer: Analyzer::new(), documents: HashMap::new(), outcomes: HashMap::new() };
+    let mut server = Server::new();
+    server.refresh_lenses = params["capabilities"]["workspace"]["codeLens"]["refreshSupport"] == true;
     server.main_loop(&connection)?;
     drop(connection);
     io_threads.join().map_err(|e| format!("lsp: {e}"))
@@ -74,13 +75,23 @@ pub struct Server {
     pub analyzer: Analyzer,
     pub documents: HashMap<String, String>,
     outcomes: HashMap<String, Outcome>,
+    /// The editor fetches lenses again when asked (`workspace/codeLens/refresh`).
+    refresh_lenses: bool,
+    /// Requests sent to the editor so far (their ids).
+    sent: u64,
 }
 
 impl Server {
     /// A server with no documents open.
     #[must_use]
     pub fn new() -> Server {
-        Server { analyzer: Analyzer::new(), documents: HashMap::new(), outcomes: HashMap::new() }
+        Server {
+            analyzer: Analyzer::new(),
+            documents: HashMap::new(),
+            outcomes: HashMap::new(),
+            refresh_lenses: false,
+            sent: 0,
+        }
     }
 
     fn main_loop(&mut self, connection: &Connection) -> Result<(), String> {
@@ -93,13 +104,11 @@ impl Server {
                     let run = req.method == ExecuteCommand::METHOD;
                     let response = self.request(req);
                     connection.sender.send(Message::Response(response)).map_err(|e| format!("lsp: {e}"))?;
-                    if run {
+                    if run && self.refresh_lenses {
                         // The lenses changed: ask the editor to fetch them again.
-                        let refresh = Request::new(
-                            RequestId::from("codeLens/refresh".to_string()),
-                            "workspace/codeLens/refresh".into(),
-                            serde_json::Value::Null,
-                        );
+                        self.sent += 1;
+                        let id = RequestId::from(format!("blocksmith-{}", self.sent));
+                        let refresh = Request::new(id, "workspace/codeLens/refresh".into(), serde_json::Value::Null);
                         let _ = connection.sender.send(Message::Request(refresh));
                     }
                 }
