@@ -19,7 +19,9 @@ fn python() -> Option<PathBuf> {
 fn a_real_client_gets_diagnostics_completion_hover_definitions_and_the_run_lens() {
     let Some(python) = python() else {
         assert!(std::env::var_os("CI").is_none(), "CI must install pytest-lsp (.ci/run sets BLOCKSMITH_LSP_PYTHON)");
-        eprintln!("skipped: no pytest-lsp (python3 -m venv .ci/lsp-py && .ci/lsp-py/bin/pip install pytest-lsp==1.0.1)");
+        eprintln!(
+            "skipped: no pytest-lsp (python3 -m venv .ci/lsp-py && .ci/lsp-py/bin/pip install pytest-lsp==1.0.1)"
+        );
         return;
     };
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/lsp");
