@@ -38,6 +38,9 @@ pub(crate) struct Assembled {
     pub mesh: Mesh,
     /// For each mesh vertex, the input vertex it comes from.
     pub vertex_from: Vec<u32>,
+    /// For each mesh face, the input face (index into `arities`) it comes from: faces welding
+    /// collapses or repair drops are gone, the others keep their order.
+    pub face_from: Vec<u32>,
     /// The repairs of the file's own topology (empty for a valid file).
     pub repairs: Repairs,
 }
@@ -61,17 +64,20 @@ pub(crate) fn assemble(
     let (map, kept) = weld(positions, rule).map_err(|e| io(e.into()))?;
     let merged = kept.len() < positions.len();
     let welded;
-    let (idx, ar): (&[u32], &[u32]) = if merged {
-        let (i, a, _) = super::weld::remap_faces(indices, arities, &map);
+    let (idx, ar, fast_from): (&[u32], &[u32], Option<Vec<u32>>) = if merged {
+        let (i, a, f) = super::weld::remap_faces(indices, arities, &map);
         welded = (i, a);
-        (&welded.0, &welded.1)
+        (&welded.0, &welded.1, Some(f))
     } else {
-        (indices, arities)
+        (indices, arities, None)
     };
     let pos: Vec<Vec3> =
         if merged { kept.iter().map(|&i| positions[i as usize]).collect() } else { positions.to_vec() };
     match Mesh::from_indexed_stoppable(pos, idx, ar) {
-        Ok(mesh) => return Ok(Assembled { vertex_from: kept, mesh, repairs: Repairs::default() }),
+        Ok(mesh) => {
+            let face_from = fast_from.unwrap_or_else(|| (0..arities.len() as u32).collect());
+            return Ok(Assembled { vertex_from: kept, face_from, mesh, repairs: Repairs::default() });
+        }
         Err(
             MeshError::NonManifoldEdge { .. } | MeshError::NonManifoldVertex { .. } | MeshError::DegenerateFace { .. },
         ) => {}
@@ -89,7 +95,10 @@ pub(crate) fn assemble(
         }
     };
     let file = match Mesh::from_indexed_stoppable(a_pos.clone(), &a_idx, &a_ar) {
-        Ok(mesh) => (mesh, (0..a_pos.len() as u32).collect::<Vec<u32>>(), Repairs::default()),
+        Ok(mesh) => {
+            let faces = (0..mesh.face_count() as u32).collect::<Vec<u32>>();
+            (mesh, (0..a_pos.len() as u32).collect::<Vec<u32>>(), faces, Repairs::default())
+        }
         Err(
             e @ (MeshError::NonManifoldEdge { .. }
             | MeshError::NonManifoldVertex { .. }
@@ -114,11 +123,16 @@ pub(crate) fn assemble(
                     }
                 }
             }
-            (r.mesh, r.vertex_from, repairs)
+            (r.mesh, r.vertex_from, r.face_from, repairs)
         }
         Err(e) => return Err(io(e)),
     };
-    let (file_mesh, file_vertex_from, repairs) = file;
+    let (file_mesh, file_vertex_from, file_face_from, repairs) = file;
+    // A face of the file's topology as an input face.
+    let to_input_face = |f: u32| {
+        let g = file_face_from[f as usize];
+        a_from.as_ref().map_or(g, |from| from[g as usize])
+    };
     // Back to the input's ids.
     let to_input_vertex = |v: u32| match &a_vertex_from {
         Some(k) => k[file_vertex_from[v as usize] as usize],
@@ -128,25 +142,29 @@ pub(crate) fn assemble(
     // 2. The weld, split back where it breaks the surface.
     if rule == Weld::Off {
         let vertex_from = (0..file_mesh.vertex_count() as u32).map(to_input_vertex).collect();
-        return Ok(Assembled { mesh: file_mesh, vertex_from, repairs });
+        let face_from = (0..file_mesh.face_count() as u32).map(to_input_face).collect();
+        return Ok(Assembled { mesh: file_mesh, vertex_from, face_from, repairs });
     }
     let (fi, fa) = file_mesh.to_indexed();
     let (map, kept) = weld(file_mesh.positions(), rule).map_err(|e| io(e.into()))?;
-    let (w_idx, w_ar, w_prior) = remap_with_prior(&fi, &fa, &map);
+    let (w_idx, w_ar, w_prior, w_from) = remap_with_prior(&fi, &fa, &map);
     let w_pos: Vec<Vec3> = kept.iter().map(|&i| file_mesh.position(i)).collect();
     let r = repair_polygons(&w_pos, &w_idx, &w_ar, RepairOptions::DEFAULT.with_prior(&w_prior)).map_err(io)?;
     let vertex_from = r.vertex_from.iter().map(|&v| to_input_vertex(kept[v as usize])).collect();
-    Ok(Assembled { mesh: r.mesh, vertex_from, repairs })
+    let face_from = r.face_from.iter().map(|&f| to_input_face(w_from[f as usize])).collect();
+    Ok(Assembled { mesh: r.mesh, vertex_from, face_from, repairs })
 }
 
 /// [`super::weld::remap_faces`] that also gives, for each kept corner, the vertex it had before
-/// the weld: (indices, arities, prior vertex of each corner).
-fn remap_with_prior(indices: &[u32], arities: &[u32], map: &[u32]) -> (Vec<u32>, Vec<u32>, Vec<u32>) {
+/// the weld, and for each kept face the face it comes from: (indices, arities, prior vertex of
+/// each corner, face from).
+fn remap_with_prior(indices: &[u32], arities: &[u32], map: &[u32]) -> (Vec<u32>, Vec<u32>, Vec<u32>, Vec<u32>) {
+    let mut from = Vec::with_capacity(arities.len());
     let mut out = Vec::with_capacity(indices.len());
     let mut prior = Vec::with_capacity(indices.len());
     let mut out_ar = Vec::with_capacity(arities.len());
     let mut start = 0;
-    for &a in arities {
+    for (f, &a) in arities.iter().enumerate() {
         let face = &indices[start..start + a as usize];
         start += a as usize;
         let begin = out.len();
@@ -169,6 +187,24 @@ fn remap_with_prior(indices: &[u32], arities: &[u32], map: &[u32]) -> (Vec<u32>,
             continue;
         }
         out_ar.push(n as u32);
+        from.push(f as u32);
     }
-    (out, out_ar, prior)
+    (out, out_ar, prior, from)
+}
+
+impl Assembled {
+    /// Gives the mesh the face parts of the input faces: `input_parts[f]` is input face f's id
+    /// into `table` (a reader's colours per face).
+    ///
+    /// # Errors
+    /// [`IoError::Mesh`] when an id is past the table or a colour is out of range.
+    pub(crate) fn set_input_parts(
+        &mut self,
+        input_parts: &[u32],
+        table: Vec<crate::mesh::FacePart>,
+        path: &Path,
+    ) -> Result<(), IoError> {
+        let ids = self.face_from.iter().map(|&f| input_parts.get(f as usize).copied().unwrap_or(0)).collect();
+        self.mesh.set_face_parts(ids, table).map_err(|e| IoError::from_mesh(path, e))
+    }
 }

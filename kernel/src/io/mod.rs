@@ -34,6 +34,7 @@ mod atomic;
 mod draco;
 pub mod dxf;
 mod error;
+mod face_groups;
 pub mod gltf;
 pub mod obj;
 mod options;

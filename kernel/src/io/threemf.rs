@@ -31,6 +31,7 @@
 use std::collections::HashMap;
 use std::io::{Cursor, Read, Write};
 use std::path::Path;
+use std::sync::Arc;
 
 use quick_xml::events::{BytesStart, Event};
 
@@ -38,7 +39,7 @@ use super::error::IoError;
 use crate::diagnose::Repairs;
 use crate::limits::LimitError;
 use crate::math::Vec3;
-use crate::mesh::{Mesh, MeshError};
+use crate::mesh::{FacePart, Mesh, MeshError};
 
 const CORE_NS: &str = "http://schemas.microsoft.com/3dmanufacturing/core/2015/02";
 const MATERIAL_NS: &str = "http://schemas.microsoft.com/3dmanufacturing/material/2015/02";
@@ -62,7 +63,12 @@ pub fn write_3mf<W: Write>(mesh: &Mesh, out: &mut W, path: &Path) -> Result<(), 
     let (mesh, tris, arities) = super::face_triangles(mesh).map_err(|e| IoError::from_mesh(path, e))?;
     let mesh = &*mesh;
     let stopped = |e: LimitError| IoError::from_mesh(path, MeshError::Limit(e));
-    let model = model_xml(mesh, &tris, &arities).map_err(stopped)?;
+    let model = if super::face_groups::has_parts(mesh) {
+        parts_model_xml(mesh, &tris, &arities)
+    } else {
+        model_xml(mesh, &tris, &arities)
+    }
+    .map_err(stopped)?;
     let write_err = |e: std::io::Error| IoError::Write { path: path.into(), source: e };
     let zip_err = |e: zip::result::ZipError| IoError::Write { path: path.into(), source: std::io::Error::other(e) };
     let mut zip = zip::ZipWriter::new(Cursor::new(Vec::new()));
@@ -185,6 +191,93 @@ fn model_xml(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> Result<String, Limit
     Ok(s)
 }
 
+/// The model part's XML of a mesh with face parts (colours, names): one `<basematerials>`
+/// entry per colour (core §5.1; faces without a colour white), and one object per part name
+/// (unnamed faces together), each with the vertices its triangles use and a `name`, placed by
+/// one build item each, so a slicer lists named parts with their colours.
+///
+/// # Errors
+/// As [`model_xml`].
+fn parts_model_xml(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> Result<String, LimitError> {
+    use std::fmt::Write as _;
+    let groups = super::face_groups::FaceGroups::of(mesh);
+    let mut s = String::with_capacity(64 * mesh.vertex_count() + 60 * tris.len() / 3 + 1024);
+    let _ = write!(
+        s,
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<model unit=\"millimeter\" xml:lang=\"en-US\" \
+         xmlns=\"{CORE_NS}\">\n\
+         <metadata name=\"Application\">blocksmith {}</metadata>\n<resources>\n<basematerials id=\"1\">\n",
+        env!("CARGO_PKG_VERSION")
+    );
+    for (k, c) in groups.colors.iter().enumerate() {
+        let c = c.unwrap_or([1.0; 4]);
+        let _ = writeln!(s, "<base name=\"{}\" displaycolor=\"{}\"/>", escape(&groups.material_name(k)), hex(c));
+    }
+    s += "</basematerials>\n";
+    // The triangles of each face, and each object's triangles in face order.
+    let mut first = Vec::with_capacity(arities.len() + 1);
+    first.push(0usize);
+    for &a in arities {
+        first.push(first[first.len() - 1] + a as usize - 2);
+    }
+    let mut fbuf = zmij::Buffer::new();
+    let mut local = vec![u32::MAX; mesh.vertex_count()];
+    for (k, (name, faces)) in groups.objects.iter().zip(&groups.object_faces).enumerate() {
+        let name_attr = name.as_deref().map(|n| format!(" name=\"{}\"", escape(n))).unwrap_or_default();
+        let _ = write!(
+            s,
+            "<object id=\"{}\" type=\"model\"{name_attr} pid=\"1\" pindex=\"{}\">\n<mesh>\n<vertices>\n",
+            k + 2,
+            groups.material_of_face(faces[0])
+        );
+        let face_tris = |f: u32| &tris[3 * first[f as usize]..3 * first[f as usize + 1]];
+        let mut used = Vec::new();
+        for &f in faces {
+            for &v in face_tris(f) {
+                if local[v as usize] == u32::MAX {
+                    local[v as usize] = used.len() as u32;
+                    used.push(v);
+                }
+            }
+        }
+        for (i, &v) in used.iter().enumerate() {
+            crate::limits::poll_at(i)?;
+            let p = mesh.position(v);
+            s += "<vertex x=\"";
+            s += fbuf.format(p.x);
+            s += "\" y=\"";
+            s += fbuf.format(p.y);
+            s += "\" z=\"";
+            s += fbuf.format(p.z);
+            s += "\"/>\n";
+        }
+        s += "</vertices>\n<triangles>\n";
+        for (i, &f) in faces.iter().enumerate() {
+            crate::limits::poll_at(i)?;
+            let m = groups.material_of_face(f);
+            for t in face_tris(f).chunks_exact(3) {
+                let [a, b, c] = [t[0], t[1], t[2]].map(|v| local[v as usize]);
+                let _ = writeln!(s, "<triangle v1=\"{a}\" v2=\"{b}\" v3=\"{c}\" pid=\"1\" p1=\"{m}\"/>");
+            }
+        }
+        for &v in &used {
+            local[v as usize] = u32::MAX;
+        }
+        s += "</triangles>\n</mesh>\n</object>\n";
+    }
+    s += "</resources>\n<build>\n";
+    for k in 0..groups.objects.len() {
+        let _ = writeln!(s, "<item objectid=\"{}\"/>", k + 2);
+    }
+    s += "</build>\n</model>\n";
+    Ok(s)
+}
+
+/// `text` with the five XML special characters escaped, for attribute values.
+fn escape(text: &str) -> std::borrow::Cow<'_, str> {
+    quick_xml::escape::escape(text)
+}
+
 /// An affine map as 3MF writes it: `p' = p · M + t` with row vectors (core §3.4.2).
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Affine {
@@ -253,6 +346,8 @@ struct Object {
     /// production extension's `p:path` names another part.
     components: Vec<(u32, Affine, Option<String>)>,
     default: TriProps,
+    /// The object's `name`, if any (a part name, read onto its faces).
+    name: Option<Arc<str>>,
 }
 
 #[derive(Debug, Default)]
@@ -260,6 +355,8 @@ struct Model {
     objects: HashMap<u32, Object>,
     /// Colour groups and base materials alike: the colours of a property group by id.
     groups: HashMap<u32, Vec<[f32; 4]>>,
+    /// The ids of `groups` that are base materials (read as face colours, not vertex colours).
+    bases: std::collections::HashSet<u32>,
     /// Build items: object, transform, and the part holding the object (`p:path`).
     items: Vec<(u32, Affine, Option<String>)>,
     /// Millimetres per unit of the model's coordinates (its `unit`, core §3.3).
@@ -451,7 +548,11 @@ fn parse_model(xml: &[u8], path: &Path) -> Result<Model, IoError> {
                             pid: optional(&a, "pid", "an object", path)?,
                             p: [optional(&a, "pindex", "an object", path)?, None, None],
                         };
-                        object = Some((id, Object { default, ..Object::default() }));
+                        let name = a
+                            .get("name")
+                            .filter(|n| !n.is_empty())
+                            .map(|n| Arc::from(quick_xml::escape::unescape(n).unwrap_or(n.into()).as_ref()));
+                        object = Some((id, Object { default, name, ..Object::default() }));
                     }
                     "vertex" => {
                         let (_, o) = object.as_mut().ok_or_else(|| tmf_error(path, "a vertex outside an object"))?;
@@ -558,6 +659,9 @@ fn close(name: &str, model: &mut Model, object: &mut Option<(u32, Object)>, grou
         "colorgroup" | "basematerials" => {
             if let Some((id, g)) = group.take() {
                 model.groups.insert(id, g);
+                if name == "basematerials" {
+                    model.bases.insert(id);
+                }
             }
         }
         _ => {}
@@ -612,19 +716,49 @@ fn triangle_count<'a>(
     Ok(n)
 }
 
+/// A part as the reader tells parts apart: its object's name and its colour's bits.
+type PartKey = (Option<Arc<str>>, Option<[u32; 4]>);
+
 struct Placed {
     positions: Vec<Vec3>,
     indices: Vec<u32>,
     colors: Vec<Option<[f32; 4]>>,
+    /// Each triangle's part (its object's name, its base material's colour) in `parts`.
+    face_parts: Vec<u32>,
+    parts: Vec<FacePart>,
+    part_ids: HashMap<PartKey, u32>,
+}
+
+impl Placed {
+    /// The id of the part named `name` of colour `color`, added when new.
+    fn part(&mut self, name: Option<&Arc<str>>, color: Option<[f32; 4]>) -> u32 {
+        let key = (name.cloned(), color.map(|c| c.map(f32::to_bits)));
+        let next = self.parts.len() as u32;
+        let id = *self.part_ids.entry(key).or_insert(next);
+        if id == next {
+            self.parts.push(FacePart { color, name: name.cloned(), origin: None });
+        }
+        id
+    }
 }
 
 /// Places object `id` of `part` moved by `t` into `out`, with its components; one unit of work
 /// per placement, and a poll every [`crate::limits::POLL_EVERY`] triangles.
-fn place(parts: &Parts, part: &str, id: u32, t: &Affine, out: &mut Placed, path: &Path) -> Result<(), IoError> {
+fn place(
+    parts: &Parts,
+    part: &str,
+    id: u32,
+    t: &Affine,
+    name: Option<&Arc<str>>,
+    out: &mut Placed,
+    path: &Path,
+) -> Result<(), IoError> {
     let stopped = |e: LimitError| IoError::from_mesh(path, MeshError::Limit(e));
     crate::limits::check().map_err(stopped)?;
     let model = &parts[part];
     let o = &model.objects[&id];
+    // A component's triangles are named by their own object, else by the object placing them.
+    let name = o.name.as_ref().or(name);
     let base = out.positions.len();
     out.positions.extend(o.vertices.iter().map(|&p| t.apply(p)));
     out.colors.resize(out.positions.len(), None);
@@ -648,7 +782,11 @@ fn place(parts: &Parts, part: &str, id: u32, t: &Affine, out: &mut Placed, path:
             Some(pid) => (Some(pid), props.p),
             None => (o.default.pid, [o.default.p[0]; 3]),
         };
-        if let Some(colors) = pid.and_then(|pid| model.groups.get(&pid)) {
+        let materials = pid.filter(|pid| model.bases.contains(pid)).and_then(|pid| model.groups.get(&pid));
+        let face_color = materials.and_then(|colors| p[0].and_then(|i| colors.get(i as usize)).copied());
+        let face_part = out.part(name, face_color);
+        out.face_parts.push(face_part);
+        if let Some(colors) = pid.filter(|pid| !model.bases.contains(pid)).and_then(|pid| model.groups.get(&pid)) {
             for (c, &v) in tri.iter().enumerate() {
                 let index = p[c].or(p[0]);
                 let slot = &mut out.colors[base + v as usize];
@@ -659,7 +797,7 @@ fn place(parts: &Parts, part: &str, id: u32, t: &Affine, out: &mut Placed, path:
         }
     }
     for (c, ct, p) in &o.components {
-        place(parts, part_of(p, part), *c, &ct.then(t), out, path)?;
+        place(parts, part_of(p, part), *c, &ct.then(t), name, out, path)?;
     }
     Ok(())
 }
@@ -685,9 +823,16 @@ fn build_mesh<'a>(
         total as f64 * 160.0,
     )
     .map_err(|e| tmf_error(path, e.to_string()))?;
-    let mut out = Placed { positions: Vec::new(), indices: Vec::new(), colors: Vec::new() };
+    let mut out = Placed {
+        positions: Vec::new(),
+        indices: Vec::new(),
+        colors: Vec::new(),
+        face_parts: Vec::new(),
+        parts: Vec::new(),
+        part_ids: HashMap::new(),
+    };
     for (id, t, p) in &model.items {
-        place(parts, part_of(p, root), *id, t, &mut out, path)?;
+        place(parts, part_of(p, root), *id, t, None, &mut out, path)?;
     }
     if scale != 1.0 {
         for p in &mut out.positions {
@@ -708,6 +853,10 @@ fn build_mesh<'a>(
         repair,
         path,
     )?;
+    let mut a = a;
+    if out.parts.iter().any(|p| p.color.is_some() || p.name.is_some()) {
+        a.set_input_parts(&out.face_parts, std::mem::take(&mut out.parts), path)?;
+    }
     let mut mesh = a.mesh;
     if any_color {
         let colors = a.vertex_from.iter().map(|&v| out.colors[v as usize].unwrap_or([1.0; 4])).collect();
@@ -881,6 +1030,33 @@ mod tests {
     }
 
     #[test]
+    fn face_colours_and_part_names_round_trip_as_base_materials_and_objects() {
+        let mut a = Mesh::cube(2.0);
+        a.set_color([1.0, 0.0, 0.0, 1.0]).unwrap();
+        a.map_parts(|p| p.name = Some("body".into()));
+        let mut b = Mesh::cube(1.0).translate(Vec3::new(3.0, 0.0, 0.0));
+        b.set_color([0.0, 0.0, 1.0, 0.5]).unwrap();
+        b.map_parts(|p| p.name = Some("lid & cap".into()));
+        let m = Mesh::combine(&[&a, &b]).unwrap();
+        let bytes = written(&m);
+        let mut zip = zip::ZipArchive::new(Cursor::new(bytes.clone())).unwrap();
+        let mut xml = String::new();
+        zip.by_name("3D/3dmodel.model").unwrap().read_to_string(&mut xml).unwrap();
+        assert!(xml.contains("name=\"lid &amp; cap\""), "{xml}");
+        assert_eq!(xml.matches("<item objectid=").count(), 2, "{xml}");
+        let back = read_3mf(&bytes, Path::new("parts.3mf")).unwrap();
+        assert_eq!(back.face_count(), 24);
+        // Why: each cube's 12 triangles keep its colour (8 bits) and its object's name.
+        let blue = [0.0, 0.0, 1.0, 128.0 / 255.0];
+        for f in 0..24 {
+            let p = back.face_part(f).unwrap();
+            let (c, n) = if f < 12 { ([1.0, 0.0, 0.0, 1.0], "body") } else { (blue, "lid & cap") };
+            assert_eq!((p.color, p.name.as_deref()), (Some(c), Some(n)), "face {f}");
+        }
+        assert!(back.vertex_colors().is_none());
+    }
+
+    #[test]
     fn build_items_and_components_are_placed_with_their_transforms() {
         // One tetrahedron placed twice: by an item moved 5 in x, and by a mirrored component
         // (x → −x), whose triangles are turned so it stays outward.
@@ -902,7 +1078,9 @@ mod tests {
         assert!((m.volume() - 2.0 / 6.0).abs() < 1e-15, "{}", m.volume());
         assert_eq!(m.position(0), Vec3::new(5.0, 0.0, 0.0));
         assert_eq!(m.position(5), Vec3::new(-3.0, 0.0, 0.0));
-        assert_eq!(m.vertex_colors().unwrap()[6], [1.0, 0.0, 0.0, 1.0]);
+        // Base materials are face colours: every face of both placements is red.
+        assert!((0..8).all(|f| m.face_color(f) == Some([1.0, 0.0, 0.0, 1.0])));
+        assert!(m.vertex_colors().is_none());
     }
 
     #[test]

@@ -4,6 +4,7 @@
 pub mod anim;
 pub mod block_handle;
 pub mod blocks;
+pub mod color;
 pub mod csg;
 pub mod data;
 pub mod files;
@@ -29,6 +30,7 @@ pub fn register_all(engine: &mut Engine) {
     engine.register_type_with_name::<mesh::SharedMesh>("Mesh");
     engine.register_global_module(exported_module!(values::vec3_api).into());
     engine.register_global_module(exported_module!(mesh::mesh_api).into());
+    engine.register_global_module(exported_module!(color::color_api).into());
     engine.register_global_module(exported_module!(files::files_api).into());
     voxel::register(engine);
     subdiv::register(engine);

@@ -1,0 +1,105 @@
+//! Colours on faces (API.md §Appearance; kernel `mesh::FacePart`): `m.color(c)` colours every
+//! face; the colour rides on the faces through transforms, subdivision, booleans and `combine`,
+//! and is written as materials by `save` and `run -o` (glTF, 3MF, OBJ `.mtl`, PLY).
+//! `m.face_color(f)` and `m.colors()` read them back.
+
+use blocksmith_kernel::math::fmt_num;
+use blocksmith_kernel::mesh::{parse_hex_color, Rgba};
+use rhai::plugin::*;
+use rhai::{Array, INT};
+
+use super::mesh::SharedMesh;
+use crate::convert::{error, fail, kernel, number, type_name, ScriptResult};
+
+/// A colour argument: `[r, g, b]` or `[r, g, b, a]` with components 0–1, or a hex string
+/// `"#rgb"`, `"#rgba"`, `"#rrggbb"`, `"#rrggbbaa"`. Errors name `func` and `arg`.
+pub fn color_value(func: &str, arg: &str, v: &Dynamic) -> ScriptResult<Rgba> {
+    if let Some(s) = v.read_lock::<rhai::ImmutableString>() {
+        return parse_hex_color(s.as_str()).map_err(|why| error(func, format!("argument `{arg}`: {why}")));
+    }
+    let Some(a) = v.read_lock::<Array>() else {
+        return fail(
+            func,
+            format!("argument `{arg}` must be [r, g, b], [r, g, b, a] (0 to 1) or \"#rrggbb\", got {}", type_name(v)),
+        );
+    };
+    if a.len() != 3 && a.len() != 4 {
+        return fail(
+            func,
+            format!("argument `{arg}` must have 3 components [r, g, b] or 4 [r, g, b, a], got {}", a.len()),
+        );
+    }
+    let mut c = [1.0f32; 4];
+    for (i, x) in a.iter().enumerate() {
+        let n = number(func, &format!("{arg}[{i}]"), x)?;
+        if !(0.0..=1.0).contains(&n) {
+            let hint = if n > 1.0 && n <= 255.0 { " (components are 0 to 1: divide bytes by 255)" } else { "" };
+            return fail(func, format!("argument `{arg}[{i}]` must be between 0 and 1, got {}{hint}", fmt_num(n)));
+        }
+        c[i] = n as f32;
+    }
+    Ok(c)
+}
+
+/// A colour as the script sees it: `[r, g, b, a]`, components 0–1.
+fn color_array(c: Rgba) -> Array {
+    c.iter().map(|&x| Dynamic::from(f64::from(x))).collect()
+}
+
+#[export_module]
+pub mod color_api {
+    use super::*;
+
+    /// This mesh with every face coloured `c`: `[r, g, b]` or `[r, g, b, a]` (components 0 to
+    /// 1) or a hex string `"#rrggbb"` (also `"#rgb"`, `"#rrggbbaa"`). The colour stays on the
+    /// faces through moves, subdivision, booleans (a face of `a - b` cut by `b` keeps `b`'s
+    /// colour) and `combine`, and `save` writes it as a material (glTF, 3MF, OBJ with `.mtl`,
+    /// PLY face colours).
+    ///
+    /// ```rhai
+    /// let red = cube(2).color("#ff0000");
+    /// let bite = red - uv_sphere(1, 24, 12).translate([0, 0, 1]).color([0, 0, 1]);
+    /// assert_eq(red.face_color(0), [1.0, 0.0, 0.0, 1.0]);
+    /// assert_eq(bite.colors().len(), 2);   // red outside, blue in the bite
+    /// ```
+    #[rhai_fn(return_raw, pure)]
+    pub fn color(m: &mut SharedMesh, c: Dynamic) -> ScriptResult<SharedMesh> {
+        let rgba = color_value("color", "c", &c)?;
+        let mut out = (*m.0).clone();
+        kernel("color", out.set_color(rgba))?;
+        Ok(SharedMesh(std::sync::Arc::new(out), m.1.clone()))
+    }
+
+    /// The colour of face `f` as `[r, g, b, a]`, or `()` when the face has none.
+    ///
+    /// ```rhai
+    /// let m = combine([cube(1).color([0, 1, 0]), cube(1)]);
+    /// assert_eq(m.face_color(0), [0.0, 1.0, 0.0, 1.0]);
+    /// assert_eq(m.face_color(6), ());
+    /// ```
+    #[rhai_fn(return_raw, pure)]
+    pub fn face_color(m: &mut SharedMesh, f: INT) -> ScriptResult<Dynamic> {
+        let f = kernel("face_color", m.0.check_face(f))?;
+        Ok(m.0.face_color(f).map_or(Dynamic::UNIT, |c| Dynamic::from_array(color_array(c))))
+    }
+
+    /// The distinct colours of the faces, each `[r, g, b, a]`, in the order first met by face
+    /// id; empty for a mesh without colours.
+    ///
+    /// ```rhai
+    /// let m = cube(2).color("#f00") + cube(1).translate([1, 1, 1]).color("#00f");
+    /// assert_eq(m.colors(), [[1.0, 0.0, 0.0, 1.0], [0.0, 0.0, 1.0, 1.0]]);
+    /// ```
+    #[rhai_fn(pure)]
+    pub fn colors(m: &mut SharedMesh) -> Array {
+        let mut seen: Vec<Rgba> = Vec::new();
+        for f in 0..m.0.face_count() as u32 {
+            if let Some(c) = m.0.face_color(f) {
+                if !seen.contains(&c) {
+                    seen.push(c);
+                }
+            }
+        }
+        seen.into_iter().map(|c| Dynamic::from_array(color_array(c))).collect()
+    }
+}
