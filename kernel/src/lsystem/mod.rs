@@ -16,9 +16,9 @@ mod error;
 mod grammar;
 mod grow;
 #[cfg(test)]
-mod tests_grow;
+pub(crate) mod tests_grow;
 #[cfg(test)]
-mod tests_selfint;
+pub(crate) mod tests_selfint;
 mod turtle;
 
 pub use derive::ProbabilityFn;

@@ -225,7 +225,7 @@ fn assert_unfolded(what: &str, m: &crate::mesh::Mesh) {
 }
 
 /// The thesis's stochastic grammar of §11 (as stdlib/plants.rhai writes it).
-fn thesis_plant(seed: u64) -> Lsystem {
+pub(crate) fn thesis_plant(seed: u64) -> Lsystem {
     let pr = "(1 - 1/(1 + exp(5.2 - s)))";
     let (left, right) = ("[L(s) L0(s+1) L(s+1) P(s+1)]", "[R(s) L0(s+1) L(s+1) P(s+1)]");
     let c = |to: String, p: String| ChoiceSpec { to, p: Probability::Expression(p) };
@@ -239,11 +239,17 @@ fn thesis_plant(seed: u64) -> Lsystem {
 }
 
 /// A tree whose apex grows on after it branches (examples/lsystem_tree.rhai).
-fn growing_tree(seed: u64) -> Lsystem {
+pub(crate) fn growing_tree(seed: u64) -> Lsystem {
     let pr = "(1 - 1/(1 + exp(4.5 - s)))";
     let c = |to: &str, p: String| ChoiceSpec { to: to.into(), p: Probability::Expression(p) };
     let choices = vec![c("L(s) [L(s) A(s+1)] [R(s) A(s+1)] A(s+1)", pr.into()), c("L(s) P(s)", format!("1 - {pr}"))];
     Lsystem::new("A(0)", &[RuleSpec { key: "A(s)".into(), choices }], seed).unwrap()
+}
+
+/// The turtle plant's bracketed grammar (examples/lsystem_turtle_plant.rhai).
+pub(crate) fn turtle_plant() -> Lsystem {
+    Lsystem::new("X", &[RuleSpec::deterministic("X", "F[&+X]/[&-X]///FX"), RuleSpec::deterministic("F", "FF")], 0)
+        .unwrap()
 }
 
 /// Branches nested on branches, many levels deep, over many seeds: every face triangulates in
@@ -514,9 +520,7 @@ fn sibling_branches_open_on_their_own_sides() {
 /// (220 when the first sibling chose first).
 #[test]
 fn the_recipes_cross_themselves_no_more_than_measured() {
-    let turtle =
-        Lsystem::new("X", &[RuleSpec::deterministic("X", "F[&+X]/[&-X]///FX"), RuleSpec::deterministic("F", "FF")], 0)
-            .unwrap();
+    let turtle = turtle_plant();
     let cases = [
         ("shrub", thesis_plant(4).derive(10).unwrap(), GrowOptions::DEFAULT.with_angle(40.0).with_radius(0.2), 513),
         ("tree", growing_tree(2).derive(7).unwrap(), GrowOptions::DEFAULT.with_valence(10).with_angle(35.0), 791),

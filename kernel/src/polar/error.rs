@@ -158,6 +158,14 @@ pub enum PolarError {
     #[error("face {face} next to the loop through half-edge {halfedge} is not a quad of a ring leading to another loop: splitting needs loop–split loop–loop side by side (§4.7.3)")]
     SplitNeedsSandwich { halfedge: u32, face: u32 },
 
+    // ---- to_solid --------------------------------------------------------------------------
+    /// The loops do not cut the mesh into tubes that unite into the same solid.
+    #[error("to_solid: the loops do not cut the mesh into tubes: {reason}")]
+    NotTubes { reason: String },
+    /// The boolean engine refused the tubes.
+    #[error("to_solid: {0}")]
+    Solid(String),
+
     // ---- Any operation -------------------------------------------------------------------
     /// The edit would not leave a closed 2-manifold without doubled edges.
     #[error("the result would not be a closed manifold without doubled edges: {0}")]

@@ -17,7 +17,9 @@
 //! - `frames` — loop frames and the low-level move / scale / rotate of §2.4 in global or local frames;
 //! - `pick` — nearest vertex, half-edge, face;
 //! - `skeleton` — the inferred skeleton (§7.1) and skeleton-based coordinates (§7.2);
-//! - `colors` — feature colour coding (appendix B.1.3).
+//! - `colors` — feature colour coding (appendix B.1.3);
+//! - `to_solid` — the mesh as a valid solid: tubes capped inside their parents, united by the
+//!   boolean engine (grown plants cross themselves at branch bases).
 //!
 //! Every operation validates first and edits only the faces it changes (through
 //! [`Mesh::replace_faces`]), so it costs time proportional to the region it affects and leaves
@@ -54,6 +56,9 @@ mod split_feature;
 mod tests_property;
 #[cfg(test)]
 mod tests_recipes;
+#[cfg(test)]
+mod tests_to_solid;
+mod to_solid;
 
 pub use add_feature::FeatureOptions;
 pub use add_refinement::Refinement;
