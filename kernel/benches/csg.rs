@@ -16,6 +16,9 @@
 //! `/usr/bin/time -v target/release/deps/csg-* --bench` under `CSG_STRESS=1`.
 //! `CSG_PROFILE=die` (or `building`, or `die_engine` for the engine-only die) evaluates outside
 //! criterion (best, median, mean), for a profiler and for steadier side-by-side figures.
+//! `CSG_RUN=die|stress` (with `CSG_SEGMENTS`, `CSG_REPS`) is the side-by-side mode that
+//! `kernel/benches/csg_side_by_side.py` drives against manifold3d (time, user and system CPU,
+//! peak memory per boolean; the die at 32/64/128/256 segments, issue 38).
 //! Peer: `PEERS_OUT=target/peers ~/.cache/blocksmith-peers/venv/bin/python
 //! ../shared/peers/die_manifold.py die|stress`.
 //!
@@ -76,8 +79,8 @@ fn sphere(radius: f64, segments: i32) -> Mesh {
     Mesh::from_indexed(t.positions, t.triangles.as_flattened(), &vec![3; t.triangles.len()]).unwrap()
 }
 
-fn die() -> Csg {
-    let s = sphere(0.15, 32);
+fn die(segments: i32) -> Csg {
+    let s = sphere(0.15, segments);
     let cube = Csg::mesh(Mesh::cuboid(Vec3::splat(-1.0), Vec3::splat(1.0)));
     cube.difference(
         Csg::union_all(die_pips().into_iter().map(|c| Csg::mesh(s.translate(Vec3::from(c)))).collect()).unwrap(),
@@ -85,9 +88,13 @@ fn die() -> Csg {
 }
 
 fn stress() -> Csg {
+    stress_with(56)
+}
+
+fn stress_with(segments: i32) -> Csg {
     let centres: Vec<Vec3> =
         (0..1000).map(|i| Vec3::new((i / 100) as f64, (i / 10 % 10) as f64, (i % 10) as f64) * 0.9).collect();
-    let s = sphere(0.55, 56);
+    let s = sphere(0.55, segments);
     let cubes = centres.iter().map(|&c| Csg::mesh(Mesh::cuboid(c - 0.5, c + 0.5))).collect();
     let spheres = centres.iter().map(|&c| Csg::mesh(s.translate(c))).collect();
     Csg::union_all(cubes).unwrap().difference(Csg::union_all(spheres).unwrap())
@@ -145,7 +152,7 @@ fn bench(c: &mut Criterion) {
     c.bench_function("csg/die_engine_only", |b| {
         b.iter(|| black_box(die_engine(&cube, &spheres)));
     });
-    let tree = die();
+    let tree = die(32);
     let m = tree.evaluate().unwrap();
     println!("die: {} triangles, volume {:.9}, genus {}", m.face_count(), m.volume(), m.genus());
     let mut g = c.benchmark_group("csg");
@@ -179,10 +186,80 @@ fn timed(case: &str, n: usize, mut f: impl FnMut()) {
     println!("CSG_PROFILE {case}: min {:.2} ms, median {:.2} ms, mean {mean:.2} ms of {n}", times[0], times[n / 2]);
 }
 
+/// This process's resident memory now and at its peak (`VmRSS`, `VmHWM`), in bytes.
+fn rss() -> (u64, u64) {
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    let field = |name: &str| {
+        status
+            .lines()
+            .find_map(|l| l.strip_prefix(name))
+            .and_then(|v| v.split_whitespace().next()?.parse::<u64>().ok())
+            .map_or(0, |kib| kib * 1024)
+    };
+    (field("VmRSS:"), field("VmHWM:"))
+}
+
+/// This process's user and system CPU time so far, in seconds (`/proc/self/stat`, clock ticks
+/// of 10 ms: summed over several runs).
+fn cpu() -> (f64, f64) {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    // Fields after the command name (which is in parentheses and may hold spaces): utime and
+    // stime are the 12th and 13th.
+    let rest = stat.rsplit_once(')').map_or("", |(_, r)| r);
+    let f: Vec<f64> = rest.split_whitespace().skip(11).take(2).filter_map(|v| v.parse().ok()).collect();
+    if f.len() == 2 {
+        (f[0] / 100.0, f[1] / 100.0)
+    } else {
+        (0.0, 0.0)
+    }
+}
+
+/// `CSG_RUN=die|stress` (`CSG_SEGMENTS`, default 32 for the die and 56 for the stress case;
+/// `CSG_REPS`, default 5): the side-by-side script's measurement (kernel/benches/csg_side_by_side.py).
+/// Each run starts with the peak resident memory reset to the current one (`/proc/self/clear_refs`),
+/// so the peak it prints is the boolean's own on top of its inputs; one line, key=value.
+fn side_by_side(case: &str) {
+    let default_segments = if case == "stress" { 56 } else { 32 };
+    let var = |name: &str, default: i32| std::env::var(name).ok().and_then(|v| v.parse().ok()).unwrap_or(default);
+    let (segments, reps) = (var("CSG_SEGMENTS", default_segments), var("CSG_REPS", 5).max(1) as usize);
+    let tree = if case == "stress" { stress_with(segments) } else { die(segments) };
+    let mut times = Vec::new();
+    let mut peaks = Vec::new();
+    let mut tris = 0;
+    let (u0, s0) = cpu();
+    for _ in 0..reps {
+        let _ = std::fs::write("/proc/self/clear_refs", "5");
+        let (before, _) = rss();
+        let t = Instant::now();
+        let m = tree.evaluate().unwrap();
+        times.push(t.elapsed().as_secs_f64());
+        tris = m.face_count();
+        drop(black_box(m));
+        peaks.push(rss().1.saturating_sub(before));
+    }
+    let (u1, s1) = cpu();
+    times.sort_by(f64::total_cmp);
+    peaks.sort_unstable();
+    println!(
+        "CSG_RUN case={case} segments={segments} tris={tris} reps={reps} bool_med_s={:.6} bool_min_s={:.6} \
+         user_s={:.3} sys_s={:.3} peak_delta_mib={:.1} peak_mib={:.1}",
+        times[reps / 2],
+        times[0],
+        (u1 - u0) / reps as f64,
+        (s1 - s0) / reps as f64,
+        peaks[reps / 2] as f64 / 1048576.0,
+        rss().1 as f64 / 1048576.0
+    );
+}
+
 fn main() {
     // `CSG_PROFILE=die|die_engine|building`: evaluate 200 times outside criterion (whose
     // analysis threads would otherwise fill a profile), printing best, median and mean — for
     // `perf record`, and for side-by-side figures steadier than criterion's on a busy machine.
+    if let Ok(case) = std::env::var("CSG_RUN") {
+        side_by_side(&case);
+        return;
+    }
     if let Ok(case) = std::env::var("CSG_PROFILE") {
         if case == "die_engine" {
             let (cube, spheres) = die_solids();
@@ -191,7 +268,7 @@ fn main() {
             });
         } else {
             let tree =
-                if case == "building" { building().expect("building inputs (see building_peer.py)") } else { die() };
+                if case == "building" { building().expect("building inputs (see building_peer.py)") } else { die(32) };
             timed(&case, if case == "building" { 30 } else { 200 }, || {
                 black_box(tree.evaluate().unwrap());
             });

@@ -1,0 +1,181 @@
+#!/usr/bin/env python3
+"""Booleans side by side with manifold3d (issue 38): the die (a cube of side 2 minus 21 spheres of
+radius 0.15, Manifold's sphere at 32, 64, 128 and 256 segments) and the stress case (10^3 unit
+cubes united, minus 1,000 spheres of radius 0.55, 56 segments, ~1M triangles), on the same inputs,
+interleaved (the order of the two sides alternates from round to round).
+
+Ours: the csg bench binary in its CSG_RUN mode (kernel/benches/csg.rs): `cube(2) - combine(spheres)`
+as the CSG tree a recipe builds, evaluated into our Mesh with a source per face. Theirs:
+manifold3d's batch_boolean of the same solids (../shared/peers/die_manifold.py's inputs), forced
+by num_tri(); the stress case's union and difference both (the tree's total, as ours).
+
+Each side runs in its own process, `--reps` booleans a process; it prints, per boolean, the median
+wall time, user and system CPU seconds (/proc/self/stat), and the peak resident memory above the
+memory before it (the peak is reset with /proc/self/clear_refs before each boolean). Around every
+process, `perf stat` counts user and kernel instructions (load-independent; the whole process,
+setup included) when perf works. Printed: one line per process, then a table of medians over the
+rounds with the ratios ours / manifold3d.
+
+  cargo bench -p blocksmith-kernel --bench csg --no-run    # prints the binary's path
+  ~/.cache/blocksmith-peers/venv/bin/python kernel/benches/csg_side_by_side.py \\
+      --bin target/release/deps/csg-HASH [--sizes 32,64,128,256] [--stress] [--rounds 3] [--reps 3]
+"""
+import argparse
+import os
+import statistics
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+PEERS = os.environ.get("BLOCKSMITH_PEERS", os.path.join(HERE, "..", "..", "..", "shared", "peers"))
+
+
+def status_bytes(field):
+    with open("/proc/self/status") as f:
+        for line in f:
+            if line.startswith(field):
+                return int(line.split()[1]) * 1024
+    return 0
+
+
+def peer(case, segments, reps):
+    """manifold3d's side, in this process: one CSG_RUN-like line."""
+    sys.path.insert(0, PEERS)
+    import manifold3d as mf
+    import die_manifold as dm
+
+    if case == "die":
+        cube = mf.Manifold.cube((2.0, 2.0, 2.0), True)
+        sph = mf.Manifold.sphere(0.15, segments)
+        spheres = [sph.translate(p) for p in dm.die_pips()]
+        for s in [cube] + spheres:
+            s.num_tri()
+
+        def boolean():
+            r = mf.Manifold.batch_boolean([cube] + spheres, mf.OpType.Subtract)
+            return r.num_tri()
+    else:
+        centres = [(i * 0.9, j * 0.9, k * 0.9) for i in range(10) for j in range(10) for k in range(10)]
+        cube = mf.Manifold.cube((1.0, 1.0, 1.0), True)
+        sph = mf.Manifold.sphere(0.55, segments)
+        cubes = [cube.translate(c) for c in centres]
+        spheres = [sph.translate(c) for c in centres]
+        for s in cubes + spheres:
+            s.num_tri()
+
+        def boolean():
+            u = mf.Manifold.batch_boolean(cubes, mf.OpType.Add)
+            r = mf.Manifold.batch_boolean([u] + spheres, mf.OpType.Subtract)
+            return r.num_tri()
+
+    times, peaks = [], []
+    tris = 0
+    t0 = os.times()
+    for _ in range(reps):
+        try:
+            with open("/proc/self/clear_refs", "w") as f:
+                f.write("5")
+        except OSError:
+            pass
+        before = status_bytes("VmRSS:")
+        t = time.perf_counter()
+        tris = boolean()
+        times.append(time.perf_counter() - t)
+        peaks.append(max(0, status_bytes("VmHWM:") - before))
+    t1 = os.times()
+    print(
+        f"PEER_RUN case={case} segments={segments} tris={tris} reps={reps} "
+        f"bool_med_s={statistics.median(times):.6f} bool_min_s={min(times):.6f} "
+        f"user_s={(t1.user - t0.user) / reps:.3f} sys_s={(t1.system - t0.system) / reps:.3f} "
+        f"peak_delta_mib={statistics.median(peaks) / 1048576:.1f} peak_mib={status_bytes('VmHWM:') / 1048576:.1f}",
+        flush=True,
+    )
+
+
+def perf_works():
+    try:
+        r = subprocess.run(["perf", "stat", "-x,", "-e", "instructions:u", "true"], capture_output=True, text=True)
+        return r.returncode == 0 and "not supported" not in r.stderr
+    except OSError:
+        return False
+
+
+def measured(cmd, env, use_perf):
+    """Runs `cmd`; its key=value line, with perf's instruction counts (billions) when asked."""
+    full = (["perf", "stat", "-x,", "-e", "instructions:u,instructions:k"] if use_perf else []) + cmd
+    r = subprocess.run(full, capture_output=True, text=True, env=env)
+    line = next((l for l in r.stdout.splitlines() if "_RUN " in l), None)
+    if line is None:
+        sys.exit(f"no result from {' '.join(cmd)}:\n{r.stdout}\n{r.stderr}")
+    out = dict(kv.split("=", 1) for kv in line.split()[1:])
+    for l in r.stderr.splitlines():
+        parts = l.split(",")
+        if len(parts) > 2 and parts[2].startswith("instructions"):
+            key = "ginstr_user" if parts[2].endswith(":u") else "ginstr_kernel"
+            try:
+                out[key] = f"{int(parts[0]) / 1e9:.3f}"
+            except ValueError:
+                pass
+    print(line.split()[0], " ".join(f"{k}={v}" for k, v in out.items()), flush=True)
+    return out
+
+
+def load_average():
+    with open("/proc/loadavg") as f:
+        return " ".join(f.read().split()[:3])
+
+
+def main():
+    if len(sys.argv) > 1 and sys.argv[1] == "--peer":
+        peer(sys.argv[2], int(sys.argv[3]), int(sys.argv[4]))
+        return
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--bin", required=True, help="the csg bench binary (target/release/deps/csg-*)")
+    ap.add_argument("--sizes", default="32,64,128,256")
+    ap.add_argument("--stress", action="store_true", help="also the ~1M-triangle stress case")
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--reps", type=int, default=3)
+    ap.add_argument("--no-perf", action="store_true")
+    a = ap.parse_args()
+    use_perf = not a.no_perf and perf_works()
+    cases = [("die", int(s)) for s in a.sizes.split(",") if s]
+    if a.stress:
+        cases.append(("stress", 56))
+    results = {c: ([], []) for c in cases}
+    print(f"load average before: {load_average()}", flush=True)
+    for rnd in range(a.rounds):
+        for case in cases:
+            kind, seg = case
+            env = dict(os.environ, CSG_RUN=kind, CSG_SEGMENTS=str(seg), CSG_REPS=str(a.reps))
+            ours = lambda: measured([a.bin], env, use_perf)
+            theirs = lambda: measured([sys.executable, __file__, "--peer", kind, str(seg), str(a.reps)], env, use_perf)
+            if rnd % 2 == 0:
+                o, t = ours(), theirs()
+            else:
+                t, o = theirs(), ours()
+            results[case][0].append(o)
+            results[case][1].append(t)
+    print(f"load average after: {load_average()}", flush=True)
+
+    def med(rows, key):
+        vals = [float(r[key]) for r in rows if key in r]
+        return statistics.median(vals) if vals else float("nan")
+
+    keys = [("bool_med_s", "time"), ("user_s", "user"), ("sys_s", "sys"), ("peak_delta_mib", "peak"),
+            ("ginstr_user", "instr u"), ("ginstr_kernel", "instr k")]
+    print()
+    print("| case | segments | triangles (ours / theirs) | ours time s | manifold3d s | time ratio | user ratio "
+          "| sys ratio | ours peak MiB | manifold3d MiB | memory ratio | instr ratio (user, whole process) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for case in cases:
+        o, t = results[case]
+        ratio = {k: med(o, k) / med(t, k) if med(t, k) else float("nan") for k, _ in keys}
+        print(f"| {case[0]} | {case[1]} | {o[-1]['tris']} / {t[-1]['tris']} | {med(o, 'bool_med_s'):.4f} | "
+              f"{med(t, 'bool_med_s'):.4f} | {ratio['bool_med_s']:.2f} | {ratio['user_s']:.2f} | {ratio['sys_s']:.2f} | "
+              f"{med(o, 'peak_delta_mib'):.1f} | {med(t, 'peak_delta_mib'):.1f} | {ratio['peak_delta_mib']:.2f} | "
+              f"{ratio['ginstr_user']:.2f} |")
+
+
+if __name__ == "__main__":
+    main()
