@@ -20,6 +20,9 @@ pub enum SolveError {
     /// A weight that is not finite and > 0.
     #[error("weight {weight} is not a finite number > 0")]
     BadWeight { weight: f64 },
+    /// A circle radius that is not finite and > 0.
+    #[error("radius {radius} is not a finite number > 0")]
+    BadRadius { radius: f64 },
     /// A NaN or infinite coordinate in the input.
     #[error("{what} has a non-finite coordinate")]
     NonFinite { what: &'static str },

@@ -2,6 +2,7 @@
 //! Every projection takes and returns points relative to their mean (seed 002 Eq. 2), so the
 //! mean-centring matrix N of Eq. 1 is applied by the caller.
 
+use super::fit_circle::circle_in_plane;
 use super::svd3::{best_rotation, svd3};
 use crate::math::{Mat3, Vec3};
 
@@ -30,28 +31,19 @@ pub(crate) fn plane(points: &[Vec3]) -> Vec<Vec3> {
 }
 
 /// The circle projection (Shape-Up): the points onto their best-fit plane, then each onto the
-/// circle fitted there (Kåsa's algebraic fit: x² + y² + a·x + b·y + c = 0 by least squares),
-/// re-centred on their mean.
-pub(crate) fn circle(points: &[Vec3]) -> Vec<Vec3> {
+/// circle fitted there (least squares on the distances, see `fit_circle`), re-centred on their
+/// mean. With `radius`, the circle keeps the fitted centre and plane but has that radius (the
+/// size projection of seed 002 Eq. 18, which scales a feature's radial components).
+pub(crate) fn circle(points: &[Vec3], radius: Option<f64>) -> Vec<Vec3> {
     let n = plane_normal(points);
     let e1 = n.any_orthonormal_vector();
     let e2 = n.cross(e1);
     let uv: Vec<(f64, f64)> = points.iter().map(|p| (p.dot(e1), p.dot(e2))).collect();
-    // Normal equations of [x y 1]·[a b c]ᵀ = −(x² + y²).
-    let mut m = Mat3::ZERO;
-    let mut rhs = Vec3::ZERO;
-    for &(x, y) in &uv {
-        let row = Vec3::new(x, y, 1.0);
-        m += Mat3::from_cols(row * x, row * y, row);
-        rhs -= row * (x * x + y * y);
-    }
-    let (cx, cy) = if m.determinant().abs() > 1e-300 {
-        let abc = m.inverse() * rhs;
-        (-abc.x / 2.0, -abc.y / 2.0)
-    } else {
-        (0.0, 0.0)
-    };
-    let radius = uv.iter().map(|&(x, y)| ((x - cx).powi(2) + (y - cy).powi(2)).sqrt()).sum::<f64>() / uv.len() as f64;
+    let (cx, cy, fitted) = circle_in_plane(&uv).unwrap_or_else(|| {
+        // Collinear or coincident points: a circle about their mean through the farthest.
+        (0.0, 0.0, uv.iter().map(|&(x, y)| (x * x + y * y).sqrt()).fold(0.0, f64::max))
+    });
+    let radius = radius.unwrap_or(fitted);
     let projected: Vec<Vec3> = uv
         .iter()
         .map(|&(x, y)| {
@@ -86,12 +78,16 @@ mod tests {
                 e1 * ((r + wobble) * a.cos()) + e2 * ((r + wobble) * a.sin()) + axis * (0.02 * (5.0 * a).cos())
             })
             .collect();
-        let p = circle(&centred(&pts));
+        let p = circle(&centred(&pts), None);
         let radii: Vec<f64> = p.iter().map(|q| q.length()).collect();
         let mean = radii.iter().sum::<f64>() / radii.len() as f64;
         assert!(radii.iter().all(|x| (x - mean).abs() < 1e-9), "{radii:?}");
         assert!((mean - r).abs() < 0.02, "radius {mean}");
         assert!(p.iter().all(|q| (q.dot(plane_normal(&p))).abs() < 1e-12));
+        // With a radius: the same centre and plane, every point at that radius.
+        let sized = circle(&centred(&pts), Some(0.5));
+        let c = crate::solve::fit_circle(&sized).unwrap();
+        assert!((c.radius - 0.5).abs() < 1e-12 && c.deviation < 1e-12, "{c:?}");
     }
 
     #[test]

@@ -26,10 +26,24 @@ use crate::mesh::Mesh;
 enum Kind {
     /// Keep this centred shape up to a rotation.
     Rigid(Vec<Vec3>),
-    Circle,
+    /// On a circle, of this radius when given.
+    Circle(Option<f64>),
     Plane,
     /// Pin to these positions (not mean-centred).
     Anchor(Vec<Vec3>),
+}
+
+/// The size a circle constraint keeps.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub enum CircleSize {
+    /// Any radius: the circle fitted to the current points (Shape-Up's circle projection).
+    #[default]
+    Free,
+    /// This radius (seed 002's size projection, Eq. 18: the radial components scaled to it).
+    Radius(f64),
+    /// The radius of the circle fitted to the vertices' starting positions (see
+    /// [`fit_circle`](super::fit_circle)).
+    KeepSize,
 }
 
 #[derive(Clone, Debug, PartialEq)]
@@ -148,14 +162,37 @@ impl ShapeUp {
         Ok(())
     }
 
-    /// Keeps `verts` on a circle (any centre, radius and plane).
+    /// Keeps `verts` on a circle (any centre, radius and plane): [`ShapeUp::circle_sized`] with
+    /// [`CircleSize::Free`].
     ///
     /// # Errors
     /// Bad or repeated ids, fewer than 3 vertices, a bad weight.
     pub fn circle(&mut self, verts: &[u32], weight: f64) -> Result<(), SolveError> {
+        self.circle_sized(verts, weight, CircleSize::Free)
+    }
+
+    /// Keeps `verts` on a circle of any centre and plane whose radius is free, given, or the
+    /// starting radius (`size`). The local step fits the circle to the current points (least
+    /// squares, see [`fit_circle`](super::fit_circle)) and projects each point radially onto the
+    /// circle of that centre and the kept radius.
+    ///
+    /// # Errors
+    /// Bad or repeated ids, fewer than 3 vertices, a bad weight; a radius that is not finite and
+    /// positive ([`SolveError::BadRadius`]); for [`CircleSize::KeepSize`], starting positions on
+    /// one line ([`SolveError::Singular`]).
+    pub fn circle_sized(&mut self, verts: &[u32], weight: f64, size: CircleSize) -> Result<(), SolveError> {
         self.check_verts("a circle", verts, 3)?;
         check_weight(weight)?;
-        self.constraints.push(Constraint { verts: verts.to_vec(), weight, kind: Kind::Circle });
+        let radius = match size {
+            CircleSize::Free => None,
+            CircleSize::Radius(r) if r.is_finite() && r > 0.0 => Some(r),
+            CircleSize::Radius(r) => return Err(SolveError::BadRadius { radius: r }),
+            CircleSize::KeepSize => {
+                let start: Vec<Vec3> = verts.iter().map(|&v| self.start[v as usize]).collect();
+                Some(super::fit_circle(&start)?.radius)
+            }
+        };
+        self.constraints.push(Constraint { verts: verts.to_vec(), weight, kind: Kind::Circle(radius) });
         Ok(())
     }
 
@@ -334,7 +371,7 @@ impl ShapeUp {
                     let now = centred(&current);
                     let p = match kind {
                         Kind::Rigid(target) => rigid(target, &now),
-                        Kind::Circle => circle(&now),
+                        Kind::Circle(r) => circle(&now, *r),
                         _ => plane(&now),
                     };
                     (now, p)
@@ -503,6 +540,57 @@ mod tests {
         let r: Vec<f64> = c.iter().map(|p| p.length()).collect();
         let mean = r.iter().sum::<f64>() / r.len() as f64;
         assert!(r.iter().all(|x| (x - mean).abs() < 1e-3 * mean), "{r:?}");
+    }
+
+    /// A flat annulus (a plate with a hole) whose hole is squashed to an ellipse of semi-axes
+    /// 5.3 and 4.8, as a triangle mesh; the ids of the hole's ring.
+    fn plate_with_squashed_hole() -> (Mesh, Vec<u32>) {
+        let (n, rings) = (24usize, 4usize);
+        let mut pos = Vec::new();
+        for k in 0..rings {
+            let t = k as f64 / (rings - 1) as f64;
+            for i in 0..n {
+                let a = i as f64 * std::f64::consts::TAU / n as f64;
+                let (rx, ry) = (5.3 + 6.0 * t, 4.8 + 6.5 * t);
+                pos.push(Vec3::new(rx * a.cos(), ry * a.sin(), 0.0));
+            }
+        }
+        let mut faces = Vec::new();
+        for k in 0..rings - 1 {
+            for i in 0..n {
+                let (a, b) = ((k * n + i) as u32, (k * n + (i + 1) % n) as u32);
+                let (c, d) = (a + n as u32, b + n as u32);
+                faces.extend([a, b, d, a, d, c]);
+            }
+        }
+        let m = Mesh::from_indexed(pos, &faces, &vec![3; faces.len() / 3]).unwrap();
+        (m, (0..n as u32).collect())
+    }
+
+    #[test]
+    fn a_sized_circle_constraint_sets_or_keeps_the_radius() {
+        let (m, ring) = plate_with_squashed_hole();
+        let start = crate::solve::fit_circle(&ring.iter().map(|&v| m.position(v)).collect::<Vec<_>>()).unwrap();
+        // A free circle rounds the hole at whatever radius the compromise gives.
+        let solve = |size: CircleSize| {
+            let mut up = ShapeUp::new(&m).unwrap();
+            up.circle_sized(&ring, 1e6, size).unwrap();
+            up.closeness(1.0).unwrap();
+            let s = up.factor().unwrap().solve(m.positions(), 60).unwrap();
+            crate::solve::fit_circle(&ring.iter().map(|&v| s.positions[v as usize]).collect::<Vec<_>>()).unwrap()
+        };
+        let free = solve(CircleSize::Free);
+        assert!(free.deviation < 1e-5, "{free:?}");
+        for (size, want) in [(CircleSize::Radius(5.0), 5.0), (CircleSize::KeepSize, start.radius)] {
+            let c = solve(size);
+            assert!((c.radius - want).abs() < 1e-6, "{size:?}: radius {} vs {want}", c.radius);
+            assert!(c.deviation < 1e-5, "{size:?}: {c:?}");
+            assert!(c.normal.z.abs() > 1.0 - 1e-9, "{c:?}");
+        }
+        let mut up = ShapeUp::new(&m).unwrap();
+        for r in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            assert!(matches!(up.circle_sized(&ring, 1.0, CircleSize::Radius(r)), Err(SolveError::BadRadius { .. })));
+        }
     }
 
     #[test]
