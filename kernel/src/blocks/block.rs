@@ -327,6 +327,19 @@ impl Block {
         self.sharp = [f64::INFINITY; 12];
     }
 
+    /// Gives every edge the crease `sharpness` (0 smooth, 10 and more sharp, between
+    /// semi-sharp).
+    ///
+    /// # Errors
+    /// [`BlockError::BadSharpness`] for NaN or a negative value; the block is unchanged.
+    pub fn set_sharpness_all(&mut self, sharpness: f64) -> Result<(), BlockError> {
+        if sharpness.is_nan() || sharpness < 0.0 {
+            return Err(BlockError::BadSharpness { edge: "every edge".into(), sharpness });
+        }
+        self.sharp = [sharpness; 12];
+        Ok(())
+    }
+
     /// Tags every edge smooth.
     pub fn smooth_all(&mut self) {
         self.sharp = [0.0; 12];

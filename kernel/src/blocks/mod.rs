@@ -38,4 +38,4 @@ pub use tessellate::{
     tessellate_control, tessellate_control_with_progress, BlockStats, ControlTessellation, Displacement, MeshOptions,
     Progress, Tessellation,
 };
-pub use unconnected::Miss;
+pub use unconnected::{Miss, Subdivision};

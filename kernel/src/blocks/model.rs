@@ -89,6 +89,23 @@ impl BlockModel {
         (self.blocks.len() - 1) as u32
     }
 
+    /// Replaces block `id` with `block` (a copy): how a block is edited after it was added.
+    /// Manual connections to the block stay when the sub-faces they name still exist.
+    ///
+    /// # Errors
+    /// [`BlockError::NoSuchBlock`]; [`BlockError::SubFaceOutOfRange`] when a manual connection
+    /// names a sub-face the new block does not have. The model is unchanged on error.
+    pub fn set_block(&mut self, id: i64, block: Block) -> Result<(), BlockError> {
+        let b = self.check_block(id)?;
+        for c in &self.manual {
+            for r in [c.a, c.b].into_iter().filter(|r| r.block == b) {
+                block.check_subface(r.face, i64::from(r.sub))?;
+            }
+        }
+        self.blocks[b as usize] = block;
+        Ok(())
+    }
+
     /// The blocks, indexed by id.
     #[must_use]
     pub fn blocks(&self) -> &[Block] {

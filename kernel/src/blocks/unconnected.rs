@@ -13,7 +13,8 @@
 
 use crate::math::Vec3;
 
-use super::{BlockError, BlockModel, Face, SubFaceRef};
+use super::block::MAX_SUBDIVISIONS;
+use super::{Block, BlockError, BlockModel, Face, SubFaceRef};
 
 /// One block left out of the piece it touches, and its nearest miss.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -34,6 +35,27 @@ pub struct Miss {
     /// The greatest distance at which these two sub-faces connect (`threshold × (perimeter(a)
     /// + perimeter(b))`).
     pub reach: f64,
+    /// The subdivision of `other`'s face `b.face` that makes a sub-face centre face `block`
+    /// (and every other block touching that face), when `block`'s sub-face centre lies over
+    /// that face; see [`Subdivision`].
+    pub advice: Option<Subdivision>,
+}
+
+/// Advice for blocks that touch a face without connecting: divide face `face` of block
+/// `block` into `nu × nv` sub-faces. Then, for every block touching that face (the one missed
+/// and those it may already connect to), the sub-face under the touching block's centre has
+/// its own centre on the touching block's face, so the rays from the two centres hit each
+/// other (seed 000 §2.2) and they connect. The smallest `nu`, then `nv`, that does it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Subdivision {
+    /// The block whose face to divide.
+    pub block: u32,
+    /// The face.
+    pub face: Face,
+    /// Divisions along u.
+    pub nu: u32,
+    /// Divisions along v.
+    pub nv: u32,
 }
 
 impl BlockModel {
@@ -98,7 +120,90 @@ impl BlockModel {
                 misses.push(m);
             }
         }
+        for m in &mut misses {
+            m.advice = self.subdivision_advice(m, &touching);
+        }
         Ok(misses)
+    }
+
+    /// The subdivision of face `m.b.face` of block `m.other` that lets `m.block` connect to it,
+    /// keeping every other block that touches the face connectable ([`Subdivision`]); `None`
+    /// when `m.block`'s sub-face centre does not lie over that face (the blocks overlap only
+    /// at an edge) or no division up to the limit serves every block.
+    fn subdivision_advice(&self, m: &Miss, touching: &[(usize, usize)]) -> Option<Subdivision> {
+        let (j, face) = (m.other as usize, m.b.face);
+        let target = &self.blocks()[j];
+        // Every block touching the face: the extent (in the face's u, v) of its facing
+        // sub-face, and where that sub-face's centre falls.
+        let mut clients: Vec<([f64; 2], [f64; 2], [f64; 2])> = Vec::new();
+        let partners = touching.iter().filter_map(|&(a, b)| match (a == j, b == j) {
+            (true, _) => Some(b),
+            (_, true) => Some(a),
+            _ => None,
+        });
+        for k in partners {
+            let block = &self.blocks()[k];
+            for f in Face::ALL {
+                for sub in 0..block.subface_count(f) {
+                    let q = block.subface_corners(f, sub);
+                    let n = (q[2] - q[0]).cross(q[3] - q[1]).normalize_or_zero();
+                    if n.dot(face_normal(target, face)) > -0.5 {
+                        continue;
+                    }
+                    let c = (q[0] + q[1] + q[2] + q[3]) * 0.25;
+                    let uv = |p: Vec3| face_uv(target, face, p);
+                    let [cu, cv] = uv(c);
+                    let gap = (c - target.face_point(face, cu, cv)).dot(n).abs();
+                    let inside = (0.0..=1.0).contains(&cu) && (0.0..=1.0).contains(&cv);
+                    let size = (q[0] - q[2]).length().max((q[1] - q[3]).length());
+                    if !inside || gap > 1e-6 * size.max(1e-300) + self.threshold() * size {
+                        continue;
+                    }
+                    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+                    for p in q {
+                        let w = uv(p);
+                        for d in 0..2 {
+                            lo[d] = lo[d].min(w[d]);
+                            hi[d] = hi[d].max(w[d]);
+                        }
+                    }
+                    clients.push(([cu, cv], lo, hi));
+                }
+            }
+        }
+        let mine = face_uv(target, face, subface_centre(&self.blocks()[m.block as usize], m.a.face, m.a.sub));
+        if !clients.iter().any(|(c, _, _)| (c[0] - mine[0]).abs() < 1e-9 && (c[1] - mine[1]).abs() < 1e-9) {
+            return None;
+        }
+        // Along each direction apart: the cell holding a client's centre must have its own
+        // centre strictly inside the client's extent; two clients may not share a cell.
+        let fits = |d: usize, n: u32| {
+            clients.iter().all(|(c, lo, hi)| {
+                let i = (c[d] * f64::from(n)).floor().clamp(0.0, f64::from(n - 1));
+                let centre = (i + 0.5) / f64::from(n);
+                let margin = 1e-9;
+                centre > lo[d] + margin && centre < hi[d] - margin
+            })
+        };
+        let cell = |c: &[f64; 2], nu: u32, nv: u32| {
+            let i = (c[0] * f64::from(nu)).floor().clamp(0.0, f64::from(nu - 1)) as u32;
+            let j = (c[1] * f64::from(nv)).floor().clamp(0.0, f64::from(nv - 1)) as u32;
+            i + nu * j
+        };
+        // The divisions that fit each direction; the pair of fewest sub-faces (then fewest
+        // along u) whose cells are all different.
+        let us: Vec<u32> = (1..=MAX_SUBDIVISIONS).filter(|&n| fits(0, n)).take(32).collect();
+        let vs: Vec<u32> = (1..=MAX_SUBDIVISIONS).filter(|&n| fits(1, n)).take(32).collect();
+        let mut pairs: Vec<(u32, u32)> = us.iter().flat_map(|&u| vs.iter().map(move |&v| (u, v))).collect();
+        pairs.sort_by_key(|&(u, v)| (u * v, u));
+        pairs
+            .into_iter()
+            .find(|&(nu, nv)| {
+                let mut cells: Vec<u32> = clients.iter().map(|(c, _, _)| cell(c, nu, nv)).collect();
+                cells.sort_unstable();
+                cells.windows(2).all(|w| w[0] != w[1])
+            })
+            .map(|(nu, nv)| Subdivision { block: m.other, face, nu, nv })
     }
 
     /// The pairs `(i, j)`, `i < j`, of blocks whose bounds touch within `eps` and whose groups
@@ -148,14 +253,70 @@ impl BlockModel {
                 let d = cb - ca;
                 let gap = d.dot(na);
                 let offset = (d - na * gap).length();
-                let m = Miss { block: i, other: j, a, b, gap, offset, reach: self.threshold() * (pa + pb) };
-                if best.is_none_or(|x| gap.abs() + offset < x.gap.abs() + x.offset) {
+                let m =
+                    Miss { block: i, other: j, a, b, gap, offset, reach: self.threshold() * (pa + pb), advice: None };
+                // Faces that face each other (one's centre over the other) before faces that
+                // merely lie near (a leg's side and the top's side): then least gap and offset.
+                let facing = |x: &Miss| {
+                    let (ba, bb) = (&self.blocks()[x.block as usize], &self.blocks()[x.other as usize]);
+                    let over = |blk: &Block, f: Face, p: Vec3| {
+                        let [u, v] = face_uv(blk, f, p);
+                        (-1e-9..=1.0 + 1e-9).contains(&u) && (-1e-9..=1.0 + 1e-9).contains(&v)
+                    };
+                    over(bb, x.b.face, subface_centre(ba, x.a.face, x.a.sub))
+                        || over(ba, x.a.face, subface_centre(bb, x.b.face, x.b.sub))
+                };
+                let key = |x: &Miss| (u8::from(!facing(x)), x.gap.abs() + x.offset);
+                let better = |x: &Miss| {
+                    let (k, kx) = (key(&m), key(x));
+                    k.0.cmp(&kx.0).then(k.1.total_cmp(&kx.1)).is_lt()
+                };
+                if best.as_ref().is_none_or(better) {
                     best = Some(m);
                 }
             }
         }
         best
     }
+}
+
+/// The centre of sub-face `sub` of `face`.
+fn subface_centre(b: &Block, face: Face, sub: u32) -> Vec3 {
+    let q = b.subface_corners(face, sub);
+    (q[0] + q[1] + q[2] + q[3]) * 0.25
+}
+
+/// The outward unit normal of a whole face (from its corners).
+fn face_normal(b: &Block, face: Face) -> Vec3 {
+    let p = |u, v| b.face_point(face, u, v);
+    let n = (p(1.0, 0.0) - p(0.0, 0.0)).cross(p(0.0, 1.0) - p(0.0, 0.0)).normalize_or_zero();
+    // The face's (u, v) frame may turn either way; outward is away from the block's centre.
+    let centre = (b.face_point(face, 0.5, 0.5) - block_centre(b)).dot(n);
+    if centre < 0.0 {
+        -n
+    } else {
+        n
+    }
+}
+
+fn block_centre(b: &Block) -> Vec3 {
+    b.corners().iter().fold(Vec3::ZERO, |s, p| s + *p) / 8.0
+}
+
+/// The face coordinates `(u, v)` of `p` projected onto `face` (exact on a parallelogram face,
+/// as blocks built from bounds have).
+fn face_uv(b: &Block, face: Face, p: Vec3) -> [f64; 2] {
+    let o = b.face_point(face, 0.0, 0.0);
+    let (eu, ev) = (b.face_point(face, 1.0, 0.0) - o, b.face_point(face, 0.0, 1.0) - o);
+    // Solve p - o = u eu + v ev in the least-squares sense (2 × 2 normal equations).
+    let d = p - o;
+    let (a, bb, c) = (eu.dot(eu), eu.dot(ev), ev.dot(ev));
+    let (r, s) = (d.dot(eu), d.dot(ev));
+    let det = a * c - bb * bb;
+    if det.abs() < 1e-300 {
+        return [f64::NAN, f64::NAN];
+    }
+    [(r * c - s * bb) / det, (s * a - r * bb) / det]
 }
 
 /// Disjoint sets of `0..n` (path halving).
@@ -213,6 +374,59 @@ mod tests {
             assert!(x.gap.abs() < 1e-12, "{x:?}");
             assert!((x.offset - 0.9 * 2f64.sqrt()).abs() < 1e-12, "{x:?}");
         }
+    }
+
+    #[test]
+    fn the_advice_names_a_subdivision_that_connects_every_leg_when_applied() {
+        // Legs a tenth of the top wide at its corners: the smallest grid whose corner cells'
+        // centres lie over the legs is 6 × 6 (5 puts the corner cell's centre at 0.1, the legs'
+        // edge; 6 at 1/12 of the width, inside them).
+        let mut m = table(1);
+        let misses = m.unconnected().unwrap();
+        for x in &misses {
+            assert_eq!(x.advice, Some(Subdivision { block: 0, face: Face::NegZ, nu: 6, nv: 6 }), "{x:?}");
+        }
+        let mut top = m.blocks()[0].clone();
+        top.subdivide(Face::NegZ, 6, 6).unwrap();
+        m.set_block(0, top).unwrap();
+        assert_eq!(m.connections().unwrap().len(), 4, "applying the advice connects all four legs");
+        assert!(m.unconnected().unwrap().is_empty());
+    }
+
+    #[test]
+    fn legs_off_the_grid_get_a_grid_that_serves_them_all() {
+        // Legs of different sizes at uneven places under a 3 × 2 top: whatever the advice,
+        // applying it connects every leg (and keeps the one already connected).
+        let mut m = BlockModel::new();
+        m.allow(0, 0);
+        m.add(Block::from_bounds(Vec3::new(0.0, 0.0, 1.0), Vec3::new(3.0, 2.0, 1.3)).unwrap());
+        let legs = [(0.1, 0.2, 0.25), (2.6, 0.05, 0.3), (1.2, 1.5, 0.4), (1.35, 0.8, 0.3)];
+        for (x, y, w) in legs {
+            m.add(Block::from_bounds(Vec3::new(x, y, 0.0), Vec3::new(x + w, y + w, 1.0)).unwrap());
+        }
+        let misses = m.unconnected().unwrap();
+        assert!(!misses.is_empty());
+        let advice = misses[0].advice.expect("advice for a leg under the top");
+        assert!(misses.iter().all(|x| x.advice == Some(advice)), "one grid for the face: {misses:?}");
+        let mut top = m.blocks()[0].clone();
+        top.subdivide(advice.face, i64::from(advice.nu), i64::from(advice.nv)).unwrap();
+        m.set_block(0, top).unwrap();
+        assert_eq!(m.connections().unwrap().len(), legs.len(), "{advice:?}");
+        assert!(m.unconnected().unwrap().is_empty());
+    }
+
+    #[test]
+    fn a_leg_s_top_is_preferred_to_its_side_even_when_the_sides_lie_nearer() {
+        // A thick leg flush with the top's corner: its side faces lie nearer the top's side faces
+        // (by gap plus offset) than its top face's centre lies to the top's underside centre;
+        // only the top faces face each other, and the advice is about them.
+        let mut m = BlockModel::new();
+        m.allow(0, 0);
+        m.add(Block::from_bounds(Vec3::new(0.0, 0.0, 1.0), Vec3::new(4.0, 4.0, 1.2)).unwrap());
+        m.add(Block::from_bounds(Vec3::new(0.0, 0.0, 0.0), Vec3::new(0.6, 0.6, 1.0)).unwrap());
+        let miss = m.unconnected().unwrap()[0];
+        assert_eq!((miss.a.face, miss.b.face), (Face::PosZ, Face::NegZ), "{miss:?}");
+        assert!(miss.advice.is_some());
     }
 
     #[test]

@@ -236,7 +236,7 @@ fn repl_reads_piped_input_and_keeps_definitions() {
         .spawn()
         .unwrap();
     let input =
-        "fn side(n) {\n  n * 2\n}\nlet c = cube(side(1));\nc.volume()\nc.oops()\nc\n:save c.obj\n:doc area\n:quit\n";
+        "fn side(n) {\n  n * 2\n}\nlet c = cube(side(1));\nc.volume()\nc.oops()\nc\n:save c.obj\n:save small.stl cube(1)\n:doc area\n:quit\n";
     child.stdin.take().unwrap().write_all(input.as_bytes()).unwrap();
     let o = child.wait_with_output().unwrap();
     let out = String::from_utf8_lossy(&o.stdout);
@@ -244,7 +244,9 @@ fn repl_reads_piped_input_and_keeps_definitions() {
     assert!(!o.status.success() && stderr(&o).contains("1 of the entries failed"), "{out}{}", stderr(&o));
     assert!(out.contains("=> 8.0"), "{out}");
     assert!(out.contains("<stdin>:6:3: error: Mesh has no method `oops` (`loops` is a method of PolarMesh)"), "{out}");
-    assert!(out.contains("wrote c.obj"), "{out}");
+    // `:save` says which value it wrote: the last one, or the expression given.
+    assert!(out.contains("wrote c.obj: the last value, Mesh(8 vertices"), "{out}");
+    assert!(out.contains("wrote small.stl: `cube(1)`, Mesh(8 vertices"), "{out}");
     assert!(out.contains("The total surface area."), "{out}");
     assert!(d.path().join("c.obj").exists());
 }

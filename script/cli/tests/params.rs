@@ -147,6 +147,33 @@ fn stats_json_stays_alone_on_stdout_when_the_recipe_prints() {
     assert!(stdout(&o).contains("building") && !stderr(&o).contains("building"), "{}", stdout(&o));
 }
 
+/// A relation between parameters (`param_check`) is reported at its line, with the
+/// parameters' values, by `run` and `params`, before the modeling after it runs.
+#[test]
+fn param_check_reports_a_bad_combination_before_modeling() {
+    let d = tempfile::tempdir().unwrap();
+    let gear = "let teeth = param(\"teeth\", 12, #{ min: 6, max: 60 });\n\
+                let bore = param(\"bore\", 3.0, #{ min: 0, max: 50 });\n\
+                let root = teeth - 2.5;\n\
+                param_check(bore < root, `the bore (${bore}) must be smaller than the root circle (${root})`);\n\
+                print(\"modeling\");\n\
+                cylinder(root / 2, 1, 32) - cylinder(bore / 2, 3, 32)\n";
+    let p = script(d.path(), "gear.rhai", gear);
+    let out = d.path().join("gear.stl");
+    let o = blocksmith().arg("run").arg(&p).args(["--set", "bore=20", "-o"]).arg(&out).output().unwrap();
+    assert_fails_with(
+        &o,
+        "gear.rhai:4:1: error: param_check: the bore (20.0) must be smaller than the root circle (9.5)",
+    );
+    assert_fails_with(&o, "(with teeth = 12, bore = 20.0 (--set))");
+    assert!(!stdout(&o).contains("modeling") && !out.exists(), "the recipe ran on");
+    let o = blocksmith().arg("params").arg(&p).args(["--set", "bore=20"]).output().unwrap();
+    assert_fails_with(&o, "param_check: the bore (20.0)");
+    // A good combination runs.
+    let o = blocksmith().arg("run").arg(&p).args(["--set", "bore=4", "-o"]).arg(&out).output().unwrap();
+    assert!(o.status.success() && out.exists(), "{}", stderr(&o));
+}
+
 /// The manifest of one run, read back.
 fn manifest(recipe: &Path, out: &Path, sets: &[&str]) -> String {
     let m = out.with_extension("json");

@@ -122,6 +122,24 @@ fn miss_message(x: &Miss) -> String {
             " (sub-faces connect within {} here: raise `m.threshold` or move the blocks closer)",
             fmt_num(x.reach)
         ));
+    } else if let Some(d) = x.advice {
+        // Worked out from the geometry: the grid whose sub-face centres face every block
+        // touching that face, this one included (checked by applying it in the tests).
+        msg.push_str(&format!(
+            " (sub-faces connect when the rays from their centres hit each other: subdivide block {}'s {} face \
+             {} × {} — `b.subdivide(\"{}\", {}, {})` before adding it, or `m.set_block({}, b)` after — so that \
+             a sub-face centre lies on block {}'s {} face and every block touching it connects)",
+            d.block,
+            d.face.name(),
+            d.nu,
+            d.nv,
+            d.face.name(),
+            d.nu,
+            d.nv,
+            d.block,
+            x.block,
+            a.face.name()
+        ));
     } else {
         msg.push_str(&format!(
             " (sub-faces connect when the rays from their centres hit each other: subdivide block {}'s {} face \
@@ -520,6 +538,26 @@ pub mod blocks_api {
         b.same()
     }
 
+    /// Gives all 12 edges the crease `sharpness`: 0 is smooth (as `smooth_all()`), 10 and more
+    /// sharp (as `sharp_all()`), a value between a semi-sharp bevel on every edge. Changes the
+    /// block in place and returns it, for a chain (see `blocksmith doc Block`).
+    ///
+    /// ```rhai
+    /// let b = block([0, 0, 0], [1, 1, 1]).sharp_all(2.5);
+    /// assert_eq(b.sharpness("+x+y"), 2.5);
+    /// assert_eq(b.sharpness("-y-z"), 2.5);
+    /// assert(!block([0, 0, 0], [1, 1, 1]).sharp_all(0).is_sharp("+x+y"), "0 is smooth");
+    /// ```
+    #[rhai_fn(name = "sharp_all", return_raw)]
+    pub fn sharp_all_with_sharpness(b: &mut Block, sharpness: Number) -> ScriptResult<Block> {
+        let s = number("sharp_all", "sharpness", &sharpness)?;
+        if s.is_nan() || s < 0.0 {
+            return fail("sharp_all", format!("argument `sharpness` must be 0 or more, got {s}"));
+        }
+        kernel("sharp_all", b.write().set_sharpness_all(s))?;
+        Ok(b.same())
+    }
+
     /// Tags all 12 edges smooth (the default). Changes the block in place and returns it, for a
     /// chain (see `blocksmith doc Block`).
     ///
@@ -636,7 +674,8 @@ pub mod blocks_api {
         m.model.blocks().len() as INT
     }
 
-    /// A copy of block `id` (editing it leaves the model as it is).
+    /// A copy of block `id` (editing it leaves the model as it is: write it back with
+    /// `m.set_block(id, b)`).
     ///
     /// ```rhai
     /// let m = blocks();
@@ -646,6 +685,31 @@ pub mod blocks_api {
     #[rhai_fn(name = "block", pure, return_raw)]
     pub fn model_block(m: &mut BlockModel, id: INT) -> ScriptResult<Block> {
         kernel("block", m.model.block(id)).map(|b| Block::new(b.clone()))
+    }
+
+    /// Replaces block `id` with a copy of `b`: how a block is edited after it was added
+    /// (`let top = m.block(0); top.subdivide("-z", 6, 6); m.set_block(0, top);`). Manual
+    /// connections to the block stay; one naming a sub-face `b` does not have is an error, and
+    /// the model is left as it was.
+    ///
+    /// ```rhai
+    /// let m = blocks();
+    /// m.allow(0, 0);
+    /// let id = m.add(block([0, 0, 1], [2, 2, 1.2]));        // a table top
+    /// m.add(block([0, 0, 0], [0.2, 0.2, 1]));               // a leg under its corner
+    /// assert_eq(m.connections().len(), 0);                  // the top's one centre misses the leg
+    /// let top = m.block(id);
+    /// top.subdivide("-z", 6, 6);
+    /// m.set_block(id, top);
+    /// assert_eq(m.connections().len(), 1);
+    /// assert_eq(m.block(id).subface_count("-z"), 36);
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn set_block(m: &mut BlockModel, id: INT, b: Block) -> ScriptResult<()> {
+        // The kernel leaves the model as it was on error; the last mesh's stats go only on success.
+        kernel("set_block", m.model.set_block(id, b.kernel_copy()))?;
+        m.changed();
+        Ok(())
     }
 
     /// Lets blocks of groups `g1` and `g2` connect (either order; `allow(g, g)` within a group).

@@ -144,6 +144,32 @@ pub mod runtime_api {
         value
     }
 
+    /// States a relation between parameters that no single range can: fails the run with
+    /// `message` and the parameters' values so far (those given by `--set` marked) unless
+    /// `condition` is true. Put it right after the `param` calls, so `--set`, `blocksmith
+    /// params` and the studio report a bad combination at that line before any modeling runs.
+    ///
+    /// Topic: runtime
+    ///
+    /// ```rhai
+    /// let teeth = param("teeth", 12, #{ min: 6, max: 60 });
+    /// let module_ = param("module", 1.0, #{ min: 0.2, max: 10 });
+    /// let bore = param("bore", 3.0, #{ min: 0, max: 50 });
+    /// let root = module_ * (teeth - 2.5);   // the root circle's diameter
+    /// param_check(bore < root, `the bore (${bore}) must be smaller than the root circle (${root})`);
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn param_check(ctx: NativeCallContext, condition: bool, message: &str) -> ScriptResult<()> {
+        if condition {
+            return Ok(());
+        }
+        let params = RunContext::of(&ctx).record.snapshot().params;
+        let values: Vec<String> =
+            params.iter().map(|p| format!("{} = {}{}", p.name, p.value, if p.set { " (--set)" } else { "" })).collect();
+        let with = if values.is_empty() { String::new() } else { format!(" (with {})", values.join(", ")) };
+        fail("param_check", format!("{message}{with}"))
+    }
+
     /// The value given on the command line with `--set name=value`, parsed by the type of
     /// `default` (integer, float — an integer is taken —, bool, text, `Vec3` as `x,y,z`, array
     /// as comma-separated elements), or `default`. Recipes declare their knobs this way; the run

@@ -83,7 +83,10 @@ pub fn render(engine: &Engine, name: Option<&str>) -> Result<String, String> {
         if let Some(text) = render_type(&all, n) {
             return Ok(text);
         }
-        return module.ok_or_else(|| not_found(engine, n));
+        if let Some(text) = module {
+            return Ok(text);
+        }
+        return render_builtin(engine, n).or_else(|| render_guide(n)).ok_or_else(|| not_found(engine, n));
     }
     let mut by_name: BTreeMap<&str, Vec<&Overload>> = BTreeMap::new();
     for f in chosen {
@@ -99,30 +102,111 @@ pub fn render(engine: &Engine, name: Option<&str>) -> Result<String, String> {
             modules::stdlib(engine).iter().map(|m| m.name.as_str()).collect::<Vec<_>>().join(", ")
         ));
     }
-    for (_, overloads) in by_name {
-        // Overloads sharing a text are shown together; each different text follows its own.
-        let mut groups: Vec<(&str, Vec<String>)> = Vec::new();
-        for f in &overloads {
-            match groups.iter_mut().find(|(d, _)| *d == f.doc) {
-                Some((_, sigs)) => sigs.push(f.signature()),
-                None => groups.push((&f.doc, vec![f.signature()])),
-            }
-        }
-        for (doc, sigs) in groups {
-            for sig in sigs {
-                out.push_str(&format!("{sig}\n"));
-            }
-            push_indented(&mut out, doc);
-        }
-    }
     if name.is_none() {
+        // The whole reference in the page's order: topics, operators, types (see `topics`).
+        let r = reference::Reference::of(engine);
+        let sections = r.sections();
+        let mut builtins_done = false;
+        for (section, names) in &sections {
+            if !builtins_done && *section > reference::Section::Builtins {
+                out.push_str(&builtins_text(&r));
+                builtins_done = true;
+            }
+            let title = section.title();
+            out.push_str(&format!("== {title} {}\n\n", "=".repeat(60usize.saturating_sub(title.len()))));
+            for overloads in names.values() {
+                push_overloads(&mut out, overloads);
+            }
+        }
+        if !builtins_done {
+            out.push_str(&builtins_text(&r));
+        }
         for m in modules::stdlib(engine) {
             out.push_str(&module_text(&m));
+        }
+        out.push_str(&format!(
+            "Guides: `blocksmith doc traps` ({}), {}.\n",
+            traps::TITLE,
+            guides::TITLES.iter().map(|t| format!("`blocksmith doc \"{t}\"`")).collect::<Vec<_>>().join(", ")
+        ));
+    } else {
+        for overloads in by_name.values() {
+            push_overloads(&mut out, overloads);
         }
     }
     // A module may share its name with a function (`check`): both are shown.
     out.push_str(&module.unwrap_or_default());
     Ok(out)
+}
+
+/// Overloads sharing a text shown together; each different text follows its own.
+fn push_overloads(out: &mut String, overloads: &[&Overload]) {
+    let mut groups: Vec<(&str, Vec<String>)> = Vec::new();
+    for f in overloads {
+        match groups.iter_mut().find(|(d, _)| *d == f.doc) {
+            Some((_, sigs)) => sigs.push(f.signature()),
+            None => groups.push((&f.doc, vec![f.signature()])),
+        }
+    }
+    for (doc, sigs) in groups {
+        for sig in sigs {
+            out.push_str(&format!("{sig}\n"));
+        }
+        push_indented(out, doc);
+    }
+}
+
+/// Rhai's everyday built-ins in the terminal: each group's note, then one line a function.
+fn builtins_text(r: &reference::Reference) -> String {
+    let title = reference::Section::Builtins.title();
+    let mut out = format!("== {title} {}\n\n", "=".repeat(60usize.saturating_sub(title.len())));
+    for g in topics::BUILTINS {
+        out.push_str(&format!("{}\n", g.title));
+        push_indented(&mut out, g.note);
+        for (name, note) in g.names {
+            let sigs: Vec<String> = r.builtins.iter().filter(|f| f.name == *name).map(Overload::signature).collect();
+            if let Some(first) = sigs.first() {
+                let more = if sigs.len() > 1 { format!(" (+{} more)", sigs.len() - 1) } else { String::new() };
+                out.push_str(&format!(
+                    "  {first}{more}{}\n",
+                    if note.is_empty() { String::new() } else { format!("  — {note}") }
+                ));
+            }
+        }
+        out.push('\n');
+    }
+    out
+}
+
+/// `doc sin`: one of Rhai's everyday built-ins ([`topics::BUILTINS`]): its signatures, the
+/// engine's text for it and blocksmith's note (units, traps).
+fn render_builtin(engine: &Engine, name: &str) -> Option<String> {
+    let all = reference::builtins(engine);
+    let found: Vec<&Overload> = all.iter().filter(|f| f.name == name).collect();
+    if found.is_empty() {
+        return None;
+    }
+    let mut out = String::new();
+    for f in &found {
+        out.push_str(&format!("{}\n", f.signature()));
+    }
+    let text = found.iter().find(|f| !f.doc.is_empty()).map_or("", |f| f.doc.as_str());
+    let note = topics::BUILTINS.iter().flat_map(|g| g.names).find(|(n, _)| *n == name).map_or("", |(_, note)| note);
+    let first = text.split("\n\n").next().unwrap_or_default().trim();
+    push_indented(
+        &mut out,
+        &format!("{first}\n\n{note}\n\n(Rhai's own function; `blocksmith doc` lists the everyday ones.)"),
+    );
+    Some(out)
+}
+
+/// `doc "block faces"`, `doc traps`: a guide of the reference, by a prefix of its heading.
+fn render_guide(name: &str) -> Option<String> {
+    let t = name.to_lowercase();
+    if t == "traps" || (t.len() >= 4 && traps::TITLE.to_lowercase().starts_with(&t)) {
+        return Some(traps::markdown());
+    }
+    guides::text(name)
 }
 
 /// `text` indented by four spaces, then a blank line.

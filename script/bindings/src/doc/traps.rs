@@ -42,11 +42,13 @@ pub const TRAPS: &[Trap] = &[
     },
     Trap {
         title: "Some words are reserved",
-        why: "Rhai reserves words it may use one day: `module`, `match`, `new`, `use`, `with`, `default`, \
-              `static`, `package`, `var`, `case`, `public`... A gear maker's `module` is one of them.",
+        why: "Rhai reserves words it may use one day — `module`, `match`, `new`, `use`, `with`, `default`, \
+              `static`, `package`, `var`, `case`, `public`... — and the names of its own functions `call`, \
+              `curry`, `eval`, `print`, `type_of` and `this`. A gear maker's `module` is one of them; add a word \
+              (`gear_module`) or a trailing underscore (`module_`).",
         wrong: "let module = 2;",
         error: "'module' is a reserved keyword",
-        fix: "let gear_module = 2;",
+        fix: "let gear_module = 2;\nlet module_ = 2;\nlet call_ = 1;",
     },
     Trap {
         title: "Ranges are not arrays",
