@@ -15,7 +15,7 @@ pub use types_bounds::{Box, Rect};
 
 #[path = "types_meshgl.rs"]
 mod types_meshgl;
-pub use types_meshgl::{MeshGL, MeshGL64, MeshGLP, MeshIndex, MeshPrecision};
+pub use types_meshgl::{MeshGL, MeshGL64, MeshGLP, MeshHalfedges, MeshIndex, MeshPrecision};
 
 // ---------------------------------------------------------------------------
 // Constants

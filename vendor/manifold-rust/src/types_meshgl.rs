@@ -440,3 +440,18 @@ pub type MeshGL64 = MeshGLP<f64, u64>;
 #[cfg(test)]
 #[path = "types_meshgl_merge_tests.rs"]
 mod merge_tests;
+
+/// A manifold's triangles with the kernel's half-edge pairing, from
+/// `Manifold::get_mesh_halfedges` (see there). blocksmith patch (PATCHES.md, 8).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshHalfedges {
+    /// Geometric vertex positions.
+    pub vert_pos: Vec<crate::linalg::Vec3>,
+    /// Three corners per triangle (indices into `vert_pos`).
+    pub tri_verts: Vec<u32>,
+    /// For half-edge `3t + i` (corner `i` to corner `i + 1` of triangle `t`), the half-edge
+    /// running back along its edge; `u32::MAX` where the kernel has none.
+    pub paired_halfedge: Vec<u32>,
+    /// Each triangle's face ID (the export's `faceID`).
+    pub face_id: Vec<u32>,
+}

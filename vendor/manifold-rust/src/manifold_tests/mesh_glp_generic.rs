@@ -407,3 +407,28 @@ fn user_built_f64_u32_mesh_imports_directly() {
         t.volume()
     );
 }
+
+/// blocksmith patch (PATCHES.md, 8): the half-edge export lists the triangles, corners and face
+/// IDs the MeshGLP export gives (for meshes without properties, whose vertices are the
+/// geometric ones), and its pairing joins each half-edge to one running back along its edge.
+#[test]
+fn get_mesh_halfedges_matches_get_mesh_glp_and_pairs_every_edge() {
+    let a = Manifold::cube(Vec3::new(2.0, 2.0, 2.0), true);
+    let b = Manifold::sphere(0.6, 24).translate(Vec3::new(1.0, 1.0, 1.0));
+    let c = Manifold::cube(Vec3::new(1.0, 1.0, 1.0), false).translate(Vec3::new(-1.5, -0.5, -0.5));
+    for (name, m) in [("cube", a.clone()), ("difference", a.difference(&b)), ("union", a.union(&c).union(&b))] {
+        let glp = m.get_mesh_glp::<f64, u32>(-1);
+        let h = m.get_mesh_halfedges();
+        assert!(!h.tri_verts.is_empty(), "{name}");
+        assert_eq!(h.tri_verts, glp.tri_verts, "{name}: corners");
+        assert_eq!(h.face_id, glp.face_id, "{name}: face ids");
+        let pos: Vec<f64> = h.vert_pos.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
+        assert_eq!(pos, glp.vert_properties, "{name}: positions");
+        let end = |e: usize| h.tri_verts[3 * (e / 3) + (e % 3 + 1) % 3];
+        for (e, &p) in h.paired_halfedge.iter().enumerate() {
+            let p = p as usize;
+            assert_eq!(h.paired_halfedge[p] as usize, e, "{name}: pairing not mutual at {e}");
+            assert_eq!((h.tri_verts[p], end(p)), (end(e), h.tri_verts[e]), "{name}: pair of {e} not reversed");
+        }
+    }
+}
