@@ -6,7 +6,7 @@
 
 use std::path::{Path, PathBuf};
 
-use blocksmith_kernel::io::{load, save, IoError};
+use blocksmith_kernel::io::{load, load_with, save, IoError, LoadOptions};
 use blocksmith_kernel::mesh::FaceSource;
 use blocksmith_kernel::{Mesh, Vec3};
 
@@ -108,17 +108,21 @@ fn meshes_with_colours_or_sources_write_3mf_for_the_schema_check() {
     save(&coloured, &path).unwrap();
     assert_eq!(load(&path).unwrap().vertex_colors().map(<[_]>::len), Some(coloured.vertex_count()));
 
-    // Two cubes apart, from two inputs (as a boolean result carries them): two base materials,
-    // so the vertices read back take two distinct colours.
-    let mut sourced =
-        Mesh::combine(&[&Mesh::cube(2.0), &Mesh::cube(1.0).translate(Vec3::new(4.0, 0.0, -1.0))]).unwrap();
+    // Two cubes apart, coloured red and blue: two base materials, one per triangle, read back as
+    // the faces' colours (the provenance of a boolean's inputs is a debugging view, not written).
+    let mut red = Mesh::cube(2.0);
+    red.set_color([1.0, 0.0, 0.0, 1.0]).unwrap();
+    let mut blue = Mesh::cube(1.0).translate(Vec3::new(4.0, 0.0, -1.0));
+    blue.set_color([0.0, 0.0, 1.0, 1.0]).unwrap();
+    let mut parted = Mesh::combine(&[&red, &blue]).unwrap();
     let sources = (0..12).map(|face| FaceSource::Mesh { leaf: face / 6, face }).collect();
-    sourced.set_face_sources(Some(sources)).unwrap();
-    let path = output_dir().join("sourced_cubes.3mf");
-    save(&sourced, &path).unwrap();
+    parted.set_face_sources(Some(sources)).unwrap();
+    let path = output_dir().join("coloured_cubes.3mf");
+    save(&parted, &path).unwrap();
     let back = load(&path).unwrap();
     assert!(back.is_closed() && back.is_manifold());
-    let mut seen: Vec<[u32; 4]> = back.vertex_colors().unwrap().iter().map(|c| c.map(f32::to_bits)).collect();
+    let mut seen: Vec<[u32; 4]> =
+        (0..back.face_count() as u32).map(|f| back.face_color(f).expect("a base material").map(f32::to_bits)).collect();
     seen.sort_unstable();
     seen.dedup();
     assert_eq!(seen.len(), 2, "{seen:?}");
@@ -189,8 +193,14 @@ fn each_broken_file_gives_its_error() {
     assert!(matches!(e, IoError::Obj { line: 4, .. }) && e.to_string().contains("unknown keyword \"this\""), "{e}");
     let e = broken("nan.obj");
     assert!(matches!(e, IoError::NonFinite { vertex: 2, .. }), "{e}");
-    let e = broken("nonmanifold.obj");
-    assert!(matches!(e, IoError::Mesh { .. }) && e.to_string().contains("non-manifold"), "{e}");
+    // Three triangles on one edge: loaded by default as the nearest manifold mesh (the third
+    // face separated), refused when repair is off.
+    let repaired = load(data("nonmanifold.obj")).unwrap();
+    assert!(repaired.is_manifold() && repaired.face_count() == 3, "{repaired:?}");
+    let path = data("nonmanifold.obj");
+    let e = load_with(&path, &LoadOptions::DEFAULT.with_repair(false)).expect_err("repair: false");
+    assert!(matches!(e, IoError::NotManifold { .. }) && e.to_string().contains("non-manifold"), "{e}");
+    assert!(e.to_string().starts_with(&path.display().to_string()), "{e}");
     let e = broken("broken.glb");
     assert!(matches!(e, IoError::IndexOutOfRange { index: 9999, vertex_count: 8, .. }), "{e}");
     assert!(e.to_string().contains("mesh 0 primitive 0"), "{e}");
