@@ -5,10 +5,12 @@ mod aabb;
 mod closest_point;
 mod color;
 mod direction;
+mod draw;
 mod fmt_num;
 mod id_hash;
 mod lerp;
 mod mean;
+mod noise;
 mod rng;
 
 pub use aabb::Aabb;
@@ -19,6 +21,7 @@ pub use fmt_num::fmt_num;
 pub use id_hash::{IdHasher, IdMap, IdSet};
 pub use lerp::lerp;
 pub use mean::mean_point;
+pub use noise::{Noise, NoiseError, NoiseKind, NoiseOptions, MAX_LATTICE_COORDINATE, MAX_OCTAVES};
 pub use rng::SplitMix64;
 
 /// A point or direction in 3D, in double precision.

@@ -99,6 +99,14 @@ pub const KINDS: &[Kind] = &[
                anchor) is added to it and returns nothing; `s.solve(n)` returns the solved Mesh.",
     },
     Kind {
+        name: "Rng",
+        rust: "Rng",
+        rule: Rule::InPlace,
+        text: "An Rng is one random stream, shared by every copy: float, range, int, normal, choice, shuffle, \
+               unit_vector and in_sphere each draw from it and advance it, so a helper function given the Rng \
+               (`fn roll(r) { r.int(1, 6) }`) advances its caller's. `rng(seed)` makes a new stream.",
+    },
+    Kind {
         name: "Animation",
         rust: "Animation",
         rule: Rule::InPlace,
