@@ -102,6 +102,33 @@ pub struct Solid {
     inner: Manifold,
 }
 
+/// Triangles laid out as the engine's import reads them ([`Solid::from_flat_until`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FlatTriangles {
+    /// x, y, z of each vertex.
+    pub coordinates: Vec<f64>,
+    /// Three corner indices per triangle, counter-clockwise seen from outside.
+    pub corners: Vec<u32>,
+    /// One tag per triangle (triangles sharing a tag must be coplanar: the engine treats them
+    /// as one face).
+    pub tags: Vec<u32>,
+}
+
+/// Triangles out of the engine with the engine's pairing of their half-edges
+/// ([`Solid::paired_triangles`]), for building a half-edge mesh without searching for twins.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PairedTriangles {
+    /// Vertex positions.
+    pub positions: Vec<Vec3>,
+    /// Three corner indices per triangle, counter-clockwise seen from outside.
+    pub corners: Vec<u32>,
+    /// For half-edge `3t + i` (corner `i` to corner `i + 1` of triangle `t`), the half-edge
+    /// running back along its edge.
+    pub pairs: Vec<u32>,
+    /// The tag of the input triangle each triangle lies on.
+    pub tags: Vec<u32>,
+}
+
 /// Triangles out of the engine: positions, corner indices and one tag per triangle.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Triangles {
@@ -155,11 +182,29 @@ impl Solid {
         if stop.is_stopped() {
             return Err(EngineError::Stopped);
         }
+        let flat = FlatTriangles {
+            coordinates: positions.iter().flat_map(|p| [p.x, p.y, p.z]).collect(),
+            corners: triangles.as_flattened().to_vec(),
+            tags: tags.to_vec(),
+        };
+        Solid::from_flat_until(flat, id, stop)
+    }
+
+    /// [`Solid::with_id_until`] from triangles already laid out as the engine reads them, which
+    /// it takes without copying them again (the engine's import makes its own arrays).
+    ///
+    /// # Errors
+    /// As [`Solid::with_id_until`].
+    pub fn from_flat_until(flat: FlatTriangles, id: u32, stop: &Stop) -> Result<Solid, EngineError> {
+        debug_assert_eq!(flat.corners.len(), 3 * flat.tags.len());
+        if stop.is_stopped() {
+            return Err(EngineError::Stopped);
+        }
         let mesh = MeshGLP::<f64, u32> {
             num_prop: 3,
-            vert_properties: positions.iter().flat_map(|p| [p.x, p.y, p.z]).collect(),
-            tri_verts: triangles.as_flattened().to_vec(),
-            face_id: tags.to_vec(),
+            vert_properties: flat.coordinates,
+            tri_verts: flat.corners,
+            face_id: flat.tags,
             run_original_id: vec![id],
             ..Default::default()
         };
@@ -285,6 +330,18 @@ impl Solid {
     #[must_use]
     pub fn volume(&self) -> f64 {
         self.inner.volume()
+    }
+
+    /// The triangles of the solid with their tags and the engine's pairing of their half-edges,
+    /// in the order and numbering of [`Solid::triangles`] (engine patch 8,
+    /// `Manifold::get_mesh_halfedges`): one pass over the engine's half-edges, no copy beyond
+    /// the one out of the engine (the positions change type in place).
+    #[must_use]
+    pub fn paired_triangles(&self) -> PairedTriangles {
+        let m = self.inner.get_mesh_halfedges();
+        // Both are three f64s: the collect reuses the engine's allocation.
+        let positions = m.vert_pos.into_iter().map(|p| Vec3::new(p.x, p.y, p.z)).collect();
+        PairedTriangles { positions, corners: m.tri_verts, pairs: m.paired_halfedge, tags: m.face_id }
     }
 
     /// The triangles of the solid, with their tags.

@@ -64,6 +64,37 @@ fn empty_results_are_meshes_without_faces() {
 }
 
 #[test]
+fn the_result_is_the_mesh_from_indexed_builds_from_its_triangles() {
+    // The result is built from the engine's own pairing of its half-edges (no search for
+    // twins); from_indexed, which searches, must find the same mesh. The second case leaves a
+    // flat shell (where the unit box touches the box beside it) beside a solid part: the shell is
+    // dropped and the kept triangles' pairs renumbered.
+    let sphere = Csg::mesh(Mesh::icosphere(0.4, 3).translate(Vec3::new(0.5, 0.5, 1.0)));
+    let far = |x: f64| cuboid([x, 0.0, 0.0], [x + 1.0, 1.0, 1.0]);
+    let cases = [
+        (unit().difference(sphere), None),
+        (unit().union(far(3.0)).intersection(far(1.0).union(cuboid([3.5, 0.0, 0.0], [5.0, 1.0, 1.0]))), Some(0.5)),
+    ];
+    for (i, (c, volume)) in cases.into_iter().enumerate() {
+        let m = eval(&c);
+        assert_eq!(m.component_count(), 1, "case {i}");
+        if let Some(v) = volume {
+            assert!((m.volume() - v).abs() < 1e-12, "case {i}: {}", m.volume());
+        }
+        let corners: Vec<u32> = (0..m.face_count() as u32).flat_map(|f| m.face_vertices(f)).collect();
+        let rebuilt = Mesh::from_indexed(m.positions().to_vec(), &corners, &vec![3; m.face_count()]).unwrap();
+        assert_eq!(m.halfedge_count(), rebuilt.halfedge_count(), "case {i}");
+        for h in 0..m.halfedge_count() as u32 {
+            let at = |m: &Mesh| (m.origin(h), m.twin(h), m.next(h), m.prev(h), m.face(h));
+            assert_eq!(at(&m), at(&rebuilt), "case {i}, half-edge {h}");
+        }
+        for v in 0..m.vertex_count() as u32 {
+            assert_eq!(m.vertex_halfedge(v), rebuilt.vertex_halfedge(v), "case {i}, vertex {v}");
+        }
+    }
+}
+
+#[test]
 fn through_hole_has_genus_one() {
     let m = eval(&unit().difference(cuboid([0.25, 0.25, -1.0], [0.75, 0.75, 2.0])));
     assert_eq!(m.genus(), 1);

@@ -25,11 +25,11 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 
-use super::engine::{self, EngineError, Solid, Stop, Triangles};
+use super::engine::{self, EngineError, FlatTriangles, PairedTriangles, Solid, Stop};
 use super::{CsgError, CsgOp, Side};
 use crate::blocks::{BlockError, BlockModel, MeshOptions};
 use crate::limits::{check_memory, CancelToken, LimitError, StopReason};
-use crate::math::{Aabb, Vec3};
+use crate::math::{Aabb, IdMap, Vec3};
 use crate::mesh::{FacePart, FaceSource, Mesh, MeshError};
 
 /// A CSG tree. Cloning is cheap (inputs are shared).
@@ -177,16 +177,16 @@ impl Csg {
         let solid = run(&plan, &prepared, &leaves, &offsets, token, stop)?;
         drop(prepared);
         token.charge(solid_size(&solid))?;
-        let out = without_flat_shells(solid.triangles());
-        token.charge(out.triangles.len() as u64)?;
-        let flat: Vec<u32> = out.triangles.as_flattened().to_vec();
-        let mut mesh =
-            Mesh::from_indexed_stoppable(out.positions, &flat, &vec![3; out.triangles.len()]).map_err(|e| match e {
-                MeshError::Limit(l) => CsgError::Limit(l),
-                e => CsgError::Engine { reason: e.to_string() },
-            })?;
+        // The result's half-edge mesh from the engine's own pairing of its half-edges: one
+        // linear pass, no search for twins.
+        let PairedTriangles { positions, corners: triangles, pairs, tags } =
+            without_flat_shells(solid.paired_triangles());
+        drop(solid);
+        token.charge(tags.len() as u64)?;
+        let mut mesh = Mesh::from_paired_triangles(positions, triangles, pairs)
+            .map_err(|e| CsgError::Engine { reason: e.to_string() })?;
         let face_sources: Vec<FaceSource> =
-            out.tags.iter().map(|&t| sources.get(t as usize).copied().unwrap_or(FaceSource::Unknown)).collect();
+            tags.iter().map(|&t| sources.get(t as usize).copied().unwrap_or(FaceSource::Unknown)).collect();
         // An output edge between two input faces is a crease when it lies along a crease those
         // two faces shared.
         if !creases.is_empty() {
@@ -195,7 +195,7 @@ impl Csg {
                 .edges()
                 .filter_map(|h| {
                     let (f, g) = (mesh.face(h), mesh.face(mesh.twin(h)));
-                    let (tf, tg) = (out.tags[f as usize], out.tags[g as usize]);
+                    let (tf, tg) = (tags[f as usize], tags[g as usize]);
                     let segments = (tf != tg).then(|| creases.get(&edge_key(tf, tg))).flatten()?;
                     let (p, q) = (mesh.position(mesh.origin(h)), mesh.position(mesh.target(h)));
                     let on = |x: Vec3| segments.iter().any(|&([a, b], _)| on_segment(x, a, b, tol));
@@ -225,7 +225,7 @@ impl Csg {
         }
         mesh.set_face_sources(Some(face_sources)).map_err(|e| CsgError::Engine { reason: e.to_string() })?;
         if any_parts {
-            let ids = out.tags.iter().map(|&t| tag_parts.get(t as usize).copied().unwrap_or(0)).collect();
+            let ids = tags.iter().map(|&t| tag_parts.get(t as usize).copied().unwrap_or(0)).collect();
             mesh.set_face_parts(ids, part_table).map_err(|e| CsgError::Engine { reason: e.to_string() })?;
         }
         Ok(mesh)
@@ -246,12 +246,13 @@ const FLAT_SHELL: f64 = 1e-9;
 /// (two boxes meeting face to face, intersected) with symbolic perturbation and may leave a
 /// closed shell of no volume there — two coincident sheets facing apart. CSG is regularised
 /// (the closure of the interior, as CGAL's Nef polyhedra and OpenSCAD give): such a shell
-/// bounds nothing and is dropped. A shell counts as flat when its volume over its area is below
-/// [`FLAT_SHELL`] of the result's largest extent.
-fn without_flat_shells(mut t: Triangles) -> Triangles {
+/// bounds nothing and is dropped, its triangles' pairs renumbered (a shell is closed: no pair
+/// leaves it). A shell counts as flat when its volume over its area is below [`FLAT_SHELL`] of
+/// the result's largest extent.
+fn without_flat_shells(t: PairedTriangles) -> PairedTriangles {
     let n = t.positions.len();
     let mut parent: Vec<u32> = (0..n as u32).collect();
-    for tri in &t.triangles {
+    for tri in t.corners.chunks_exact(3) {
         let a = root(&mut parent, tri[0]);
         for &v in &tri[1..] {
             let b = root(&mut parent, v);
@@ -263,9 +264,9 @@ fn without_flat_shells(mut t: Triangles) -> Triangles {
     let mut volume = vec![0.0; n];
     let mut area = vec![0.0; n];
     let size = Aabb::from_points(&t.positions).size().max_element();
-    let roots: Vec<u32> = t.triangles.iter().map(|tri| root(&mut parent, tri[0])).collect();
-    for (tri, &r) in t.triangles.iter().zip(&roots) {
-        let [a, b, c] = tri.map(|v| t.positions[v as usize]);
+    let roots: Vec<u32> = t.corners.chunks_exact(3).map(|tri| root(&mut parent, tri[0])).collect();
+    for (tri, &r) in t.corners.chunks_exact(3).zip(&roots) {
+        let [a, b, c] = [0, 1, 2].map(|i| t.positions[tri[i] as usize]);
         // Relative to the shell's root vertex, so a far-off shell's volume keeps its digits.
         let o = t.positions[r as usize];
         volume[r as usize] += (a - o).dot((b - o).cross(c - o)) / 6.0;
@@ -275,25 +276,40 @@ fn without_flat_shells(mut t: Triangles) -> Triangles {
     if !roots.iter().any(|&r| flat(r)) {
         return t;
     }
-    let keep: Vec<bool> = roots.iter().map(|&r| !flat(r)).collect();
-    let mut k = keep.iter();
-    t.triangles.retain(|_| *k.next().unwrap_or(&true));
-    let mut k = keep.iter();
-    t.tags.retain(|_| *k.next().unwrap_or(&true));
-    // Renumber the vertices still used.
-    let mut map = vec![u32::MAX; n];
-    let mut positions = Vec::new();
-    for tri in &mut t.triangles {
-        for v in tri.iter_mut() {
-            if map[*v as usize] == u32::MAX {
-                map[*v as usize] = positions.len() as u32;
-                positions.push(t.positions[*v as usize]);
-            }
-            *v = map[*v as usize];
+    // Each kept triangle's new number.
+    let mut renumber = vec![u32::MAX; roots.len()];
+    let mut kept = 0u32;
+    for (new, &r) in renumber.iter_mut().zip(&roots) {
+        if !flat(r) {
+            *new = kept;
+            kept += 1;
         }
     }
-    t.positions = positions;
-    t
+    let mut map = vec![u32::MAX; n];
+    let mut out = PairedTriangles {
+        positions: Vec::new(),
+        corners: Vec::with_capacity(3 * kept as usize),
+        pairs: Vec::with_capacity(3 * kept as usize),
+        tags: Vec::with_capacity(kept as usize),
+    };
+    for (f, &new) in renumber.iter().enumerate() {
+        if new == u32::MAX {
+            continue;
+        }
+        out.tags.push(t.tags[f]);
+        for i in 3 * f..3 * f + 3 {
+            // Renumber the vertices still used, in order of first use.
+            let v = t.corners[i] as usize;
+            if map[v] == u32::MAX {
+                map[v] = out.positions.len() as u32;
+                out.positions.push(t.positions[v]);
+            }
+            out.corners.push(map[v]);
+            let p = t.pairs[i];
+            out.pairs.push(3 * renumber[p as usize / 3] + p % 3);
+        }
+    }
+    out
 }
 
 /// The root of `x` in the union–find forest `parent` (path halving on the way).
@@ -423,10 +439,14 @@ fn run(
     };
     match plan {
         Plan::Import { pieces, id } => {
-            // Each piece brings the vertices its triangles use, numbered in order of first use.
-            let mut positions = Vec::new();
-            let mut triangles = Vec::new();
-            let mut tags = Vec::new();
+            // Each piece brings the vertices its triangles use, numbered in order of first use,
+            // written straight into the arrays the engine reads.
+            let n: usize = pieces.iter().map(|&(k, c)| prepared[k].components[c].len()).sum();
+            let mut flat = FlatTriangles {
+                coordinates: Vec::with_capacity(3 * (n / 2 + 2)),
+                corners: Vec::with_capacity(3 * n),
+                tags: Vec::with_capacity(n),
+            };
             // A piece's vertex -> its number in the import (`NONE` when not yet used), and
             // the piece's vertices, to clear the map for the next piece.
             let mut number: Vec<u32> = Vec::new();
@@ -443,31 +463,32 @@ fn run(
                             return Err(LimitError::Stopped(reason).into());
                         }
                     }
-                    triangles.push(p.triangles[t as usize].map(|v| {
+                    for v in p.triangles[t as usize] {
                         let slot = &mut number[v as usize];
                         if *slot == NONE {
-                            *slot = positions.len() as u32;
-                            positions.push(p.positions[v as usize]);
+                            *slot = (flat.coordinates.len() / 3) as u32;
+                            flat.coordinates.extend_from_slice(&p.positions[v as usize].to_array());
                             used.push(v);
                         }
-                        *slot
-                    }));
-                    tags.push(offsets[k] + p.faces[t as usize]);
+                        flat.corners.push(*slot);
+                    }
+                    flat.tags.push(offsets[k] + p.faces[t as usize]);
                 }
                 for v in used.drain(..) {
                     number[v as usize] = NONE;
                 }
             }
-            token.charge(triangles.len() as u64)?;
+            let triangles = flat.tags.len();
+            token.charge(triangles as u64)?;
             // An operand too small for the precision where it lies is merged away by the
             // engine's import itself (a unit box at 1e12 became empty, and a union of two of
             // them 0 faces): refused before, as the boolean's own check would refuse it.
             let side = leaves[pieces[0].0].1;
-            let (span, magnitude) = span_and_magnitude(&positions);
+            let (span, magnitude) = span_and_magnitude(&flat.coordinates);
             if span > 0.0 && span < MIN_SPAN_RESOLUTIONS * ENGINE_PRECISION * magnitude {
                 return Err(CsgError::Precision { side, span, magnitude });
             }
-            let solid = Solid::with_id_until(&positions, &triangles, &tags, *id, stop).map_err(|e| match e {
+            let solid = Solid::from_flat_until(flat, *id, stop).map_err(|e| match e {
                 EngineError::Stopped => engine_error(e),
                 EngineError::Failed(reason) => {
                     let (k, _) = pieces[0];
@@ -479,7 +500,7 @@ fn run(
                 }
             })?;
             // Never an empty operand from a solid one: whatever merged it away was precision.
-            if solid.is_empty() && !triangles.is_empty() && span > 0.0 {
+            if solid.is_empty() && triangles > 0 && span > 0.0 {
                 return Err(CsgError::Precision { side, span, magnitude });
             }
             Ok(solid)
@@ -518,11 +539,12 @@ pub const ENGINE_PRECISION: f64 = 1e-12;
 /// volume, their difference emptied).
 pub const MIN_SPAN_RESOLUTIONS: f64 = 100.0;
 
-/// The smallest extent of the bounding box of `positions` and their largest coordinate in
-/// absolute value (0 and 0 for none).
-fn span_and_magnitude(positions: &[Vec3]) -> (f64, f64) {
-    let Some(&first) = positions.first() else { return (0.0, 0.0) };
-    let (lo, hi) = positions.iter().fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+/// The smallest extent of the bounding box of the points whose x, y, z follow one another in
+/// `coordinates`, and their largest coordinate in absolute value (0 and 0 for none).
+fn span_and_magnitude(coordinates: &[f64]) -> (f64, f64) {
+    let mut points = coordinates.chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2]));
+    let Some(first) = points.next() else { return (0.0, 0.0) };
+    let (lo, hi) = points.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p)));
     ((hi - lo).min_element(), lo.abs().max(hi.abs()).max_element())
 }
 
@@ -806,8 +828,9 @@ fn check_solid(
     // first vertex found at a position another one holds touches it. Linear, and stoppable.
     let mut seen_in = vec![usize::MAX; mesh.vertex_count()];
     for (c, tris) in components.iter().enumerate() {
-        // A map of its own per component (clearing one would cost its largest size each time).
-        let mut at: HashMap<[u64; 3], u32> = HashMap::with_capacity(tris.len());
+        // A map of its own per component (clearing one would cost its largest size each time),
+        // with the fast integer hasher: SipHash was a tenth of a boolean's leaf preparation.
+        let mut at: IdMap<[u64; 3], u32> = IdMap::with_capacity_and_hasher(tris.len() / 2 + 3, Default::default());
         for (i, &t) in tris.iter().enumerate() {
             crate::limits::poll_at(i)?;
             for v in triangles[t as usize] {

@@ -366,6 +366,123 @@ impl Mesh {
     }
 }
 
+impl Mesh {
+    /// A closed triangle mesh from triangles whose half-edges are already paired, as a boolean
+    /// engine holds them (Manifold's `halfedge` array, through
+    /// [`crate::csg::engine::Solid::paired_triangles`]): triangle `t` has the corners
+    /// `corners[3t..3t + 3]` counter-clockwise, half-edge `3t + i` runs from corner `i` to corner
+    /// `i + 1`, and `pairs[3t + i]` is the half-edge running back along it. The result equals
+    /// [`Mesh::from_indexed`]'s from the same triangles, built without searching for twins: one
+    /// pass lays the half-edges out ([`Mesh::from_paired_faces`]) and one walk around every
+    /// vertex checks the pairing and the fans.
+    ///
+    /// Where a vertex's triangles form more than one fan (a solid pinched to a point there: two
+    /// cones tip to tip, a cut through a vertex), each fan after the vertex's first (the one of its
+    /// smallest half-edge) gets a vertex of its own at the same position, numbered after the
+    /// others in the order of the fans' smallest half-edges — as a boolean result keeps two
+    /// vertices where two solids meet along an edge — rather than refusing the solid.
+    ///
+    /// Cost: O(n) for n triangles (the walk reads each half-edge's pair once).
+    ///
+    /// # Errors
+    /// [`MeshError::NonFinite`] for a NaN or infinite coordinate; [`MeshError::DegenerateFace`] for
+    /// a triangle that repeats a vertex; [`MeshError::Internal`] when the pairing is not one of a
+    /// closed surface (a half-edge without a pair, pairs not mutual or not running back between
+    /// the same vertices) — the engine's bug.
+    pub(crate) fn from_paired_triangles(
+        positions: Vec<Vec3>,
+        corners: Vec<u32>,
+        pairs: Vec<u32>,
+    ) -> Result<Mesh, MeshError> {
+        let (nv, nfh) = (positions.len(), corners.len());
+        let bad = |why: &str| Err(MeshError::Internal(format!("paired triangles: {why}")));
+        if pairs.len() != nfh {
+            return bad("array lengths differ");
+        }
+        for (t, c) in corners.chunks_exact(3).enumerate() {
+            if c[0] == c[1] || c[1] == c[2] || c[0] == c[2] {
+                let v = if c[0] == c[1] || c[0] == c[2] { c[0] } else { c[1] };
+                return Err(MeshError::DegenerateFace { face: t, reason: format!("vertex {v} appears twice") });
+            }
+        }
+        // A half-edge without a pair (NONE) is out of range too: the surface must be closed.
+        if !pairs.chunks(1024).all(|b| b.iter().fold(true, |ok, &t| ok & ((t as usize) < nfh))) {
+            return bad("a half-edge without a pair");
+        }
+        let mut mesh = Mesh::from_paired_faces(positions, 3, corners, pairs, vec![0.0; nfh], vec![0.0; nv])?;
+        // Each vertex's half-edges, counted, against the walk around it from its first one.
+        let mut count = vec![0u32; nv];
+        for &v in &mesh.he_origin {
+            count[v as usize] += 1;
+        }
+        let mut pinched = false;
+        for (&first, &n) in mesh.vertex_out.iter().zip(&count) {
+            if first != NONE {
+                pinched |= mesh.walk_fan(first, |_| {})? != n;
+            }
+        }
+        if pinched {
+            mesh.split_fans();
+        }
+        Ok(mesh)
+    }
+
+    /// Walks the fan of half-edges leaving `first`'s origin (each the twin of the one before it
+    /// in its triangle), calling `visit` on each, and returns how many it met; checks on the way
+    /// that each pair is mutual and leaves the same vertex. Closed meshes only.
+    fn walk_fan(&self, first: u32, mut visit: impl FnMut(u32)) -> Result<u32, MeshError> {
+        let v = self.he_origin[first as usize];
+        let limit = self.he_origin.len() as u32;
+        let mut seen = 0u32;
+        let mut h = first;
+        loop {
+            visit(h);
+            seen += 1;
+            let p = self.he_prev[h as usize];
+            let t = self.he_twin[p as usize];
+            if self.he_twin[t as usize] != p || self.he_origin[t as usize] != v {
+                return Err(MeshError::Internal(format!(
+                    "paired triangles: half-edges {p} and {t} are not a pair around vertex {v}"
+                )));
+            }
+            h = t;
+            if h == first || seen > limit {
+                return Ok(seen);
+            }
+        }
+    }
+
+    /// Gives every fan of half-edges around a vertex after its first (see
+    /// [`Mesh::from_paired_triangles`]) a vertex of its own at the same position.
+    fn split_fans(&mut self) {
+        let nfh = self.he_origin.len();
+        let mut visited = vec![false; nfh];
+        for v in 0..self.positions.len() {
+            let first = self.vertex_out[v];
+            if first != NONE {
+                // Checked by the caller's walk: no error here.
+                let _ = self.walk_fan(first, |h| visited[h as usize] = true);
+            }
+        }
+        for h0 in 0..nfh as u32 {
+            if visited[h0 as usize] {
+                continue;
+            }
+            let w = self.positions.len() as u32;
+            let v = self.he_origin[h0 as usize] as usize;
+            self.positions.push(self.positions[v]);
+            self.vertex_sharpness.push(self.vertex_sharpness[v]);
+            self.vertex_out.push(h0);
+            let mut fan = Vec::new();
+            let _ = self.walk_fan(h0, |h| fan.push(h));
+            for h in fan {
+                visited[h as usize] = true;
+                self.he_origin[h as usize] = w;
+            }
+        }
+    }
+}
+
 /// The face, next and previous half-edge of `nfh` face half-edges laid out `A` to a face, in
 /// face order (the arity a constant, so the divisions are multiplications; for a power of two
 /// such as quads, next and previous are branch-free masks, which vectorise).
@@ -519,5 +636,73 @@ mod tests {
             Mesh::from_polygons(quad_positions(), &[vec![0, 1]]),
             Err(MeshError::DegenerateFace { face: 0, .. })
         ));
+    }
+
+    /// The corners and the twin of every face half-edge of a closed triangle mesh (face `f`'s
+    /// half-edges are `3f..3f + 3`, as `from_indexed` lays them out).
+    fn corners_and_pairs(m: &Mesh) -> (Vec<u32>, Vec<u32>) {
+        let nfh = 3 * m.face_count() as u32;
+        ((0..nfh).map(|h| m.origin(h)).collect(), (0..nfh).map(|h| m.twin(h)).collect())
+    }
+
+    #[test]
+    fn paired_triangles_build_the_mesh_from_indexed_builds() {
+        let m = Mesh::icosphere(1.0, 3);
+        let (corners, pairs) = corners_and_pairs(&m);
+        let arities = vec![3; m.face_count()];
+        let indexed = Mesh::from_indexed(m.positions().to_vec(), &corners, &arities).unwrap();
+        let paired = Mesh::from_paired_triangles(m.positions().to_vec(), corners, pairs).unwrap();
+        assert_eq!(paired, indexed);
+        assert!(paired.is_closed() && paired.is_manifold());
+    }
+
+    #[test]
+    fn paired_triangles_give_each_further_fan_of_a_pinched_vertex_its_own_vertex() {
+        // Two tetrahedra tip to tip at vertex 0: two fans there, which from_indexed refuses.
+        let tetra = |p: [Vec3; 4]| Mesh::from_polygons(p.to_vec(), &[[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]);
+        let o = Vec3::ZERO;
+        let a = tetra([o, Vec3::new(1.0, 0.0, 1.0), Vec3::new(0.0, 1.0, 1.0), Vec3::new(1.0, 1.0, 2.0)]).unwrap();
+        let b = tetra([o, Vec3::new(1.0, 0.0, -1.0), Vec3::new(1.0, 1.0, -2.0), Vec3::new(0.0, 1.0, -1.0)]).unwrap();
+        let (mut corners, mut pairs) = corners_and_pairs(&a);
+        let (cb, pb) = corners_and_pairs(&b);
+        // b's vertices after a's, its vertex 0 being a's; its half-edges after a's.
+        corners.extend(cb.iter().map(|&v| if v == 0 { 0 } else { v + 3 }));
+        pairs.extend(pb.iter().map(|&h| h + 12));
+        let mut positions = a.positions().to_vec();
+        positions.extend_from_slice(&b.positions()[1..]);
+        let arities = vec![3; 8];
+        let refused = Mesh::from_indexed(positions.clone(), &corners, &arities).unwrap_err();
+        assert!(matches!(refused, MeshError::NonManifoldVertex { vertex: 0, .. }), "{refused}");
+        let m = Mesh::from_paired_triangles(positions, corners, pairs).unwrap();
+        assert!(m.is_closed() && m.is_manifold());
+        assert_eq!((m.vertex_count(), m.face_count(), m.component_count()), (8, 8, 2));
+        assert_eq!(m.position(7), o);
+        // The first fan (of half-edge 0, a's) keeps vertex 0; b's triangles use the new one.
+        assert_eq!((0..4).filter(|&f| m.face_vertices(f).any(|v| v == 0)).count(), 3);
+        assert_eq!((4..8).filter(|&f| m.face_vertices(f).any(|v| v == 7)).count(), 3);
+        assert!((4..8).all(|f| m.face_vertices(f).all(|v| v != 0)));
+        assert!((m.volume() - (a.volume() + b.volume())).abs() < 1e-12);
+    }
+
+    #[test]
+    fn paired_triangles_refuse_a_bad_pairing_and_a_repeated_corner() {
+        let m = Mesh::icosphere(1.0, 1);
+        let (corners, pairs) = corners_and_pairs(&m);
+        let p = m.positions().to_vec();
+        let mut unpaired = pairs.clone();
+        unpaired[5] = NONE;
+        let e = Mesh::from_paired_triangles(p.clone(), corners.clone(), unpaired).unwrap_err();
+        assert!(matches!(e, MeshError::Internal(_)), "{e}");
+        // Two half-edges swapped: pairs no longer mutual.
+        let mut swapped = pairs.clone();
+        swapped.swap(0, 1);
+        assert!(matches!(
+            Mesh::from_paired_triangles(p.clone(), corners.clone(), swapped),
+            Err(MeshError::Internal(_))
+        ));
+        let mut repeated = corners;
+        repeated[4] = repeated[3];
+        let e = Mesh::from_paired_triangles(p, repeated, pairs).unwrap_err();
+        assert!(matches!(e, MeshError::DegenerateFace { face: 1, .. }), "{e}");
     }
 }

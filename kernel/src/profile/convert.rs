@@ -42,85 +42,18 @@ pub(super) fn mesh_error(e: MeshError) -> ProfileError {
     }
 }
 
-/// The engine solid's triangles as a half-edge mesh (an empty mesh for an empty solid).
+/// The engine solid's triangles as a half-edge mesh (an empty mesh for an empty solid), built
+/// from the engine's own pairing of its half-edges ([`Mesh::from_paired_triangles`]: linear, no
+/// search for twins).
 ///
 /// Where the solid pinches to a point (a revolved profile touching the axis at one point, a
 /// cut through a vertex) the engine shares one vertex between two fans of triangles; the
 /// half-edge mesh gets one vertex per fan there, at the same position, as CSG results keep two
 /// vertices where two solids meet along an edge.
 pub(super) fn mesh_from_solid(solid: &Solid) -> Result<Mesh, ProfileError> {
-    let t = solid.triangles();
-    crate::limits::charge(t.triangles.len() as u64)?;
-    let flat: Vec<u32> = t.triangles.as_flattened().to_vec();
-    let arities = vec![3; t.triangles.len()];
-    match Mesh::from_indexed(t.positions.clone(), &flat, &arities) {
-        Err(MeshError::NonManifoldVertex { .. }) => {
-            let (positions, triangles) = split_pinched(t.positions, &t.triangles);
-            Mesh::from_indexed(positions, triangles.as_flattened(), &arities).map_err(mesh_error)
-        }
-        other => other.map_err(mesh_error),
-    }
-}
-
-/// Gives each fan of triangles around a vertex its own vertex: corners around a vertex are in
-/// one fan when their triangles share an edge there (union–find over corners, through the
-/// twin of each directed edge); every fan after a vertex's first gets a copy of its position.
-fn split_pinched(
-    mut positions: Vec<crate::math::Vec3>,
-    triangles: &[[u32; 3]],
-) -> (Vec<crate::math::Vec3>, Vec<[u32; 3]>) {
-    use std::collections::HashMap;
-    let corners = triangles.len() * 3;
-    let mut parent: Vec<usize> = (0..corners).collect();
-    fn root(parent: &mut [usize], mut x: usize) -> usize {
-        while parent[x] != x {
-            parent[x] = parent[parent[x]];
-            x = parent[x];
-        }
-        x
-    }
-    // Directed edge (a, b) → the corner of `a` in the triangle holding it (b's corner follows).
-    let mut edges: HashMap<(u32, u32), usize> = HashMap::with_capacity(corners);
-    for (t, tri) in triangles.iter().enumerate() {
-        for k in 0..3 {
-            edges.insert((tri[k], tri[(k + 1) % 3]), 3 * t + k);
-        }
-    }
-    for (t, tri) in triangles.iter().enumerate() {
-        for k in 0..3 {
-            let (a, b) = (tri[k], tri[(k + 1) % 3]);
-            // The twin runs b → a in triangle u: a's corner there is the one after b's.
-            if let Some(&cb) = edges.get(&(b, a)) {
-                let u = cb / 3;
-                let ca = 3 * u + (cb % 3 + 1) % 3;
-                for (x, y) in [(3 * t + k, ca), (3 * t + (k + 1) % 3, cb)] {
-                    let (rx, ry) = (root(&mut parent, x), root(&mut parent, y));
-                    parent[rx.max(ry)] = rx.min(ry);
-                }
-            }
-        }
-    }
-    // The first fan met at each vertex keeps it; later fans get new vertices.
-    let mut fan_vertex: HashMap<usize, u32> = HashMap::new();
-    let mut owner: Vec<Option<usize>> = vec![None; positions.len()];
-    let mut out = triangles.to_vec();
-    for (t, tri) in out.iter_mut().enumerate() {
-        for (k, v) in tri.iter_mut().enumerate() {
-            let r = root(&mut parent, 3 * t + k);
-            let vi = *v as usize;
-            match owner[vi] {
-                None => owner[vi] = Some(r),
-                Some(o) if o == r => {}
-                Some(_) => {
-                    *v = *fan_vertex.entry(r).or_insert_with(|| {
-                        positions.push(positions[vi]);
-                        (positions.len() - 1) as u32
-                    });
-                }
-            }
-        }
-    }
-    (positions, out)
+    let t = solid.paired_triangles();
+    crate::limits::charge(t.tags.len() as u64)?;
+    Mesh::from_paired_triangles(t.positions, t.corners, t.pairs).map_err(mesh_error)
 }
 
 /// A closed mesh as an engine solid; `what` names it in errors.

@@ -269,6 +269,17 @@ pub(crate) fn scope() -> Option<CancelToken> {
     SCOPE.with(|s| s.borrow().clone())
 }
 
+/// Runs `f`; `None` when it ends by [`unwind`] (a parallel section whose items
+/// saw their token cancelled), whatever the thread's scope. Other panics pass
+/// through unchanged. blocksmith patch (PATCHES.md, 10).
+pub(crate) fn catching<R>(f: impl FnOnce() -> R) -> Option<R> {
+    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)) {
+        Ok(r) => Some(r),
+        Err(payload) if payload.is::<Unwound>() => None,
+        Err(payload) => std::panic::resume_unwind(payload),
+    }
+}
+
 /// Ends the running [`cancellable`] operation (its token was seen cancelled).
 pub(crate) fn unwind() -> ! {
     std::panic::resume_unwind(Box::new(Unwound))

@@ -83,7 +83,8 @@ impl Collider {
         let mut collider = Self {
             node_bbox: vec![BBox::default(); num_nodes],
             node_parent: vec![-1; num_nodes],
-            internal_children: vec![[-1, -1]; n.saturating_sub(1)],
+            // Written whole by create_radix_tree. blocksmith patch (PATCHES.md, 9).
+            internal_children: Vec::new(),
         };
         collider.create_radix_tree(&leaf_morton);
         collider.update_boxes(leaf_bbox);
@@ -207,11 +208,13 @@ impl Collider {
         for (internal, &[child1, child2]) in children.iter().enumerate() {
             // blocksmith patch (PATCHES.md, 7): a cancel ends a long build here.
             crate::cancel::checkpoint_at(internal);
-            self.internal_children[internal] = [child1, child2];
             let node = internal_to_node(internal as i32);
             self.node_parent[child1 as usize] = node;
             self.node_parent[child2 as usize] = node;
         }
+        // blocksmith patch (PATCHES.md, 9): the children found are the array itself, rather
+        // than copied into one filled with -1 beforehand.
+        self.internal_children = children;
     }
 
     /// Refit internal boxes bottom-up from the leaf boxes already present in

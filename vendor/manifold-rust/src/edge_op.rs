@@ -847,9 +847,17 @@ fn dedupe_edges_from(mesh: &mut ManifoldImpl, mut split_owners: Option<Vec<usize
         {
             Some(owners) => {
                 let m: &ManifoldImpl = mesh;
-                crate::par::maybe_par_map(owners.len(), ORBIT_PAR_THRESHOLD / 8, |k| {
+                // blocksmith patch (PATCHES.md, 9): the owners in runs of `OWNER_RUN`, one
+                // list of duplicates per run (rather than an empty list per owner to concat),
+                // in parallel exactly when every owner was (the same list, in order).
+                const OWNER_RUN: usize = 1024;
+                let runs = owners.len().div_ceil(OWNER_RUN);
+                let threshold = if owners.len() >= ORBIT_PAR_THRESHOLD / 8 { 0 } else { usize::MAX };
+                crate::par::maybe_par_map(runs, threshold, |r| {
                     let mut dups = Vec::new();
-                    dedupe_orbit(m, owners[k], n_edges, |_| {}, &mut dups);
+                    for &owner in &owners[r * OWNER_RUN..((r + 1) * OWNER_RUN).min(owners.len())] {
+                        dedupe_orbit(m, owner, n_edges, |_| {}, &mut dups);
+                    }
                     dups
                 })
                 .concat()

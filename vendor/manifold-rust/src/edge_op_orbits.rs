@@ -220,8 +220,9 @@ pub(super) fn dedupe_orbit(
 ) {
     // Track all endVerts seen in this vertex's orbit, keeping smallest edge idx.
     // Uses ForVert traversal: current = next_halfedge(halfedge[current].paired_halfedge)
-    let mut end_verts: Vec<(i32, usize)> = Vec::new(); // (endVert, min_edge_idx)
-                                                       // Process i itself first
+    // blocksmith patch (PATCHES.md, 9): on the stack up to `EndVerts::INLINE` entries.
+    let mut end_verts = EndVerts::new(); // (endVert, min_edge_idx)
+                                         // Process i itself first
     mark(i);
     let c_ev0 = mesh.halfedge[i].end_vert;
     if c_ev0 >= 0 {
@@ -247,7 +248,11 @@ pub(super) fn dedupe_orbit(
         let c_sv = mesh.halfedge[current].start_vert;
         let c_ev = mesh.halfedge[current].end_vert;
         if c_sv >= 0 && c_ev >= 0 {
-            if let Some(entry) = end_verts.iter_mut().find(|(v, _)| *v == c_ev) {
+            if let Some(entry) = end_verts
+                .as_mut_slice()
+                .iter_mut()
+                .find(|(v, _)| *v == c_ev)
+            {
                 if current < entry.1 {
                     entry.1 = current;
                 }
@@ -260,7 +265,7 @@ pub(super) fn dedupe_orbit(
     // Second pass: find edges that aren't the minimum for their endVert
     let c_ev0 = mesh.halfedge[i].end_vert;
     if c_ev0 >= 0 {
-        if let Some(&(_, min_edge)) = end_verts.iter().find(|(v, _)| *v == c_ev0) {
+        if let Some(&(_, min_edge)) = end_verts.as_mut_slice().iter().find(|(v, _)| *v == c_ev0) {
             if min_edge != i {
                 duplicates.push(i);
             }
@@ -283,11 +288,50 @@ pub(super) fn dedupe_orbit(
         } // safety
         let c_ev = mesh.halfedge[current].end_vert;
         if c_ev >= 0 {
-            if let Some(&(_, min_edge)) = end_verts.iter().find(|(v, _)| *v == c_ev) {
+            if let Some(&(_, min_edge)) = end_verts.as_mut_slice().iter().find(|(v, _)| *v == c_ev) {
                 if min_edge != current {
                     duplicates.push(current);
                 }
             }
+        }
+    }
+}
+
+/// The (end vertex, smallest halfedge) pairs of one orbit in [`dedupe_orbit`], in the order
+/// found: held on the stack up to [`EndVerts::INLINE`] pairs (a vertex's valence; 6 on most
+/// meshes) and moved to the heap beyond. blocksmith patch (PATCHES.md, 9): a `Vec` per orbit
+/// grew through two reallocations for a vertex of valence 6, an allocation, two copies and a
+/// free for every vertex of every import and boolean.
+struct EndVerts {
+    inline: [(i32, usize); EndVerts::INLINE],
+    len: usize,
+    heap: Vec<(i32, usize)>,
+}
+
+impl EndVerts {
+    const INLINE: usize = 32;
+
+    fn new() -> Self {
+        EndVerts { inline: [(0, 0); EndVerts::INLINE], len: 0, heap: Vec::new() }
+    }
+
+    fn push(&mut self, entry: (i32, usize)) {
+        if self.len < EndVerts::INLINE {
+            self.inline[self.len] = entry;
+        } else {
+            if self.len == EndVerts::INLINE {
+                self.heap.extend_from_slice(&self.inline);
+            }
+            self.heap.push(entry);
+        }
+        self.len += 1;
+    }
+
+    fn as_mut_slice(&mut self) -> &mut [(i32, usize)] {
+        if self.len <= EndVerts::INLINE {
+            &mut self.inline[..self.len]
+        } else {
+            &mut self.heap
         }
     }
 }

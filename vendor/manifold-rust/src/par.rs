@@ -67,12 +67,22 @@ where
     if n >= threshold {
         match crate::cancel::scope() {
             None => crate::cancel::outside(|| (0..n).into_par_iter().map(f).collect()),
-            Some(t) => {
-                let done: Option<Vec<T>> = crate::cancel::outside(|| {
-                    (0..n).into_par_iter().map(|i| (!t.is_cancelled()).then(|| f(i))).collect()
-                });
-                done.unwrap_or_else(|| crate::cancel::unwind())
-            }
+            // blocksmith patch (PATCHES.md, 10): an item that sees the token cancelled
+            // unwinds (rayon carries the unwind to this thread, and on to `cancellable`),
+            // so the collect stays indexed: one exact allocation written in place, where
+            // collecting `Option<T>`s into an `Option<Vec<T>>` made rayon gather growing
+            // pieces and copy them together.
+            Some(t) => crate::cancel::outside(|| {
+                (0..n)
+                    .into_par_iter()
+                    .map(|i| {
+                        if t.is_cancelled() {
+                            crate::cancel::unwind();
+                        }
+                        f(i)
+                    })
+                    .collect()
+            }),
         }
     } else {
         (0..n).map(f).collect()
@@ -288,20 +298,36 @@ where
     F: Fn(usize) -> T + Sync + Send,
 {
     use rayon::prelude::*;
-    let one = |i: usize| {
-        if crate::cancel::is_cancelled(token) {
-            None
-        } else {
-            Some(f(i))
-        }
-    };
-    // Collecting `Option<T>` into `Option<Vec<T>>` short-circuits on the first
-    // `None` in both rayon and std, so a cancel stops the remaining work
-    // instead of merely skipping each element's body.
+    // blocksmith patch (PATCHES.md, 10): an item that sees the token cancelled
+    // unwinds, caught here as `None`, and the remaining items stop as they
+    // would have at the first `None` of an `Option` collect; the collect stays
+    // indexed (one exact allocation written in place, rather than growing
+    // pieces copied together), and the sequential loop writes into a `Vec` of
+    // the right capacity.
     if n >= threshold {
-        crate::cancel::outside(|| (0..n).into_par_iter().with_max_len(max_len).map(one).collect())
+        crate::cancel::catching(|| {
+            crate::cancel::outside(|| {
+                (0..n)
+                    .into_par_iter()
+                    .with_max_len(max_len)
+                    .map(|i| {
+                        if crate::cancel::is_cancelled(token) {
+                            crate::cancel::unwind();
+                        }
+                        f(i)
+                    })
+                    .collect()
+            })
+        })
     } else {
-        (0..n).map(one).collect()
+        let mut out = Vec::with_capacity(n);
+        for i in 0..n {
+            if crate::cancel::is_cancelled(token) {
+                return None;
+            }
+            out.push(f(i));
+        }
+        Some(out)
     }
 }
 
