@@ -6,6 +6,9 @@
   python profile_peer.py dxf     # ezdxf reads target/peers/profile/plate.dxf (written by
                                  # `cargo test -p blocksmith-kernel --lib -- --ignored write_peer_samples`)
                                  # and compares its contours with plate.txt
+  python profile_peer.py dxf-blocks BLOCKSMITH  # ezdxf writes a drawing of blocks, a MINSERT array,
+                                 # splines, ellipses and a mirrored arc; blocksmith (the binary given)
+                                 # and ezdxf's own flattening (recursive_decompose, 1e-5) give its area
 
 Run with ~/.cache/blocksmith-peers/venv/bin/python (ezdxf: pip install ezdxf into that venv).
 """
@@ -158,5 +161,59 @@ def dxf():
     print(f"PROFILE_DXF ezdxf={ezdxf.__version__} audit_errors={len(audit.errors)} contours={len(polys)} closed=all max_area_diff={worst:.3e}")
 
 
+def dxf_blocks():
+    """A plate of blocks as CAD programs write it, read by blocksmith and by ezdxf."""
+    import subprocess
+    import ezdxf
+    from ezdxf import disassemble, path as ezpath
+
+    doc = ezdxf.new("R2010")
+    hole = doc.blocks.new("HOLE", base_point=(1, 1))
+    hole.add_circle((1, 1), 0.6)
+    slot = doc.blocks.new("SLOT")
+    slot.add_line((0, 0), (3, 0))
+    slot.add_arc((3, 0.5), 0.5, 270, 90)
+    slot.add_line((3, 1), (0, 1))
+    slot.add_arc((0, 0.5), 0.5, 90, 270)
+    pair = doc.blocks.new("PAIR")  # a block placing another, scaled
+    pair.add_blockref("HOLE", (0, 0), dxfattribs={"xscale": 0.5, "yscale": 0.5})
+    pair.add_blockref("HOLE", (2, 0), dxfattribs={"xscale": 0.5, "yscale": 0.5})
+    msp = doc.modelspace()
+    msp.add_lwpolyline([(0, 0), (40, 0), (40, 25), (0, 25)], close=True)
+    msp.add_blockref("HOLE", (4, 4)).grid(size=(3, 4), spacing=(5, 6))  # a MINSERT, rows x columns
+    msp.add_blockref("SLOT", (26, 4), dxfattribs={"rotation": 30})
+    msp.add_blockref("PAIR", (26, 18))
+    msp.add_ellipse((34, 12), major_axis=(2.5, 1.0), ratio=0.4)
+    msp.add_spline_control_frame([(28, 21), (31, 23.5), (35, 21), (37, 23), (33, 24.5), (28, 23)]).closed = True
+    msp.add_open_spline([(22, 10), (23, 13), (25, 11), (22, 10)], degree=3)
+    msp.add_circle((-30, 8), 1.2, dxfattribs={"extrusion": (0, 0, -1)})  # at x = 30 once mirrored
+    path_dxf = os.path.join(SAMPLES, "blocks.dxf")
+    os.makedirs(SAMPLES, exist_ok=True)
+    doc.saveas(path_dxf)
+
+    def area(pts):
+        return 0.5 * sum(pts[i][0] * pts[(i + 1) % len(pts)][1] - pts[(i + 1) % len(pts)][0] * pts[i][1] for i in range(len(pts)))
+
+    # ezdxf's reading: every entity decomposed (blocks placed) and flattened to within 1e-5.
+    rings = []
+    for e in disassemble.recursive_decompose(doc.modelspace()):
+        if e.dxftype() in ("LWPOLYLINE", "CIRCLE", "ARC", "ELLIPSE", "SPLINE", "LINE"):
+            rings.append((e.dxftype(), [(v.x, v.y) for v in ezpath.make_path(e).flattening(1e-5)]))
+    closed = [abs(area(p)) for kind, p in rings if kind in ("LWPOLYLINE", "CIRCLE", "ELLIPSE", "SPLINE") and len(p) > 2]
+    plate = max(closed)
+    # The slot's lines and arcs close one contour: its area is a 3 x 1 rectangle and a unit disc.
+    slot_area = 3.0 + math.pi * 0.25
+    peer = plate - (sum(closed) - plate) - slot_area
+    recipe = os.path.join(SAMPLES, "blocks_area.rhai")
+    with open(recipe, "w") as f:
+        f.write('let p = load("blocks.dxf"); print(`${p.area()} ${p.contours().len()}`);\n')
+    out = subprocess.run([sys.argv[2], "run", recipe], capture_output=True, text=True, check=True).stdout.split()
+    ours, contours = float(out[0]), int(out[1])
+    print(
+        f"PROFILE_DXF_BLOCKS ezdxf={ezdxf.__version__} contours ours={contours} (1 plate + 12 + 2 holes + slot + ellipse + 2 splines + arc = 20)"
+        f" area ours={ours:.6f} ezdxf={peer:.6f} relative_diff={abs(ours - peer) / peer:.2e}"
+    )
+
+
 if __name__ == "__main__":
-    {"bench": bench, "values": values, "openscad": openscad, "dxf": dxf}[sys.argv[1] if len(sys.argv) > 1 else "bench"]()
+    {"bench": bench, "values": values, "openscad": openscad, "dxf": dxf, "dxf-blocks": dxf_blocks}[sys.argv[1] if len(sys.argv) > 1 else "bench"]()
