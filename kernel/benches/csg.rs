@@ -226,6 +226,7 @@ fn side_by_side(case: &str) {
     let mut times = Vec::new();
     let mut peaks = Vec::new();
     let mut tris = 0;
+    let mut result = String::new();
     let (u0, s0) = cpu();
     for _ in 0..reps {
         let _ = std::fs::write("/proc/self/clear_refs", "5");
@@ -233,16 +234,20 @@ fn side_by_side(case: &str) {
         let t = Instant::now();
         let m = tree.evaluate().unwrap();
         times.push(t.elapsed().as_secs_f64());
+        let peak = rss().1.saturating_sub(before);
         tris = m.face_count();
+        if result.is_empty() {
+            result = fingerprint(&m);
+        }
         drop(black_box(m));
-        peaks.push(rss().1.saturating_sub(before));
+        peaks.push(peak);
     }
     let (u1, s1) = cpu();
     times.sort_by(f64::total_cmp);
     peaks.sort_unstable();
     println!(
         "CSG_RUN case={case} segments={segments} tris={tris} reps={reps} bool_med_s={:.6} bool_min_s={:.6} \
-         user_s={:.3} sys_s={:.3} peak_delta_mib={:.1} peak_mib={:.1}",
+         user_s={:.3} sys_s={:.3} peak_delta_mib={:.1} peak_mib={:.1} {result}",
         times[reps / 2],
         times[0],
         (u1 - u0) / reps as f64,
@@ -250,6 +255,34 @@ fn side_by_side(case: &str) {
         peaks[reps / 2] as f64 / 1048576.0,
         rss().1 as f64 / 1048576.0
     );
+}
+
+/// What identifies a result, for comparing builds: its volume, genus, whether it is closed and
+/// manifold, and an FNV-1a hash of its positions' bits, its faces' corners and their sources.
+fn fingerprint(m: &Mesh) -> String {
+    use std::hash::{Hash, Hasher};
+    struct Fnv(u64);
+    impl Hasher for Fnv {
+        fn write(&mut self, bytes: &[u8]) {
+            for &b in bytes {
+                self.0 = (self.0 ^ u64::from(b)).wrapping_mul(0x100_0000_01b3);
+            }
+        }
+        fn finish(&self) -> u64 {
+            self.0
+        }
+    }
+    let mut h = Fnv(0xcbf2_9ce4_8422_2325);
+    m.positions().iter().for_each(|p| p.to_array().map(f64::to_bits).hash(&mut h));
+    (0..m.face_count() as u32).for_each(|f| m.face_vertices(f).for_each(|v| v.hash(&mut h)));
+    m.face_sources().hash(&mut h);
+    format!(
+        "volume={:.12} genus={} closed_manifold={} hash={:016x}",
+        m.volume(),
+        m.genus(),
+        m.is_closed() && m.is_manifold(),
+        h.finish()
+    )
 }
 
 fn main() {
