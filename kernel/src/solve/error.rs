@@ -23,6 +23,9 @@ pub enum SolveError {
     /// A circle radius that is not finite and > 0.
     #[error("radius {radius} is not a finite number > 0")]
     BadRadius { radius: f64 },
+    /// Points no circle fits: all on one line, or all at one place.
+    #[error("{what} lies on one line or at one place, so no circle fits it")]
+    NoCircle { what: &'static str },
     /// A NaN or infinite coordinate in the input.
     #[error("{what} has a non-finite coordinate")]
     NonFinite { what: &'static str },

@@ -88,7 +88,7 @@ pub(crate) fn circle_in_plane(uv: &[(f64, f64)]) -> Option<(f64, f64, f64)> {
 ///
 /// # Errors
 /// [`SolveError::TooFewVertices`] for fewer than 3 points; [`SolveError::NonFinite`];
-/// [`SolveError::Singular`] when the points are collinear or coincide (no circle passes near
+/// [`SolveError::NoCircle`] when the points are collinear or coincide (no circle passes near
 /// them).
 pub fn fit_circle(points: &[Vec3]) -> Result<Circle, SolveError> {
     if points.len() < 3 {
@@ -105,8 +105,7 @@ pub fn fit_circle(points: &[Vec3]) -> Result<Circle, SolveError> {
     let e1 = normal.any_orthonormal_vector();
     let e2 = normal.cross(e1);
     let uv: Vec<(f64, f64)> = local.iter().map(|p| (p.dot(e1), p.dot(e2))).collect();
-    let collinear = || SolveError::Singular("the ring's points lie on one line, so no circle fits them".into());
-    let (cx, cy, radius) = circle_in_plane(&uv).ok_or_else(collinear)?;
+    let (cx, cy, radius) = circle_in_plane(&uv).ok_or(SolveError::NoCircle { what: "the ring" })?;
     let c = e1 * cx + e2 * cy;
     // Orient the normal by the points' turning about the centre (the ring's order).
     let turning: Vec3 = (0..local.len()).map(|i| (local[i] - c).cross(local[(i + 1) % local.len()] - c)).sum();
@@ -179,8 +178,8 @@ mod tests {
     #[test]
     fn lines_points_and_too_few_are_refused() {
         let line = [Vec3::ZERO, Vec3::X, Vec3::new(2.0, 0.0, 0.0), Vec3::new(3.0, 0.0, 0.0)];
-        assert!(matches!(fit_circle(&line), Err(SolveError::Singular(_))));
-        assert!(matches!(fit_circle(&[Vec3::ONE; 4]), Err(SolveError::Singular(_))));
+        assert!(matches!(fit_circle(&line), Err(SolveError::NoCircle { .. })));
+        assert!(matches!(fit_circle(&[Vec3::ONE; 4]), Err(SolveError::NoCircle { .. })));
         assert!(matches!(fit_circle(&[Vec3::ZERO, Vec3::X]), Err(SolveError::TooFewVertices { .. })));
         assert!(matches!(fit_circle(&[Vec3::ZERO, Vec3::X, Vec3::NAN]), Err(SolveError::NonFinite { .. })));
     }

@@ -179,7 +179,7 @@ impl ShapeUp {
     /// # Errors
     /// Bad or repeated ids, fewer than 3 vertices, a bad weight; a radius that is not finite and
     /// positive ([`SolveError::BadRadius`]); for [`CircleSize::KeepSize`], starting positions on
-    /// one line ([`SolveError::Singular`]).
+    /// one line or at one place ([`SolveError::NoCircle`]).
     pub fn circle_sized(&mut self, verts: &[u32], weight: f64, size: CircleSize) -> Result<(), SolveError> {
         self.check_verts("a circle", verts, 3)?;
         check_weight(weight)?;

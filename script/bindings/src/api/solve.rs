@@ -1,8 +1,9 @@
 //! `Solver`: Shape-Up constraints on a mesh's vertices (Tsoi & Hui §4, after Bouaziz et al.;
-//! kernel `solve`), and `fit_cylinder` (§5).
+//! kernel `solve`), `fit_circle` and `fit_cylinder` (§5).
 
 use blocksmith_kernel::solve::{
-    fit_cylinder as kernel_fit_cylinder, retain_circular_features as kernel_retain, RadiusRule, RetainOptions, ShapeUp,
+    fit_circle as kernel_fit_circle, fit_cylinder as kernel_fit_cylinder, retain_circular_features as kernel_retain,
+    CircleSize, RadiusRule, RetainOptions, ShapeUp, SolveError,
 };
 use blocksmith_kernel::Vec3;
 use rhai::plugin::*;
@@ -20,7 +21,22 @@ pub struct Solver {
     energies: Vec<f64>,
 }
 
-/// Registers `Solver`, `shape_up` and `fit_cylinder` on `engine`.
+/// The positions of `verts` (argument `verts` of `func`), each an existing vertex of `mesh`.
+fn ring_points(func: &str, mesh: &SharedMesh, verts: &Array) -> ScriptResult<Vec<Vec3>> {
+    let v = ids(func, "verts", verts)?;
+    let n = mesh.0.vertex_count();
+    if let Some(&bad) = v.iter().find(|&&x| x as usize >= n) {
+        return fail(func, format!("argument `verts`: vertex {bad} does not exist (the mesh has {n})"));
+    }
+    Ok(v.iter().map(|&i| mesh.0.position(i)).collect())
+}
+
+/// A kernel error of a fit over the vertices `verts`, as an error about that argument.
+fn verts_error<T>(func: &str, r: Result<T, SolveError>) -> ScriptResult<T> {
+    r.map_err(|e| crate::convert::error(func, format!("argument `verts`: {e}")))
+}
+
+/// Registers `Solver`, `shape_up`, `fit_circle` and `fit_cylinder` on `engine`.
 pub fn register(engine: &mut Engine) {
     engine.register_type_with_name::<Solver>("Solver");
     engine.register_global_module(exported_module!(solve_api).into());
@@ -83,9 +99,70 @@ pub mod solve_api {
     /// ```
     #[rhai_fn(return_raw)]
     pub fn circle(s: &mut Solver, verts: Array, w: Number) -> ScriptResult<()> {
-        let v = ids("circle", "verts", &verts)?;
-        let w = number("circle", "w", &w)?;
-        kernel("circle", s.system.circle(&v, w))
+        circle_with(s, verts, w, Map::new())
+    }
+
+    /// `circle` that also keeps the circle's size (Tsoi & Hui §5, Eq. 18: each point's radial
+    /// part scaled to the radius, its place along the axis kept): option `radius` (a number
+    /// > 0) keeps that radius, `keep_size: true` the radius of the circle fitted to the
+    /// vertices' starting positions (`fit_circle`). Give one or neither. The circle's centre
+    /// and plane stay free. A bad option leaves the solver unchanged.
+    ///
+    /// Topic: shape_up
+    ///
+    /// ```rhai
+    /// // A plate with a Ø10 hole squashed to an ellipse of semi-axes 5.3 and 4.8.
+    /// let pos = [];
+    /// let faces = [];
+    /// for k in 0..3 {
+    ///     for i in 0..24 {
+    ///         let a = i * PI() / 12.0;
+    ///         pos.push([(5.3 + 3.0 * k) * cos(a), (4.8 + 3.5 * k) * sin(a), 0]);
+    ///     }
+    /// }
+    /// for k in 0..2 {
+    ///     for i in 0..24 {
+    ///         let a = 24 * k + i;
+    ///         let b = 24 * k + (i + 1) % 24;
+    ///         faces.push([a, b, b + 24]);
+    ///         faces.push([a, b + 24, a + 24]);
+    ///     }
+    /// }
+    /// let plate = mesh(pos, faces);
+    /// let hole = [];
+    /// for i in 0..24 { hole.push(i); }
+    /// let s = shape_up(plate);
+    /// s.circle(hole, 1e6, #{ radius: 5 });
+    /// s.closeness(1);
+    /// let c = fit_circle(s.solve(60), hole);
+    /// assert_near(c.radius, 5.0, 1e-6);       // round again, at its drawn size
+    /// assert(c.deviation < 1e-5, `deviation ${c.deviation}`);
+    /// ```
+    #[rhai_fn(name = "circle", return_raw)]
+    pub fn circle_with(s: &mut Solver, verts: Array, w: Number, options: Map) -> ScriptResult<()> {
+        const FUNC: &str = "circle";
+        let opts = Options::new(FUNC, options, &["radius", "keep_size"])?;
+        let v = ids(FUNC, "verts", &verts)?;
+        let w = number(FUNC, "w", &w)?;
+        let keep = opts.bool("keep_size", false)?;
+        let size = match (opts.has("radius"), keep) {
+            (true, true) => {
+                return fail(FUNC, "options `radius` and `keep_size: true` ask for two sizes: give one");
+            }
+            (true, false) => {
+                let r = opts.number("radius", 0.0)?;
+                if r <= 0.0 {
+                    return fail(FUNC, format!("option `radius` must be a number > 0, got {r}"));
+                }
+                CircleSize::Radius(r)
+            }
+            (false, true) => CircleSize::KeepSize,
+            (false, false) => CircleSize::Free,
+        };
+        match s.system.circle_sized(&v, w, size) {
+            Err(e @ SolveError::NoCircle { .. }) => fail(FUNC, format!("option `keep_size`: {e}")),
+            r => kernel(FUNC, r),
+        }
     }
 
     /// Keeps `verts` on a plane, with weight `w`.
@@ -197,6 +274,35 @@ pub mod solve_api {
         s.energies.iter().map(|&e| Dynamic::from(e)).collect()
     }
 
+    /// The least-squares circle through the vertices `verts` (at least 3) of `mesh`: their plane
+    /// by principal components, then the circle in it minimising the squared distances (started
+    /// from Kåsa's algebraic fit), so unevenly spaced vertices give the circle, not their
+    /// centroid. Returns `#{center, normal, radius, deviation}`: `normal` is the unit normal of
+    /// the plane, oriented so that `verts` run counter-clockwise about it, and `deviation` the
+    /// largest distance of a vertex from the circle (in and out of its plane).
+    ///
+    /// Topic: shape_up
+    ///
+    /// ```rhai
+    /// let c = fit_circle(cylinder(0.5, 2, 24), [0, 1, 2, 3, 4, 5]);   // a quarter of the rim
+    /// assert_near(c.radius, 0.5, 1e-9);
+    /// assert_near(c.center, vec3(0, 0, -1), 1e-9);      // the bottom rim
+    /// assert_near(c.normal.z.abs(), 1.0, 1e-9);
+    /// assert(c.deviation < 1e-9);
+    /// ```
+    #[rhai_fn(return_raw)]
+    pub fn fit_circle(mesh: SharedMesh, verts: Array) -> ScriptResult<Map> {
+        const FUNC: &str = "fit_circle";
+        let points = ring_points(FUNC, &mesh, &verts)?;
+        let c = verts_error(FUNC, kernel_fit_circle(&points))?;
+        let mut m = Map::new();
+        m.insert("center".into(), Dynamic::from(c.center));
+        m.insert("normal".into(), Dynamic::from(c.normal));
+        m.insert("radius".into(), Dynamic::from(c.radius));
+        m.insert("deviation".into(), Dynamic::from(c.deviation));
+        Ok(m)
+    }
+
     /// Fits the cylinder of a circular feature (§5, Eqs. 13–14): the axis by PCA of `verts`
     /// (at least 3), the radius their minimum distance to it. Returns `#{center, axis, radius}`.
     ///
@@ -223,13 +329,8 @@ pub mod solve_api {
             "mean" => RadiusRule::Mean,
             _ => RadiusRule::Minimum,
         };
-        let v = ids("fit_cylinder", "verts", &verts)?;
-        let n = mesh.0.vertex_count();
-        if let Some(&bad) = v.iter().find(|&&x| x as usize >= n) {
-            return fail("fit_cylinder", format!("argument `verts`: vertex {bad} does not exist (the mesh has {n})"));
-        }
-        let points: Vec<Vec3> = v.iter().map(|&i| mesh.0.position(i)).collect();
-        let c = kernel("fit_cylinder", kernel_fit_cylinder(&points, rule))?;
+        let points = ring_points("fit_cylinder", &mesh, &verts)?;
+        let c = verts_error("fit_cylinder", kernel_fit_cylinder(&points, rule))?;
         let mut m = Map::new();
         m.insert("center".into(), Dynamic::from(c.center));
         m.insert("axis".into(), Dynamic::from(c.axis));
