@@ -4,6 +4,7 @@
 //! and the skinning that turns node states into vertex positions.
 
 use super::gravity::GravityState;
+use super::minimum_size::hold_minimum_size;
 use super::nodes::Tree;
 use super::skinning::{joint_poses, skin};
 use super::{AnimError, Gravity, Growth, JointPose, NodeState, Skinning};
@@ -36,6 +37,13 @@ impl Modifier {
 /// A caller-evaluated modifier: `(caller id, node, t, state in)` → state out, or a message.
 pub type CustomModifier<'a> = dyn FnMut(usize, u32, f64, NodeState) -> Result<NodeState, String> + 'a;
 
+/// Simulation steps per time unit when a simulated stack is posed at a time
+/// ([`Animation::states_at`]): 24, the frames per second `save` writes by default.
+pub const POSE_STEPS_PER_UNIT: f64 = 24.0;
+
+/// The most simulation steps a pose at one time may take (see [`Animation::states_at`]).
+pub const MAX_POSE_STEPS: usize = 100_000;
+
 /// A polar mesh ready to be posed.
 #[derive(Clone, Debug)]
 pub struct Animation {
@@ -62,7 +70,9 @@ impl Animation {
         }
         let skeleton = pm.skeleton(root).map_err(|e| AnimError::Skeleton(e.to_string()))?;
         let tree = Tree::of_skeleton(&skeleton);
-        Ok(Animation { rest: pm.to_mesh(), skeleton, tree, skinning, modifiers: Vec::new() })
+        // The rest mesh carries the feature colours (appendix B.1.3), so poses and the
+        // animated file show the structure as the polar mesh's own file does.
+        Ok(Animation { rest: pm.to_colored_mesh(), skeleton, tree, skinning, modifiers: Vec::new() })
     }
 
     /// The node of vertex `v`'s binding, to pick a root by a face: see [`Skeleton::node_of`].
@@ -71,7 +81,7 @@ impl Animation {
         &self.skeleton
     }
 
-    /// The mesh as modelled (the rest pose).
+    /// The mesh as modelled (the rest pose), with the polar mesh's feature colours.
     #[must_use]
     pub fn rest_mesh(&self) -> &Mesh {
         &self.rest
@@ -143,19 +153,43 @@ impl Animation {
         self.skeleton.positions().iter().map(|&position| NodeState { position, thickness: 1.0 }).collect()
     }
 
-    /// Node states at time `t` from a stack of time-pure modifiers.
+    /// Node states at time `t`. A stack of time-pure modifiers (growth, custom) is evaluated
+    /// at `t`; a stack with a simulated modifier (gravity) is stepped from rest at time 0 to
+    /// `t` in equal steps of at most 1/[`POSE_STEPS_PER_UNIT`] (the frames `save` writes at its
+    /// default 24 fps, so a pose at a frame's time is that frame). Every part is held at
+    /// [`super::MIN_SIZE`] (see `minimum_size`), so the pose is a valid mesh at every time.
     ///
     /// # Errors
-    /// [`AnimError::Simulated`] if the stack holds a gravity modifier; a custom modifier's
-    /// error; [`AnimError::BadState`] for a NaN or a negative thickness.
+    /// A custom modifier's error; [`AnimError::BadState`] for a NaN or a negative thickness;
+    /// [`AnimError::InvalidParameter`] naming `t` for a time that is not finite or, with a
+    /// simulated stack, needs more than [`MAX_POSE_STEPS`] steps.
     pub fn states_at(&self, t: f64, custom: &mut CustomModifier<'_>) -> Result<Vec<NodeState>, AnimError> {
-        if let Some(index) = self.modifiers.iter().position(|m| matches!(m, Modifier::Gravity(_))) {
-            return Err(AnimError::Simulated { index });
+        if !t.is_finite() {
+            return Err(AnimError::InvalidParameter { name: "t", reason: format!("must be a finite time, got {t}") });
         }
-        self.run_stack(t, 0.0, &mut [], custom)
+        if !self.modifiers.iter().any(|m| matches!(m, Modifier::Gravity(_))) {
+            return self.run_stack(t, 0.0, &mut [], custom);
+        }
+        let steps = (t.max(0.0) * POSE_STEPS_PER_UNIT).ceil();
+        if steps > MAX_POSE_STEPS as f64 {
+            return Err(AnimError::InvalidParameter {
+                name: "t",
+                reason: format!(
+                    "{} needs {} simulation steps from rest (gravity is stepped {POSE_STEPS_PER_UNIT} times per \
+                     time unit), over the cap of {MAX_POSE_STEPS}",
+                    crate::math::fmt_num(t),
+                    crate::math::fmt_num(steps)
+                ),
+            });
+        }
+        let steps = steps as usize;
+        let dt = if steps == 0 { 1.0 / POSE_STEPS_PER_UNIT } else { t / steps as f64 };
+        let mut frames = self.frame_states(steps + 1, dt, custom)?;
+        Ok(frames.pop().unwrap_or_default())
     }
 
-    /// The posed mesh at time `t` (vertex ids kept): see [`Animation::states_at`].
+    /// The posed mesh at time `t` (vertex ids kept), for any stack: see
+    /// [`Animation::states_at`].
     ///
     /// # Errors
     /// As [`Animation::states_at`].
@@ -270,6 +304,7 @@ impl Animation {
                 });
             }
         }
+        hold_minimum_size(&self.tree, self.skeleton.positions(), &mut states);
         Ok(states)
     }
 }

@@ -14,9 +14,6 @@ pub enum AnimError {
     /// A modifier produced a NaN, an infinite value or a negative thickness.
     #[error("modifier {index} ({kind}) gave node {node} {what}")]
     BadState { index: usize, kind: &'static str, node: u32, what: String },
-    /// `pose(t)` on a stack with a simulated modifier.
-    #[error("modifier {index} (gravity) is simulated step by step: use frames(count, dt) instead of pose(t)")]
-    Simulated { index: usize },
     /// A modifier supplied by the caller failed.
     #[error("modifier {index} failed at node {node}: {message}")]
     Custom { index: usize, node: u32, message: String },

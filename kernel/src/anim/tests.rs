@@ -46,8 +46,11 @@ fn growth_starts_on_the_root_and_ends_on_the_model() {
         anim.add(Modifier::Growth(Growth { curve, ..Growth::default() })).unwrap();
         let root = anim.skeleton().position(anim.skeleton().root());
         let start = anim.pose(0.0, &mut no_custom()).unwrap();
-        let worst = start.positions().iter().map(|p| p.distance(root)).fold(0.0, f64::max);
-        assert!(worst < 1e-9, "{curve:?}: a vertex is {worst} from the root at t = 0");
+        // At t = 0 the plant is its model scaled by MIN_SIZE about the root: a seed, not a point.
+        for (p, q) in start.positions().iter().zip(pm.mesh().positions()) {
+            let want = root + MIN_SIZE * (*q - root);
+            assert!(p.distance(want) < 1e-12, "{curve:?}: a vertex at {p}, not {want}, at t = 0");
+        }
         let end = anim.pose(anim.duration(), &mut no_custom()).unwrap();
         assert_eq!(end.positions(), pm.mesh().positions(), "{curve:?}: the end pose is the model");
         // Past the end nothing changes.
@@ -67,8 +70,9 @@ fn each_node_starts_growing_at_its_delay() {
         let before = anim.states_at(onset - 1e-3, &mut no_custom()).unwrap();
         let after = anim.states_at(onset + 0.25, &mut no_custom()).unwrap();
         let len = |s: &[NodeState]| s[n as usize].position.distance(s[p as usize].position);
-        assert!(len(&before) < 1e-12, "node {n} grows before its onset {onset}");
         let full = anim.rest_states()[n as usize].position.distance(anim.rest_states()[p as usize].position);
+        // Before its onset a segment is held at the minimum size.
+        assert!((len(&before) - MIN_SIZE * full).abs() < 1e-12, "node {n} grows before its onset {onset}");
         // Linear: a quarter of the way a quarter after onset.
         assert!((len(&after) - 0.25 * full).abs() < 1e-9, "node {n}: {} vs {}", len(&after), 0.25 * full);
     }
@@ -108,11 +112,59 @@ fn gravity_bends_the_stalk_keeps_its_segments_and_stays_bounded() {
 }
 
 #[test]
-fn gravity_needs_frames_not_pose() {
+fn a_gravity_pose_is_the_frame_at_its_time() {
     let mut anim = Animation::new(&stalk(), None, Skinning::Simple).unwrap();
     anim.add(Modifier::Gravity(Gravity::default())).unwrap();
-    assert_eq!(anim.pose(1.0, &mut no_custom()).unwrap_err(), AnimError::Simulated { index: 0 });
+    // Frames at 24 fps: the pose at frame 12's time is frame 12, stepped from rest.
+    let frames = anim.frame_states(13, 1.0 / POSE_STEPS_PER_UNIT, &mut no_custom()).unwrap();
+    let at = anim.states_at(12.0 / POSE_STEPS_PER_UNIT, &mut no_custom()).unwrap();
+    for (a, b) in at.iter().zip(&frames[12]) {
+        assert!(a.position.distance(b.position) < 1e-12, "{} vs {}", a.position, b.position);
+    }
+    // At 0 (or before) the rest; a time too far to step to is refused by name.
+    assert_eq!(anim.states_at(-1.0, &mut no_custom()).unwrap(), frames[0]);
+    let e = anim.states_at(1e9, &mut no_custom()).unwrap_err();
+    assert!(matches!(e, AnimError::InvalidParameter { name: "t", .. }), "{e}");
+    assert!(matches!(anim.states_at(f64::NAN, &mut no_custom()), Err(AnimError::InvalidParameter { name: "t", .. })));
     assert!(matches!(anim.frame_states(3, 0.0, &mut no_custom()), Err(AnimError::InvalidParameter { name: "dt", .. })));
+}
+
+/// Whether `m` triangulates into a closed manifold mesh whose edges all have length.
+fn assert_valid_pose(m: &Mesh, what: &str) {
+    let t = m.triangulate().unwrap_or_else(|e| panic!("{what}: {e}"));
+    assert!(t.is_closed() && t.is_manifold(), "{what}: not closed and manifold");
+    let shortest =
+        t.edges().map(|h| t.position(t.origin(h)).distance(t.position(t.target(h)))).fold(f64::MAX, f64::min);
+    assert!(shortest > 0.0, "{what}: an edge of length 0");
+}
+
+#[test]
+fn every_pose_of_a_growth_is_a_valid_mesh() {
+    // The case: a growing polar sphere (pose(t) for t = 0..5 of 7 failed to
+    // triangulate), the branched stalk, and a grown plant with branches on branches.
+    let sphere = {
+        let m = Mesh::uv_sphere(0.2, 8, 6);
+        let north = m.vertex_count() as u32 - 1;
+        PolarMesh::from_mesh(m, &[0, north], &[]).unwrap()
+    };
+    let opts = crate::lsystem::GrowOptions::DEFAULT.with_angle(40.0).with_radius(0.2);
+    let grown = crate::lsystem::grow(&crate::lsystem::tests_grow::thesis_plant(3).derive(8).unwrap(), &opts).unwrap();
+    let plant = grown.mesh;
+    for (name, pm) in [("sphere", sphere), ("branched", branched()), ("thesis plant", plant)] {
+        for (curve, delays) in [(Curve::Sigmoid, (1.0, 1.0)), (Curve::Linear, (0.5, 1.5)), (Curve::Linear, (1.5, 0.2))]
+        {
+            let root = if name == "thesis plant" { Some(grown.root) } else { None };
+            let mut anim = Animation::new(&pm, root, Skinning::Smooth).unwrap();
+            let g = Growth { curve, delay: delays.0, thickness_delay: delays.1, ..Growth::default() };
+            anim.add(Modifier::Growth(g)).unwrap();
+            let end = anim.duration();
+            for k in 0..=40 {
+                let t = end * f64::from(k) / 40.0;
+                let pose = anim.pose(t, &mut no_custom()).unwrap();
+                assert_valid_pose(&pose, &format!("{name} {curve:?} {delays:?} t = {t}"));
+            }
+        }
+    }
 }
 
 #[test]

@@ -42,6 +42,11 @@ pub struct RunContext {
     /// or standard error when standard output carries something a parser reads alone
     /// (`run --stats json`).
     pub print_to: PrintTo,
+    /// `--time t` (`run`, `render`): the time at which an `Animation` the recipe ends with is
+    /// posed — `run` writes that still, `render` draws it
+    /// ([`crate::api::anim::pose_of_value`]); `None`: `run` writes the animation, `render`
+    /// draws its last frame.
+    pub time: Option<f64>,
 }
 
 /// Where a script's `print` and `debug` lines go.

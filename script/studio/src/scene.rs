@@ -33,6 +33,9 @@ pub struct Layer {
     pub facts: Facts,
     /// The edges of the control mesh the value was made from, if any (see [`control_lines`]).
     pub control: Option<Vec<f32>>,
+    /// For an animation: the pose `render` draws and its time — at the run's `--time`
+    /// ([`blocksmith_script::RunContext::time`]), else the last frame `save` writes.
+    pub pose: Option<(Mesh, f64)>,
 }
 
 /// A recipe's run: its layers and how long the run took (the script, not the conversion).
@@ -122,6 +125,19 @@ pub fn layer(engine: &Engine, functions: &AST, name: String, value: Dynamic) -> 
         value
     };
     let control = control_lines(&value);
+    // An animation is drawn posed: at `--time`, else at its last frame.
+    let time = blocksmith_script::RunContext::of_engine(engine).time;
+    let pose = blocksmith_script::api::anim::pose_of_value(engine, functions, &value, time)
+        .map_err(|e| named(RunError(format!("error: cannot pose the animation: {e}"))))?
+        .map(|(m, t)| (Arc::try_unwrap(m.0).unwrap_or_else(|shared| (*shared).clone()), t));
+    if pose.is_none() {
+        if let Some(t) = time {
+            return Err(named(RunError(format!(
+                "error: --time {t}: the value is {}, not an Animation: only an animation has poses",
+                blocksmith_script::catalogue::a(engine.map_type_name(value.type_name()))
+            ))));
+        }
+    }
     let file = PathBuf::from(format!("{name}.glb"));
     let (glb, mesh) = match own_mesh(value) {
         Ok(mesh) => {
@@ -138,16 +154,20 @@ pub fn layer(engine: &Engine, functions: &AST, name: String, value: Dynamic) -> 
         }
     };
     let facts = Facts::of(&mesh);
-    Ok(Layer { name, glb, mesh, facts, control })
+    Ok(Layer { name, glb, mesh, facts, control, pose })
 }
 
 impl Layer {
     /// The mesh as the page draws it: the `.glb` read back unwelded, so colour seams split
-    /// vertices and each vertex carries the colour it is drawn with.
+    /// vertices and each vertex carries the colour it is drawn with; for an animation, its
+    /// pose ([`Layer::pose`]), not the rest mesh the file skins.
     ///
     /// # Errors
     /// The `.glb` cannot be read (never for one this module wrote).
     pub fn drawn(&self) -> Result<Mesh, RunError> {
+        if let Some((pose, _)) = &self.pose {
+            return Ok(pose.clone());
+        }
         io::gltf::read_gltf_with(&self.glb, None, Path::new(&format!("{}.glb", self.name)), io::Weld::Off)
             .map_err(|e| RunError(format!("error: layer {}: {e}", self.name)))
     }
@@ -239,7 +259,7 @@ pub fn load_file(path: &Path) -> Result<Scene, RunError> {
     };
     let facts = Facts::of(&mesh);
     Ok(Scene {
-        layers: vec![Layer { name: "model".into(), glb, mesh, facts, control: None }],
+        layers: vec![Layer { name: "model".into(), glb, mesh, facts, control: None, pose: None }],
         run_time: start.elapsed(),
         params: Vec::new(),
         warnings: Vec::new(),
@@ -314,6 +334,32 @@ mod tests {
         assert!(drawn.vertex_count() > l.mesh.vertex_count());
         assert_eq!(drawn.triangle_count(), f.triangles);
         assert!(drawn.vertex_colors().is_some());
+    }
+
+    #[test]
+    fn an_animation_is_drawn_posed_at_its_time_or_its_last_frame() {
+        // A growing sphere of height 0.4: its last frame is grown; at --time 0 a seed a
+        // thousandth of its size; a value that is no animation has no pose to pick.
+        let dir = tempfile::tempdir().unwrap();
+        let text = "let a = animation(polar_sphere(0.2, 8, 6)); a.add(growth()); a";
+        let height = |m: &Mesh| m.bounds().max.z - m.bounds().min.z;
+        let scene = from_recipe(&recipe(dir.path(), text), EngineOptions::default()).unwrap();
+        let l = &scene.layers[0];
+        let (end, t) = l.pose.as_ref().expect("an animation has a pose");
+        assert!((t - 7.0).abs() < 1e-12, "the last frame of 24 fps frames covering 7: {t}");
+        assert!((height(end) - 0.4).abs() < 1e-12);
+        assert_eq!(l.drawn().unwrap().positions(), end.positions(), "render draws the pose");
+        assert!(l.drawn().unwrap().vertex_colors().is_some(), "in the polar mesh's feature colours");
+        let mut options = EngineOptions::default();
+        options.context.time = Some(0.0);
+        let scene = from_recipe(&recipe(dir.path(), text), options).unwrap();
+        let (seed, t) = scene.layers[0].pose.as_ref().unwrap();
+        assert_eq!(*t, 0.0);
+        assert!((height(seed) - 0.4e-3).abs() < 1e-12, "{}", height(seed));
+        let mut options = EngineOptions::default();
+        options.context.time = Some(1.0);
+        let e = from_recipe(&recipe(dir.path(), "cube(1)"), options).unwrap_err();
+        assert!(e.0.contains("--time 1: the value is a Mesh, not an Animation"), "{e}");
     }
 
     #[test]

@@ -21,12 +21,61 @@ use crate::convert::{fail, kernel, number, type_name, vec3, Number, Options, Scr
 /// The most frames `frames` and `save` make.
 const MAX_FRAMES: INT = 100_000;
 
+/// The frames per second `save` writes by default.
+const DEFAULT_FPS: f64 = 24.0;
+
+/// How many frames `save` writes by default at `fps` for an animation of `duration`: frames
+/// covering the growth, or 48 without one. A float, so that a long growth cannot overflow.
+fn default_frame_count(duration: f64, fps: f64) -> f64 {
+    if duration > 0.0 {
+        (duration * fps).ceil() + 1.0
+    } else {
+        48.0
+    }
+}
+
 /// An animation as scripts hold it (script type `Animation`): the kernel animation and the
 /// script closures of its `modifier(...)` entries, by number.
 #[derive(Clone)]
 pub struct Animation {
     anim: Rc<KernelAnimation>,
     closures: Vec<FnPtr>,
+}
+
+impl Animation {
+    /// The time of the last frame `save` writes by default (24 fps, frames covering the
+    /// growth, or 48 frames): the pose `blocksmith render` draws and `--stats` measures when no
+    /// `--time` is given.
+    #[must_use]
+    pub fn end_time(&self) -> f64 {
+        let count = default_frame_count(self.anim.duration(), DEFAULT_FPS).min(MAX_FRAMES as f64);
+        (count - 1.0) / DEFAULT_FPS
+    }
+}
+
+/// The pose at time `t` (default [`Animation::end_time`]) of `value` when it is an `Animation`,
+/// with the time: `None` for any other value. `functions` are the script's functions, which
+/// its script modifiers call. For the host's `--time` (`run`, `render`).
+///
+/// # Errors
+/// The pose's error (a script modifier's failure, a time that cannot be reached), as text.
+pub fn pose_of_value(
+    engine: &Engine,
+    functions: &rhai::AST,
+    value: &Dynamic,
+    t: Option<f64>,
+) -> Result<Option<(SharedMesh, f64)>, String> {
+    let Some(anim) = value.read_lock::<Animation>().map(|a| a.clone()) else { return Ok(None) };
+    let t = t.unwrap_or_else(|| anim.end_time());
+    let mut scope = rhai::Scope::new();
+    scope.push("__value", anim);
+    scope.push("__t", t);
+    let call = engine.compile("pose(__value, __t)").map_err(|e| e.to_string())?;
+    let call = functions.clone_functions_only().merge(&call);
+    let mesh = engine
+        .eval_ast_with_scope::<SharedMesh>(&mut scope, &call)
+        .map_err(|e| crate::diagnostics::explained_message(engine, &e))?;
+    Ok(Some((mesh, t)))
 }
 
 /// One modifier before it is added to an animation (script type `Modifier`).
@@ -183,8 +232,8 @@ pub mod anim_api {
     }
     /// The gravity modifier (§9.2): per node a Verlet step under gravity, a Hooke force back to
     /// the nominal offset from the parent and the inherited velocity kept by `drag`, then
-    /// Jakobsen's relaxation restoring the segment lengths; the root is fixed. Simulated: use
-    /// `frames(count, dt)`. Options: `g` (9.81), `down` (`[0, 0, -1]`), `k` (20), `drag` (0.5, in
+    /// Jakobsen's relaxation restoring the segment lengths; the root is fixed. Simulated from
+    /// rest: `frames(count, dt)` steps once a frame, `pose(t)` 24 times per time unit. Options: `g` (9.81), `down` (`[0, 0, -1]`), `k` (20), `drag` (0.5, in
     /// (0, 1]), `iterations` (10 relaxation sweeps), `dt` (the simulation step; default one
     /// step per frame).
     ///
@@ -295,15 +344,27 @@ pub mod anim_api {
         Skeleton(Rc::new(anim.anim.skeleton().clone()))
     }
 
-    /// The mesh posed at time `t` (vertex ids kept), for a stack of time-pure modifiers
-    /// (growth, script modifiers); a stack with gravity needs `frames`.
+    /// The mesh posed at time `t` (vertex ids kept, the polar mesh's feature colours). Growth
+    /// and script modifiers are evaluated at `t`; a stack with gravity is simulated from rest
+    /// at time 0 to `t` in steps of at most 1/24 (so a pose at a frame's time is the frame
+    /// `save` writes at 24 fps). Every pose is a valid mesh that triangulates, saves and
+    /// renders: no part is smaller than a thousandth of its modelled size — a node's thickness
+    /// is at least 0.001, a segment at least 0.001 of its modelled length (a shorter one is
+    /// lengthened along its direction, its branch moving with it) — so at the start of a
+    /// growth the plant is its model scaled by 0.001 about the root, a seed rather than a
+    /// point.
     ///
     /// ```rhai
     /// let pm = polar_sphere(0.2, 8, 6);
     /// let anim = animation(pm);
     /// anim.add(growth());
     /// let seed = anim.pose(0);
-    /// assert(seed.bounds().max.z - seed.bounds().min.z < 1e-9);   // collapsed on the root
+    /// let height = seed.bounds().max.z - seed.bounds().min.z;
+    /// assert_near(height, 0.001 * 0.4, 1e-12);   // the model, a thousandth of its size
+    /// for t in [0.0, 1.5, 3.0, 4.5, 6.0] {
+    ///     let m = anim.pose(t).triangulate();      // every pose is a valid mesh
+    ///     assert(m.is_closed() && m.is_manifold());
+    /// }
     /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn pose(ctx: NativeCallContext, anim: &mut Animation, t: Number) -> ScriptResult<SharedMesh> {
@@ -344,7 +405,7 @@ pub mod anim_api {
     #[rhai_fn(return_raw)]
     pub fn save(ctx: NativeCallContext, anim: &mut Animation, path: &str, options: Map) -> ScriptResult<()> {
         let opts = Options::new("save", options, &["fps", "frames"])?;
-        let fps = opts.number("fps", 24.0)?;
+        let fps = opts.number("fps", DEFAULT_FPS)?;
         if fps <= 0.0 {
             return fail("save", format!("option `fps` must be > 0, got {fps}"));
         }
@@ -357,7 +418,7 @@ pub mod anim_api {
             count
         } else if duration > 0.0 {
             // Frames covering the growth, computed in floats: a long growth must not overflow.
-            let n = (duration * fps).ceil() + 1.0;
+            let n = default_frame_count(duration, fps);
             if n.is_nan() || n > MAX_FRAMES as f64 {
                 return fail(
                     "save",
