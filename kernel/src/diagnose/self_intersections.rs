@@ -15,18 +15,18 @@
 use rayon::prelude::*;
 
 use super::bvh::Bvh;
-use super::triangle_pair::{is_degenerate, shared_corner_meets, shared_edge_meets, triangles_meet};
+use super::triangle_pair::{is_degenerate, meeting_point, shared_corner_meets, shared_edge_meets, triangles_meet};
 use crate::limits::LimitError;
 use crate::math::{IdMap, Vec3};
 use crate::mesh::{Mesh, MeshError};
 
-/// One crossing: two faces (the smaller id first) and a point near where they meet (the
-/// midpoint of the centres of the first two triangles of theirs found to meet).
+/// One crossing: two faces (the smaller id first) and a point where they meet (on both, up to
+/// rounding: the mean of the points where an edge of one of their triangles crosses the other).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Crossing {
     /// The two faces, `faces[0] < faces[1]`.
     pub faces: [u32; 2],
-    /// A point near the crossing.
+    /// A point of the crossing.
     pub at: Vec3,
 }
 
@@ -103,8 +103,8 @@ pub fn crossings(mesh: &Mesh) -> Result<Vec<Crossing>, MeshError> {
                 }
                 let (a, b) = (tris[i as usize], tris[j as usize]);
                 if meet(a, b, &positions) {
-                    let centre = |t: [u32; 3]| t.iter().map(|&v| positions[v as usize]).sum::<Vec3>() / 3.0;
-                    out.push(Crossing { faces: [fi.min(fj), fi.max(fj)], at: (centre(a) + centre(b)) * 0.5 });
+                    let p = |t: [u32; 3]| t.map(|v| positions[v as usize]);
+                    out.push(Crossing { faces: [fi.min(fj), fi.max(fj)], at: meeting_point(p(a), p(b)) });
                 }
                 Ok(())
             })?;

@@ -164,3 +164,26 @@ fn a_stopped_token_stops_the_search() {
     let _g = install(CancelToken::with(Some(Arc::new(AtomicBool::new(true))), None, None));
     assert!(matches!(self_intersections(&m), Err(crate::mesh::MeshError::Limit(LimitError::Stopped(_)))));
 }
+
+#[test]
+fn each_crossing_is_placed_on_both_faces() {
+    // Two cubes overlapping in [0, 1]³: every crossing point lies on a face of each cube, so
+    // on the boundary of both boxes.
+    let a = Mesh::cuboid(v(-1.0, -1.0, -1.0), v(1.0, 1.0, 1.0));
+    let b = Mesh::cuboid(v(0.0, 0.0, 0.0), v(2.0, 2.0, 2.0));
+    let m = Mesh::combine(&[&a, &b]).unwrap();
+    let found = crossings(&m).unwrap();
+    assert_eq!(found.len(), 6);
+    let on_box = |p: Vec3, lo: f64, hi: f64| {
+        let c = [p.x, p.y, p.z];
+        c.iter().all(|&x| (lo - 1e-12..=hi + 1e-12).contains(&x))
+            && c.iter().any(|&x| (x - lo).abs() < 1e-12 || (x - hi).abs() < 1e-12)
+    };
+    for c in &found {
+        assert!(on_box(c.at, -1.0, 1.0) && on_box(c.at, 0.0, 2.0), "{c:?}");
+    }
+    // A triangle through another: the point is where the first's edges pierce the second.
+    let t = [v(0.5, 0.5, -1.0), v(0.5, 0.5, 1.0), v(0.6, 0.4, 1.0)];
+    let p = super::triangle_pair::meeting_point(flat(), t);
+    assert!(p.z.abs() < 1e-12 && (p.x - 0.5).abs() < 0.1 && (p.y - 0.5).abs() < 0.1, "{p:?}");
+}

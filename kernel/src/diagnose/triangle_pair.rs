@@ -173,3 +173,42 @@ pub(crate) fn shared_edge_meets(u: Vec3, v: Vec3, a: Vec3, b: Vec3) -> bool {
     let Some((p, s)) = projection([u, v, a]) else { return false };
     p.o2(u, v, b) == s
 }
+
+/// A point where triangles `a` and `b` (found to meet) meet, for showing the crossing: the mean
+/// of the points where an edge of either crosses the other (each found by the exact test,
+/// placed in floating point along the edge by its distances to the plane), else — in-plane
+/// overlaps — the mean of the corners of either inside the other, else the mean of the two
+/// triangles' centres.
+#[must_use]
+pub(crate) fn meeting_point(a: [Vec3; 3], b: [Vec3; 3]) -> Vec3 {
+    let mut sum = Vec3::ZERO;
+    let mut n = 0.0;
+    for (s, t) in [(a, b), (b, a)] {
+        let normal = (t[1] - t[0]).cross(t[2] - t[0]);
+        for i in 0..3 {
+            let (d, e) = (s[i], s[(i + 1) % 3]);
+            if !segment_meets(d, e, t) {
+                continue;
+            }
+            let (hd, he) = (normal.dot(d - t[0]), normal.dot(e - t[0]));
+            if hd == he {
+                // In the plane: its ends inside t stand for it.
+                let Some((p, sign)) = projection(t) else { continue };
+                for q in [d, e] {
+                    if inside_2d(p, sign, q, t) {
+                        sum += q;
+                        n += 1.0;
+                    }
+                }
+            } else {
+                sum += d + (e - d) * (hd / (hd - he)).clamp(0.0, 1.0);
+                n += 1.0;
+            }
+        }
+    }
+    if n > 0.0 {
+        sum / n
+    } else {
+        (a[0] + a[1] + a[2] + b[0] + b[1] + b[2]) / 6.0
+    }
+}

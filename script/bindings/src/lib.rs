@@ -26,6 +26,7 @@ pub mod catalogue;
 pub mod context;
 pub mod convert;
 pub mod data_race;
+pub mod diagnosis;
 pub mod diagnostics;
 pub mod doc;
 pub mod editing_rules;

@@ -35,9 +35,12 @@ pub enum Command {
         #[command(flatten)]
         access: AccessArgs,
         /// Print the written model's facts (counts, closed, manifold, genus, volume, area,
-        /// bounds, run time) to standard output as JSON, alone: the recipe's print() and
-        /// debug() go to standard error instead; needs -o.
-        #[arg(long, value_parser = ["json"], requires = "output")]
+        /// bounds, run time) and where it is broken (components with their genus, boundary
+        /// loops, handle loops, self-intersecting faces, non-manifold places, degenerate faces)
+        /// to standard output: `--stats` or `--stats text` as lines, `--stats json` as JSON;
+        /// the recipe's print() and debug() then go to standard error; needs -o.
+        #[arg(long, value_name = "FORMAT", num_args = 0..=1, default_missing_value = "text",
+              value_parser = ["text", "json"], requires = "output")]
         stats: Option<String>,
         /// Write a manifest (hashes of the recipe, its inputs and the output; the parameters;
         /// the tool version) to this JSON file.

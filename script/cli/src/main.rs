@@ -24,7 +24,7 @@ use blocksmith_script::access::Saves;
 use clap::Parser;
 
 use args::{Cli, Command};
-use commands::run::RunCommand;
+use commands::run::{RunCommand, StatsFormat};
 
 /// mimalloc rather than the system allocator: the boolean engine allocates and frees many
 /// mid-sized arrays per operation, which glibc returns to the system and faults back in.
@@ -63,7 +63,7 @@ fn command() -> ExitCode {
                 params: set,
                 max_operations: l.max_operations,
                 timeout: l.timeout,
-                stats: stats.is_some(),
+                stats: stats.map(|f| if f == "json" { StatsFormat::Json } else { StatsFormat::Text }),
                 manifest,
                 progress: l.progress,
             })

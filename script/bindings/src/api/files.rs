@@ -136,6 +136,13 @@ pub mod files_api {
     /// assert_eq(back.bounds().max, vec3(1, 1, 3));
     /// assert_eq(load("doc_example_tall.stl", #{ weld: false }).vertex_count, 36);
     /// assert(load("doc_example_tall.stl", #{ repair: false }).is_closed(), "a valid file loads as it is");
+    /// // Two cubes touching at a corner: one vertex of two fans in the file, split on load.
+    /// combine([cube(1), cube(1).translate([1, 1, 1])]).save("doc_example_corner.stl");
+    /// let two = load("doc_example_corner.stl");
+    /// let w = take_warnings();
+    /// assert(w[0].contains("split 1 non-manifold vertex into one per fan"), w[0]);
+    /// assert_eq(two.components().len(), 2);
+    /// assert_eq(two.defects().filter(|d| d.kind == "non_manifold_vertex")[0].position, vec3(0.5, 0.5, 0.5));
     /// ```
     #[rhai_fn(name = "load", return_raw)]
     pub fn load_with_options(ctx: NativeCallContext, path: &str, options: Map) -> ScriptResult<Dynamic> {

@@ -7,6 +7,7 @@ pub mod blocks;
 pub mod color;
 pub mod csg;
 pub mod data;
+pub mod diagnose;
 pub mod files;
 pub mod lsystem;
 pub mod mesh;
@@ -43,6 +44,7 @@ pub fn register_all(engine: &mut Engine) {
     blocks::register(engine);
     csg::register(engine);
     profile::register(engine);
+    diagnose::register(engine);
     rng::register(engine);
     noise::register(engine);
     engine.register_global_module(exported_module!(runtime::runtime_api).into());

@@ -1,7 +1,8 @@
 //! `blocksmith run FILE.rhai [-o OUT]`: evaluates a recipe through the runner
 //! ([`blocksmith_script::run::run_recipe`]) and writes its last value to a model file; with
-//! `--stats json` also prints the written model's facts (alone on standard output: the recipe's
-//! `print` and `debug` then go to standard error), with `--manifest` writes a manifest.
+//! `--stats [text|json]` also prints the written model's facts and diagnosis (alone on standard
+//! output: the recipe's `print` and `debug` then go to standard error), with `--manifest`
+//! writes a manifest.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -21,8 +22,10 @@ pub fn run(cmd: &RunCommand) -> ExitCode {
         for w in &o.warnings {
             eprintln!("{w}");
         }
-        if let Some(stats) = o.stats {
-            print_out(&format!("{stats:#}\n"));
+        match (o.stats, cmd.stats) {
+            (Some(stats), Some(StatsFormat::Text)) => print_out(&crate::stats::text(&stats)),
+            (Some(stats), _) => print_out(&format!("{:#}\n", stats.json)),
+            _ => {}
         }
         o.summary
     }))
@@ -37,22 +40,32 @@ pub struct RunCommand {
     pub max_operations: Option<u64>,
     /// `--timeout SECONDS`: stop the run (kernel work included) after this long.
     pub timeout: Option<Duration>,
-    /// `--stats json`: the written model's facts ([`crate::stats::of_file`]); needs `output`.
-    pub stats: bool,
+    /// `--stats [text|json]`: the written model's facts and diagnosis
+    /// ([`crate::stats::of_file`]); needs `output`.
+    pub stats: Option<StatsFormat>,
     /// `--manifest FILE.json`: where to write the run's manifest ([`crate::manifest`]).
     pub manifest: Option<PathBuf>,
     /// Where long kernel work shows its progress (bars on a terminal).
     pub progress: Progress,
 }
 
+/// How `--stats` prints.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StatsFormat {
+    /// Lines of text ([`crate::stats::text`]).
+    Text,
+    /// One JSON object.
+    Json,
+}
+
 /// What `blocksmith run` reports: a one-line summary (for standard error) and, with
-/// `--stats json`, the facts (for standard output).
+/// `--stats`, the facts (for standard output).
 #[derive(Debug, Clone)]
 pub struct RunOutcome {
     pub summary: String,
     /// The recipe's warnings (dropped results), for standard error before the summary.
     pub warnings: Vec<String>,
-    pub stats: Option<serde_json::Value>,
+    pub stats: Option<crate::stats::Stats>,
 }
 
 /// Runs `blocksmith run`: evaluates the recipe and writes its last value to the output file,
@@ -61,12 +74,12 @@ pub struct RunOutcome {
 /// # Errors
 /// Any error of the run, the write, the stats or the manifest, formatted.
 pub fn execute_with_outcome(cmd: &RunCommand) -> Result<RunOutcome, RunError> {
-    if cmd.stats && cmd.output.is_none() {
+    if cmd.stats.is_some() && cmd.output.is_none() {
         return Err(RunError("error: --stats needs -o OUT: the facts are those of the written model".into()));
     }
     // With the stats on standard output, the recipe's `print` and `debug` go to standard error:
     // `run --stats json | jq` reads the stats alone.
-    let print_to = if cmd.stats { PrintTo::Stderr } else { PrintTo::Stdout };
+    let print_to = if cmd.stats.is_some() { PrintTo::Stderr } else { PrintTo::Stdout };
     let context = RunContext { params: cmd.params.iter().cloned().collect(), print_to, ..RunContext::default() };
     let options = EngineOptions {
         context,
@@ -90,7 +103,7 @@ pub fn execute_with_outcome(cmd: &RunCommand) -> Result<RunOutcome, RunError> {
         None => summary,
     };
     let stats = match &cmd.output {
-        Some(out) if cmd.stats => Some(crate::stats::of_file(out, elapsed)?),
+        Some(out) if cmd.stats.is_some() => Some(crate::stats::of_file(out, elapsed)?),
         _ => None,
     };
     if let Some(path) = &cmd.manifest {
