@@ -28,8 +28,24 @@ pub const DEBOUNCE: Duration = Duration::from_millis(20);
 enum Heard {
     /// A file changed.
     Changed(PathBuf),
-    /// A run read these files.
-    Inputs(Vec<PathBuf>),
+    /// A run read these files, each as it was when the run ended.
+    Inputs(Vec<(PathBuf, Option<FileStamp>)>),
+}
+
+/// What tells one version of a file from another: its length, modification time and inode
+/// (an editor's save by rename makes a new inode).
+#[derive(Clone, Debug, PartialEq, Eq)]
+struct FileStamp(u64, Option<std::time::SystemTime>, u64);
+
+impl FileStamp {
+    fn of(path: &Path) -> Option<FileStamp> {
+        let m = std::fs::metadata(path).ok()?;
+        #[cfg(unix)]
+        let inode = std::os::unix::fs::MetadataExt::ino(&m);
+        #[cfg(not(unix))]
+        let inode = 0;
+        Some(FileStamp(m.len(), m.modified().ok(), inode))
+    }
 }
 
 /// Whether a change to `changed` should run the recipe at `recipe` again, `inputs` being the
@@ -93,18 +109,23 @@ pub fn watch(session: &Arc<Session>) -> Result<(), String> {
         watched.insert(dir);
     }
     session.on_inputs(move |inputs| {
-        let _ = heard.send(Heard::Inputs(inputs.to_vec()));
+        let stamped = inputs.iter().map(|p| (p.clone(), FileStamp::of(p))).collect();
+        let _ = heard.send(Heard::Inputs(stamped));
     });
     let target = Arc::clone(session);
     let mut watched: BTreeMap<PathBuf, Option<Identity>> =
         watched.into_iter().map(|d| (d.clone(), identity(&d))).collect();
     std::thread::spawn(move || {
         let mut inputs = BTreeSet::new();
-        // Watches the folders of the recipe and `inputs` and no others.
+        // Watches the folders of the recipe and `inputs` and no others. A folder newly watched
+        // was not watched while the run read its files: those that changed since (their stamp
+        // when the run ended differs from now) are returned, as their events were not heard.
         let follow = |watcher: &mut notify::RecommendedWatcher,
                       watched: &mut BTreeMap<PathBuf, Option<Identity>>,
-                      inputs: &BTreeSet<PathBuf>| {
-            let wanted = folders(&recipe, inputs);
+                      stamped: &[(PathBuf, Option<FileStamp>)]|
+         -> Vec<PathBuf> {
+            let inputs: BTreeSet<PathBuf> = stamped.iter().map(|(p, _)| p.clone()).collect();
+            let wanted = folders(&recipe, &inputs);
             watched.retain(|dir, _| {
                 let keep = wanted.contains(dir);
                 if !keep {
@@ -112,23 +133,35 @@ pub fn watch(session: &Arc<Session>) -> Result<(), String> {
                 }
                 keep
             });
+            let mut missed = Vec::new();
             for new in wanted {
                 if let std::collections::btree_map::Entry::Vacant(slot) = watched.entry(new) {
                     if let Err(e) = watcher.watch(slot.key(), RecursiveMode::NonRecursive) {
                         eprintln!("warning: cannot watch {}: {e}", slot.key().display());
                     }
                     let id = identity(slot.key());
+                    let dir = slot.key().clone();
                     slot.insert(id);
+                    missed.extend(
+                        stamped
+                            .iter()
+                            .filter(|(p, then)| p.parent() == Some(dir.as_path()) && FileStamp::of(p) != *then)
+                            .map(|(p, _)| p.clone()),
+                    );
                 }
             }
+            missed
         };
         // One run per burst: wait for a change that counts, then for the quiet after it, with
         // every changed file the size it had at its last event.
         loop {
             let first = match hearing.recv_timeout(CHECK) {
                 Ok(Heard::Inputs(now)) => {
-                    inputs = now.into_iter().collect();
-                    follow(&mut watcher, &mut watched, &inputs);
+                    inputs = now.iter().map(|(p, _)| p.clone()).collect();
+                    let missed = follow(&mut watcher, &mut watched, &now);
+                    if !missed.is_empty() {
+                        target.files_changed(&missed);
+                    }
                     continue;
                 }
                 Ok(Heard::Changed(p)) if triggers(&recipe, &inputs, &p) => p,
@@ -151,8 +184,10 @@ pub fn watch(session: &Arc<Session>) -> Result<(), String> {
                         }
                     }
                     Ok(Heard::Inputs(now)) => {
-                        inputs = now.into_iter().collect();
-                        follow(&mut watcher, &mut watched, &inputs);
+                        inputs = now.iter().map(|(p, _)| p.clone()).collect();
+                        for p in follow(&mut watcher, &mut watched, &now) {
+                            changed.insert(p.clone(), size(&p));
+                        }
                     }
                     Err(mpsc::RecvTimeoutError::Timeout) => {
                         let growing: Vec<PathBuf> =
