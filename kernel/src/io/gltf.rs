@@ -35,9 +35,10 @@
 //! compressed with `KHR_draco_mesh_compression` is decoded (see `draco`): its positions and
 //! triangles, welded like any other.
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::io::Write;
 use std::path::Path;
+use std::sync::Arc;
 
 use gltf::json;
 use json::validation::{Checked::Valid, USize64};
@@ -48,7 +49,7 @@ use super::weld::Weld;
 use crate::diagnose::Repairs;
 use crate::limits::LimitError;
 use crate::math::{Mat4, Vec3};
-use crate::mesh::{BoundaryInterpolation, CreaseMethod, Mesh, MeshError, SubdivOptions, TriangleSubdivision};
+use crate::mesh::{BoundaryInterpolation, CreaseMethod, FacePart, Mesh, MeshError, SubdivOptions, TriangleSubdivision};
 
 /// The key of blocksmith's data in the mesh's `extras`.
 const EXTRAS_KEY: &str = "blocksmith";
@@ -438,6 +439,32 @@ pub(crate) fn document(
     uri: Option<String>,
     path: &Path,
 ) -> Result<(json::Root, Option<Vec<u8>>), IoError> {
+    document_with(mesh, uri, path, false)
+}
+
+/// Writes `mesh` as binary glTF coloured by provenance, the studio's debugging view: a boolean
+/// result's faces get one colour per source (see `source_colors`), written as per-vertex
+/// `COLOR_0` with the vertices split where sources meet; the mesh's own colours and part names
+/// are left out. A mesh without face sources is written as [`write_glb`] writes it. Never what
+/// `save` writes: provenance is not the model's colour.
+///
+/// # Errors
+/// As [`write_glb`].
+pub fn write_glb_provenance<W: Write>(mesh: &Mesh, out: &mut W, path: &Path) -> Result<(), IoError> {
+    let (root, bin) = document_with(mesh, None, path, true)?;
+    write_glb_document(&root, bin, out, path)
+}
+
+/// [`document`], coloured by provenance when `provenance` is true (see [`write_glb_provenance`]).
+///
+/// # Errors
+/// As [`document`].
+fn document_with(
+    mesh: &Mesh,
+    uri: Option<String>,
+    path: &Path,
+    provenance: bool,
+) -> Result<(json::Root, Option<Vec<u8>>), IoError> {
     let mut root = json::Root {
         asset: json::Asset {
             generator: Some(format!("blocksmith {}", env!("CARGO_PKG_VERSION"))),
@@ -452,8 +479,10 @@ pub(crate) fn document(
     let (mesh, tris, arities) = super::face_triangles(mesh).map_err(|e| IoError::from_mesh(path, e))?;
     let mesh = &*mesh;
     crate::limits::poll().map_err(stopped)?;
-    // A boolean result is coloured by source: its vertices split where sources meet.
-    let split = super::source_colors::split_by_source(mesh, &tris, &arities).map_err(stopped)?;
+    // The provenance view: a boolean result coloured by source, its vertices split where
+    // sources meet.
+    let split =
+        if provenance { super::source_colors::split_by_source(mesh, &tris, &arities).map_err(stopped)? } else { None };
     let n = split.as_ref().map_or(mesh.vertex_count(), |s| s.from.len());
     let mut bin = Vec::with_capacity(n * 24 + tris.len() * 4 + mesh.vertex_colors().map_or(0, |_| n * 16));
 
@@ -512,9 +541,153 @@ pub(crate) fn document(
         }
         None => tris,
     };
+    if !provenance && super::face_groups::has_parts(mesh) {
+        // Each primitive carries its own arity runs.
+        let extras = extras_json(mesh, &[], true);
+        crate::limits::poll().map_err(stopped)?;
+        return finish_parts(root, bin, uri, attributes, mesh, &tris, &arities, extras, path);
+    }
     let extras = extras_json(mesh, &arities, true);
     crate::limits::poll().map_err(stopped)?;
     finish(root, bin, uri, attributes, &tris, extras, path)
+}
+
+/// The material of a part colour: its colour as `baseColorFactor`, not metallic, blended when
+/// it is not opaque (glTF 2.0 §3.9.4), named by its hex colour.
+fn color_material(name: String, c: [f32; 4]) -> json::Material {
+    let c = c.map(|x| x.clamp(0.0, 1.0));
+    json::Material {
+        name: Some(name),
+        alpha_mode: Valid(if c[3] < 1.0 {
+            json::material::AlphaMode::Blend
+        } else {
+            json::material::AlphaMode::Opaque
+        }),
+        pbr_metallic_roughness: json::material::PbrMetallicRoughness {
+            base_color_factor: json::material::PbrBaseColorFactor(c),
+            metallic_factor: json::material::StrengthFactor(0.0),
+            roughness_factor: json::material::StrengthFactor(0.7),
+            ..Default::default()
+        },
+        ..Default::default()
+    }
+}
+
+/// `{"blocksmith": {"face_arity_runs": …}}` for faces of `arities`, `None` when all are
+/// triangles.
+fn arity_runs_json(arities: impl Iterator<Item = u32>) -> Option<String> {
+    let mut runs: Vec<[u32; 2]> = Vec::new();
+    for a in arities {
+        match runs.last_mut() {
+            Some([arity, count]) if *arity == a => *count += 1,
+            _ => runs.push([a, 1]),
+        }
+    }
+    runs.iter()
+        .any(|&[a, _]| a != 3)
+        .then(|| serde_json::json!({ EXTRAS_KEY: { "face_arity_runs": runs } }).to_string())
+}
+
+/// Writes the indices, buffer, meshes, nodes and scene of a mesh with face parts: one node
+/// (named by the part name, unnamed faces together in a node without a name) per object and
+/// in it one triangle primitive per colour, with a material per colour (faces without a colour
+/// take glTF's default material). Every primitive shares the vertex attributes, so vertex `i`
+/// of the file is still vertex `i` of the mesh; each primitive's polygon arities are in its own
+/// `extras`, the creases, corners and options in the first mesh's.
+///
+/// # Errors
+/// [`IoError::Mesh`] with [`MeshError::Limit`] when the cancellation token stops (polled every
+/// [`crate::limits::POLL_EVERY`] faces).
+#[allow(clippy::too_many_arguments)]
+fn finish_parts(
+    mut root: json::Root,
+    mut bin: Vec<u8>,
+    uri: Option<String>,
+    attributes: std::collections::BTreeMap<
+        json::validation::Checked<json::mesh::Semantic>,
+        json::Index<json::Accessor>,
+    >,
+    mesh: &Mesh,
+    tris: &[u32],
+    arities: &[u32],
+    extras: Option<String>,
+    path: &Path,
+) -> Result<(json::Root, Option<Vec<u8>>), IoError> {
+    let stopped = |e: LimitError| IoError::from_mesh(path, MeshError::Limit(e));
+    let raw = |s: String| json::extras::RawValue::from_string(s).map_err(|e| internal(path, &e.to_string()));
+    let groups = super::face_groups::FaceGroups::of(mesh);
+    let mut first = Vec::with_capacity(arities.len() + 1);
+    first.push(0usize);
+    for &a in arities {
+        first.push(first[first.len() - 1] + a as usize - 2);
+    }
+    let materials: Vec<Option<json::Index<json::Material>>> = (0..groups.colors.len())
+        .map(|k| groups.colors[k].map(|c| root.push(color_material(groups.material_name(k), c))))
+        .collect();
+    // Each object's primitives (material, index accessor, arity runs), in order.
+    let mut objects = Vec::with_capacity(groups.objects.len());
+    let mut mesh_extras = extras;
+    let mut done = 0usize;
+    for faces in &groups.object_faces {
+        let mut by_material: Vec<(u32, Vec<u32>)> = Vec::new();
+        for &f in faces {
+            let m = groups.material_of_face(f);
+            match by_material.iter_mut().find(|(k, _)| *k == m) {
+                Some((_, fs)) => fs.push(f),
+                None => by_material.push((m, vec![f])),
+            }
+        }
+        let mut primitives = Vec::with_capacity(by_material.len());
+        for (m, fs) in by_material {
+            let mut idx: Vec<u32> = Vec::with_capacity(fs.len() * 3);
+            for (i, &f) in fs.iter().enumerate() {
+                crate::limits::poll_at(done + i).map_err(stopped)?;
+                idx.extend_from_slice(&tris[3 * first[f as usize]..3 * first[f as usize + 1]]);
+            }
+            done += fs.len();
+            let view =
+                push_view(&mut root, &mut bin, Some(json::buffer::Target::ElementArrayBuffer), |b| push_u32s(b, &idx));
+            let indices = root.push(accessor(
+                view,
+                idx.len(),
+                json::accessor::ComponentType::U32,
+                json::accessor::Type::Scalar,
+                None,
+            ));
+            let runs = arity_runs_json(fs.iter().map(|&f| arities[f as usize])).map(raw).transpose()?;
+            primitives.push(json::mesh::Primitive {
+                attributes: attributes.clone(),
+                extensions: None,
+                extras: runs,
+                indices: Some(indices),
+                material: materials[m as usize],
+                mode: Valid(json::mesh::Mode::Triangles),
+                targets: None,
+            });
+        }
+        objects.push(primitives);
+    }
+    bin.resize(bin.len().next_multiple_of(4), 0);
+    root.push(json::Buffer { byte_length: USize64::from(bin.len()), name: None, uri, extensions: None, extras: None });
+    let mut nodes = Vec::with_capacity(objects.len());
+    for (name, primitives) in groups.objects.iter().zip(objects) {
+        let extras = mesh_extras.take().map(raw).transpose()?;
+        let gmesh = root.push(json::Mesh {
+            extensions: None,
+            extras,
+            name: Some(name.as_deref().unwrap_or("blocksmith").to_string()),
+            primitives,
+            weights: None,
+        });
+        nodes.push(root.push(json::Node {
+            mesh: Some(gmesh),
+            name: name.as_deref().map(str::to_string),
+            ..Default::default()
+        }));
+    }
+    let scene = root.push(json::Scene { extensions: None, extras: None, name: None, nodes });
+    root.scene = Some(scene);
+    Ok((root, Some(bin)))
 }
 
 /// Writes the indices, buffer, mesh, node and scene of a document whose vertex attributes are
@@ -663,13 +836,24 @@ pub(crate) fn read_gltf_report(
 
     let mut soup =
         Soup { views: doc.views().map(|v| (v.buffer().index(), v.offset(), v.length())).collect(), ..Soup::default() };
-    for (gmesh, world) in instances {
-        let extras = blocksmith_extras(&gmesh);
+    for (gmesh, world, node_name) in instances {
+        let extras = blocksmith_extras(gmesh.extras());
         let single = gmesh.primitives().len() == 1;
         for prim in gmesh.primitives() {
             crate::limits::check().map_err(|e| IoError::from_mesh(path, MeshError::Limit(e)))?;
             let at = format!("mesh {} primitive {}", gmesh.index(), prim.index());
-            soup.add_primitive(&prim, &buffers, world, if single { extras.as_ref() } else { None }, &at, path)?;
+            // A primitive's own arity runs (files with parts), else its mesh's when it is the
+            // only one; the mesh's creases and corners go with its first primitive.
+            let own = blocksmith_extras(prim.extras()).and_then(|e| e.arity_runs);
+            let mesh_runs = extras.as_ref().filter(|_| single).and_then(|e| e.arity_runs.clone());
+            let runs = own.or(mesh_runs);
+            let tags = extras.as_ref().filter(|_| prim.index() == 0);
+            // A material is a face colour (its base colour factor); a node's name a part name.
+            let material = prim.material();
+            let color = material.index().map(|_| material.pbr_metallic_roughness().base_color_factor());
+            let part = soup.part(node_name.as_ref(), color);
+            let placed = Placement { world, runs: runs.as_deref(), tags, part };
+            soup.add_primitive(&prim, &buffers, &placed, &at, path)?;
         }
     }
     soup.build(weld, repair, path)
@@ -741,10 +925,10 @@ const PLACED_CORNER_BYTES: f64 = 4.0 + 4.0 + 48.0 + 8.0;
 /// # Errors
 /// [`LimitError::OverBudget`] naming the counts; [`LimitError::Stopped`] when the token stops
 /// (polled every [`crate::limits::POLL_EVERY`] instances).
-fn check_placed_size(instances: &[(gltf::Mesh<'_>, Mat4)]) -> Result<(), LimitError> {
+fn check_placed_size(instances: &[Instance<'_>]) -> Result<(), LimitError> {
     use gltf::mesh::Mode;
     let (mut vertices, mut corners) = (0.0f64, 0.0f64);
-    for (i, (m, _)) in instances.iter().enumerate() {
+    for (i, (m, _, _)) in instances.iter().enumerate() {
         crate::limits::poll_at(i)?;
         for prim in m.primitives() {
             let nv = prim.get(&gltf::Semantic::Positions).map_or(0, |a| a.count()) as f64;
@@ -762,8 +946,11 @@ fn check_placed_size(instances: &[(gltf::Mesh<'_>, Mat4)]) -> Result<(), LimitEr
     )
 }
 
-/// Every mesh the scene instances, with its node's world matrix.
-fn mesh_instances(doc: &gltf::Document) -> Result<Vec<(gltf::Mesh<'_>, Mat4)>, String> {
+/// A mesh the scene instances: the mesh, its node's world matrix and its node's name.
+type Instance<'a> = (gltf::Mesh<'a>, Mat4, Option<Arc<str>>);
+
+/// Every mesh the scene instances, with its node's world matrix and name.
+fn mesh_instances(doc: &gltf::Document) -> Result<Vec<Instance<'_>>, String> {
     let roots: Vec<gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
         Some(scene) => scene.nodes().collect(),
         None => {
@@ -787,7 +974,7 @@ fn mesh_instances(doc: &gltf::Document) -> Result<Vec<(gltf::Mesh<'_>, Mat4)>, S
         let local = node.transform().matrix().map(|c| c.map(f64::from));
         let world = parent * Mat4::from_cols_array_2d(&local);
         if let Some(m) = node.mesh() {
-            out.push((m, world));
+            out.push((m, world, node.name().map(Arc::from)));
         }
         let children: Vec<gltf::Node> = node.children().collect();
         stack.extend(children.into_iter().rev().map(|c| (c, world)));
@@ -842,8 +1029,9 @@ fn options_of(ours: &serde_json::Value) -> Option<Option<SubdivOptions>> {
     Some(Some(out))
 }
 
-fn blocksmith_extras(m: &gltf::Mesh) -> Option<Extras> {
-    let raw = m.extras().as_ref()?;
+/// blocksmith's data in a mesh's or primitive's `extras`, if present and well-formed.
+fn blocksmith_extras(extras: &json::Extras) -> Option<Extras> {
+    let raw = extras.as_ref()?;
     let value: serde_json::Value = serde_json::from_str(raw.get()).ok()?;
     let ours = value.get(EXTRAS_KEY)?;
     let as_u32 = |v: &serde_json::Value| v.as_u64().and_then(|x| u32::try_from(x).ok());
@@ -964,9 +1152,32 @@ fn check_range(
     Ok(())
 }
 
+/// Where and how a primitive is placed into the soup.
+struct Placement<'a> {
+    /// Its node's world matrix.
+    world: Mat4,
+    /// The polygon arities its triangles re-join into, if known.
+    runs: Option<&'a [(u32, u64)]>,
+    /// Crease and corner tags for its vertices.
+    tags: Option<&'a Extras>,
+    /// The part its faces get (see [`Soup::part`]).
+    part: u32,
+}
+
+/// The key a primitive's vertices are shared by: its POSITION and COLOR_0 accessors and its
+/// node's world matrix (bits), so primitives of one node over one vertex list (a file with
+/// parts: one primitive per colour) keep one set of vertices.
+type SharedKey = (usize, Option<usize>, [u64; 16]);
+
 /// Triangles and vertices gathered from all primitives, before building the mesh.
 #[derive(Default)]
 struct Soup {
+    /// Each face's part, and the parts (colour, name) met.
+    face_parts: Vec<u32>,
+    parts: Vec<FacePart>,
+    part_ids: HashMap<(Option<Arc<str>>, Option<[u32; 4]>), u32>,
+    /// The soup offset and count of the vertices placed for each shared key.
+    shared: HashMap<SharedKey, (usize, usize)>,
     positions: Vec<Vec3>,
     colors: Vec<[f32; 4]>,
     any_color: bool,
@@ -985,15 +1196,45 @@ struct Soup {
 }
 
 impl Soup {
+    /// The id of the part named `name` of colour `color`, added when new.
+    fn part(&mut self, name: Option<&Arc<str>>, color: Option<[f32; 4]>) -> u32 {
+        let key = (name.cloned(), color.map(|c| c.map(f32::to_bits)));
+        let next = self.parts.len() as u32;
+        let id = *self.part_ids.entry(key).or_insert(next);
+        if id == next {
+            self.parts.push(FacePart {
+                color: color.map(|c| c.map(|x| x.clamp(0.0, 1.0))),
+                name: name.cloned(),
+                origin: None,
+            });
+        }
+        id
+    }
+
     fn add_primitive(
         &mut self,
         prim: &gltf::Primitive,
         buffers: &[Vec<u8>],
-        world: Mat4,
-        extras: Option<&Extras>,
+        placed: &Placement,
         at: &str,
         path: &Path,
     ) -> Result<(), IoError> {
+        let faces_before = self.arities.len();
+        self.add_primitive_faces(prim, buffers, placed, at, path)?;
+        self.face_parts.resize(faces_before, 0);
+        self.face_parts.resize(self.arities.len(), placed.part);
+        Ok(())
+    }
+
+    fn add_primitive_faces(
+        &mut self,
+        prim: &gltf::Primitive,
+        buffers: &[Vec<u8>],
+        placed: &Placement,
+        at: &str,
+        path: &Path,
+    ) -> Result<(), IoError> {
+        let world = placed.world;
         use gltf::accessor::{DataType as D, Dimensions as N};
         use gltf::mesh::Mode;
         let mode = prim.mode();
@@ -1006,7 +1247,7 @@ impl Soup {
             let p = Vec3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2]));
             UpAxis::Y.from_file(if identity { p } else { world.transform_point3(p) })
         };
-        let offset = self.positions.len();
+        let mut offset = self.positions.len();
         let draco = match prim.extensions() {
             Some(others) => super::draco::extension_of(others).map_err(err)?,
             None => None,
@@ -1041,17 +1282,31 @@ impl Soup {
             check_accessor(&pos_acc, buffers, &[(D::F32, N::Vec3)], "POSITION").map_err(err)?;
             let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d[..]));
             let nv = pos_acc.count();
+            let key: SharedKey = (
+                pos_acc.index(),
+                prim.get(&gltf::Semantic::Colors(0)).map(|a| a.index()),
+                world.to_cols_array().map(f64::to_bits),
+            );
+            let shared = self.shared.get(&key).copied();
+            if let Some((at_offset, _)) = shared {
+                offset = at_offset;
+            } else {
+                self.shared.insert(key, (offset, nv));
+            }
             if offset + nv >= u32::MAX as usize {
                 return Err(IoError::from_mesh(
                     path,
                     MeshError::TooLarge { what: format!("{} vertices", offset + nv) },
                 ));
             }
-            let local = reader.read_positions().ok_or_else(|| err("POSITION cannot be read".into()))?;
-            self.positions.reserve(nv);
-            self.positions.extend(local.map(place));
+            if shared.is_none() {
+                let local = reader.read_positions().ok_or_else(|| err("POSITION cannot be read".into()))?;
+                self.positions.reserve(nv);
+                self.positions.extend(local.map(place));
+            }
 
             match prim.get(&gltf::Semantic::Colors(0)) {
+                _ if shared.is_some() => {}
                 Some(acc) => {
                     let allowed = [
                         (D::F32, N::Vec3),
@@ -1101,7 +1356,7 @@ impl Soup {
         }
         let flip = world.determinant() < 0.0;
         let off = offset as u32;
-        let runs = extras.and_then(|e| e.arity_runs.as_ref());
+        let (runs, extras) = (placed.runs, placed.tags);
         let degenerate = |t: &[u32]| t[0] == t[1] || t[1] == t[2] || t[0] == t[2];
         if mode == Mode::Triangles
             && runs.is_none()
@@ -1183,10 +1438,24 @@ impl Soup {
     /// with colours and tags carried to the kept vertices.
     fn build(self, rule: Weld, repair: bool, path: &Path) -> Result<(Mesh, Repairs), IoError> {
         let Soup {
-            positions, mut colors, any_color, indices, arities, mut creases, mut corners, options, indexed, ..
+            positions,
+            mut colors,
+            any_color,
+            indices,
+            arities,
+            mut creases,
+            mut corners,
+            options,
+            indexed,
+            face_parts,
+            parts,
+            ..
         } = self;
         let topology = if indexed { super::assemble::Topology::Indexed } else { super::assemble::Topology::Soup };
-        let a = super::assemble::assemble(&positions, &indices, &arities, topology, rule, repair, path)?;
+        let mut a = super::assemble::assemble(&positions, &indices, &arities, topology, rule, repair, path)?;
+        if parts.iter().any(|p| p.color.is_some() || p.name.is_some()) {
+            a.set_input_parts(&face_parts, parts, path)?;
+        }
         // Each input vertex's first vertex in the mesh (u32::MAX: none), for the tags.
         let mut first = vec![u32::MAX; positions.len()];
         for (v, &from) in a.vertex_from.iter().enumerate().rev() {

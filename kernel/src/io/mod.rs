@@ -21,13 +21,17 @@
 //!
 //! What each format keeps:
 //!
-//! | | positions | polygons | vertex ids | creases, corners | colours |
-//! |---|---|---|---|---|---|
-//! | OBJ | exact (f64) | yes | yes | yes (`t` tags) | RGB |
-//! | glTF | f32 | yes (mesh `extras`) | yes | yes (mesh `extras`) | RGBA |
-//! | STL | f32 | triangles | no (welded by position) | no | no |
-//! | PLY | exact (f64) | yes | yes (unless welded) | no | RGB(A), 8 bits |
-//! | 3MF | exact (shortest decimal) | triangles | yes | no | RGBA, 8 bits (colour group); sources as base materials |
+//! | | positions | polygons | vertex ids | creases, corners | vertex colours | face colours, part names |
+//! |---|---|---|---|---|---|---|
+//! | OBJ | exact (f64) | yes | yes | yes (`t` tags) | RGB | `usemtl` + `.mtl` (RGBA f32), `o` |
+//! | glTF | f32 | yes (`extras`) | yes | yes (mesh `extras`) | RGBA | a material per colour (RGBA f32), a node per name |
+//! | STL | f32 | triangles | no (welded by position) | no | no | no |
+//! | PLY | exact (f64) | yes | yes (unless welded) | no | RGB(A), 8 bits | face `red green blue (alpha)`, 8 bits; no names |
+//! | 3MF | exact (shortest decimal) | triangles | yes | no | RGBA, 8 bits (colour group) | base materials (8 bits), an object per name |
+//!
+//! A boolean result's face sources (which operand each face came from) are a debugging view
+//! (the studio's provenance colours, [`gltf::write_glb_provenance`]) and are never written as
+//! colours.
 
 mod assemble;
 mod atomic;
@@ -138,7 +142,7 @@ pub fn load_report(path: impl AsRef<Path>, options: &LoadOptions) -> Result<(Mes
     let bytes = uri::read_regular(path).map_err(|e| e.into_io(path))?;
     let repair = options.repair;
     let (mesh, repairs) = match format {
-        Format::Obj => obj::read_obj_report(&bytes, path, repair)?,
+        Format::Obj => obj::read_obj_report(&bytes, Some(path.parent().unwrap_or(Path::new(""))), path, repair)?,
         Format::Glb | Format::Gltf => gltf::read_gltf_report(&bytes, path.parent(), path, options.weld, repair)?,
         Format::Stl => stl::read_stl_report(&bytes, path, options.weld, repair)?,
         Format::Ply => ply::read_ply_report(&bytes, path, options.weld, repair)?,
@@ -181,7 +185,9 @@ pub fn save(mesh: &Mesh, path: impl AsRef<Path>) -> Result<(), IoError> {
 /// see [`gltf`]'s `save_gltf_pair`), `.stl`, `.ply` (in
 /// `options.ply`'s encoding), `.3mf`. glTF is written Y-up (converted exactly); OBJ, STL and PLY Z-up
 /// unless `options.up` says otherwise. Each file is
-/// written atomically ([`write_atomic`]): a failing save leaves the old file as it was.
+/// written atomically ([`write_atomic`]): a failing save leaves the old file as it was. An OBJ of
+/// a mesh with face colours also writes its material library beside it, `STEM.mtl` (see
+/// [`obj::material_library_path`]), before the OBJ that names it.
 ///
 /// # Errors
 /// [`IoError::UnknownExtension`]; [`IoError::Unsupported`] for an up axis given to glTF;
@@ -202,7 +208,18 @@ pub fn save_with(mesh: &Mesh, path: impl AsRef<Path>, options: &SaveOptions) -> 
     };
     match format {
         Format::Obj => {
-            write_atomic(path, |w| obj::write_obj(mesh, w).map_err(|e| IoError::Write { path: path.into(), source: e }))
+            // The material library first, so the OBJ never names a library that is not there.
+            let library = obj::material_library_path(mesh, path);
+            if let Some(lib) = &library {
+                write_atomic(lib, |w| {
+                    obj::write_mtl(mesh, w).map_err(|e| IoError::Write { path: lib.into(), source: e })
+                })?;
+            }
+            let name = library.as_ref().and_then(|l| l.file_name()).map(|n| n.to_string_lossy().into_owned());
+            write_atomic(path, |w| {
+                obj::write_obj_with_library(mesh, w, name.as_deref())
+                    .map_err(|e| IoError::Write { path: path.into(), source: e })
+            })
         }
         Format::Glb => write_atomic(path, |w| gltf::write_glb(mesh, w, path)),
         Format::Stl => write_atomic(path, |w| stl::write_stl(mesh, w, path)),

@@ -6,15 +6,26 @@
 //! OpenSubdiv's shape files: `t crease 2/1/0 a b s` tags the edge between the 0-based vertices
 //! `a` and `b` as a crease of sharpness `s` (semi-sharp below 10), `t corner 1/1/0 v s` gives
 //! vertex `v` a corner sharpness, and `t interpolateboundary`, `t creasemethod` and
-//! `t smoothtriangles` set the mesh's subdivision options. Objects and groups (`o`, `g`), materials, smoothing groups, normals and
-//! texture coordinates are accepted and ignored: every face goes into one mesh whose vertex `i`
-//! is the file's `i`-th `v` line (OBJ indices are global, so faces of different objects that
-//! share a vertex stay joined). A line ending in `\` continues on the next (OBJ's line
+//! `t smoothtriangles` set the mesh's subdivision options. Every face goes into one mesh whose
+//! vertex `i` is the file's `i`-th `v` line (OBJ indices are global, so faces of different
+//! objects that share a vertex stay joined). Face parts: `o NAME` names the faces after it (the
+//! part name), `usemtl NAME` gives them the material's colour from the material libraries that
+//! `mtllib` names (`Kd r g b` and `d` — or `Tr`, 1 − `d` — as alpha; a material without `Kd` is
+//! no colour). A library is read only when the file was loaded from a folder
+//! ([`read_obj_in`]) and the library is a regular file inside that folder (no absolute path,
+//! no `..`, no link leading out, within the memory budget); one that is missing or refused is
+//! skipped and its materials' faces read uncoloured, as OBJ files often travel without theirs.
+//! Groups (`g`), smoothing groups, normals and texture coordinates are accepted and ignored. A line ending in `\` continues on the next (OBJ's line
 //! continuation). A line whose keyword OBJ does not define is an error.
 //!
 //! What is written: the same subset, every coordinate with enough digits to read back the very
 //! same `f64`, crease and corner tags as `t` lines with their sharpness (10, OpenSubdiv's
 //! "infinitely sharp", for infinite), and the subdivision options that differ from the default.
+//! A mesh with face parts is written in groups: an `o NAME` per part name (unnamed faces first,
+//! before any `o`), and in each a `usemtl` per colour, the materials in a `.mtl` library beside
+//! the file ([`write_mtl`]; `save` writes both): `Kd` the colour, `d` its alpha, named by its hex
+//! colour. Faces without a colour come before any `usemtl` where they can (objects with no
+//! colour at all first), else under `usemtl default`, a white material.
 //!
 //! How tobj is used: tobj numbers a model's vertices in the order faces first use them, drops
 //! unused ones, and starts a new model (with its own vertex copies) at every `o`, `g` or
@@ -23,13 +34,15 @@
 //! point elements are skipped afterwards. Normals and texture coordinates are not handed over
 //! either (they are ignored, and a bad texture index can overflow inside tobj).
 
+use std::collections::HashMap;
 use std::io::Write;
-use std::path::Path;
+use std::path::{Component, Path, PathBuf};
+use std::sync::Arc;
 
 use super::error::IoError;
 use crate::diagnose::Repairs;
 use crate::math::Vec3;
-use crate::mesh::{BoundaryInterpolation, CreaseMethod, Mesh, SubdivOptions, TriangleSubdivision};
+use crate::mesh::{BoundaryInterpolation, CreaseMethod, FacePart, Mesh, Rgba, SubdivOptions, TriangleSubdivision};
 
 /// Keywords of the OBJ specification that the reader accepts and ignores (besides `v`, `f`
 /// and `t`, which it reads, and comments).
@@ -90,6 +103,11 @@ struct Scan {
     vertex_count: usize,
     has_colors: bool,
     tags: Vec<Tag>,
+    /// Each `f` line's (object name, material name) group, indexing `groups`.
+    face_groups: Vec<u32>,
+    groups: Vec<(Option<String>, Option<String>)>,
+    /// The material libraries `mtllib` lines name, in order.
+    libraries: Vec<String>,
 }
 
 fn obj_error(path: &Path, line: usize, reason: impl Into<String>) -> IoError {
@@ -139,10 +157,37 @@ fn scan(text: &str, path: &Path) -> Result<Scan, IoError> {
     let mut first_plain = None;
     let mut first_colored = None;
     let mut tags = Vec::new();
+    let mut face_groups = Vec::new();
+    let mut groups: Vec<(Option<String>, Option<String>)> = vec![(None, None)];
+    let mut current = 0u32;
+    let mut libraries = Vec::new();
+    let rest_of = |line: &str, keyword: &str| line.trim_start()[keyword.len()..].trim().to_string();
     for (number, line) in numbered_lines(text) {
         let mut words = line.split_whitespace();
         let Some(keyword) = words.next() else { continue };
         match keyword {
+            "o" | "usemtl" => {
+                let name = Some(rest_of(line, keyword)).filter(|n| !n.is_empty());
+                let mut g = groups[current as usize].clone();
+                if keyword == "o" {
+                    g.0 = name;
+                } else {
+                    g.1 = name;
+                }
+                current = match groups.iter().position(|x| *x == g) {
+                    Some(i) => i as u32,
+                    None => {
+                        groups.push(g);
+                        (groups.len() - 1) as u32
+                    }
+                };
+            }
+            "mtllib" => {
+                let whole = rest_of(line, keyword);
+                if !whole.is_empty() {
+                    libraries.push(whole);
+                }
+            }
             "v" => {
                 match words.count() {
                     3 | 4 => {
@@ -167,6 +212,7 @@ fn scan(text: &str, path: &Path) -> Result<Scan, IoError> {
                 if n < 3 {
                     return Err(obj_error(path, number, format!("a face needs at least 3 vertices, this one has {n}")));
                 }
+                face_groups.push(current);
             }
             "t" => {
                 tags.extend(parse_tag(words, number, path)?);
@@ -184,7 +230,7 @@ fn scan(text: &str, path: &Path) -> Result<Scan, IoError> {
         return Err(obj_error(path, line, "some vertices have colours (v x y z r g b) and others do not"));
     }
     // tobj reads one model; the point elements `f 1` … `f n` make its vertex order the file's.
-    Ok(Scan { vertex_count: n, has_colors: colored > 0, tags })
+    Ok(Scan { vertex_count: n, has_colors: colored > 0, tags, face_groups, groups, libraries })
 }
 
 /// What tobj reads, made on the fly from the text (no copy of the file): one point element
@@ -411,7 +457,17 @@ fn tobj_options() -> tobj::LoadOptions {
 ///
 /// See also [`write_obj`], [`super::load`].
 pub fn read_obj(bytes: &[u8], path: &Path) -> Result<Mesh, IoError> {
-    read_obj_report(bytes, path, true).map(|r| r.0)
+    read_obj_report(bytes, None, path, true).map(|r| r.0)
+}
+
+/// [`read_obj`] of a file in the folder `base`, whose material libraries (`mtllib`) are read
+/// from that folder for the faces' colours (see the module documentation).
+///
+/// # Errors
+/// As [`read_obj`]; [`IoError::Obj`] naming the library and its line for a malformed number
+/// in a material library.
+pub fn read_obj_in(bytes: &[u8], base: &Path, path: &Path) -> Result<Mesh, IoError> {
+    read_obj_report(bytes, Some(base), path, true).map(|r| r.0)
 }
 
 /// [`read_obj`], repairing a file that is not manifold as written (or refusing it when
@@ -422,7 +478,12 @@ pub fn read_obj(bytes: &[u8], path: &Path) -> Result<Mesh, IoError> {
 /// # Errors
 /// As [`read_obj`]; [`IoError::NotManifold`] when `repair` is false and the file is not a
 /// manifold surface as written.
-pub(crate) fn read_obj_report(bytes: &[u8], path: &Path, repair: bool) -> Result<(Mesh, Repairs), IoError> {
+pub(crate) fn read_obj_report(
+    bytes: &[u8],
+    base: Option<&Path>,
+    path: &Path,
+    repair: bool,
+) -> Result<(Mesh, Repairs), IoError> {
     let text = std::str::from_utf8(bytes).map_err(|e| {
         let line = bytes[..e.valid_up_to()].iter().filter(|&&b| b == b'\n').count() + 1;
         obj_error(path, line, "the text is not valid UTF-8")
@@ -450,7 +511,7 @@ pub(crate) fn read_obj_report(bytes: &[u8], path: &Path, repair: bool) -> Result
     }
     let positions: Vec<Vec3> = m.positions.chunks_exact(3).map(|p| Vec3::new(p[0], p[1], p[2])).collect();
     let arities = &m.face_arities[n..];
-    let a = super::assemble::assemble(
+    let mut a = super::assemble::assemble(
         &positions,
         &m.indices[n..],
         arities,
@@ -459,6 +520,24 @@ pub(crate) fn read_obj_report(bytes: &[u8], path: &Path, repair: bool) -> Result
         repair,
         path,
     )?;
+    if scan.groups.len() > 1 {
+        let materials = match base {
+            Some(base) => read_libraries(&scan.libraries, base)?,
+            None => HashMap::new(),
+        };
+        let parts: Vec<FacePart> = scan
+            .groups
+            .iter()
+            .map(|(object, material)| FacePart {
+                color: material.as_ref().and_then(|m| materials.get(m).copied().flatten()),
+                name: object.as_deref().map(Arc::from),
+                origin: None,
+            })
+            .collect();
+        if parts.iter().any(|p| p.color.is_some() || p.name.is_some()) {
+            a.set_input_parts(&scan.face_groups, parts, path)?;
+        }
+    }
     let (mut mesh, repairs) = (a.mesh, a.repairs);
     if scan.has_colors {
         let colors: Vec<[f32; 4]> =
@@ -500,6 +579,148 @@ pub(crate) fn read_obj_report(bytes: &[u8], path: &Path, repair: bool) -> Result
     Ok((mesh, repairs))
 }
 
+/// The colours of the materials in the libraries `names` (each an `mtllib` line's text: the
+/// whole text names one file when there is one of that name, else each word names one) inside
+/// the folder `base`; libraries missing or refused (see the module documentation) are skipped.
+///
+/// # Errors
+/// [`IoError::Obj`] naming a library and its line: a `Kd`, `d` or `Tr` whose numbers do not
+/// parse or lie outside 0–1.
+fn read_libraries(names: &[String], base: &Path) -> Result<HashMap<String, Option<Rgba>>, IoError> {
+    let mut out = HashMap::new();
+    for line in names {
+        let files: Vec<&str> =
+            if library_file(base, line).is_some() { vec![line.as_str()] } else { line.split_whitespace().collect() };
+        for name in files {
+            let Some(file) = library_file(base, name) else { continue };
+            let Ok(bytes) = super::uri::read_regular(&file) else { continue };
+            parse_mtl(&String::from_utf8_lossy(&bytes), &file, &mut out)?;
+        }
+    }
+    Ok(out)
+}
+
+/// The regular file named `name` inside `base` (a relative name without `..`, not leaving the
+/// folder through a link), `None` otherwise.
+fn library_file(base: &Path, name: &str) -> Option<PathBuf> {
+    let relative = Path::new(name);
+    if name.contains('\0') || !relative.components().all(|c| matches!(c, Component::Normal(_) | Component::CurDir)) {
+        return None;
+    }
+    let base = if base.as_os_str().is_empty() { Path::new(".") } else { base };
+    let real = base.join(relative).canonicalize().ok()?;
+    (real.starts_with(base.canonicalize().ok()?) && real.is_file()).then_some(real)
+}
+
+/// Reads the materials of one `.mtl` text into `out`: `newmtl NAME`, `Kd r g b`, `d a` and
+/// `Tr t` (alpha 1 − t); other statements are ignored. A material without `Kd` is no colour.
+fn parse_mtl(text: &str, path: &Path, out: &mut HashMap<String, Option<Rgba>>) -> Result<(), IoError> {
+    // Each material's diffuse colour and alpha, in the order defined.
+    let mut defined: Vec<(String, Option<[f32; 3]>, f32)> = Vec::new();
+    for (number, line) in numbered_lines(text) {
+        let mut words = line.split_whitespace();
+        let Some(keyword) = words.next() else { continue };
+        if keyword == "newmtl" {
+            defined.push((line.trim_start()["newmtl".len()..].trim().to_string(), None, 1.0));
+            continue;
+        }
+        if !matches!(keyword, "Kd" | "d" | "Tr") {
+            continue;
+        }
+        let Some(current) = defined.last_mut() else { continue };
+        let k = if keyword == "Kd" { 3 } else { 1 };
+        let bad = || obj_error(path, number, format!("`{keyword}` needs {k} number(s) from 0 to 1"));
+        let v: Vec<f32> = words.map(str::parse::<f32>).collect::<Result<_, _>>().map_err(|_| bad())?;
+        if v.len() != k || v.iter().any(|x| !(0.0..=1.0).contains(x)) {
+            return Err(bad());
+        }
+        match keyword {
+            "Kd" => current.1 = Some([v[0], v[1], v[2]]),
+            "d" => current.2 = v[0],
+            _ => current.2 = 1.0 - v[0],
+        }
+    }
+    for (name, kd, alpha) in defined {
+        out.insert(name, kd.map(|[r, g, b]| [r, g, b, alpha]));
+    }
+    Ok(())
+}
+
+/// The material library `save` writes beside an OBJ file at `path` for `mesh`: `STEM.mtl`,
+/// `None` when the mesh has no face colours (then no library is written or named).
+#[must_use]
+pub fn material_library_path(mesh: &Mesh, path: &Path) -> Option<PathBuf> {
+    mesh.has_face_colors().then(|| path.with_extension("mtl"))
+}
+
+/// Writes the material library of `mesh`'s face colours as `.mtl` text: one `newmtl` per
+/// colour, named by its hex colour as [`write_obj_with_library`] names it in `usemtl`, with
+/// `Kd` its colour and `d` its alpha (`default`, white, for faces without a colour). Numbers
+/// are the shortest decimals that read back to the same `f32`.
+///
+/// # Errors
+/// Only those of `out`.
+pub fn write_mtl<W: Write>(mesh: &Mesh, out: &mut W) -> std::io::Result<()> {
+    let groups = super::face_groups::FaceGroups::of(mesh);
+    // `default` only when some uncoloured face comes after a `usemtl`.
+    let default_used =
+        grouped_faces(mesh).iter().any(|(h, _)| h.as_deref().is_some_and(|h| h.contains("usemtl default\n")));
+    let used: Vec<usize> = (0..groups.colors.len()).filter(|&k| groups.colors[k].is_some() || default_used).collect();
+    let mut text = format!("# blocksmith {}: {} materials\n", env!("CARGO_PKG_VERSION"), used.len());
+    let mut fbuf = zmij::Buffer::new();
+    let mut num = |x: f32| fbuf.format(x).trim_end_matches(".0").to_string();
+    for k in used {
+        let c = groups.colors[k].unwrap_or([1.0; 4]);
+        let (r, g, b, a) = (num(c[0]), num(c[1]), num(c[2]), num(c[3]));
+        text += &format!("newmtl {}\nKd {r} {g} {b}\nd {a}\nillum 1\n", groups.material_name(k));
+    }
+    out.write_all(text.as_bytes())
+}
+
+/// The faces of `mesh` in the order a grouped OBJ writes them, each run of one object and one
+/// material headed by its `o` / `usemtl` lines: unnamed faces first, then objects without any
+/// colour, then the rest; in each object faces without a colour first. (No groups for a mesh
+/// without parts: every face in order.)
+fn grouped_faces(mesh: &Mesh) -> Vec<(Option<String>, u32)> {
+    let n = mesh.face_count() as u32;
+    if !super::face_groups::has_parts(mesh) {
+        return (0..n).map(|f| (None, f)).collect();
+    }
+    let groups = super::face_groups::FaceGroups::of(mesh);
+    let colourless =
+        |faces: &[u32]| faces.iter().all(|&f| groups.colors[groups.material_of_face(f) as usize].is_none());
+    let mut order: Vec<usize> = (0..groups.objects.len()).collect();
+    order.sort_by_key(|&k| (groups.objects[k].is_some(), !colourless(&groups.object_faces[k])));
+    let mut out = Vec::with_capacity(n as usize);
+    let mut material: Option<u32> = None;
+    for k in order {
+        let mut faces = groups.object_faces[k].clone();
+        faces.sort_by_key(|&f| groups.colors[groups.material_of_face(f) as usize].is_some());
+        let mut head = groups.objects[k].as_deref().map(|name| format!("o {name}\n"));
+        for f in faces {
+            let m = groups.material_of_face(f);
+            // Faces without a colour need no `usemtl` until some material is in use.
+            let uncoloured_before_any = groups.colors[m as usize].is_none() && material.is_none();
+            if material != Some(m) && !uncoloured_before_any {
+                material = Some(m);
+                head.get_or_insert_with(String::new)
+                    .push_str(&format!("usemtl {}\n", groups.material_name(m as usize)));
+            }
+            out.push((head.take(), f));
+        }
+    }
+    out
+}
+
+/// [`write_obj`] naming the material library `library` (a file name beside the OBJ, see
+/// [`material_library_path`]) in an `mtllib` line when given.
+///
+/// # Errors
+/// Only those of `out`.
+pub fn write_obj_with_library<W: Write>(mesh: &Mesh, out: &mut W, library: Option<&str>) -> std::io::Result<()> {
+    write_obj_text(mesh, out, library)
+}
+
 /// Writes `mesh` as OBJ text: a header comment, one `v` line per vertex (with `r g b` when the
 /// mesh has vertex colours; alpha is not written), one `f` line per face (1-based), and `t`
 /// lines for crease edges and corners (0-based, as OpenSubdiv writes them).
@@ -512,6 +733,10 @@ pub(crate) fn read_obj_report(bytes: &[u8], path: &Path, repair: bool) -> Result
 ///
 /// See also [`read_obj`], [`super::save`].
 pub fn write_obj<W: Write>(mesh: &Mesh, out: &mut W) -> std::io::Result<()> {
+    write_obj_text(mesh, out, None)
+}
+
+fn write_obj_text<W: Write>(mesh: &Mesh, out: &mut W, library: Option<&str>) -> std::io::Result<()> {
     let mut buf: Vec<u8> = Vec::with_capacity(1 << 16);
     let mut fbuf = zmij::Buffer::new();
     let mut ibuf = itoa::Buffer::new();
@@ -542,7 +767,13 @@ pub fn write_obj<W: Write>(mesh: &Mesh, out: &mut W) -> std::io::Result<()> {
             buf.clear();
         }
     }
-    for f in 0..mesh.face_count() as u32 {
+    if let Some(name) = library {
+        writeln!(buf, "mtllib {name}")?;
+    }
+    for (head, f) in grouped_faces(mesh) {
+        if let Some(head) = head {
+            buf.extend_from_slice(head.as_bytes());
+        }
         buf.push(b'f');
         for v in mesh.face_vertices(f) {
             buf.push(b' ');
@@ -691,10 +922,10 @@ mod tests {
         // Three triangles on the edge 1–2: by default the third becomes a sheet of its own
         // (no vertex moves); with repair off, the load is refused naming the edge.
         let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 0 0 -1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n";
-        let (m, repairs) = read_obj_report(text.as_bytes(), Path::new("t/test.obj"), true).unwrap();
+        let (m, repairs) = read_obj_report(text.as_bytes(), None, Path::new("t/test.obj"), true).unwrap();
         assert!(m.is_manifold() && m.face_count() == 3 && m.component_count() == 2);
         assert_eq!((repairs.separated_edges.len(), repairs.separated_edges[0].separated), (1, 1));
-        let e = read_obj_report(text.as_bytes(), Path::new("t/test.obj"), false).unwrap_err();
+        let e = read_obj_report(text.as_bytes(), None, Path::new("t/test.obj"), false).unwrap_err();
         assert!(matches!(e, IoError::NotManifold { .. }), "{e}");
         assert!(e.to_string().contains("edge (0, 1)") && e.to_string().starts_with("t/test.obj"), "{e}");
     }
@@ -725,11 +956,73 @@ mod tests {
     }
 
     #[test]
-    fn mtllib_is_never_read() {
-        // Materials are not read at all: a library out of the folder or a device is ignored
-        // (reading /dev/zero would never end).
-        let m = read("mtllib /dev/zero ../../etc/passwd\nusemtl x\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    fn mtllib_is_never_read_from_bytes_nor_outside_the_folder() {
+        // From bytes no library is read; from a folder, a library out of the folder or a
+        // device is skipped (reading /dev/zero would never end), and its faces read uncoloured.
+        let text = "mtllib /dev/zero ../../etc/passwd\nusemtl x\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+        let m = read(text).unwrap();
         assert_eq!(m.face_count(), 1);
+        let dir = tempfile::tempdir().unwrap();
+        let inner = dir.path().join("in");
+        std::fs::create_dir(&inner).unwrap();
+        std::fs::write(dir.path().join("out.mtl"), "newmtl x\nKd 1 0 0\n").unwrap();
+        #[cfg(unix)]
+        std::os::unix::fs::symlink(dir.path().join("out.mtl"), inner.join("link.mtl")).unwrap();
+        for lib in ["/dev/zero", "../out.mtl", "link.mtl", "missing.mtl"] {
+            let text = format!("mtllib {lib}\nusemtl x\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+            let m = read_obj_in(text.as_bytes(), &inner, Path::new("in/t.obj")).unwrap();
+            assert_eq!((m.face_count(), m.face_color(0)), (1, None), "{lib}");
+        }
+    }
+
+    #[test]
+    fn materials_and_objects_are_face_colours_and_part_names() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(
+            dir.path().join("my lib.mtl"),
+            "# two\nnewmtl red\nKd 1 0 0\nnewmtl glass\nd 0.25\nKd 0 0 1\nnewmtl plain\nNs 10\n",
+        )
+        .unwrap();
+        // A tetrahedron: a face before any group, two red in `a`, one blue in `b`; `plain`
+        // has no Kd, so no colour; `g` is ignored.
+        let text =
+            "mtllib my lib.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\no a\nusemtl red\nf 1 2 4\ng x\nf 2 3 4\n\
+                    o b\nusemtl glass\nf 1 4 3\n";
+        let m = read_obj_in(text.as_bytes(), dir.path(), Path::new("t.obj")).unwrap();
+        let parts: Vec<(Option<Rgba>, Option<&str>)> =
+            (0..4).map(|f| m.face_part(f).map_or((None, None), |p| (p.color, p.name.as_deref()))).collect();
+        let (red, blue) = (Some([1.0, 0.0, 0.0, 1.0]), Some([0.0, 0.0, 1.0, 0.25]));
+        assert_eq!(parts, [(None, None), (red, Some("a")), (red, Some("a")), (blue, Some("b"))]);
+        assert!(m.is_closed());
+        // A bad number in the library names it and its line.
+        std::fs::write(dir.path().join("my lib.mtl"), "newmtl red\nKd 1 0 2\n").unwrap();
+        let e = read_obj_in(text.as_bytes(), dir.path(), Path::new("t.obj")).unwrap_err();
+        assert!(e.to_string().contains("my lib.mtl:2:") && e.to_string().contains("`Kd` needs 3"), "{e}");
+    }
+
+    #[test]
+    fn grouped_writing_puts_uncoloured_faces_before_any_material() {
+        // An uncoloured unnamed cube, a named cube with one uncoloured face among red ones.
+        let plain = Mesh::cube(1.0);
+        let mut named = Mesh::cube(1.0).translate(Vec3::new(3.0, 0.0, 0.0));
+        named.set_color([1.0, 0.0, 0.0, 1.0]).unwrap();
+        named.map_parts(|p| p.name = Some("lid".into()));
+        let mut m = Mesh::combine(&[&plain, &named]).unwrap();
+        let mut ids = m.face_part_ids().unwrap().to_vec();
+        let mut parts = m.parts().to_vec();
+        parts.push(FacePart { color: None, name: Some("lid".into()), origin: None });
+        ids[6] = (parts.len() - 1) as u32;
+        m.set_face_parts(ids, parts).unwrap();
+        let mut text = Vec::new();
+        write_obj_with_library(&m, &mut text, Some("m.mtl")).unwrap();
+        let text = String::from_utf8(text).unwrap();
+        let heads: Vec<&str> = text.lines().filter(|l| !l.starts_with("v ") && !l.starts_with("f ")).collect();
+        assert_eq!(heads[1..], ["mtllib m.mtl", "o lid", "usemtl #ff0000"], "{text}");
+        // The uncoloured face of `lid` comes first in its object, before any usemtl.
+        let mut mtl = Vec::new();
+        write_mtl(&m, &mut mtl).unwrap();
+        let mtl = String::from_utf8(mtl).unwrap();
+        assert!(mtl.contains("newmtl #ff0000\nKd 1 0 0\nd 1\n") && !mtl.contains("default"), "{mtl}");
     }
 
     #[test]

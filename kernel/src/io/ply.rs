@@ -4,18 +4,23 @@
 //! A PLY file is a header naming its elements (`element vertex N`, `element face M`, …) and
 //! their properties (scalars, or lists with a count before the items), then the data, element
 //! after element. Writing gives `double` coordinates, so a binary or ASCII round trip keeps
-//! every bit of every position; faces are `vertex_indices` lists (polygons kept); colours are
-//! `uchar` red, green, blue (and alpha when any colour is not opaque), as most tools expect.
+//! every bit of every position; faces are `vertex_indices` lists (polygons kept); vertex colours
+//! are `uchar` red, green, blue (and alpha when any colour is not opaque), as most tools expect,
+//! and so are face colours (the face element's `red green blue [alpha]`, as MeshLab and Open3D
+//! write them; faces without a colour in a mesh with some are written white). PLY has no part
+//! names.
 //!
 //! Reading takes `x y z` of any numeric type, colours `red green blue [alpha]` (also
-//! `diffuse_red …`; integers scaled by their type's maximum, floats as they are), and the
-//! face lists `vertex_indices` or `vertex_index`. Other properties (normals, texture
+//! `diffuse_red …`; integers scaled by their type's maximum, floats as they are) on vertices
+//! (vertex colours) and on faces (face colours), and the face lists `vertex_indices` or
+//! `vertex_index`. Other properties (normals, texture
 //! coordinates, …) and other elements (`edge`, `material`, …) are read past and ignored.
 //! Before anything is allocated the element counts of the header are checked against the size
 //! of the file: a header claiming 10¹² vertices in a small file is refused, naming the count.
 //! Vertices are then welded by position ([`Weld`]), as exporters split them at normal and UV
 //! seams; a file without near-duplicates keeps its vertices as they are.
 
+use std::collections::HashMap;
 use std::io::Write;
 use std::path::Path;
 
@@ -23,7 +28,7 @@ use super::error::IoError;
 use super::weld::Weld;
 use crate::diagnose::Repairs;
 use crate::math::Vec3;
-use crate::mesh::Mesh;
+use crate::mesh::{FacePart, Mesh};
 
 /// How a PLY file stores its data.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -186,6 +191,7 @@ pub(crate) fn read_ply_report(bytes: &[u8], path: &Path, weld: Weld, repair: boo
     let mut colors: Option<Vec<[f32; 4]>> = None;
     let mut indices: Vec<u32> = Vec::new();
     let mut arities: Vec<u32> = Vec::new();
+    let mut face_colors: Vec<[f32; 4]> = Vec::new();
     let mut seen_vertices = false;
     for el in &elements {
         let at = |i: u64| At { element: &el.name, i };
@@ -224,7 +230,12 @@ pub(crate) fn read_ply_report(bytes: &[u8], path: &Path, weld: Weld, repair: boo
             "face" if arities.is_empty() => {
                 arities.reserve_exact(el.count as usize);
                 indices.reserve(3 * el.count as usize);
+                let has_color = el.props.iter().any(|p| matches!(p.role, Role::Color(_)));
+                if has_color {
+                    face_colors.reserve_exact(el.count as usize);
+                }
                 for i in 0..el.count {
+                    let mut rgba = [0.0f32, 0.0, 0.0, 1.0];
                     for p in &el.props {
                         match (p.list, p.role) {
                             (Some(count_type), Role::Indices) => {
@@ -236,10 +247,16 @@ pub(crate) fn read_ply_report(bytes: &[u8], path: &Path, weld: Weld, repair: boo
                                 arities.push(n as u32);
                             }
                             (Some(_), _) => src.skip_list(p, path, at(i))?,
+                            (None, Role::Color(k)) => {
+                                rgba[k] = (src.scalar(p.scalar, path, at(i))? / p.scalar.full_scale()) as f32;
+                            }
                             (None, _) => {
                                 src.scalar(p.scalar, path, at(i))?;
                             }
                         }
+                    }
+                    if has_color {
+                        face_colors.push(rgba.map(|c| c.clamp(0.0, 1.0)));
                     }
                     if arities.len() as u64 != i + 1 {
                         return Err(ply_error(path, format!("{} has no vertex list", at(i))));
@@ -266,7 +283,7 @@ pub(crate) fn read_ply_report(bytes: &[u8], path: &Path, weld: Weld, repair: boo
     if !src.is_done() {
         return Err(ply_error(path, "data is left after the last element the header declares".into()));
     }
-    build(positions, colors, indices, arities, weld, repair, path)
+    build(positions, colors, indices, arities, face_colors, weld, repair, path)
 }
 
 /// Where a value is read, for errors: entry `i` of element `element` ("face 12"). Formatted only
@@ -300,12 +317,14 @@ fn index(v: f64, vertex_count: usize, path: &Path, at: At<'_>) -> Result<u32, Io
 }
 
 /// Welds by `rule` and builds the mesh (repaired if need be: see [`super::assemble`]), colours
-/// carried to the kept vertices.
+/// carried to the kept vertices and faces (`face_colors`: one per face, or empty).
+#[allow(clippy::too_many_arguments)]
 fn build(
     positions: Vec<Vec3>,
     colors: Option<Vec<[f32; 4]>>,
     indices: Vec<u32>,
     arities: Vec<u32>,
+    face_colors: Vec<[f32; 4]>,
     rule: Weld,
     repair: bool,
     path: &Path,
@@ -316,7 +335,7 @@ fn build(
         let p = positions[v];
         return Err(IoError::NonFinite { path: path.into(), vertex: v, x: p.x, y: p.y, z: p.z });
     }
-    let a = super::assemble::assemble(
+    let mut a = super::assemble::assemble(
         &positions,
         &indices,
         &arities,
@@ -325,6 +344,21 @@ fn build(
         repair,
         path,
     )?;
+    if !face_colors.is_empty() {
+        // One part per distinct colour.
+        let mut parts: Vec<FacePart> = Vec::new();
+        let mut ids: HashMap<[u32; 4], u32> = HashMap::new();
+        let face_parts: Vec<u32> = face_colors
+            .iter()
+            .map(|c| {
+                *ids.entry(c.map(f32::to_bits)).or_insert_with(|| {
+                    parts.push(FacePart::with_color(*c));
+                    (parts.len() - 1) as u32
+                })
+            })
+            .collect();
+        a.set_input_parts(&face_parts, parts, path)?;
+    }
     let mut mesh = a.mesh;
     if let Some(c) = colors {
         let colors = a.vertex_from.iter().map(|&v| c[v as usize]).collect();
@@ -399,6 +433,10 @@ fn parse_header(bytes: &[u8], path: &Path) -> Result<(PlyEncoding, Vec<Element>,
                     ("vertex", "green" | "diffuse_green", None) => Role::Color(1),
                     ("vertex", "blue" | "diffuse_blue", None) => Role::Color(2),
                     ("vertex", "alpha" | "diffuse_alpha", None) => Role::Color(3),
+                    ("face", "red" | "diffuse_red", None) => Role::Color(0),
+                    ("face", "green" | "diffuse_green", None) => Role::Color(1),
+                    ("face", "blue" | "diffuse_blue", None) => Role::Color(2),
+                    ("face", "alpha" | "diffuse_alpha", None) => Role::Color(3),
                     ("face", "vertex_indices" | "vertex_index", Some(_)) => Role::Indices,
                     _ => Role::Ignored,
                 };
@@ -533,8 +571,8 @@ impl Source<'_> {
 }
 
 /// Writes `mesh` as PLY in `encoding`: `double` positions (exact), polygon faces as
-/// `vertex_indices` lists, and vertex colours as `uchar` red, green, blue (alpha too when any
-/// colour is not opaque).
+/// `vertex_indices` lists, and vertex colours and face colours as `uchar` red, green, blue
+/// (alpha too when any colour is not opaque; faces without a colour white when others have one).
 ///
 /// # Errors
 /// [`IoError::Write`] for errors of `out`. `path` is only named in errors.
@@ -560,10 +598,21 @@ pub fn write_ply<W: Write>(mesh: &Mesh, out: &mut W, encoding: PlyEncoding, path
             head += "property uchar alpha\n";
         }
     }
-    head += &format!(
-        "element face {}\nproperty list {count_type} {index_type} vertex_indices\nend_header\n",
-        arities.len()
-    );
+    head += &format!("element face {}\nproperty list {count_type} {index_type} vertex_indices\n", arities.len());
+    // Face colours, 8 bits a channel, after each face's list.
+    let face_rgba: Option<Vec<[u8; 4]>> = mesh.has_face_colors().then(|| {
+        (0..mesh.face_count() as u32)
+            .map(|f| mesh.face_color(f).unwrap_or([1.0; 4]).map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8))
+            .collect()
+    });
+    let face_channels = if face_rgba.as_ref().is_some_and(|c| c.iter().any(|c| c[3] != 255)) { 4 } else { 3 };
+    if face_rgba.is_some() {
+        head += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+        if face_channels == 4 {
+            head += "property uchar alpha\n";
+        }
+    }
+    head += "end_header\n";
     let mut buf: Vec<u8> = Vec::with_capacity(1 << 16);
     buf.extend_from_slice(head.as_bytes());
     let channels = if alpha { 4 } else { 3 };
@@ -602,15 +651,20 @@ pub fn write_ply<W: Write>(mesh: &Mesh, out: &mut W, encoding: PlyEncoding, path
         }
     }
     let mut start = 0;
-    for &a in &arities {
+    for (f, &a) in arities.iter().enumerate() {
         let face = &indices[start..start + a as usize];
         start += a as usize;
+        let rgba = face_rgba.as_ref().map(|c| &c[f][..face_channels]);
         match encoding {
             PlyEncoding::Ascii => {
                 buf.extend_from_slice(ibuf.format(a).as_bytes());
                 for &v in face {
                     buf.push(b' ');
                     buf.extend_from_slice(ibuf.format(v).as_bytes());
+                }
+                for &c in rgba.into_iter().flatten() {
+                    buf.push(b' ');
+                    buf.extend_from_slice(ibuf.format(c).as_bytes());
                 }
                 buf.push(b'\n');
             }
@@ -622,6 +676,9 @@ pub fn write_ply<W: Write>(mesh: &Mesh, out: &mut W, encoding: PlyEncoding, path
                 }
                 for &v in face {
                     buf.extend_from_slice(&if big { v.to_be_bytes() } else { v.to_le_bytes() });
+                }
+                if let Some(c) = rgba {
+                    buf.extend_from_slice(c);
                 }
             }
         }

@@ -1,5 +1,6 @@
-//! Colours by source for glTF: a mesh whose faces carry [`FaceSource`]s (a boolean result) is
-//! written with one colour per source — per input, and per block for block inputs — as
+//! Colours by source, the studio's provenance view (`gltf::write_glb_provenance`; never what
+//! `save` writes, as provenance is not the model's colour): a mesh whose faces carry
+//! [`FaceSource`]s (a boolean result) is written with one colour per source — per input, and per block for block inputs — as
 //! per-vertex `COLOR_0`, its vertices split where faces of different sources meet (glTF has no
 //! per-face colours). The split only touches the file: positions and normals are those of the
 //! mesh's vertices, so the surface stays closed when welded by position.
@@ -93,19 +94,25 @@ mod tests {
     use std::path::Path;
 
     use crate::csg::Csg;
-    use crate::io::gltf::{read_gltf, read_gltf_with, write_glb};
+    use crate::io::gltf::{read_gltf, read_gltf_with, write_glb, write_glb_provenance};
     use crate::io::Weld;
     use crate::mesh::Mesh;
     use crate::Vec3;
 
     #[test]
-    fn a_boolean_result_is_written_with_a_colour_per_source() {
+    fn a_boolean_result_is_written_with_a_colour_per_source_only_in_the_provenance_view() {
         let m = Csg::mesh(Mesh::cuboid(Vec3::ZERO, Vec3::ONE))
             .difference(Csg::mesh(Mesh::cuboid(Vec3::splat(0.5), Vec3::splat(1.5))))
             .evaluate()
             .unwrap();
+        // What `save` writes: no colours at all.
+        let mut saved = Vec::new();
+        write_glb(&m, &mut saved, Path::new("t.glb")).unwrap();
+        let plain = read_gltf_with(&saved, None, Path::new("t.glb"), Weld::Off).unwrap();
+        assert!(plain.vertex_colors().is_none() && !plain.has_face_colors());
+        assert_eq!(plain.vertex_count(), m.vertex_count());
         let mut bytes = Vec::new();
-        write_glb(&m, &mut bytes, Path::new("t.glb")).unwrap();
+        write_glb_provenance(&m, &mut bytes, Path::new("t.glb")).unwrap();
         // Welded by position (the default), the file reads back as the closed result.
         let welded = read_gltf(&bytes, None, Path::new("t.glb")).unwrap();
         assert_eq!((welded.vertex_count(), welded.face_count()), (m.vertex_count(), m.face_count()));

@@ -10,10 +10,11 @@
 //! Writing gives one object and one build item; positions as the shortest decimal that reads
 //! back to the same `f64` (so a round trip keeps every bit); every face triangulated as
 //! [`super::face_triangles`] does. Vertex colours are written as a `<m:colorgroup>` with one
-//! colour per vertex (materials extension §3.3); without them, faces that carry sources (a
-//! boolean result) get one `<basematerials>` entry per source, coloured as glTF colours them
-//! ([`super::source_color`]); base materials belong to the core namespace (core §5.1), colour
-//! groups to the materials one. What is written validates against the Consortium's core and
+//! colour per vertex (materials extension §3.3). A mesh with face parts (colours, names) is
+//! written with one `<basematerials>` entry per colour and one named object per part name
+//! (see `parts_model_xml`); base materials belong to the core namespace (core §5.1), colour
+//! groups to the materials one. A boolean result's sources (provenance, a debugging view) are
+//! not written: they are not the model's colour. What is written validates against the Consortium's core and
 //! materials schemas (checked in CI over every 3MF the tests write). 3MF is Z-up and in millimetres by specification: positions are
 //! written as they are.
 //!
@@ -66,7 +67,7 @@ pub fn write_3mf<W: Write>(mesh: &Mesh, out: &mut W, path: &Path) -> Result<(), 
     let model = if super::face_groups::has_parts(mesh) {
         parts_model_xml(mesh, &tris, &arities)
     } else {
-        model_xml(mesh, &tris, &arities)
+        model_xml(mesh, &tris)
     }
     .map_err(stopped)?;
     let write_err = |e: std::io::Error| IoError::Write { path: path.into(), source: e };
@@ -120,7 +121,7 @@ const DEFLATE_CHUNK: usize = 1 << 20;
 /// # Errors
 /// [`LimitError::Stopped`] when the current cancellation token stops (polled every
 /// [`crate::limits::POLL_EVERY`] vertices and triangles).
-fn model_xml(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> Result<String, LimitError> {
+fn model_xml(mesh: &Mesh, tris: &[u32]) -> Result<String, LimitError> {
     use std::fmt::Write as _;
     let mut s = String::with_capacity(64 * mesh.vertex_count() + 48 * tris.len() / 3 + 1024);
     let _ = write!(
@@ -130,33 +131,16 @@ fn model_xml(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> Result<String, Limit
          <metadata name=\"Application\">blocksmith {}</metadata>\n<resources>\n",
         env!("CARGO_PKG_VERSION")
     );
-    // Property group id 2 (the object is 1): per-vertex colours, or per-face sources.
+    // Property group id 2 (the object is 1): per-vertex colours.
     let colors = mesh.vertex_colors();
-    let mut face_material: Option<Vec<u32>> = None;
     if let Some(colors) = colors {
         s += "<m:colorgroup id=\"2\">\n";
         for &c in colors {
             let _ = writeln!(s, "<m:color color=\"{}\"/>", hex(c));
         }
         s += "</m:colorgroup>\n";
-    } else if let Some(sources) = mesh.face_sources() {
-        let mut index: HashMap<String, u32> = HashMap::new();
-        let mut bases = String::new();
-        let per_face = sources
-            .iter()
-            .map(|src| {
-                let h = hex(super::source_color(src));
-                let n = index.len() as u32;
-                *index.entry(h.clone()).or_insert_with(|| {
-                    let _ = writeln!(bases, "<base name=\"source {n}\" displaycolor=\"{h}\"/>");
-                    n
-                })
-            })
-            .collect();
-        let _ = write!(s, "<basematerials id=\"2\">\n{bases}</basematerials>\n");
-        face_material = Some(per_face);
     }
-    let object_pid = if colors.is_some() || face_material.is_some() { " pid=\"2\" pindex=\"0\"" } else { "" };
+    let object_pid = if colors.is_some() { " pid=\"2\" pindex=\"0\"" } else { "" };
     let _ = write!(s, "<object id=\"1\" type=\"model\"{object_pid}>\n<mesh>\n<vertices>\n");
     let mut fbuf = zmij::Buffer::new();
     for (i, p) in mesh.positions().iter().enumerate() {
@@ -170,20 +154,11 @@ fn model_xml(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> Result<String, Limit
         s += "\"/>\n";
     }
     s += "</vertices>\n<triangles>\n";
-    let mut face = 0usize;
-    let mut left = arities.first().map_or(0, |&a| a - 2);
     for (i, t) in tris.chunks_exact(3).enumerate() {
         crate::limits::poll_at(i)?;
-        while left == 0 {
-            face += 1;
-            left = arities[face] - 2;
-        }
-        left -= 1;
         let _ = write!(s, "<triangle v1=\"{}\" v2=\"{}\" v3=\"{}\"", t[0], t[1], t[2]);
         if colors.is_some() {
             let _ = write!(s, " pid=\"2\" p1=\"{}\" p2=\"{}\" p3=\"{}\"", t[0], t[1], t[2]);
-        } else if let Some(m) = &face_material {
-            let _ = write!(s, " pid=\"2\" p1=\"{}\"", m[face]);
         }
         s += "/>\n";
     }
@@ -192,7 +167,8 @@ fn model_xml(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> Result<String, Limit
 }
 
 /// The model part's XML of a mesh with face parts (colours, names): one `<basematerials>`
-/// entry per colour (core §5.1; faces without a colour white), and one object per part name
+/// entry per colour (core §5.1; faces without a colour white, unless no face of their object
+/// has one: then the object has no material), and one object per part name
 /// (unnamed faces together), each with the vertices its triangles use and a `name`, placed by
 /// one build item each, so a slicer lists named parts with their colours.
 ///
@@ -224,12 +200,12 @@ fn parts_model_xml(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> Result<String,
     let mut local = vec![u32::MAX; mesh.vertex_count()];
     for (k, (name, faces)) in groups.objects.iter().zip(&groups.object_faces).enumerate() {
         let name_attr = name.as_deref().map(|n| format!(" name=\"{}\"", escape(n))).unwrap_or_default();
-        let _ = write!(
-            s,
-            "<object id=\"{}\" type=\"model\"{name_attr} pid=\"1\" pindex=\"{}\">\n<mesh>\n<vertices>\n",
-            k + 2,
-            groups.material_of_face(faces[0])
-        );
+        // An object none of whose faces has a colour takes no material, so it reads back
+        // uncoloured (one mixing both gives its uncoloured faces the white "default").
+        let plain = faces.iter().all(|&f| groups.colors[groups.material_of_face(f) as usize].is_none());
+        let pid =
+            if plain { String::new() } else { format!(" pid=\"1\" pindex=\"{}\"", groups.material_of_face(faces[0])) };
+        let _ = write!(s, "<object id=\"{}\" type=\"model\"{name_attr}{pid}>\n<mesh>\n<vertices>\n", k + 2);
         let face_tris = |f: u32| &tris[3 * first[f as usize]..3 * first[f as usize + 1]];
         let mut used = Vec::new();
         for &f in faces {
@@ -257,7 +233,11 @@ fn parts_model_xml(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> Result<String,
             let m = groups.material_of_face(f);
             for t in face_tris(f).chunks_exact(3) {
                 let [a, b, c] = [t[0], t[1], t[2]].map(|v| local[v as usize]);
-                let _ = writeln!(s, "<triangle v1=\"{a}\" v2=\"{b}\" v3=\"{c}\" pid=\"1\" p1=\"{m}\"/>");
+                if plain {
+                    let _ = writeln!(s, "<triangle v1=\"{a}\" v2=\"{b}\" v3=\"{c}\"/>");
+                } else {
+                    let _ = writeln!(s, "<triangle v1=\"{a}\" v2=\"{b}\" v3=\"{c}\" pid=\"1\" p1=\"{m}\"/>");
+                }
             }
         }
         for &v in &used {
@@ -1012,21 +992,28 @@ mod tests {
     }
 
     #[test]
-    fn face_sources_are_core_base_materials() {
-        // Base materials are core elements (core §5.1); colour groups are the materials
-        // extension's. A prefixed `m:basematerials` is outside both schemas.
+    fn face_sources_are_not_written_as_colours() {
+        // Provenance is a debugging view: an uncoloured boolean result is saved uncoloured,
+        // and reads back without colours. Base materials are core elements (core §5.1): a
+        // prefixed `m:basematerials` would be outside both schemas.
         let mut m = Mesh::cube(1.0);
         m.set_face_sources(Some((0..6).map(|face| FaceSource::Mesh { leaf: face / 3, face }).collect())).unwrap();
+        let bytes = written(&m);
+        let mut zip = zip::ZipArchive::new(Cursor::new(bytes.clone())).unwrap();
+        let mut xml = String::new();
+        zip.by_name("3D/3dmodel.model").unwrap().read_to_string(&mut xml).unwrap();
+        assert!(!xml.contains("basematerials") && !xml.contains("pid="), "{xml}");
+        let back = read_3mf(&bytes, Path::new("plain.3mf")).unwrap();
+        assert!(!back.has_face_colors() && back.vertex_colors().is_none());
+        // A coloured result writes its own colours, not its sources'.
+        m.set_color([0.0, 1.0, 0.0, 1.0]).unwrap();
         let mut zip = zip::ZipArchive::new(Cursor::new(written(&m))).unwrap();
         let mut xml = String::new();
         zip.by_name("3D/3dmodel.model").unwrap().read_to_string(&mut xml).unwrap();
-        assert!(xml.contains("<basematerials id=\"2\">\n<base name=\"source 0\""), "{xml}");
-        assert!(!xml.contains("m:base"), "{xml}");
-        for (leaf, tris) in [(0, 6), (1, 6)] {
-            let color = hex(super::super::source_color(&FaceSource::Mesh { leaf, face: 0 }));
-            assert!(xml.contains(&format!("<base name=\"source {leaf}\" displaycolor=\"{color}\"/>")), "{xml}");
-            assert_eq!(xml.matches(&format!("pid=\"2\" p1=\"{leaf}\"/>")).count(), tris, "{xml}");
-        }
+        assert!(
+            xml.contains("<base name=\"#00ff00\" displaycolor=\"#00FF00FF\"/>") && !xml.contains("source 0"),
+            "{xml}"
+        );
     }
 
     #[test]

@@ -249,6 +249,12 @@ impl Access {
         }
     }
 
+    /// Whether the host named `path` for writing ([`Access::grant_host`]).
+    #[must_use]
+    pub fn is_host(&self, path: &Path) -> bool {
+        real_path(path).is_ok_and(|p| self.0.borrow().host.contains(&p))
+    }
+
     /// The saves not done because saves are only reported, in order.
     #[must_use]
     pub fn reported(&self) -> Vec<PathBuf> {

@@ -199,3 +199,30 @@ fn a_run_writes_at_most_its_limit_of_files() {
     let o = small.arg("run").arg(&recipe).args(["--max-write-size", "1K"]).current_dir(&w.proj).output().unwrap();
     assert_refused(&o, &["bytes, its limit", "--max-write-size"]);
 }
+
+#[test]
+fn an_obj_and_its_material_library_pass_the_same_checks() {
+    // A coloured OBJ writes `STEM.mtl` beside it: a read-only library refuses the save (the
+    // OBJ is not written either), by a recipe's save and by -o; a writable one is written
+    // with it, also beside a host-named -o file.
+    let w = world();
+    let locked = w.proj.join("locked.mtl");
+    std::fs::write(&locked, "keep").unwrap();
+    std::fs::set_permissions(&locked, std::fs::Permissions::from_mode(0o444)).unwrap();
+    let saver = write(&w.proj, "s.rhai", "cube(1).color(\"#ff0000\").save(\"locked.obj\");\n1\n");
+    let o = blocksmith(&w.home).arg("run").arg(&saver).current_dir(&w.proj).output().unwrap();
+    assert_refused(&o, &["save:", "the material library beside the .obj", "read-only"]);
+    let coloured =
+        write(&w.proj, "c.rhai", "#{ body: cube(1).color(\"#ff0000\"), lid: cube(1).translate([2, 0, 0]) }\n");
+    let o = blocksmith(&w.home).arg("run").arg(&coloured).args(["-o", "locked.obj"]).current_dir(&w.proj).output();
+    assert_refused(&o.unwrap(), &["read-only"]);
+    assert!(!w.proj.join("locked.obj").exists());
+    assert_eq!(std::fs::read_to_string(&locked).unwrap(), "keep");
+    let o = blocksmith(&w.home).arg("run").arg(&coloured).args(["-o", "out/parts.obj"]).current_dir(&w.proj).output();
+    let o = o.unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let mtl = std::fs::read_to_string(w.proj.join("out/parts.mtl")).unwrap();
+    assert!(mtl.contains("newmtl #ff0000"), "{mtl}");
+    let obj = std::fs::read_to_string(w.proj.join("out/parts.obj")).unwrap();
+    assert!(obj.contains("mtllib parts.mtl") && obj.contains("o body") && obj.contains("o lid"), "{obj}");
+}

@@ -8,7 +8,7 @@ use rhai::plugin::*;
 use rhai::Map;
 
 use super::mesh::SharedMesh;
-use super::paths::{input_file, output_file, wrote};
+use super::paths::{companion_file, input_file, output_file, wrote};
 use super::profile::Profile;
 use crate::context::RunContext;
 use crate::convert::{fail, kernel, type_name, Options, ScriptResult};
@@ -43,8 +43,21 @@ fn write_mesh_with(
     options: &SaveOptions,
 ) -> ScriptResult<()> {
     let Some(p) = output_file(ctx, func, path)? else { return Ok(()) };
+    // An OBJ with colours also writes its material library: the same checks apply to it.
+    let library = match io::Format::from_path(&p) {
+        Ok(io::Format::Obj) => io::obj::material_library_path(mesh, &p),
+        _ => None,
+    };
+    if let Some(lib) = &library {
+        if !companion_file(ctx, func, &p, lib, "the material library beside the .obj,")? {
+            return Ok(());
+        }
+    }
     let result = io::save_with(mesh, &p, options);
     wrote(ctx, &p);
+    if let Some(lib) = &library {
+        wrote(ctx, lib);
+    }
     match result {
         Ok(()) => Ok(()),
         Err(e) => fail(func, e),
@@ -77,6 +90,34 @@ fn weld_option(o: &Options) -> ScriptResult<Weld> {
         return fail("load", format!("option `weld` must be a tolerance ≥ 0 (relative to the model's size), got {t}"));
     }
     Ok(Weld::Relative(t))
+}
+
+/// The meshes of a map joined into one, each named by its key (see `save(map, path)`).
+///
+/// # Errors
+/// An empty map, or a value that is not a `Mesh`, naming its key.
+pub fn named_parts(parts: &Map) -> ScriptResult<Mesh> {
+    if parts.is_empty() {
+        return fail("save", "the map of parts is empty: give each part a name and a mesh, as #{ body: …, lid: … }");
+    }
+    let mut meshes = Vec::with_capacity(parts.len());
+    for (key, value) in parts {
+        let Some(m) = value.clone().try_cast::<SharedMesh>() else {
+            return fail(
+                "save",
+                format!(
+                    "the part `{key}` is {}, not a Mesh: every value of a map of parts is a mesh",
+                    type_name(value)
+                ),
+            );
+        };
+        let mut m = (*m.0).clone();
+        let name: std::sync::Arc<str> = std::sync::Arc::from(key.as_str());
+        m.map_parts(|p| p.name = Some(name.clone()));
+        meshes.push(m);
+    }
+    let refs: Vec<&Mesh> = meshes.iter().collect();
+    kernel("save", Mesh::combine(&refs))
 }
 
 #[export_module]
@@ -246,6 +287,49 @@ pub mod files_api {
             }
         }
         write_mesh_with(&ctx, "save", &mesh.0, path, &opts)
+    }
+
+    /// Writes a map of meshes as one file of named parts: each key names its mesh's faces —
+    /// 3MF objects, glTF nodes, OBJ `o` groups (PLY and STL keep no names) — with each part's
+    /// colours, so a slicer lists `body` and `lid` as parts with their colours. The parts are
+    /// written in key order. A recipe whose last value is such a map is written the same way by
+    /// `blocksmith run -o`. Every value must be a `Mesh`; the key replaces any part names the
+    /// mesh had. An empty map is refused.
+    ///
+    /// Topic: files
+    ///
+    /// ```rhai
+    /// let parts = #{ body: cube(2).color("#d04020"), lid: cube(1).translate([3, 0, 0]).color([0.2, 0.4, 0.9]) };
+    /// save(parts, "doc_example_parts.3mf");
+    /// let back = load("doc_example_parts.3mf");
+    /// assert_eq(back.colors().len(), 2);
+    /// assert_eq(back.face_count, 24);
+    /// ```
+    #[rhai_fn(name = "save", return_raw)]
+    pub fn save_parts(ctx: NativeCallContext, parts: &mut Map, path: &str) -> ScriptResult<()> {
+        let mesh = named_parts(parts)?;
+        write_mesh(&ctx, "save", &mesh, path)
+    }
+
+    /// Writes a map of meshes as one file of named parts (see `save(map, path)`) with the
+    /// options of `save(mesh, path, #{up, ply})`.
+    ///
+    /// Topic: files
+    ///
+    /// ```rhai
+    /// let parts = #{ a: cube(1), b: cube(1).translate([2, 0, 0]).color("#00ff00") };
+    /// save(parts, "doc_example_parts_y.obj", #{ up: "y" });
+    /// assert_eq(load("doc_example_parts_y.obj", #{ up: "y" }).colors(), [[0.0, 1.0, 0.0, 1.0]]);
+    /// ```
+    #[rhai_fn(name = "save", return_raw)]
+    pub fn save_parts_with_options(
+        ctx: NativeCallContext,
+        parts: &mut Map,
+        path: &str,
+        options: Map,
+    ) -> ScriptResult<()> {
+        let mesh = named_parts(parts)?;
+        save_with_options(ctx, &mut SharedMesh::new(mesh), path, options)
     }
 
     /// Writes the profile by extension: `.svg` (one even-odd path, y up as drawn; millimetres

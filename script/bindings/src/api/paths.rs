@@ -54,6 +54,36 @@ pub fn output_file(ctx: &NativeCallContext, func: &str, path: &str) -> ScriptRes
     Ok(Some(p))
 }
 
+/// The second file a save writes beside the one [`output_file`] allowed (an OBJ's material
+/// library), checked as that one was: the run may write it (inside its project, not the recipe,
+/// not read-only), or the host named the first file (`run -o`) and this one is its companion.
+/// `Ok(false)` when the run only reports saves. Errors name `func` and say what the file is.
+///
+/// # Errors
+/// A companion the run may not write.
+pub fn companion_file(
+    ctx: &NativeCallContext,
+    func: &str,
+    first: &std::path::Path,
+    path: &std::path::Path,
+    what: &str,
+) -> ScriptResult<bool> {
+    let run = RunContext::of(ctx);
+    if run.access.is_host(first) {
+        run.access.grant_host(path);
+    }
+    match run.access.check_write(path, &run.protected()) {
+        Ok(Write::Do(p)) => {
+            if let Some(writes) = &run.writes {
+                writes.push(&p);
+            }
+            Ok(true)
+        }
+        Ok(Write::Report) => Ok(false),
+        Err(e) => Err(crate::convert::error(func, format!("{what} {}: {e}", path.display()))),
+    }
+}
+
 /// Counts the file just written at `path` against the run's write limits.
 pub fn wrote(ctx: &NativeCallContext, path: &std::path::Path) {
     RunContext::of(ctx).access.wrote(path);
