@@ -11,7 +11,6 @@
 // eliminate it at edge cases. The branch structure must exactly match the
 // C++ to produce identical results.
 
-use std::collections::HashSet;
 
 use crate::cancel::{is_cancelled, CancelToken};
 use crate::disjoint_sets::DisjointSets;
@@ -508,12 +507,16 @@ pub(super) fn winding03(
         return None;
     }
 
-    // Find unique component representatives
-    let mut components = HashSet::new();
+    // Find unique component representatives. blocksmith patch (PATCHES.md, 9):
+    // marked in a flag array rather than hashed into a set (one SipHash insert
+    // per vertex), in ascending order rather than the set's; each
+    // representative's winding number is written at its own index below, so
+    // the order changes nothing.
+    let mut is_rep = vec![false; a.vert_pos.len()];
     for v in 0..a.vert_pos.len() {
-        components.insert(u_a.find(v as u32));
+        is_rep[u_a.find(v as u32) as usize] = true;
     }
-    let verts: Vec<usize> = components.into_iter().map(|v| v as usize).collect();
+    let verts: Vec<usize> = (0..is_rep.len()).filter(|&v| is_rep[v]).collect();
 
     // Post-scan check, matching C++ boolean3.cpp:456.
     if is_cancelled(token) {

@@ -572,9 +572,20 @@ impl ManifoldImpl {
                 .insert(next_mesh_id, relation);
         }
 
-        // Update all triRef.meshID
+        // Update all triRef.meshID. blocksmith patch (PATCHES.md, 9): runs of
+        // triangles share a mesh ID, so the last lookup is kept rather than
+        // hashing the ID again for every triangle.
+        let mut last: Option<(i32, Option<i32>)> = None;
         for tri_ref in &mut self.mesh_relation.tri_ref {
-            if let Some(&new_id) = old2new.get(&tri_ref.mesh_id) {
+            let new_id = match last {
+                Some((old, new)) if old == tri_ref.mesh_id => new,
+                _ => {
+                    let new = old2new.get(&tri_ref.mesh_id).copied();
+                    last = Some((tri_ref.mesh_id, new));
+                    new
+                }
+            };
+            if let Some(new_id) = new_id {
                 tri_ref.mesh_id = new_id;
             }
         }
