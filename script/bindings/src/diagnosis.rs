@@ -154,6 +154,7 @@ impl Diagnosis {
     }
 
     /// The diagnosis as JSON: `components` (each `faces`, `genus`, `boundary_loops`, `at`),
+    /// `component_count`, `boundary_count`, `boundary_edges` (all loops' edges), `handle_count`,
     /// `boundaries` and `handles` (each `vertices`, `length`, `at`, `component`), and for
     /// `self_intersections`, `non_manifold_vertices`, `non_manifold_edges` and
     /// `degenerate_faces` a `count` and the first [`LISTED`] places `at` (a crossing's also
@@ -176,6 +177,7 @@ impl Diagnosis {
             "component_count": self.components.len(),
             "boundaries": loops(&self.boundaries),
             "boundary_count": self.boundaries.len(),
+            "boundary_edges": self.boundaries.iter().map(|l| l.points.len()).sum::<usize>(),
             "handles": loops(&self.handles),
             "handle_count": self.handles.len(),
             "self_intersections": {
