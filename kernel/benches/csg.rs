@@ -53,6 +53,17 @@
 //! glibc's malloc hands the engine's many mid-sized arrays back to the system and faults them
 //! in again (17 % of the die). Before all this (2026-12-01): the die 2.0× by best, the stress
 //! case 1.5–1.65×.
+//!
+//! Issue 38 (2026-12-05; `kernel/benches/csg_side_by_side.py --sizes 32,64,128,256 --stress
+//! --rounds 3 --reps 3`, medians, load average 2–4.3 on the 2 cores from other builds): ratios
+//! ours / manifold3d before → after, die at 32 / 64 / 128 / 256 segments 1.86 / 1.33 / 1.48 /
+//! 1.65 → 1.12 / 1.15 / 1.40 / 1.39, stress 1.30 → 1.19; system time 1.7–7.9× the peer's →
+//! 0.4–2.5×. What changed: the result's `Mesh` from the engine's own half-edge pairing (no twin
+//! search), imports written straight into the engine's arrays, engine patches 9–10 (no
+//! allocation per vertex orbit, parallel maps collected in place) and mimalloc without
+//! transparent huge pages. Instructions (callgrind, die at 128 segments, one thread):
+//! `Csg::evaluate` 2.895 → 2.475 G. Ours still imports every input (a third of the die's
+//! instructions), which manifold3d's figure starts without.
 
 /// The allocator the `blocksmith` binary uses (script/src/main.rs), so the figures are what a
 /// recipe run gets.
