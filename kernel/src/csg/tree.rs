@@ -305,8 +305,13 @@ fn without_flat_shells(t: PairedTriangles) -> PairedTriangles {
                 out.positions.push(t.positions[v]);
             }
             out.corners.push(map[v]);
+            // (A pair outside the kept triangles, which a closed shell never has, stays
+            // unpaired: the mesh build refuses it rather than panic.)
             let p = t.pairs[i];
-            out.pairs.push(3 * renumber[p as usize / 3] + p % 3);
+            out.pairs.push(match renumber.get(p as usize / 3) {
+                Some(&n) if n != u32::MAX => 3 * n + p % 3,
+                _ => u32::MAX,
+            });
         }
     }
     out
