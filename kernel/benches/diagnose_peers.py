@@ -16,11 +16,18 @@ Each peer time is the median of --reps runs in this process, the file already lo
 printed: pymeshlab's count of self-intersecting faces, to compare with the faces in our pairs.
 
   ~/.cache/blocksmith-peers/venv/bin/python kernel/benches/diagnose_peers.py [--reps 5]
+
+With --count FILE.stl ... (and --bin target/debug/blocksmith), it compares counts instead of
+times: the distinct faces of our `load(FILE).self_intersections()` pairs against pymeshlab's
+self-intersecting faces, on the same triangles (the issue's check on the L-system plants:
+`blocksmith run examples/lsystem_tree.rhai -o tree.stl`, then `--count tree.stl`).
 """
 import argparse
 import json
 import os
 import statistics
+import subprocess
+import tempfile
 import time
 
 import numpy as np
@@ -54,10 +61,41 @@ def trimesh_components(m):
     return [(len(p.faces), p.euler_number) for p in parts], int((counts == 1).sum())
 
 
+COUNT = """let m = load(param("path", ""));
+let faces = #{};
+let pairs = m.self_intersections();
+for p in pairs { faces[`${p[0]}`] = 1; faces[`${p[1]}`] = 1; }
+print(`${m.face_count} ${pairs.len()} ${faces.len()}`);
+"""
+
+
+def counts(binary, paths):
+    with tempfile.TemporaryDirectory() as tmp:
+        recipe = os.path.join(tmp, "count.rhai")
+        with open(recipe, "w") as f:
+            f.write(COUNT)
+        for path in paths:
+            path = os.path.abspath(path)
+            r = subprocess.run([binary, "run", recipe, "--set", f"path={path}", "--allow-read", os.path.dirname(path)],
+                               capture_output=True, text=True, check=True)
+            faces, pairs, crossing = r.stdout.split()
+            ms = pymeshlab.MeshSet()
+            ms.load_new_mesh(path)
+            ms.compute_selection_by_self_intersections_per_face()
+            m = ms.current_mesh()
+            print(f"{os.path.basename(path)}: ours {crossing} faces in {pairs} pairs of {faces} triangles; "
+                  f"pymeshlab {m.selected_face_number()} faces of {m.face_number()}")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--reps", type=int, default=5)
+    ap.add_argument("--bin", default=os.path.join(ROOT, "target", "debug", "blocksmith"))
+    ap.add_argument("--count", nargs="+", metavar="FILE")
     args = ap.parse_args()
+    if args.count:
+        counts(args.bin, args.count)
+        return
     rows = []
     for case in ["torus_1m", "two_tori_1m"]:
         path = os.path.join(ROOT, "target", "bench-data", f"diagnose_{case}.ply")
