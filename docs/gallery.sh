@@ -17,8 +17,8 @@ rm -f docs/gallery/*.png
   echo
   echo "Every recipe in \`examples/\` at its default parameters, drawn by"
   echo "\`blocksmith render examples/NAME.rhai -o docs/gallery/NAME.png --size $size\` (made by"
-  echo "\`docs/gallery.sh\`; \`script/cli/tests/gallery.rs\` keeps it current). Colours are the studio's:"
-  echo "one hue per boolean input or block, else a plain grey-blue."
+  echo "\`docs/gallery.sh\`; \`script/cli/tests/gallery.rs\` keeps it current). Colours are the model's own"
+  echo "(\`m.color(…)\`, feature and block colours), else a plain grey-blue."
   echo
   for recipe in examples/[!_]*.rhai; do
     name=$(basename "$recipe" .rhai)

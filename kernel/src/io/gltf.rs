@@ -1169,13 +1169,16 @@ struct Placement<'a> {
 /// parts: one primitive per colour) keep one set of vertices.
 type SharedKey = (usize, Option<usize>, [u64; 16]);
 
+/// How a part is told apart on reading: its node's name and its material colour's bits.
+type PartKey = (Option<Arc<str>>, Option<[u32; 4]>);
+
 /// Triangles and vertices gathered from all primitives, before building the mesh.
 #[derive(Default)]
 struct Soup {
     /// Each face's part, and the parts (colour, name) met.
     face_parts: Vec<u32>,
     parts: Vec<FacePart>,
-    part_ids: HashMap<(Option<Arc<str>>, Option<[u32; 4]>), u32>,
+    part_ids: HashMap<PartKey, u32>,
     /// The soup offset and count of the vertices placed for each shared key.
     shared: HashMap<SharedKey, (usize, usize)>,
     positions: Vec<Vec3>,

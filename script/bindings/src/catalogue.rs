@@ -81,6 +81,8 @@ pub fn script_type(rust: &str) -> String {
         "NumberOrPoint2" => "number|[x, y]",
         "NumberOrVector" => "number|Vec3",
         "Solid" => "Mesh|BlockModel",
+        "Color" => "[r, g, b, a]|string",
+        "ColorOrUnit" => "[r, g, b, a]|()",
         "Dynamic" | "?" | "" => "any",
         "Array" | "array" | "Vec<Dynamic>" => "array",
         "Map" | "map" => "map",
@@ -107,6 +109,8 @@ pub fn a(script_type: &str) -> String {
         "number" => "a number".into(),
         "number|Vec3" => "a number or a Vec3".into(),
         "Mesh|BlockModel" => "a Mesh or a BlockModel".into(),
+        "[r, g, b, a]|string" => "a colour [r, g, b(, a)] (0 to 1) or \"#rrggbb\"".into(),
+        "[r, g, b, a]|()" => "a colour [r, g, b, a] or ()".into(),
         "[x, y]" => "a point [x, y]".into(),
         "number|[x, y]" => "a number or a point [x, y]".into(),
         "any" => "any value".into(),
@@ -256,6 +260,8 @@ mod tests {
             sig("translate")
         );
         assert_eq!(sig("union")[0], "union(a: Mesh|BlockModel, b: Mesh|BlockModel) -> Mesh");
+        assert_eq!(sig("color")[0], "color(m: Mesh, c: [r, g, b, a]|string) -> Mesh");
+        assert_eq!(sig("face_color")[0], "face_color(m: Mesh, f: int) -> [r, g, b, a]|()");
         assert_eq!(sig("limit_eval")[0], "limit_eval(m: Mesh, face: int, u: number, v: number) -> map");
         // Operators registered from closures show the value they return, not `Result<..>`'s tail.
         assert!(all.iter().any(|o| o.name == "+" && o.signature() == "+(a: Mesh, b: Mesh) -> Mesh"));

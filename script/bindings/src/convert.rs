@@ -24,6 +24,11 @@ pub type Vector = Dynamic;
 pub type NumberOrVector = Dynamic;
 /// A CSG operand: a `Mesh` or a `BlockModel` (`Mesh|BlockModel` in signatures).
 pub type Solid = Dynamic;
+/// A colour argument: `[r, g, b]`, `[r, g, b, a]` (0–1) or a hex string `"#rrggbb"`
+/// (`[r, g, b, a]|string` in signatures); read it with `api::color::color_value`.
+pub type Color = Dynamic;
+/// A colour `[r, g, b, a]`, or `()` for none (`[r, g, b, a]|()` in signatures).
+pub type ColorOrUnit = Dynamic;
 
 /// A script error `"{func}: {message}"`.
 pub fn fail<T>(func: &str, message: impl Display) -> ScriptResult<T> {

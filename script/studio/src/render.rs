@@ -4,8 +4,9 @@
 //! A z-buffered rasteriser of triangles under an orthographic camera (the views of
 //! [`View`]), supersampled 3×3 per pixel: the model is lit by one light fixed to the camera
 //! (Lambert, both sides, plus an ambient term) in linear colour, then stored with gamma 2.
-//! Colours are the page's: a mesh's own vertex colours (feature and provenance colours come in
-//! that way, see `blocksmith_kernel::io::source_color`), else [`PLAIN`], on [`BACKGROUND`].
+//! Colours are the page's: a mesh's own face colours (its materials) times its vertex colours
+//! (feature colours come in that way), else [`PLAIN`], on [`BACKGROUND`]. Provenance (which
+//! boolean operand a face came from) is a debugging view, not drawn here.
 //!
 //! Why our own rasteriser rather than a crate: the job is one fixed pipeline (flat triangles,
 //! interpolated vertex colours, one light) in about two hundred lines, and the promise is the
@@ -162,20 +163,27 @@ pub fn render(meshes: &[&Mesh], width: u32, height: u32, view: View) -> Picture 
     for mesh in meshes {
         let screen: Vec<[f64; 3]> = mesh.positions().iter().map(|&p| to_screen(p)).collect();
         let colours = mesh.vertex_colors();
-        let tint = |v: u32| -> [f64; 3] {
-            colours.map_or(PLAIN, |c| {
-                let c = c[v as usize];
-                [f64::from(c[0]), f64::from(c[1]), f64::from(c[2])]
-            })
+        // As glTF viewers draw a material over vertex colours: the face's colour times the
+        // vertex's, either alone, or the plain colour when there is neither.
+        let tint = |v: u32, face: Option<[f32; 4]>| -> [f64; 3] {
+            let vertex = colours.map(|c| c[v as usize]);
+            match (face, vertex) {
+                (None, None) => PLAIN,
+                (f, v) => {
+                    let (f, v) = (f.unwrap_or([1.0; 4]), v.unwrap_or([1.0; 4]));
+                    [0, 1, 2].map(|k| f64::from(f[k]) * f64::from(v[k]))
+                }
+            }
         };
         for f in 0..mesh.face_count() as u32 {
+            let face = mesh.face_color(f);
             let ids: Vec<u32> = mesh.face_vertices(f).collect();
             for k in 1..ids.len().saturating_sub(1) {
                 let t = [ids[0], ids[k], ids[k + 1]];
                 let [a, b, c] = t.map(|v| mesh.position(v));
                 let n = (b - a).cross(c - a).normalize_or_zero();
                 let shade = 0.3 + 0.7 * n.dot(light).abs();
-                let tri = Triangle { p: t.map(|v| screen[v as usize]), c: t.map(|v| tint(v).map(|x| x * shade)) };
+                let tri = Triangle { p: t.map(|v| screen[v as usize]), c: t.map(|v| tint(v, face).map(|x| x * shade)) };
                 tri.draw(w, h, &mut depth, &mut colour);
             }
         }
@@ -286,6 +294,27 @@ mod tests {
         let plain = render(&[&cube()], 32, 32, View::Front);
         let mid = &plain.rgb[(16 * 32 + 16) * 3..(16 * 32 + 16) * 3 + 3];
         assert!(mid[2] > mid[0], "the plain colour is bluish grey: {mid:?}");
+    }
+
+    #[test]
+    fn face_colours_are_drawn_and_tint_vertex_colours() {
+        // The front face (−Y) green, the rest blue: from the front, green.
+        let mut m = cube();
+        m.set_color([0.0, 0.0, 1.0, 1.0]).unwrap();
+        let front = (0..m.face_count() as u32).find(|&f| m.face_normal(f).y < -0.9).unwrap();
+        let mut ids = m.face_part_ids().unwrap().to_vec();
+        let mut parts = m.parts().to_vec();
+        parts.push(blocksmith_kernel::mesh::FacePart::with_color([0.0, 1.0, 0.0, 1.0]));
+        ids[front as usize] = (parts.len() - 1) as u32;
+        m.set_face_parts(ids, parts).unwrap();
+        let pic = render(&[&m], 32, 32, View::Front);
+        let mid = &pic.rgb[(16 * 32 + 16) * 3..(16 * 32 + 16) * 3 + 3];
+        assert!(mid[1] > 100 && mid[0] == 0 && mid[2] == 0, "{mid:?}");
+        // A half-grey vertex colour darkens the face's colour.
+        m.set_vertex_colors(Some(vec![[0.5, 0.5, 0.5, 1.0]; m.vertex_count()])).unwrap();
+        let dim = render(&[&m], 32, 32, View::Front);
+        let d = &dim.rgb[(16 * 32 + 16) * 3..(16 * 32 + 16) * 3 + 3];
+        assert!(d[1] < mid[1] && d[1] > 0 && d[0] == 0, "{d:?} vs {mid:?}");
     }
 
     #[test]

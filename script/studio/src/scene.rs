@@ -24,8 +24,12 @@ use blocksmith_script::EngineOptions;
 pub struct Layer {
     /// `model` for a single value; the key or `[index]` of a map or array element.
     pub name: String,
-    /// The value as a binary glTF file.
+    /// The value as a binary glTF file, as `save` writes it: the model's own colours.
     pub glb: Vec<u8>,
+    /// For a boolean result (a mesh whose faces know their operands): the same mesh coloured by
+    /// provenance, one colour per operand ([`io::gltf::write_glb_provenance`]), the debugging
+    /// view the page offers as a toggle; `None` otherwise.
+    pub provenance: Option<Vec<u8>>,
     /// The value's mesh (its rest pose for an animation): the model itself, not the file's
     /// vertices split at colour seams, so its facts say what the model is.
     pub mesh: Mesh,
@@ -139,10 +143,17 @@ pub fn layer(engine: &Engine, functions: &AST, name: String, value: Dynamic) -> 
         }
     }
     let file = PathBuf::from(format!("{name}.glb"));
+    let mut provenance = None;
     let (glb, mesh) = match own_mesh(value) {
         Ok(mesh) => {
             let mut glb = Vec::new();
             write_glb(&mesh, &mut glb, &file).map_err(|e| named(RunError(format!("error: {e}"))))?;
+            if mesh.face_sources().is_some() {
+                let mut p = Vec::new();
+                io::gltf::write_glb_provenance(&mesh, &mut p, &file)
+                    .map_err(|e| named(RunError(format!("error: {e}"))))?;
+                provenance = Some(p);
+            }
             (glb, mesh)
         }
         Err(value) => {
@@ -154,7 +165,7 @@ pub fn layer(engine: &Engine, functions: &AST, name: String, value: Dynamic) -> 
         }
     };
     let facts = Facts::of(&mesh);
-    Ok(Layer { name, glb, mesh, facts, control, pose })
+    Ok(Layer { name, glb, provenance, mesh, facts, control, pose })
 }
 
 impl Layer {
@@ -259,7 +270,7 @@ pub fn load_file(path: &Path) -> Result<Scene, RunError> {
     };
     let facts = Facts::of(&mesh);
     Ok(Scene {
-        layers: vec![Layer { name: "model".into(), glb, mesh, facts, control: None, pose: None }],
+        layers: vec![Layer { name: "model".into(), glb, provenance: None, mesh, facts, control: None, pose: None }],
         run_time: start.elapsed(),
         params: Vec::new(),
         warnings: Vec::new(),
@@ -329,11 +340,15 @@ mod tests {
         let f = &l.facts;
         assert_eq!((f.closed, f.manifold, f.components, f.boundary_loops), (true, true, 1, 0));
         assert!((f.volume - 1.875).abs() < 1e-9, "{}", f.volume);
-        // The file splits vertices where the sources' colours meet; render draws those.
+        // The model is drawn uncoloured (provenance is not its colour); the provenance view
+        // splits vertices where the sources' colours meet.
         let drawn = l.drawn().unwrap();
-        assert!(drawn.vertex_count() > l.mesh.vertex_count());
+        assert!(drawn.vertex_colors().is_none() && !drawn.has_face_colors());
         assert_eq!(drawn.triangle_count(), f.triangles);
-        assert!(drawn.vertex_colors().is_some());
+        let file = Path::new("p.glb");
+        let view = io::gltf::read_gltf_with(l.provenance.as_ref().unwrap(), None, file, io::Weld::Off).unwrap();
+        assert!(view.vertex_count() > l.mesh.vertex_count() && view.vertex_colors().is_some());
+        assert_eq!(view.triangle_count(), f.triangles);
     }
 
     #[test]

@@ -9,7 +9,7 @@ use rhai::plugin::*;
 use rhai::{Array, INT};
 
 use super::mesh::SharedMesh;
-use crate::convert::{error, fail, kernel, number, type_name, ScriptResult};
+use crate::convert::{error, fail, kernel, number, type_name, Color, ColorOrUnit, ScriptResult};
 
 /// A colour argument: `[r, g, b]` or `[r, g, b, a]` with components 0–1, or a hex string
 /// `"#rgb"`, `"#rgba"`, `"#rrggbb"`, `"#rrggbbaa"`. Errors name `func` and `arg`.
@@ -63,7 +63,7 @@ pub mod color_api {
     /// assert_eq(bite.colors().len(), 2);   // red outside, blue in the bite
     /// ```
     #[rhai_fn(return_raw, pure)]
-    pub fn color(m: &mut SharedMesh, c: Dynamic) -> ScriptResult<SharedMesh> {
+    pub fn color(m: &mut SharedMesh, c: Color) -> ScriptResult<SharedMesh> {
         let rgba = color_value("color", "c", &c)?;
         let mut out = (*m.0).clone();
         kernel("color", out.set_color(rgba))?;
@@ -78,7 +78,7 @@ pub mod color_api {
     /// assert_eq(m.face_color(6), ());
     /// ```
     #[rhai_fn(return_raw, pure)]
-    pub fn face_color(m: &mut SharedMesh, f: INT) -> ScriptResult<Dynamic> {
+    pub fn face_color(m: &mut SharedMesh, f: INT) -> ScriptResult<ColorOrUnit> {
         let f = kernel("face_color", m.0.check_face(f))?;
         Ok(m.0.face_color(f).map_or(Dynamic::UNIT, |c| Dynamic::from_array(color_array(c))))
     }
