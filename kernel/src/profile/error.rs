@@ -54,6 +54,14 @@ pub enum ProfileError {
         fmt_num(*degrees)
     )]
     SharpTurn { index: usize, degrees: f64 },
+    /// A swept or lofted solid that passes through itself (closed and manifold, but no solid).
+    #[error(
+        "{what} passes through itself near {near}, at ({}, {}, {}): the solid would count that \
+         space twice (move the path or profiles apart there, or build the parts separately and \
+         unite them)",
+        fmt_num(at.x), fmt_num(at.y), fmt_num(at.z)
+    )]
+    SelfCrossing { what: &'static str, near: String, at: crate::math::Vec3 },
     /// Lofted profiles whose contours do not correspond.
     #[error("profile {index} cannot be lofted from profile 0: {reason}")]
     LoftMismatch { index: usize, reason: String },

@@ -8,6 +8,7 @@
 
 use super::convert::{check_solid_size, mesh_error};
 use super::measure::contour_area;
+use super::self_crossing::{nearest, refuse_self_crossing};
 use super::{Profile, ProfileError, Vec2};
 use crate::csg::engine::triangulate_contours;
 use crate::math::{Mat4, Vec3};
@@ -147,7 +148,8 @@ fn match_contours(from: &Profile, to: &Profile, index: usize) -> Result<Vec<usiz
 /// empty profile; [`ProfileError::LoftMismatch`] naming a profile whose contours do not match
 /// the first's; [`ProfileError::BadValue`] for heights not strictly increasing or finite, a
 /// placement count other than the profiles', a non-finite or flattening transform, `closed`
-/// without transforms.
+/// without transforms; [`ProfileError::SelfCrossing`] naming the profile nearest where the
+/// solid passes through itself (placed profiles that cross).
 pub fn loft(profiles: &[Profile], options: &LoftOptions) -> Result<Mesh, ProfileError> {
     if profiles.len() < 2 {
         return Err(ProfileError::TooFewPoints { what: "the loft".into(), count: profiles.len(), needed: 2 });
@@ -302,6 +304,13 @@ pub fn loft(profiles: &[Profile], options: &LoftOptions) -> Result<Mesh, Profile
         let flipped: Vec<[u32; 3]> = faces.iter().map(|&[a, b, c]| [c, b, a]).collect();
         mesh = Mesh::from_polygons(positions, &flipped).map_err(mesh_error)?;
     }
+    let centres: Vec<Vec3> = (0..n)
+        .map(|i| {
+            let ring = &mesh.positions()[i * per_ring..(i + 1) * per_ring];
+            ring.iter().copied().sum::<Vec3>() / per_ring as f64
+        })
+        .collect();
+    refuse_self_crossing(&mesh, "the loft", |at| format!("profile {}", nearest(centres.iter().copied(), at)))?;
     Ok(mesh)
 }
 

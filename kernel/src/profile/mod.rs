@@ -33,6 +33,7 @@ mod measure;
 mod minkowski;
 mod offset;
 mod revolve;
+mod self_crossing;
 mod slice;
 mod split;
 mod sweep;

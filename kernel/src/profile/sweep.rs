@@ -12,6 +12,7 @@
 use super::construct::cos_sin_degrees;
 use super::convert::{check_number, check_solid_size, mesh_error};
 use super::frames;
+use super::self_crossing::{nearest, refuse_self_crossing};
 use super::{Profile, ProfileError, Vec2};
 use crate::csg::engine::triangulate_contours;
 use crate::math::{Quat, Vec3};
@@ -78,8 +79,8 @@ impl Default for SweepOptions {
 /// `profile` swept along the polyline `path`, a closed manifold triangle mesh (a ring for a
 /// closed path). See the [module documentation](self) for the frames.
 ///
-/// Not checked: a path that comes back through its own tube (the mesh is then closed and
-/// manifold but intersects itself).
+/// A path that comes back through its own tube is refused (checked exactly on the result,
+/// O(n log n) in its faces).
 ///
 /// # Errors
 /// [`ProfileError::Empty`] for an empty profile; [`ProfileError::TooFewPoints`] for a path of
@@ -88,7 +89,9 @@ impl Default for SweepOptions {
 /// [`ProfileError::SharpTurn`] naming the point where the path turns so sharply that the
 /// profile would fold over itself (a side of the tube running backwards);
 /// [`ProfileError::BadValue`] for a non-finite twist, a scale not positive, a scale on a closed
-/// path, a zero or non-finite `up` or one along the path's start.
+/// path, a zero or non-finite `up` or one along the path's start;
+/// [`ProfileError::SelfCrossing`] naming the path point nearest where the tube passes through
+/// itself.
 pub fn sweep(profile: &Profile, path: &[Vec3], options: &SweepOptions) -> Result<Mesh, ProfileError> {
     profile.require_region("the profile to sweep")?;
     check_number("the twist", options.twist, false)?;
@@ -256,5 +259,7 @@ pub fn sweep(profile: &Profile, path: &[Vec3], options: &SweepOptions) -> Result
             faces.push([a + last, b + last, c + last]);
         }
     }
-    Mesh::from_polygons(positions, &faces).map_err(mesh_error)
+    let mesh = Mesh::from_polygons(positions, &faces).map_err(mesh_error)?;
+    refuse_self_crossing(&mesh, "the sweep", |at| format!("path point {}", nearest(path.iter().copied(), at)))?;
+    Ok(mesh)
 }

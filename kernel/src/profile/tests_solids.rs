@@ -196,6 +196,37 @@ fn sweep_refuses_repeated_points_and_turns_too_sharp_naming_the_point() {
 }
 
 #[test]
+fn a_sweep_or_loft_that_passes_through_itself_is_refused_naming_where() {
+    // The path runs along x, turns twice and comes back down across its start at x = 3.
+    let path = [
+        Vec3::ZERO,
+        Vec3::new(20.0, 0.0, 0.0),
+        Vec3::new(20.0, 6.0, 0.0),
+        Vec3::new(3.0, 6.0, 0.0),
+        Vec3::new(3.0, -6.0, 0.0),
+    ];
+    let e = sweep(&Profile::circle(1.0, 16).unwrap(), &path, &SweepOptions::DEFAULT).unwrap_err();
+    assert!(matches!(&e, ProfileError::SelfCrossing { what: "the sweep", .. }), "{e}");
+    assert!(e.to_string().starts_with("the sweep passes through itself near path point 0, at ("), "{e}");
+    if let ProfileError::SelfCrossing { at, .. } = e {
+        assert!((at.x - 3.0).abs() <= 1.5 && at.y.abs() <= 1.5, "where the tubes meet: {at}");
+    }
+    // Stopped short of the first leg, the same path is a solid.
+    let short = [path[0], path[1], path[2], path[3], Vec3::new(3.0, 2.5, 0.0)];
+    solid(&sweep(&Profile::circle(1.0, 16).unwrap(), &short, &SweepOptions::DEFAULT).unwrap(), 0);
+    // Squares placed up and across, then back down across the first leg.
+    let sq = rect(-2.0, -2.0, 2.0, 2.0);
+    let placed = vec![
+        Mat4::IDENTITY,
+        Mat4::from_translation(Vec3::new(10.0, 0.0, 4.0)),
+        Mat4::from_translation(Vec3::new(5.0, 0.0, 0.0)),
+    ];
+    let e = loft(&[sq.clone(), sq.clone(), sq.clone()], &LoftOptions::DEFAULT.with_transforms(placed)).unwrap_err();
+    assert!(matches!(&e, ProfileError::SelfCrossing { what: "the loft", .. }), "{e}");
+    assert!(e.to_string().contains("the loft passes through itself near profile"), "{e}");
+}
+
+#[test]
 fn a_loft_between_similar_squares_is_a_frustum_and_any_two_outlines_loft() {
     // Squares of side 2 and 1 with corners at the same arc-length parameters: the frustum
     // h/3·(4 + 1 + 2).

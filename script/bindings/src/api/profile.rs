@@ -666,8 +666,8 @@ pub mod profile_api {
 
     /// The profile swept along `path` (an array of 3D points) on rotation-minimising frames:
     /// the profile's plane stays perpendicular to the path and does not spin about it. A path
-    /// with repeated points, or turning so sharply that the profile would cross itself, is
-    /// refused naming the point.
+    /// with repeated points, turning so sharply that the profile would cross itself, or coming
+    /// back through its own tube (checked exactly on the result), is refused naming the point.
     ///
     /// Topic: 2d
     ///
@@ -704,7 +704,8 @@ pub mod profile_api {
     }
 
     /// A solid through `profiles` one unit apart up z (contours matched and resampled, so any
-    /// profiles with the same contour structure loft).
+    /// profiles with the same contour structure loft). A loft whose placed profiles make it pass
+    /// through itself is refused naming the profile nearest the crossing.
     ///
     /// Topic: 2d
     ///
