@@ -27,6 +27,7 @@ pub mod anim;
 pub mod blocks;
 pub mod csg;
 pub mod diagnose;
+pub mod finish;
 pub mod io;
 pub mod limits;
 pub mod lsystem;

@@ -9,6 +9,7 @@ pub mod csg;
 pub mod data;
 pub mod diagnose;
 pub mod files;
+pub mod finish;
 pub mod lsystem;
 pub mod mesh;
 pub mod nesting;
@@ -47,6 +48,7 @@ pub fn register_all(engine: &mut Engine) {
     diagnose::register(engine);
     rng::register(engine);
     noise::register(engine);
+    finish::register(engine);
     engine.register_global_module(exported_module!(runtime::runtime_api).into());
     engine.register_global_module(exported_module!(data::data_api).into());
     engine.register_global_module(exported_module!(nesting::nesting_api).into());
