@@ -6,7 +6,7 @@
 //! Only what blocksmith keeps is taken: the positions (the attribute whose unique id the
 //! extension maps to `POSITION`, dequantized to `f32` as the bitstream stores them) and the
 //! triangles. The decoder is held to the memory budget before it allocates: the decoded faces
-//! and attribute bytes may not pass what the budget allows.
+//! and attribute bytes may not pass what the budget has left beside the heap in use.
 
 use draco_core::{DecodeLimits, DecoderBuffer, MeshDecoder};
 
@@ -50,8 +50,17 @@ pub(crate) fn extension_of(
 /// is not three components.
 pub(crate) fn decode(bytes: &[u8], position_id: u32) -> Result<Decoded, String> {
     // A face is 12 bytes decoded and about as much again in the decoder's tables; attribute
-    // values are counted by the decoder itself.
-    let budget = crate::limits::memory_limit();
+    // values are counted by the decoder itself. The room is what the budget has left beside
+    // the heap in use (the primitives already decoded among it), so a file of many Draco
+    // primitives is held to the budget as a whole, not each primitive to all of it.
+    let in_use = crate::limits::heap_in_use().unwrap_or(0);
+    let budget = crate::limits::memory_limit().saturating_sub(in_use);
+    if budget == 0 {
+        return Err(format!(
+            "its Draco data cannot be decoded: the memory budget ({}) is already in use",
+            crate::limits::human_bytes(crate::limits::memory_limit())
+        ));
+    }
     let limits = DecodeLimits::default()
         .with_max_faces(budget / 32)
         .with_max_points(budget / 32)
