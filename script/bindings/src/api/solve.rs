@@ -303,8 +303,13 @@ pub mod solve_api {
         Ok(m)
     }
 
-    /// Fits the cylinder of a circular feature (§5, Eqs. 13–14): the axis by PCA of `verts`
-    /// (at least 3), the radius their minimum distance to it. Returns `#{center, axis, radius}`.
+    /// Fits the cylinder of a circular feature (§5, Eqs. 13–14) through the vertices `verts` (at
+    /// least 3) of `mesh`. Returns `#{center, axis, radius}`: `center` on the axis (the middle of
+    /// the feature along it), `radius` the vertices' minimum distance to the axis (Eq. 14). A
+    /// feature within a tenth of its radius of one plane (a hole's ring) is fitted as a circle,
+    /// its axis the plane's normal (`fit_circle`); a taller one by least squares on the
+    /// distances from the cylinder, so unevenly spaced vertices and partial arcs give the
+    /// cylinder, not their centroid and principal directions as the paper's PCA would.
     ///
     /// Topic: shape_up
     ///
@@ -314,6 +319,12 @@ pub mod solve_api {
     /// let c = fit_cylinder(cylinder(0.5, 2, 24), bottom);
     /// assert_near(c.radius, 0.5, 1e-9);
     /// assert_near(c.axis.z.abs(), 1.0, 1e-9);
+    /// // A third of the side: both rims' vertices 0-8 and 24-32, off the centroid.
+    /// let side = [];
+    /// for v in 0..9 { side.push(v); side.push(v + 24); }
+    /// let t = fit_cylinder(cylinder(0.5, 2, 24), side);
+    /// assert_near(t.radius, 0.5, 1e-9);
+    /// assert_near(t.center, vec3(0, 0, 0), 1e-9);
     /// ```
     #[rhai_fn(return_raw)]
     pub fn fit_cylinder(mesh: SharedMesh, verts: Array) -> ScriptResult<Map> {
