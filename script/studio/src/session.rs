@@ -572,18 +572,21 @@ impl Session {
             Source::Recipe(path) => {
                 let shown = Some(blocksmith_script::context::Shown::default());
                 let writes = Some(self.writes.clone());
+                let access = blocksmith_script::access::Access::default().reporting();
                 let options = EngineOptions {
-                    context: RunContext {
-                        params,
-                        shown,
-                        writes,
-                        access: blocksmith_script::access::Access::default().reporting(),
-                        ..RunContext::default()
-                    },
+                    context: RunContext { params, shown, writes, access: access.clone(), ..RunContext::default() },
                     interrupt: Some(Arc::clone(&self.interrupt)),
                     ..EngineOptions::default()
                 };
-                scene::from_recipe_recorded(path, options)
+                let ran = scene::from_recipe_recorded(path, options);
+                // The studio's runs only report their saves: say so on the terminal, once per run.
+                for path in access.reported() {
+                    eprintln!(
+                        "note: not written: {} (`blocksmith watch` never writes files; `blocksmith run` does)",
+                        blocksmith_script::printable::printable(&path.display().to_string())
+                    );
+                }
+                ran
             }
             Source::File(path) => {
                 // A .gltf's buffers and images are the model too.
