@@ -133,13 +133,8 @@ fn arbitrary_bytes_never_panic_or_hang() {
             (10, "3"),
             (20, "3"),
         ]);
-    let mut state = 0x243f_6a88_85a3_08d3_u64;
-    let mut next = || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        state
-    };
+    let mut rng = crate::math::SplitMix64::new(0x243f_6a88_85a3_08d3);
+    let mut next = || rng.next_u64();
     for round in 0..3000 {
         let mut bytes = base.clone().into_bytes();
         if round % 10 == 0 {
