@@ -7,12 +7,17 @@
 //! - `factor`: building and factoring the normal matrix (libigl: precomputation);
 //! - `iterations_10`: ten local/global iterations (libigl: `arap_solve` with max_iter 10).
 //!
-//! Run: `cargo bench -p blocksmith-kernel --bench solve`.
+//! - `shape_up_circles_*`: the circle constraint with its size (issue 35, `CircleSize::KeepSize`,
+//!   the least-squares circle fitted in every local step) on every latitude ring of a uv sphere
+//!   squashed to (1, 0.6, 1) (64 × 32: 1,986 vertices in 31 rings; 256 × 128: 32,514 in 127),
+//!   closeness 1: `factor` and `iterations_10`.
+//!
+//! Run (release, as criterion builds it): `cargo bench -p blocksmith-kernel --bench solve`.
 
 use std::hint::black_box;
 
 use blocksmith_kernel::math::Quat;
-use blocksmith_kernel::solve::ShapeUp;
+use blocksmith_kernel::solve::{CircleSize, ShapeUp};
 use blocksmith_kernel::{Mesh, Vec3};
 use criterion::{criterion_group, criterion_main, Criterion};
 
@@ -56,5 +61,24 @@ fn arap(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, arap);
+fn circles(c: &mut Criterion) {
+    for (segments, rings) in [(64u32, 32u32), (256, 128)] {
+        let m = Mesh::uv_sphere(1.0, segments, rings).scale(Vec3::new(1.0, 0.6, 1.0));
+        let mut up = ShapeUp::new(&m).unwrap();
+        // Vertex 0 is a pole, then the latitude rings of `segments` vertices each.
+        for k in 0..rings - 1 {
+            let ring: Vec<u32> = (1 + segments * k..1 + segments * (k + 1)).collect();
+            up.circle_sized(&ring, 10.0, CircleSize::KeepSize).unwrap();
+        }
+        up.closeness(1.0).unwrap();
+        let mut g = c.benchmark_group(format!("shape_up_circles_{}v_{}rings", m.vertex_count(), rings - 1));
+        g.sample_size(10);
+        g.bench_function("factor", |b| b.iter(|| black_box(up.factor().unwrap())));
+        let f = up.factor().unwrap();
+        g.bench_function("iterations_10", |b| b.iter(|| black_box(f.solve(black_box(m.positions()), 10).unwrap())));
+        g.finish();
+    }
+}
+
+criterion_group!(benches, arap, circles);
 criterion_main!(benches);

@@ -72,10 +72,11 @@ fn solve5(mut a: [[f64; 5]; 5], mut b: [f64; 5]) -> Option<[f64; 5]> {
         }
         a.swap(k, p);
         b.swap(k, p);
+        let pivot_row = a[k];
         for i in k + 1..5 {
-            let f = a[i][k] / a[k][k];
-            for j in k..5 {
-                a[i][j] -= f * a[k][j];
+            let f = a[i][k] / pivot_row[k];
+            for (x, y) in a[i][k..].iter_mut().zip(&pivot_row[k..]) {
+                *x -= f * y;
             }
             b[i] -= f * b[k];
         }
