@@ -3,7 +3,7 @@
 //! representation — every drawn module is one loop or one pole, the backbones the string's
 //! order, the nested features its brackets.
 //!
-//! The symbols (§11 and §10.3):
+//! The symbols (§11 and §10.3; `symbols` defines them and tabulates their parameters):
 //! - `L`, `L0`, `F` — move forward and draw a loop: [`PolarMesh::add_refinement`] on a spoke of
 //!   the branch's tip pole (§4.1: the new loop lands between the last loop and the pole), then
 //!   the low-level moves of §2.4 place it as a circle of the current radius around the turtle,
@@ -156,6 +156,12 @@ pub struct GrowOptions {
     /// has the counts); the Fig. 12.2 case keeps the thesis's size with them (393k vertices at
     /// 11 steps, 51k by default). Default value: false.
     pub wide_gaps: bool,
+    /// Whether the trunk stands on a flat base: a loop of the trunk's first radius where the
+    /// turtle starts, its pole (the root) at that loop's centre, so the plant's foot is a flat
+    /// disk (a triangle fan in one plane) instead of the cone from the root pole to the first
+    /// loop. The base loop is one more skeleton node, at the root's position (a segment of
+    /// length 0, which animations carry as it is). Default value: false.
+    pub flat_base: bool,
 }
 
 impl GrowOptions {
@@ -170,6 +176,7 @@ impl GrowOptions {
         max_vertices: 4_000_000,
         max_features: 200_000,
         wide_gaps: false,
+        flat_base: false,
     };
 
     /// With `radius`.
@@ -218,6 +225,13 @@ impl GrowOptions {
     #[must_use]
     pub fn with_wide_gaps(mut self, on: bool) -> GrowOptions {
         self.wide_gaps = on;
+        self
+    }
+
+    /// With or without a flat base.
+    #[must_use]
+    pub fn with_flat_base(mut self, on: bool) -> GrowOptions {
+        self.flat_base = on;
         self
     }
 
@@ -656,7 +670,7 @@ fn grow_once<E: Display>(
                     Some(r) => r,
                     None => g.sizes(m, &st, size)?.1,
                 };
-                st.radius = Some(m.params.first().copied().unwrap_or(cur * 0.7));
+                st.radius = Some(m.params.first().copied().unwrap_or(cur * super::symbols::SHRINK));
             }
             _ => {
                 let deg = m.params.first().copied().unwrap_or(opts.angle);
@@ -894,7 +908,7 @@ impl Grower {
         st: &State,
         size: &mut dyn FnMut(Size, f64) -> Result<f64, E>,
     ) -> Result<(f64, f64), LsystemError> {
-        let thesis = matches!(m.symbol.as_str(), "P" | "L" | "L0" | "[L" | "[R");
+        let thesis = super::symbols::STEP_SYMBOLS.contains(&m.symbol.as_str());
         let step = match m.params.first() {
             Some(&p) if thesis => p,
             _ => f64::from(st.depth),
@@ -913,7 +927,7 @@ impl Grower {
             Ok(v)
         };
         let len = match m.params.first() {
-            Some(&l) if !thesis && (m.symbol == "F" || m.symbol == "f") => l,
+            Some(&l) if !thesis && super::symbols::LENGTH_SYMBOLS.contains(&m.symbol.as_str()) => l,
             _ => call(Size::Length, size)?,
         };
         let r = match st.radius {
@@ -1017,6 +1031,17 @@ impl Grower {
         Self::polar(i, pm.set_position(0, start))?;
         let tip = if pole { end } else { ring_at + t.heading * cap(r, len) };
         Self::polar(i, pm.set_position(north, tip))?;
+        if self.opts.flat_base {
+            // A loop on the root's spokes, laid flat around the root: the foot is a disk.
+            let spoke =
+                pm.mesh().find_halfedge(0, 1).ok_or_else(|| LsystemError::Internal("no spoke at the root".into()))?;
+            let base = Self::polar(i, pm.add_refinement(i64::from(spoke)))?;
+            for v in base.vertices {
+                let d = pm.position(v) - start;
+                let out = (d - t.heading * d.dot(t.heading)).normalize_or_zero();
+                Self::polar(i, pm.set_position(v, start + out * r))?;
+            }
+        }
         st.turtle.position = end;
         let verts = Self::forward_order(&pm, verts, north);
         self.rings.push(Ring {

@@ -9,12 +9,14 @@
 //!
 //! Files, one concept each: `grammar` (modules, expressions, rules), `derive` (rewriting with
 //! contexts and seeded choices, drawn from [`SplitMix64`](crate::math::SplitMix64)), `turtle`
-//! (the 3D turtle of §10.3), `grow` (the polar interpretation), `error`.
+//! (the 3D turtle of §10.3), `grow` (the polar interpretation), `symbols` (what each symbol and
+//! its parameter mean, tabulated for the reference), `error`.
 
 mod derive;
 mod error;
 mod grammar;
 mod grow;
+pub mod symbols;
 #[cfg(test)]
 pub(crate) mod tests_grow;
 #[cfg(test)]

@@ -558,3 +558,38 @@ fn the_refusal_for_want_of_room_names_a_valence_that_grows_the_string() {
         assert!(e.contains(&format!("`valence: {named}` grows this string")), "{e}");
     }
 }
+
+#[test]
+fn a_flat_base_stands_the_plant_on_a_disk() {
+    // The turtle starts at the origin heading +z: with a flat base the root pole and a loop of
+    // the trunk's first radius lie in z = 0, every face of the root's fan in that plane facing
+    // down; the base loop is one more skeleton node. Without, the root is a cone's tip.
+    // (At the default 30° and radius 0.25 the thesis plant's branches cross each other and
+    // to_solid refuses it, flat base or not: the shrub recipe's 40° and 0.2 here.)
+    let opts = GrowOptions::DEFAULT.with_flat_base(true).with_angle(40.0).with_radius(0.2);
+    for plant in
+        [grow(&modules("F[+F][-F]F"), &opts).unwrap(), grow(&thesis_plant(3).derive(8).unwrap(), &opts).unwrap()]
+    {
+        let pm = &plant.mesh;
+        pm.check().unwrap();
+        let m = pm.mesh();
+        assert!(m.is_closed() && m.is_manifold() && m.euler() == 2 && m.volume() > 0.0);
+        assert_eq!(pm.position(plant.root), Vec3::ZERO);
+        let fan = pm.fan(i64::from(plant.root)).unwrap();
+        for h in fan {
+            let f = m.face(h);
+            assert!(m.face_vertices(f).all(|v| pm.position(v).z.abs() < 1e-12), "a fan face off the ground");
+            assert!(m.face_normal(f).z < -0.999, "the base faces down");
+            let rim = pm.position(m.target(h));
+            assert!((rim.length() - 0.2 * sigmoid(0.0)).abs() < 1e-12, "the base loop has the trunk's radius");
+        }
+        assert!(m.positions().iter().all(|p| p.z >= -1e-12), "nothing below the ground");
+        let sk = pm.skeleton(Some(plant.root)).unwrap();
+        assert_eq!(sk.node_count(), 2 + plant.segments + plant.open_ends, "the base loop is one more node");
+        let solid = pm.to_solid().unwrap();
+        assert!(solid.is_closed() && solid.is_manifold() && solid.genus() == 0);
+    }
+    let pointed = grow(&modules("F"), &GrowOptions::DEFAULT).unwrap();
+    assert_eq!(pointed.mesh.fan(i64::from(pointed.root)).unwrap().len(), 8);
+    assert!(pointed.mesh.mesh().positions().iter().filter(|p| p.z.abs() < 1e-12).count() == 1, "a point");
+}

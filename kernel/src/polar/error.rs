@@ -160,10 +160,10 @@ pub enum PolarError {
 
     // ---- to_solid --------------------------------------------------------------------------
     /// The loops do not cut the mesh into tubes that unite into the same solid.
-    #[error("to_solid: the loops do not cut the mesh into tubes: {reason}")]
+    #[error("the loops do not cut the mesh into tubes: {reason}")]
     NotTubes { reason: String },
     /// The boolean engine refused the tubes.
-    #[error("to_solid: {0}")]
+    #[error("{0}")]
     Solid(String),
 
     // ---- Any operation -------------------------------------------------------------------

@@ -19,7 +19,8 @@
 //! - `skeleton` — the inferred skeleton (§7.1) and skeleton-based coordinates (§7.2);
 //! - `colors` — feature colour coding (appendix B.1.3);
 //! - `to_solid` — the mesh as a valid solid: tubes capped inside their parents, united by the
-//!   boolean engine (grown plants cross themselves at branch bases).
+//!   boolean engine (grown plants cross themselves at branch bases);
+//! - `transform` — whole-mesh translate, rotate, scale and mirror, as a `Mesh` has them.
 //!
 //! Every operation validates first and edits only the faces it changes (through
 //! [`Mesh::replace_faces`]), so it costs time proportional to the region it affects and leaves
@@ -59,6 +60,7 @@ mod tests_recipes;
 #[cfg(test)]
 mod tests_to_solid;
 mod to_solid;
+mod transform;
 
 pub use add_feature::FeatureOptions;
 pub use add_refinement::Refinement;

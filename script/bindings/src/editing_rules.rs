@@ -82,7 +82,8 @@ pub const KINDS: &[Kind] = &[
         rule: Rule::InPlace,
         text: "A PolarMesh is edited in place: the polar operations and move_vertices, scale_vertices, \
                rotate_vertices change it and return nothing or the elements they made (the new loop, the \
-               new pole); `pm.to_mesh()` gives a Mesh.",
+               new pole); `pm.to_mesh()` gives a Mesh. The whole-mesh translate(offset), rotate(axis, deg), \
+               scale(factor) and mirror(normal) return a moved copy, as a Mesh's do: `pm = pm.translate(v);`.",
     },
     Kind {
         name: "Voxels",

@@ -42,6 +42,10 @@ pub enum Command {
         #[arg(long, value_name = "FORMAT", num_args = 0..=1, default_missing_value = "text",
               value_parser = ["text", "json"], requires = "output")]
         stats: Option<String>,
+        /// When the recipe ends with an Animation: write its pose at this time (a still mesh,
+        /// any format) instead of the animated .glb.
+        #[arg(long, value_name = "T", requires = "output")]
+        time: Option<f64>,
         /// Write a manifest (hashes of the recipe, its inputs and the output; the parameters;
         /// the tool version) to this JSON file.
         #[arg(long, value_name = "FILE.json")]
@@ -99,6 +103,10 @@ pub enum Command {
         /// Where the camera looks from: iso, front, back, left, right, top, bottom.
         #[arg(long, default_value = "iso")]
         view: blocksmith_studio::render::View,
+        /// When the recipe ends with an Animation: draw its pose at this time (default: its
+        /// last frame as `save` writes it).
+        #[arg(long, value_name = "T")]
+        time: Option<f64>,
         /// A parameter read by `param(name, default)`; repeatable.
         #[arg(long = "set", value_name = "NAME=VALUE", value_parser = parse_set)]
         set: Vec<(String, String)>,

@@ -55,7 +55,7 @@ fn command() -> ExitCode {
     }
     match command {
         Command::Run { file, set, params: Some(format), .. } => commands::params::execute(&file, &set, &format),
-        Command::Run { file, output, set, limits, stats, manifest, params: None, access: _ } => {
+        Command::Run { file, output, set, limits, stats, time, manifest, params: None, access: _ } => {
             let l = limits.apply();
             commands::run::run(&RunCommand {
                 file,
@@ -66,13 +66,14 @@ fn command() -> ExitCode {
                 stats: stats.map(|f| if f == "json" { StatsFormat::Json } else { StatsFormat::Text }),
                 manifest,
                 progress: l.progress,
+                time,
             })
         }
         Command::Params { file, format, set, .. } => commands::params::execute(&file, &set, &format),
         Command::Repl { limits, .. } => commands::repl::execute(&limits),
         Command::Test { paths, out, limits, .. } => commands::test::execute(paths, &out, &limits),
-        Command::Render { file, output, size, view, set, .. } => {
-            commands::render::execute(&file, &output, size, view, set)
+        Command::Render { file, output, size, view, time, set, .. } => {
+            commands::render::execute(&file, &output, size, view, set, time)
         }
         Command::Watch { file, set, port, open, .. } => {
             commands::watch::execute(&file, set.into_iter().collect(), port, open)

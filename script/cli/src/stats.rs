@@ -63,6 +63,9 @@ pub fn text(all: &Stats) -> String {
         format!("volume {}, area {}", x(&stats["volume"]), x(&stats["area"])),
         format!("bounds {} … {}", point(&stats["bounds"]["min"]), point(&stats["bounds"]["max"])),
     ];
+    if let Some(pose) = stats["pose"].as_str() {
+        out.insert(1, format!("pose: {pose}"));
+    }
     for r in stats["repairs"].as_array().into_iter().flatten() {
         out.push(format!("repaired on reading back: {}", r.as_str().unwrap_or_default()));
     }

@@ -175,7 +175,18 @@ fn grow_all(ctx: &NativeCallContext, ls: &LSystem, steps: INT, options: Map) -> 
     let opts = Options::new(
         F,
         options,
-        &["radius", "length", "valence", "angle", "divergence", "sigmoid", "wide_gaps", "max_vertices", "max_features"],
+        &[
+            "radius",
+            "length",
+            "valence",
+            "angle",
+            "divergence",
+            "sigmoid",
+            "wide_gaps",
+            "base",
+            "max_vertices",
+            "max_features",
+        ],
     )?;
     let d = GrowOptions::DEFAULT;
     let radius = size_opt(&opts, "radius", d.radius)?;
@@ -198,6 +209,7 @@ fn grow_all(ctx: &NativeCallContext, ls: &LSystem, steps: INT, options: Map) -> 
         .with_divergence(opts.number("divergence", d.divergence)?)
         .with_sigmoid(sigmoid)
         .with_wide_gaps(opts.bool("wide_gaps", d.wide_gaps)?)
+        .with_flat_base(opts.choice("base", "point", &["point", "flat"])? == "flat")
         .with_caps(caps("max_vertices", d.max_vertices)?, caps("max_features", d.max_features)?);
     for (key, s) in [("radius", &radius), ("length", &length)] {
         if let SizeOpt::Number(x) = s {
@@ -290,25 +302,30 @@ pub mod lsystem_api {
         grow_with_options(ctx, ls, steps, Map::new())
     }
 
-    /// Grows the string of `steps` derivation steps directly as a polar mesh (§11.1): `L L0 F`
-    /// add a loop (add_refinement on a spoke of the branch's tip pole, then moved forward), `P`
-    /// moves the tip pole to the segment's end and ends the branch, `[` nests the branch as a
-    /// feature (add_feature) on the current loop where the turtle points, `[L` / `[R` draw a loop
-    /// and nest a branch turned left / right on it, `]` returns; `f` moves, `+ - & ^ \ / |` turn
-    /// (`+(45)` by 45°), `!(r)` sets the radius. Options: `radius` (0.25) and `length` (1) — a
+    /// Grows the string of `steps` derivation steps directly as a polar mesh (§11.1), each
+    /// module one polar operation: loops by add_refinement, branches nested by add_feature
+    /// where the turtle points, poles ending them. What every symbol does and what its
+    /// parameter means (`F(x)` a length, `L(s)` a growth step) is the table "L-system symbols"
+    /// of the reference (`blocksmith doc "L-system symbols"`). Options: `radius` (0.25) and `length` (1) — a
     /// number scaled by the sigmoid of Eq. 11.2 of the step (a thesis symbol's first parameter,
     /// else the branch depth) unless `sigmoid: false`, or a closure `|step|` giving the value —,
     /// `valence` (8, vertices per trunk loop), `angle` (30°), `divergence` (137.5°, the parent's
     /// roll at each `[L` / `[R`), `wide_gaps` (false; true grows every branch at its parent's
     /// valence on half its loop, as the thesis does — bigger plants, more crossings at branch
-    /// bases), `max_vertices` (4,000,000) and `max_features` (200,000), the caps that stop
-    /// runaway growth with an error.
+    /// bases), `base` (`"point"`: the trunk starts at its root pole, a cone's tip; `"flat"`:
+    /// the root pole at the centre of a loop of the trunk's first radius where the turtle starts,
+    /// so the plant stands on a flat disk — one more skeleton node, at the root), `max_vertices`
+    /// (4,000,000) and `max_features` (200,000), the caps that stop runaway growth with an
+    /// error.
     ///
     /// ```rhai
     /// let ls = lsystem(#{ axiom: "L(0) [L(0) L(1) P(1)] P(0)" });
     /// let pm = ls.grow(0, #{ valence: 12, radius: 0.3 });
     /// pm.check();
     /// assert_eq(pm.skeleton().node_count, 1 + 5);
+    /// let flat = ls.grow(0, #{ valence: 12, radius: 0.3, base: "flat" });
+    /// assert_eq(flat.skeleton().node_count, 2 + 5);   // the base loop
+    /// assert_eq(flat.to_mesh().bounds().min.z, 0.0);  // standing on z = 0
     /// ```
     #[rhai_fn(name = "grow", pure, return_raw)]
     pub fn grow_with_options(

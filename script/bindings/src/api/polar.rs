@@ -134,6 +134,14 @@ fn rotate_selection(
     kernel(func, pm.get_mut().rotate_vertices(&v, a, d, center, frame))
 }
 
+/// `moved` as a script value, unless a coordinate overflowed (`func`'s argument `arg` too large).
+fn whole_finite(func: &str, arg: &str, moved: KernelPolar) -> ScriptResult<PolarMesh> {
+    if moved.mesh().positions().iter().any(|p| !p.is_finite()) {
+        return fail(func, format!("argument `{arg}` moves a vertex beyond the largest number"));
+    }
+    Ok(PolarMesh(Rc::new(moved)))
+}
+
 #[export_module]
 pub mod polar_api {
     use super::*;
@@ -830,6 +838,81 @@ pub mod polar_api {
         options: Map,
     ) -> ScriptResult<()> {
         rotate_selection("rotate", pm, &verts, &axis, &degrees, options)
+    }
+    /// This polar mesh moved by `offset`, like a Mesh's `translate`: a new polar mesh with the
+    /// same vertex ids, poles and loops; this one is left as it was (keep the result).
+    ///
+    /// ```rhai
+    /// let pm = polar_octahedron();
+    /// let up = pm.translate([0, 0, 2]);
+    /// assert_eq(up.position(5), vec3(0, 0, 3));
+    /// assert_eq(pm.position(5), vec3(0, 0, 1));   // unchanged
+    /// up.check();
+    /// ```
+    #[rhai_fn(name = "translate", pure, return_raw)]
+    pub fn translate_whole(pm: &mut PolarMesh, offset: Vector) -> ScriptResult<PolarMesh> {
+        let v = vec3("translate", "offset", &offset)?;
+        let moved = pm.0.translate(v);
+        whole_finite("translate", "offset", moved)
+    }
+    /// This polar mesh turned by `degrees` about `axis` through the origin (right-handed), like
+    /// a Mesh's `rotate`: a new polar mesh, poles and loops kept. (`pm.rotate(verts, axis,
+    /// degrees)` turns some vertices in place.)
+    ///
+    /// ```rhai
+    /// let pm = polar_octahedron().rotate([1, 0, 0], 90);
+    /// assert_near(pm.position(5), vec3(0, -1, 0), 1e-12);
+    /// pm.check();
+    /// ```
+    #[rhai_fn(name = "rotate", pure, return_raw)]
+    pub fn rotate_whole(pm: &mut PolarMesh, axis: Vector, degrees: Number) -> ScriptResult<PolarMesh> {
+        let a = vec3("rotate", "axis", &axis)?;
+        if a == Vec3::ZERO {
+            return fail("rotate", "argument `axis` is the zero vector, which has no direction");
+        }
+        let d = number("rotate", "degrees", &degrees)?;
+        Ok(PolarMesh(Rc::new(pm.0.rotate(a, d))))
+    }
+    /// This polar mesh scaled about the origin by a number or per axis by a vector, like a
+    /// Mesh's `scale`: a new polar mesh, poles and loops kept; a mirroring scale (a negative
+    /// product) keeps the faces outward. A zero factor is an error. (`pm.scale(verts, factor)`
+    /// scales some vertices in place.)
+    ///
+    /// ```rhai
+    /// let pm = polar_sphere(1, 8, 4);
+    /// let big = pm.scale(2);
+    /// assert_near(big.to_mesh().volume(), 8 * pm.to_mesh().volume(), 1e-9);
+    /// let flipped = pm.scale([-1, 1, 1]);
+    /// assert_near(flipped.to_mesh().volume(), pm.to_mesh().volume(), 1e-9);   // still outward
+    /// flipped.check();
+    /// ```
+    #[rhai_fn(name = "scale", pure, return_raw)]
+    pub fn scale_whole(pm: &mut PolarMesh, factor: NumberOrVector) -> ScriptResult<PolarMesh> {
+        let f = factor3("scale", "factor", &factor)?;
+        if f.x * f.y * f.z == 0.0 {
+            return fail(
+                "scale",
+                format!("argument `factor` has a zero component ({f}), which would flatten the mesh"),
+            );
+        }
+        let scaled = kernel("scale", pm.0.scale(f))?;
+        whole_finite("scale", "factor", scaled)
+    }
+    /// This polar mesh reflected through the plane through the origin with normal `normal`,
+    /// like a Mesh's `mirror`: faces reversed to keep facing outward, poles and loops kept.
+    ///
+    /// ```rhai
+    /// let pm = polar_octahedron().translate([1, 0, 0]).mirror([1, 0, 0]);
+    /// assert_eq(pm.position(5), vec3(-1, 0, 1));
+    /// assert(pm.to_mesh().volume() > 0);
+    /// ```
+    #[rhai_fn(name = "mirror", pure, return_raw)]
+    pub fn mirror_whole(pm: &mut PolarMesh, normal: Vector) -> ScriptResult<PolarMesh> {
+        let n = vec3("mirror", "normal", &normal)?;
+        if n == Vec3::ZERO {
+            return fail("mirror", "argument `normal` is the zero vector, which has no direction");
+        }
+        kernel("mirror", pm.0.mirror(n)).map(|m| PolarMesh(Rc::new(m)))
     }
     /// Moves vertex `v` to point `p`.
     ///

@@ -1,6 +1,6 @@
 //! The reference's short guides to what a signature cannot say: how a block's faces are
-//! divided into sub-faces (with a picture), and where the L-system symbols' parameters are
-//! tabulated. Their claims are checked by the tests beside this file.
+//! divided into sub-faces (with a picture), and the L-system symbols' parameters (the kernel's
+//! table). Their claims are checked by the tests beside this file.
 
 /// The guides' headings, in order.
 pub const TITLES: &[&str] = &[BLOCK_FACES, LSYSTEM_SYMBOLS];
@@ -53,17 +53,23 @@ Edges: `b.sharp(edges)` keeps a crease there; `b.sharp(edges, s)` gives a semi-s
 sharpness `s` (0 is smooth — the same as `b.smooth(edges)` — and 10 or more is sharp);
 `b.sharp_all()` and `b.sharp_all(s)` do every edge."#;
 
-/// Where the symbols are tabulated.
-const LSYSTEM_TEXT: &str =
-    "The symbols an L-system string may hold and what each one's parameters mean (`F(x)` a length, \
-     `L(s)` a sigmoid growth step, the turtle's angles in degrees...) are tabulated in the doc of \
-     [lsystem](#lsystem) and of `grow` (`blocksmith doc lsystem`, `blocksmith doc grow`), next to the code \
-     that reads them.";
+/// What the symbols' table says first.
+const LSYSTEM_INTRO: &str =
+    "What each symbol of a string does when [lsystem](#lsystem)'s `grow` grows it, and what its first \
+     parameter means — `F(x)` a length, `L(s)` a growth step fed to the sigmoid of Eq. 11.2, a turn \
+     an angle in degrees (`F(0)` is a segment of length 0, `L(0)` the first, largest step). Options \
+     named in backticks are `grow`'s. The table is made from the kernel's own symbol definitions \
+     (`kernel/src/lsystem/symbols.rs`), which the growth reads its symbols by.";
+
+/// The L-system symbols guide: the introduction and the kernel's table.
+fn lsystem_text() -> String {
+    format!("{LSYSTEM_INTRO}\n\n{}", blocksmith_kernel::lsystem::symbols::markdown_table().trim_end())
+}
 
 /// The guides as Markdown (sections of the whole reference).
 #[must_use]
 pub fn markdown() -> String {
-    format!("## {BLOCK_FACES}\n\n{BLOCK_FACES_TEXT}\n\n## {LSYSTEM_SYMBOLS}\n\n{LSYSTEM_TEXT}\n\n")
+    format!("## {BLOCK_FACES}\n\n{BLOCK_FACES_TEXT}\n\n## {LSYSTEM_SYMBOLS}\n\n{}\n\n", lsystem_text())
 }
 
 /// The text of the guide `title` (`blocksmith doc "Block faces"`), by a case-insensitive
@@ -77,7 +83,7 @@ pub fn text(title: &str) -> Option<String> {
     if BLOCK_FACES.to_lowercase().starts_with(&t) {
         Some(format!("{BLOCK_FACES}\n\n{BLOCK_FACES_TEXT}\n"))
     } else if LSYSTEM_SYMBOLS.to_lowercase().starts_with(&t) {
-        Some(format!("{LSYSTEM_SYMBOLS}\n\n{LSYSTEM_TEXT}\n"))
+        Some(format!("{LSYSTEM_SYMBOLS}\n\n{}\n", lsystem_text()))
     } else {
         None
     }

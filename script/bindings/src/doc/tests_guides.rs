@@ -64,3 +64,11 @@ fn guides_are_found_by_a_prefix_of_their_heading() {
     assert!(text("L-system").unwrap().contains("lsystem"));
     assert!(text("bl").is_none() && text("nothing like it").is_none());
 }
+
+#[test]
+fn the_lsystem_guide_is_the_kernels_symbol_table() {
+    let guide = text("L-system symbols").unwrap();
+    assert!(guide.contains(blocksmith_kernel::lsystem::symbols::markdown_table().trim_end()));
+    assert!(markdown().contains("| `F` | the segment's length (absolute)"), "in the reference");
+    assert!(guide.contains("`L(s)` a growth step"));
+}

@@ -8,8 +8,16 @@ use blocksmith_studio::render::View;
 
 use crate::output::report;
 
-/// Draws `file` (run with the `--set` pairs `set`) to the PNG `output`.
-pub fn execute(file: &Path, output: &Path, size: (u32, u32), view: View, set: Vec<(String, String)>) -> ExitCode {
+/// Draws `file` (run with the `--set` pairs `set`) to the PNG `output`; an animation posed at
+/// `time` (`--time`), else at its last frame.
+pub fn execute(
+    file: &Path,
+    output: &Path,
+    size: (u32, u32),
+    view: View,
+    set: Vec<(String, String)>,
+    time: Option<f64>,
+) -> ExitCode {
     // The picture never replaces the recipe (`render r.rhai -o r.rhai`), another recipe or a
     // read-only file.
     let recipe = [file.to_path_buf()];
@@ -22,7 +30,8 @@ pub fn execute(file: &Path, output: &Path, size: (u32, u32), view: View, set: Ve
             output.display()
         ));
     }
-    let options = super::with_params(set);
+    let mut options = super::with_params(set);
+    options.context.time = time;
     let access = options.context.access.clone();
     let result = blocksmith_studio::render_to_png(file, options, output, size, view);
     super::report_unwritten("render", &access);

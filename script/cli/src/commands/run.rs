@@ -8,6 +8,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Duration;
 
+use blocksmith_script::api::anim::pose_of_value;
 use blocksmith_script::context::PrintTo;
 use blocksmith_script::progress::Progress;
 use blocksmith_script::run::{describe, run_recipe, save_value, RecipeRun, RunError};
@@ -47,6 +48,8 @@ pub struct RunCommand {
     pub manifest: Option<PathBuf>,
     /// Where long kernel work shows its progress (bars on a terminal).
     pub progress: Progress,
+    /// `--time T`: write the pose at T of the Animation the recipe ends with, not the animation.
+    pub time: Option<f64>,
 }
 
 /// How `--stats` prints.
@@ -89,7 +92,26 @@ pub fn execute_with_outcome(cmd: &RunCommand) -> Result<RunOutcome, RunError> {
         progress: cmd.progress.clone(),
     };
     let RecipeRun { engine, value, ast, record, elapsed, warnings } = run_recipe(&cmd.file, options)?;
-    let summary = describe(&engine, &value);
+    let mut summary = describe(&engine, &value);
+    // An animation's pose: the still at `--time`, or (for --stats) the rest mesh the animated
+    // file skins.
+    let animated = engine.map_type_name(value.type_name()) == "Animation";
+    let (value, pose) = match cmd.time {
+        Some(t) => match pose_of_value(&engine, &ast, &value, Some(t)) {
+            Ok(Some((mesh, t))) => {
+                summary = format!("{summary} posed at t = {t}");
+                (rhai::Dynamic::from(mesh), format!("t = {t}: the animation's pose at that time"))
+            }
+            Ok(None) => {
+                return Err(RunError(format!(
+                    "error: --time {t}: the recipe's value is {}, not an Animation: only an animation has poses",
+                    blocksmith_script::catalogue::a(engine.map_type_name(value.type_name()))
+                )))
+            }
+            Err(e) => return Err(RunError(format!("error: --time {t}: {e}"))),
+        },
+        None => (value, "rest: the mesh the animated file skins, as modelled (--time T measures the pose at T)".into()),
+    };
     let summary = match &cmd.output {
         Some(out) => {
             // `-o out/model.glb` on a fresh checkout: the output's folder is made.
@@ -103,7 +125,13 @@ pub fn execute_with_outcome(cmd: &RunCommand) -> Result<RunOutcome, RunError> {
         None => summary,
     };
     let stats = match &cmd.output {
-        Some(out) if cmd.stats.is_some() => Some(crate::stats::of_file(out, elapsed)?),
+        Some(out) if cmd.stats.is_some() => {
+            let mut stats = crate::stats::of_file(out, elapsed)?;
+            if animated {
+                stats.json["pose"] = serde_json::json!(pose);
+            }
+            Some(stats)
+        }
         _ => None,
     };
     if let Some(path) = &cmd.manifest {
