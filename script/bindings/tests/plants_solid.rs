@@ -85,3 +85,17 @@ fn the_recipes_solid_parameter_ends_them_with_the_solid() {
     let (pm, _) = solid_of("lsystem_turtle_plant", &[], "pm.to_mesh()");
     assert_solid("turtle plant, solid=true", &pm, &solid.0);
 }
+
+#[test]
+fn the_before_and_after_recipe_shows_a_solid_without_crossings() {
+    // examples/lsystem_solid.rhai: the shrub on a flat base, as grown and as its solid.
+    let path = workspace().join("examples/lsystem_solid.rhai");
+    let run = run_recipe(&path, EngineOptions::default()).unwrap_or_else(|f| panic!("{}", f.error));
+    let parts = run.value.try_cast::<rhai::Map>().expect("a map of the two");
+    let solid = parts["solid"].clone().try_cast::<SharedMesh>().unwrap();
+    let grown = parts["grown"].clone().try_cast::<SharedMesh>().unwrap();
+    assert!(solid.0.is_closed() && solid.0.is_manifold() && solid.0.genus() == 0);
+    assert!(self_intersections(&solid.0).unwrap().is_empty(), "the solid crosses itself");
+    assert!(!self_intersections(&grown.0).unwrap().is_empty(), "the grown mesh crosses itself, as measured");
+    assert!((solid.0.volume() - grown.0.volume()).abs() < 0.1 * grown.0.volume());
+}
