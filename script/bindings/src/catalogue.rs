@@ -281,7 +281,8 @@ mod tests {
                 "push(",
                 "+=(array",
                 "hull(items",
-                "load(path"
+                "load(path",
+                "choice(r: Rng"
             ]
             .iter()
             .any(|n| s.starts_with(n))),
