@@ -50,11 +50,14 @@ pub(crate) fn hold_minimum_size(tree: &Tree, rest: &[Vec3], states: &mut [NodeSt
         let d = states[i].position - states[p].position;
         let (want, len) = (MIN_SIZE * modelled.length(), d.length());
         turn[i] = match (modelled.try_normalize(), d.try_normalize()) {
-            (Some(a), Some(b)) => Quat::from_rotation_arc(a, b),
+            (Some(a), Some(b)) if len > 1e-6 * want => Quat::from_rotation_arc(a, b),
             _ => turn[p],
         };
         if len < want {
-            let dir = d.try_normalize().unwrap_or_else(|| (turn[p] * modelled).normalize_or_zero());
+            // A collapsed segment's posed direction is rounding noise (a growth's offset × 0
+            // subtracted from sums of positions): below a millionth of the minimum it is not
+            // trusted, and the modelled direction, turned as the parent's segment is, is used.
+            let dir = if len > 1e-6 * want { d / len } else { (turn[p] * modelled).normalize_or_zero() };
             let moved = states[p].position + dir * want;
             shift[i] += moved - states[i].position;
             states[i].position = moved;
@@ -111,6 +114,20 @@ mod tests {
         let mut s = before.clone();
         hold_minimum_size(&tree, &rest, &mut s);
         assert_eq!(s, before);
+    }
+
+    #[test]
+    fn a_collapsed_segment_s_rounding_noise_is_not_taken_for_a_direction() {
+        let (tree, rest) = chain();
+        // Node 1 off node 0 by 1e-17 sideways (what x + 0 · offset leaves): it leaves along +x.
+        let mut s = vec![
+            NodeState { position: Vec3::ZERO, thickness: 0.0 },
+            NodeState { position: Vec3::new(0.0, 1e-17, 0.0), thickness: 0.0 },
+            NodeState { position: Vec3::new(0.0, 1e-17, 0.0), thickness: 0.0 },
+        ];
+        hold_minimum_size(&tree, &rest, &mut s);
+        assert!(s[1].position.distance(MIN_SIZE * Vec3::X) < 1e-15, "{}", s[1].position);
+        assert!(s[2].position.distance(2.0 * MIN_SIZE * Vec3::X) < 1e-15, "{}", s[2].position);
     }
 
     #[test]
