@@ -8,7 +8,8 @@
 //! 2. Shrinkage: each feature's radius D* is measured (Eq. 14) on the limit positions of its
 //!    vertices (Loop's limit masks, so no subdivision depth is involved); F = D′/D* (Eq. 15).
 //! 3. Adjustment: every vertex is pulled to the retained mesh scaled by the mean F about its
-//!    centroid (E_boundary, Eqs. 16–17: the paper's Σᵢ‖X′ − FᵢX′‖² over the m features is, up to a
+//!    centroid — except vertices on creases, which Loop's crease rules do not shrink and which
+//!    stay where the retention put them — (E_boundary, Eqs. 16–17: the paper's Σᵢ‖X′ − FᵢX′‖² over the m features is, up to a
 //!    constant, m‖X′ − F̄X′‖²), and each feature to its ring scaled radially by its own F about
 //!    its cylinder axis, keeping its height (E_size, Eq. 18, read as scaling the radial
 //!    components by F — the extracted formula's sign is garbled), weights (2, 1).
@@ -144,6 +145,16 @@ pub fn retain_circular_features(
     let centroid = crate::math::mean_point(retained.iter().copied());
     let cylinders: Vec<_> =
         features.iter().map(|f| fit_cylinder(&gather(&retained, f), RadiusRule::Minimum)).collect::<Result<_, _>>()?;
+    // Vertices on a crease of the control mesh (any sharpness): Loop's crease rules keep them on
+    // the crease's own curve, so a straight crease does not shrink on the limit, and scaling them
+    // by F̄ with the rest would enlarge a creased outline (a creased plate 8 wide came out 8.21
+    // wide and 2.6 % thicker). E_boundary holds them where the retention put them.
+    let mut on_crease = vec![false; n];
+    for h in 0..deformed.halfedge_count() as u32 {
+        if deformed.is_crease(h) {
+            on_crease[deformed.origin(h) as usize] = true;
+        }
+    }
     let mut factors = vec![1.0; features.len()];
     let mut current = retained.clone();
     let [wf, wb] = options.size_weights;
@@ -160,7 +171,11 @@ pub fn retain_circular_features(
         let mean = factors.iter().sum::<f64>() / factors.len() as f64;
         let mut adjust = ShapeUp::new(&retained_mesh)?;
         let all: Vec<u32> = (0..n as u32).collect();
-        let scaled: Vec<Vec3> = retained.iter().map(|p| centroid + (*p - centroid) * mean).collect();
+        let scaled: Vec<Vec3> = retained
+            .iter()
+            .zip(&on_crease)
+            .map(|(p, &held)| if held { *p } else { centroid + (*p - centroid) * mean })
+            .collect();
         adjust.anchor(&all, &scaled, wb)?;
         for ((f, c), factor) in features.iter().zip(&cylinders).zip(&factors) {
             let ring: Vec<Vec3> = gather(&retained, f)
@@ -236,6 +251,73 @@ mod tests {
         assert!(adjusted.is_closed() && adjusted.is_manifold());
         // The general deformation survives: the lifted side stays lifted.
         assert!(adjusted.bounds().max.z > original.bounds().max.z + 0.3);
+    }
+
+    /// Two triangles (vertex ids) meeting at an edge.
+    type TrianglePair = ([u32; 3], [u32; 3]);
+
+    /// A plate 8 × 8 × 1 (square outline of 16 vertices per layer) with a hole of radius 1 (16
+    /// vertices per layer), triangulated, every outline and rim edge creased; the ids of the top
+    /// rim, and the top-face and outer-wall triangles meeting at each top outline edge.
+    fn creased_plate() -> (Mesh, Vec<u32>, Vec<TrianglePair>) {
+        let n = 16u32;
+        let mut pos = Vec::new();
+        for z in [0.0, 1.0] {
+            for i in 0..n {
+                let a = f64::from(i) * std::f64::consts::TAU / f64::from(n);
+                pos.push(Vec3::new(a.cos(), a.sin(), z));
+            }
+            for i in 0..n {
+                let a = f64::from(i) * std::f64::consts::TAU / f64::from(n);
+                let m = a.cos().abs().max(a.sin().abs());
+                pos.push(Vec3::new(4.0 * a.cos() / m, 4.0 * a.sin() / m, z));
+            }
+        }
+        let l = 2 * n;
+        let (mut faces, mut edges) = (Vec::new(), Vec::new());
+        for i in 0..n {
+            let j = (i + 1) % n;
+            faces.extend([l + i, l + n + i, l + n + j, l + i, l + n + j, l + j]);
+            faces.extend([i, n + j, n + i, i, j, n + j]);
+            faces.extend([n + i, n + j, l + n + j, n + i, l + n + j, l + n + i]);
+            faces.extend([i, l + j, j, i, l + i, l + j]);
+            edges.extend([[n + i, n + j], [l + n + i, l + n + j], [i, j], [l + i, l + j]]);
+        }
+        let mut m = Mesh::from_indexed(pos, &faces, &vec![3; faces.len() / 3]).unwrap();
+        m.crease_edges(&edges).unwrap();
+        let crease = (0..n).map(|i| ([l + i, l + n + i, l + n + (i + 1) % n], [n + i, l + n + (i + 1) % n, l + n + i]));
+        (m, (l..l + n).collect(), crease.collect())
+    }
+
+    #[test]
+    fn a_creased_plate_keeps_its_outline_and_its_sharp_edges_while_its_hole_keeps_its_radius() {
+        let (plate, rim, crease) = creased_plate();
+        assert!(plate.is_closed() && plate.is_manifold());
+        let plain = plate.loop_limit().unwrap();
+        // The creases keep the outline on the limit: the plate is still 8 × 8 × 1 …
+        let b = plain.bounds();
+        assert!((b.max - Vec3::new(4.0, 4.0, 1.0)).length() < 1e-9, "{b:?}");
+        // … while the creased rim, a curved crease, shrinks.
+        assert!(radius(&gather(plain.positions(), &rim)).unwrap() < 0.98);
+        let o = RetainOptions { tolerance: 1e-7, ..RetainOptions::default() };
+        let (adjusted, reports) = retain_circular_features(&plate, &plate, &[rim], &o).unwrap();
+        assert!(reports[0].error < 1e-6, "{reports:?}");
+        let limit = adjusted.loop_limit().unwrap();
+        let b = limit.bounds();
+        // Before creases were held, E_boundary's mean factor grew the outline to 8.21 × 1.026.
+        assert!((b.max - Vec3::new(4.0, 4.0, 1.0)).length() < 1e-9, "outline grew: {b:?}");
+        assert!((b.min - Vec3::new(-4.0, -4.0, 0.0)).length() < 1e-9, "outline grew: {b:?}");
+        // Along the whole top outline the edge is still a right angle on the limit (dihedral
+        // angle of the top face and the outer wall at each of its 16 edges).
+        let normal = |t: [u32; 3]| {
+            let [a, b, c] = t.map(|v| limit.position(v));
+            (b - a).cross(c - a).normalize()
+        };
+        for (top, wall) in crease {
+            let angle = normal(top).dot(normal(wall)).clamp(-1.0, 1.0).acos().to_degrees();
+            assert!((angle - 90.0).abs() < 1e-6, "dihedral {angle}° at {top:?}");
+        }
+        assert!(adjusted.crease_count() == plate.crease_count());
     }
 
     #[test]

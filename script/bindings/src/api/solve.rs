@@ -356,7 +356,9 @@ pub mod solve_api {
     /// retention), `size_weights` (`[2, 1]`: size, boundary of the adjustment), `iterations`
     /// (200 per solve), `passes` (20 compensation passes at most; the paper stops at one),
     /// `tolerance` (1e-5, relative radius error), `levels` (0: match the radii on the Loop limit
-    /// surface; L > 0: on the feature vertices after L Loop levels).
+    /// surface; L > 0: on the feature vertices after L Loop levels). Creases of `deformed` stay
+    /// creases of the result and are not enlarged with the shrinkage compensation, so a creased
+    /// plate keeps its sharp, flat-edged outline while its holes keep their radii.
     ///
     /// Topic: shape_up
     ///
