@@ -169,7 +169,7 @@ fn model_xml(mesh: &Mesh, tris: &[u32]) -> Result<String, LimitError> {
 /// The model part's XML of a mesh with face parts (colours, names): one `<basematerials>`
 /// entry per colour (core §5.1; faces without a colour white, unless no face of their object
 /// has one: then the object has no material), and one object per part name
-/// (unnamed faces together), each with the vertices its triangles use and a `name`, placed by
+/// (unnamed faces together), each with the vertices its triangles use (in the mesh's order) and a `name`, placed by
 /// one build item each, so a slicer lists named parts with their colours.
 ///
 /// # Errors
@@ -207,14 +207,20 @@ fn parts_model_xml(mesh: &Mesh, tris: &[u32], arities: &[u32]) -> Result<String,
             if plain { String::new() } else { format!(" pid=\"1\" pindex=\"{}\"", groups.material_of_face(faces[0])) };
         let _ = write!(s, "<object id=\"{}\" type=\"model\"{name_attr}{pid}>\n<mesh>\n<vertices>\n", k + 2);
         let face_tris = |f: u32| &tris[3 * first[f as usize]..3 * first[f as usize + 1]];
+        // The object's vertices in the mesh's order, so a mesh whose parts hold runs of
+        // vertices (a loaded scene's nodes, a fused assembly) reads back in its own order.
         let mut used = Vec::new();
         for &f in faces {
             for &v in face_tris(f) {
                 if local[v as usize] == u32::MAX {
-                    local[v as usize] = used.len() as u32;
+                    local[v as usize] = 0;
                     used.push(v);
                 }
             }
+        }
+        used.sort_unstable();
+        for (i, &v) in used.iter().enumerate() {
+            local[v as usize] = i as u32;
         }
         for (i, &v) in used.iter().enumerate() {
             crate::limits::poll_at(i)?;
@@ -1033,6 +1039,8 @@ mod tests {
         assert_eq!(xml.matches("<item objectid=").count(), 2, "{xml}");
         let back = read_3mf(&bytes, Path::new("parts.3mf")).unwrap();
         assert_eq!(back.face_count(), 24);
+        // Each object writes its vertices in the mesh's order: they read back in place.
+        assert_eq!(back.positions(), m.positions());
         // Why: each cube's 12 triangles keep its colour (8 bits) and its object's name.
         let blue = [0.0, 0.0, 1.0, 128.0 / 255.0];
         for f in 0..24 {
