@@ -119,8 +119,8 @@ fn first_misfit(o: &Overload, given: &[String]) -> Option<String> {
 }
 
 /// Whether a value of script type `given` fits a parameter of script type `param` (a `number`
-/// takes an int or a float, a `Vec3` an array too). The language server judges calls with it
-/// before a run.
+/// takes an int or a float; a `Vec3`, a point `[x, y]` and a colour `[r, g, b, a]` an array too).
+/// The language server judges calls with it before a run.
 #[must_use]
 pub fn fits(param: &str, given: &str) -> bool {
     param == "any"
@@ -128,7 +128,7 @@ pub fn fits(param: &str, given: &str) -> bool {
         || param.split('|').any(|p| {
             p == given
                 || (p == "number" && matches!(given, "int" | "float"))
-                || ((p == "Vec3" || p == "[x, y]") && given == "array")
+                || ((p == "Vec3" || p.starts_with('[')) && given == "array")
         })
 }
 

@@ -46,6 +46,12 @@ fn each_class_of_diagnostic_has_its_range() {
     assert!(d[0].4.contains("argument 3 `segments` must be an integer, got a float"), "{d:?}");
     let d = diagnose(&a, "cube(1).translate(1, 2, 3, 4, 5)\n");
     assert_eq!(d[0].0, "no-signature", "{d:?}");
+    // An array is a colour or a point as far as a reading can tell; a map is neither.
+    let d = diagnose(&a, "let c = [1, 0, 0];\ncube(1).color(c) + extrude(rect([0, 0], [1, 1]).translate(c), 1)\n");
+    assert!(d.iter().all(|x| x.0 != "no-signature"), "{d:?}");
+    let d = diagnose(&a, "cube(1).color(#{ r: 1 })\n");
+    assert_eq!(d[0].0, "no-signature", "{d:?}");
+    assert!(d[0].4.contains("must be a colour"), "{d:?}");
     // Unknown option key, at the key.
     let d = diagnose(&a, "let p = rect([0, 0], [1, 1]);\nextrude(p, 2, #{ twsit: 30 })\n");
     assert_eq!((d[0].0.as_str(), d[0].1, d[0].2, d[0].3), ("unknown-option", 1, 17, 22), "{d:?}");
