@@ -33,6 +33,7 @@ const RECEIVERS: &[(&str, &str)] = &[
     ("Solver", "shape_up(cube(2))"),
     ("Blob", "blob(4, 1)"),
     ("Profile", "(rect([0, 0], [2, 1]) - circle(0.2, 8).translate([1, 0.5]))"),
+    ("Rng", "rng(1)"),
 ];
 
 /// The hostile values, as scope variables (`h0`, `h1`...) or script text.
