@@ -35,6 +35,7 @@ pub mod explain;
 pub mod facts;
 pub mod gltf_buffers;
 pub mod lint;
+pub mod origins;
 pub mod params;
 pub mod printable;
 pub mod progress;

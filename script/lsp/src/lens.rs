@@ -23,18 +23,21 @@ pub struct Outcome {
     pub text: String,
 }
 
-/// The lenses of a document: run, and the last run's outcome.
+/// The lenses of a document: run, the studio (its address once it runs, `studio`), and the
+/// last run's outcome.
 #[must_use]
-pub fn lenses(uri: &Uri, outcome: Option<&Outcome>) -> Vec<CodeLens> {
-    let mut out = vec![CodeLens {
+pub fn lenses(uri: &Uri, outcome: Option<&Outcome>, studio: Option<&str>) -> Vec<CodeLens> {
+    let at_top = |title: String, command: &str| CodeLens {
         range: Range::new(Position::new(0, 0), Position::new(0, 0)),
         command: Some(Command {
-            title: "▶ run".into(),
-            command: RUN.into(),
+            title,
+            command: command.into(),
             arguments: Some(vec![serde_json::Value::String(uri.as_str().to_string())]),
         }),
         data: None,
-    }];
+    };
+    let studio_title = studio.map_or_else(|| "◉ studio".to_string(), |url| format!("◉ studio {url}"));
+    let mut out = vec![at_top("▶ run".into(), RUN), at_top(studio_title, crate::studio_link::STUDIO)];
     if let Some(o) = outcome {
         out.push(CodeLens {
             range: Range::new(Position::new(o.line, 0), Position::new(o.line, 0)),

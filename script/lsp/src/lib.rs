@@ -18,6 +18,7 @@ pub mod lens;
 pub mod navigate;
 pub mod options;
 pub mod server;
+pub mod studio_link;
 pub mod text;
 
 use std::cell::OnceCell;

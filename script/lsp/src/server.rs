@@ -4,6 +4,7 @@
 
 use std::collections::HashMap;
 use std::path::PathBuf;
+use std::sync::Arc;
 
 use lsp_server::{Connection, ExtractError, Message, Notification, Request, RequestId, Response};
 use lsp_types::notification::{
@@ -11,8 +12,8 @@ use lsp_types::notification::{
     PublishDiagnostics,
 };
 use lsp_types::request::{
-    CodeLensRequest, Completion, DocumentSymbolRequest, ExecuteCommand, GotoDefinition, HoverRequest, InlayHintRequest,
-    Request as _, SignatureHelpRequest,
+    CodeLensRequest, Completion, DocumentHighlightRequest, DocumentSymbolRequest, ExecuteCommand, GotoDefinition,
+    HoverRequest, InlayHintRequest, Request as _, SignatureHelpRequest,
 };
 use lsp_types::{
     CodeLensOptions, CompletionOptions, CompletionResponse, DocumentSymbolResponse, ExecuteCommandOptions,
@@ -22,6 +23,7 @@ use lsp_types::{
 
 use crate::lens::Outcome;
 use crate::navigate::path_of;
+use crate::studio_link::{Outbox, Studios};
 use crate::text::Lines;
 use crate::Analyzer;
 
@@ -40,11 +42,12 @@ pub fn capabilities() -> ServerCapabilities {
             ..SignatureHelpOptions::default()
         }),
         definition_provider: Some(OneOf::Left(true)),
+        document_highlight_provider: Some(OneOf::Left(true)),
         document_symbol_provider: Some(OneOf::Left(true)),
         inlay_hint_provider: Some(OneOf::Left(true)),
         code_lens_provider: Some(CodeLensOptions { resolve_provider: Some(false) }),
         execute_command_provider: Some(ExecuteCommandOptions {
-            commands: vec![crate::lens::RUN.into()],
+            commands: vec![crate::lens::RUN.into(), crate::studio_link::STUDIO.into()],
             ..ExecuteCommandOptions::default()
         }),
         ..ServerCapabilities::default()
@@ -65,6 +68,11 @@ pub fn serve_stdio() -> Result<(), String> {
     connection.initialize_finish(id, init).map_err(|e| format!("lsp: {e}"))?;
     let mut server = Server::new();
     server.refresh_lenses = params["capabilities"]["workspace"]["codeLens"]["refreshSupport"] == true;
+    server.show_document = params["capabilities"]["window"]["showDocument"]["support"] == true;
+    let sender = connection.sender.clone();
+    server.outbox = Some(Arc::new(move |m| {
+        let _ = sender.send(m);
+    }));
     server.main_loop(&connection)?;
     drop(connection);
     io_threads.join().map_err(|e| format!("lsp: {e}"))
@@ -79,6 +87,12 @@ pub struct Server {
     refresh_lenses: bool,
     /// Requests sent to the editor so far (their ids).
     sent: u64,
+    /// The studios started from the editor, one per recipe.
+    pub studios: Studios,
+    /// Where messages to the editor go from other threads (a face picked in a studio page).
+    outbox: Option<Outbox>,
+    /// The editor opens documents when asked (`window/showDocument`).
+    show_document: bool,
 }
 
 impl Server {
@@ -91,6 +105,9 @@ impl Server {
             outcomes: HashMap::new(),
             refresh_lenses: false,
             sent: 0,
+            studios: Studios::default(),
+            outbox: None,
+            show_document: false,
         }
     }
 
@@ -102,8 +119,22 @@ impl Server {
                         return Ok(());
                     }
                     let run = req.method == ExecuteCommand::METHOD;
+                    let opens = self.opens_studio(&req);
                     let response = self.request(req);
+                    let url =
+                        response.response_result.as_ref().ok().and_then(|r| r["url"].as_str()).map(str::to_string);
                     connection.sender.send(Message::Response(response)).map_err(|e| format!("lsp: {e}"))?;
+                    if let (true, Some(url)) = (opens && self.show_document, url) {
+                        // The studio's page, opened by the editor in the browser.
+                        self.sent += 1;
+                        let id = RequestId::from(format!("blocksmith-{}", self.sent));
+                        let params = serde_json::json!({ "uri": url, "external": true });
+                        let _ = connection.sender.send(Message::Request(Request::new(
+                            id,
+                            "window/showDocument".into(),
+                            params,
+                        )));
+                    }
                     if run && self.refresh_lenses {
                         // The lenses changed: ask the editor to fetch them again.
                         self.sent += 1;
@@ -121,6 +152,11 @@ impl Server {
             }
         }
         Ok(())
+    }
+
+    /// Whether `req` starts a studio (the editor is then asked to open its page).
+    fn opens_studio(&self, req: &Request) -> bool {
+        req.method == ExecuteCommand::METHOD && req.params["command"] == crate::studio_link::STUDIO
     }
 
     /// Handles a notification; returns the notifications to send (published diagnostics).
@@ -214,6 +250,9 @@ impl Server {
                 let p = params::<HoverRequest>(req)?;
                 let (text, dir) = self.document(&p.text_document_position_params.text_document.uri);
                 let offset = Lines::new(&text).offset(p.text_document_position_params.position);
+                if let Some(path) = path_of(&p.text_document_position_params.text_document.uri) {
+                    self.studios.cursor(&path, &text, offset);
+                }
                 json(serde_json::to_value(crate::describe::hover(a, &text, offset, dir.as_deref())))
             }
             SignatureHelpRequest::METHOD => {
@@ -230,6 +269,24 @@ impl Server {
                 let found = crate::navigate::definition(&text, offset, &uri, dir.as_deref());
                 json(serde_json::to_value(found.map(GotoDefinitionResponse::Scalar)))
             }
+            DocumentHighlightRequest::METHOD => {
+                // The cursor rests here: a studio of this recipe lights up the faces made here.
+                let p = params::<DocumentHighlightRequest>(req)?;
+                let uri = p.text_document_position_params.text_document.uri;
+                let (text, _) = self.document(&uri);
+                let lines = Lines::new(&text);
+                let offset = lines.offset(p.text_document_position_params.position);
+                let lit = path_of(&uri).and_then(|path| self.studios.cursor(&path, &text, offset));
+                let highlights: Vec<lsp_types::DocumentHighlight> = lit
+                    .filter(|site| site.column > 0)
+                    .map(|site| lsp_types::DocumentHighlight {
+                        range: lines.word_range(rhai::Position::new(site.line as u16, site.column as u16)),
+                        kind: Some(lsp_types::DocumentHighlightKind::TEXT),
+                    })
+                    .into_iter()
+                    .collect();
+                json(serde_json::to_value(highlights))
+            }
             DocumentSymbolRequest::METHOD => {
                 let p = params::<DocumentSymbolRequest>(req)?;
                 let (text, _) = self.document(&p.text_document.uri);
@@ -243,12 +300,14 @@ impl Server {
             CodeLensRequest::METHOD => {
                 let p = params::<CodeLensRequest>(req)?;
                 let outcome = self.outcomes.get(p.text_document.uri.as_str());
-                json(serde_json::to_value(crate::lens::lenses(&p.text_document.uri, outcome)))
+                let studio = path_of(&p.text_document.uri).and_then(|path| self.studios.url(&path).map(str::to_string));
+                json(serde_json::to_value(crate::lens::lenses(&p.text_document.uri, outcome, studio.as_deref())))
             }
             ExecuteCommand::METHOD => {
                 let p = params::<ExecuteCommand>(req)?;
-                if p.command != crate::lens::RUN {
-                    return Err(format!("unknown command `{}`; the server runs `{}`", p.command, crate::lens::RUN));
+                let known = [crate::lens::RUN, crate::studio_link::STUDIO];
+                if !known.contains(&p.command.as_str()) {
+                    return Err(format!("unknown command `{}`; the server runs {}", p.command, known.join(", ")));
                 }
                 let uri: Uri =
                     p.arguments.first().and_then(serde_json::Value::as_str).and_then(|s| s.parse().ok()).ok_or_else(
@@ -256,6 +315,10 @@ impl Server {
                     )?;
                 let path =
                     path_of(&uri).ok_or_else(|| format!("{}: not a file: {}", crate::lens::RUN, uri.as_str()))?;
+                if p.command == crate::studio_link::STUDIO {
+                    let url = self.studios.start(&path, self.outbox.clone(), self.show_document)?;
+                    return Ok(serde_json::json!({ "url": url }));
+                }
                 let (text, _) = self.document(&uri);
                 let outcome = crate::lens::run(&path, &text);
                 let shown = serde_json::json!({ "line": outcome.line, "text": outcome.text });

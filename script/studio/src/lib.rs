@@ -11,6 +11,7 @@
 pub mod assets;
 pub mod guard;
 pub mod http;
+pub mod recipe_lines;
 pub mod render;
 pub mod scene;
 pub mod server;

@@ -13,6 +13,8 @@
 //! | `POST /api/params` (`Content-Type: application/json`, `{"name": "value", ...}`) | header | asks for the variant with those parameters, run if new; 202 and the parameters in force |
 //! | `GET /model/V/I.glb` | header or query | layer `I` of model version `V` (404 once it is no longer shown) |
 //! | `GET /model/V/I.control` | header or query | its control mesh's edges: little-endian `f32` x, y, z of each end |
+//! | `GET /model/V/I.faces?line=L&column=C&file=F` | header or query | the triangles of the faces of layer `I` made by the call written at `F:L:C` (any column when `C` is 0 or missing, any file when `F` is missing): little-endian `f32` x, y, z of each corner |
+//! | `POST /api/pick` (`Content-Type: application/json`, `{"version": V, "layer": I, "point": [x, y, z]}`) | header | the face of layer `I` nearest the point (kernel axes) and the chain of calls that made it, first call first: `{face, steps: [{call, file, line, column}], editor}`; an editor following the studio (`blocksmith lsp`) is shown the first call's line (`editor`: whether one was told) |
 //! | `GET /download/V/I.glb`, `.obj`, `.stl` | header or query | layer `I` of model `V` as a file |
 //!
 //! At most [`MAX_CONNECTIONS`] connections (sockets included) are served at once; more are
@@ -29,6 +31,7 @@ use blocksmith_kernel::io::{obj::write_obj, stl::write_stl};
 use super::assets;
 use super::guard;
 use super::http::{read_request, Refused, Request, Response, HEAD_TIME};
+use super::recipe_lines;
 use super::session::{Params, Session};
 use super::socket;
 
@@ -227,6 +230,8 @@ fn route(request: &Request, session: &Session, token: &str) -> Response {
             let params = session.ask(&given);
             Response::new(202, "application/json", serde_json::json!({ "params": params }).to_string().into_bytes())
         }
+        ("POST", ["", "api", "pick"]) => pick(session, &request.body),
+        ("GET", ["", "model", version, file]) if file.ends_with(".faces") => faces(session, request, version, file),
         ("GET", ["", "model", version, file]) => {
             let found = version.parse().ok().and_then(|v| session.model_numbered(v)).and_then(|m| {
                 let (i, ext) = file.split_once('.')?;
@@ -246,6 +251,49 @@ fn route(request: &Request, session: &Session, token: &str) -> Response {
         ("GET", _) => not_found(),
         _ => Response::empty(405),
     }
+}
+
+/// `POST /api/pick`: the face nearest a point and the calls that made it.
+fn pick(session: &Session, body: &[u8]) -> Response {
+    let bad = |why: &str| Response::new(400, "text/plain; charset=utf-8", why.as_bytes().to_vec());
+    let Ok(v) = serde_json::from_slice::<serde_json::Value>(body) else { return bad("expected a JSON object") };
+    let (Some(version), Some(layer)) = (v["version"].as_u64(), v["layer"].as_u64()) else {
+        return bad("expected {\"version\": V, \"layer\": I, \"point\": [x, y, z]}");
+    };
+    let point: Vec<f64> = v["point"].as_array().into_iter().flatten().filter_map(serde_json::Value::as_f64).collect();
+    let [x, y, z] = point[..] else { return bad("point: expected [x, y, z], three numbers") };
+    if ![x, y, z].iter().all(|c| c.is_finite()) {
+        return bad("point: expected finite numbers");
+    }
+    let model = session.model_numbered(version);
+    let Some(mesh) = model.as_ref().and_then(|m| m.layers.get(usize::try_from(layer).ok()?)).map(|l| &l.mesh) else {
+        return not_found();
+    };
+    let Some(face) = recipe_lines::face_at(mesh, blocksmith_kernel::Vec3::new(x, y, z)) else { return not_found() };
+    let steps = recipe_lines::chain(mesh, face);
+    let editor = !steps.is_empty() && session.picked(&steps);
+    let body = serde_json::json!({
+        "face": face,
+        "steps": steps.iter().map(recipe_lines::Step::json).collect::<Vec<_>>(),
+        "editor": editor,
+    });
+    Response::new(200, "application/json", body.to_string().into_bytes())
+}
+
+/// `GET /model/V/I.faces?line=L&column=C&file=F`: the triangles of the faces made at a line.
+fn faces(session: &Session, request: &Request, version: &str, file: &str) -> Response {
+    let query = request.query_pairs();
+    let number = |k: &str| query.get(k).map_or(Some(0), |v| v.parse::<u32>().ok());
+    let (Some(line), Some(column)) = (number("line"), number("column")) else {
+        return Response::new(400, "text/plain; charset=utf-8", b"line, column: expected whole numbers".to_vec());
+    };
+    let site = recipe_lines::Site { file: query.get("file").cloned(), line, column };
+    let model = version.parse().ok().and_then(|v| session.model_numbered(v));
+    let index = file.trim_end_matches(".faces").parse::<usize>().ok();
+    let Some(layer) = model.as_ref().and_then(|m| m.layers.get(index?)) else { return not_found() };
+    let faces = recipe_lines::faces_made_at(&layer.mesh, &site);
+    let corners = recipe_lines::triangles(&layer.mesh, &faces);
+    Response::new(200, "application/octet-stream", corners.iter().flat_map(|x| x.to_le_bytes()).collect())
 }
 
 /// Layer `I` of model `V` as `I.glb` (as shown, animation included), `.obj` or `.stl`.

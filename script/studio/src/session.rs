@@ -29,6 +29,7 @@ use std::time::SystemTime;
 
 use serde_json::json;
 
+use super::recipe_lines::{Site, Step};
 use super::scene::{self, Layer, Scene};
 use blocksmith_script::context::{RunContext, Writes};
 use blocksmith_script::EngineOptions;
@@ -123,6 +124,10 @@ impl Model {
 /// Told the files the latest run read, after every run.
 type InputsHook = Box<dyn Fn(&[PathBuf]) + Send>;
 
+/// Told the chain of calls behind a face a page picked (`blocksmith lsp` shows its first line
+/// in the editor).
+type PickHook = Box<dyn Fn(&[Step]) + Send>;
+
 /// A parameter set: name to value as typed (`--set`, a page's address).
 pub type Params = BTreeMap<String, String>;
 
@@ -197,6 +202,7 @@ struct State {
     /// The files the latest run read (the recipe, its imports, loaded files).
     inputs: Vec<PathBuf>,
     inputs_hooks: Vec<InputsHook>,
+    pick_hooks: Vec<PickHook>,
     /// The files the last finished run wrote, with the stamp each had when it ended.
     written: BTreeMap<PathBuf, Option<Stamp>>,
 }
@@ -213,6 +219,7 @@ impl State {
             tick: 0,
             inputs: Vec::new(),
             inputs_hooks: Vec::new(),
+            pick_hooks: Vec::new(),
             written: BTreeMap::new(),
         }
     }
@@ -451,6 +458,33 @@ impl Session {
             hook(&s.inputs);
         }
         s.inputs_hooks.push(Box::new(hook));
+    }
+
+    /// Calls `hook` with the chain of calls behind each face a page picks (first call first).
+    pub fn on_pick(&self, hook: impl Fn(&[Step]) + Send + 'static) {
+        self.state().pick_hooks.push(Box::new(hook));
+    }
+
+    /// A page picked a face made by `steps` (first call first): tells the pick hooks. Returns
+    /// whether any was told (an editor follows the studio).
+    pub fn picked(&self, steps: &[Step]) -> bool {
+        let s = self.state();
+        for hook in &s.pick_hooks {
+            hook(steps);
+        }
+        !s.pick_hooks.is_empty()
+    }
+
+    /// Asks every page to light up the faces made by the call written at `site` (an editor's
+    /// cursor rests on it): JSON `{type: "highlight", file, line, column}`; each page fetches the
+    /// faces of its model (`/model/V/I.faces?...`).
+    pub fn highlight(&self, site: &Site) {
+        let message =
+            json!({ "type": "highlight", "file": site.file, "line": site.line, "column": site.column }).to_string();
+        let mut s = self.state();
+        for v in &mut s.variants {
+            v.broadcast(&message);
+        }
     }
 
     /// The model on show for a page without parameters of its own, if a run has succeeded.

@@ -2,7 +2,7 @@
 // animation timeline, parameters, downloads). `window.studio` tells tests what is on show.
 
 import { Viewer } from './viewer.js';
-import { connect, sendParams, token } from './connection.js';
+import { connect, postJson, sendParams, token } from './connection.js';
 import { renderParams, paramsFromAddress, paramsToAddress } from './controls.js';
 
 const $ = (id) => document.getElementById(id);
@@ -11,6 +11,7 @@ const studio = (window.studio = { version: 0, triangles: 0, error: null, loads: 
 let shown = 0;
 let loading = Promise.resolve();
 let specs = [];
+let current = null; // the model message on show
 let values = {};
 
 function showParams() {
@@ -75,6 +76,8 @@ async function showModel(message) {
   const objects = await viewer.show(message.layers, message.files);
   const loaded = Date.now();
   shown = message.version;
+  current = message;
+  showSource(null);
   showFacts(message.layers, message.run_ms);
   showLayers(message.layers, objects, message.version);
   showWarnings(message.warnings ?? []);
@@ -122,6 +125,10 @@ async function handle(message) {
     case 'running':
       setStatus('running');
       break;
+    case 'highlight':
+      // An editor's cursor rests on a call: light up the faces it made.
+      await light({ file: message.file, line: message.line, column: message.column });
+      break;
     case 'params':
       // The parameters in force for this page: those of its address over the studio's own.
       values = message.values;
@@ -130,6 +137,80 @@ async function handle(message) {
       break;
   }
 }
+
+// From the model to the recipe: a click (not a drag) on the model asks the server for the face
+// under it and the calls that made it, first call first; the list shows them, the faces of the
+// first call light up, and an editor following the studio (`blocksmith lsp`) shows its line.
+const where = (s) => `${(s.file ?? 'recipe').split('/').pop()}:${s.line}:${s.column}`;
+
+function showSource(picked) {
+  studio.picked = picked;
+  const list = $('source');
+  if (!picked) {
+    list.replaceChildren();
+    return;
+  }
+  if (picked.steps.length === 0) {
+    const li = document.createElement('li');
+    li.textContent = 'No recipe line recorded for this face (a loaded file, or a mesh from outside a recipe).';
+    list.replaceChildren(li);
+    return;
+  }
+  list.replaceChildren(...picked.steps.map((s, i) => {
+    const li = document.createElement('li');
+    const call = document.createElement('code'); call.textContent = s.call;
+    li.append(call, ` at ${where(s)}`);
+    li.title = s.file ?? '';
+    li.className = i === 0 ? 'first' : '';
+    li.onclick = () => light(s);
+    return li;
+  }));
+  if (picked.editor) {
+    const li = document.createElement('li');
+    li.className = 'note';
+    li.textContent = 'shown in the editor';
+    list.append(li);
+  }
+}
+
+// Lights up the faces made by the call written at `site` ({file, line, column}), in every layer.
+async function light(site) {
+  if (!current) return;
+  const query = new URLSearchParams({ line: site.line, column: site.column ?? 0, token });
+  if (site.file) query.set('file', site.file);
+  const arrays = await Promise.all(current.layers.map(async (_, i) => {
+    const answer = await fetch(`/model/${current.version}/${i}.faces?${query}`);
+    return answer.ok ? new Float32Array(await answer.arrayBuffer()) : null;
+  }));
+  studio.lit = viewer.setLit(arrays);
+  studio.litSite = site;
+}
+
+async function pickAt(x, y) {
+  if (!current) return null;
+  const hit = viewer.pick(x, y);
+  if (!hit) return null;
+  const layer = current.layers.findIndex((l) => l.name === hit.layer);
+  const picked = await postJson('/api/pick', { version: current.version, layer: Math.max(layer, 0), point: hit.point });
+  showSource(picked);
+  if (picked.steps.length) await light(picked.steps[0]);
+  else studio.lit = viewer.setLit([]);
+  return picked;
+}
+
+let pressed = null;
+$('view').addEventListener('pointerdown', (e) => { pressed = [e.clientX, e.clientY]; });
+$('view').addEventListener('pointerup', (e) => {
+  // A click, not the end of a turn of the view.
+  if (pressed && Math.hypot(e.clientX - pressed[0], e.clientY - pressed[1]) < 4) {
+    pickAt(e.clientX, e.clientY).catch((err) => showError(`cannot pick: ${err}`));
+  }
+  pressed = null;
+});
+studio.pickAt = pickAt;
+studio.screenOf = (p) => viewer.screenOf(p);
+studio.litCorners = () => viewer.litCorners();
+studio.light = light;
 
 function showError(text) {
   studio.error = text;

@@ -117,6 +117,14 @@ export class Viewer {
     this.overlay = new THREE.Group();
     this.overlay.visible = false;
     this.scene.add(this.overlay);
+    // The faces a recipe line made, lit over the model (kernel frame, as the server sends them).
+    this.lit = new THREE.Group();
+    this.scene.add(this.lit);
+    this.litMaterial = new THREE.MeshBasicMaterial({
+      color: 0xff8a00, transparent: true, opacity: 0.75, side: THREE.DoubleSide,
+      polygonOffset: true, polygonOffsetFactor: -2, polygonOffsetUnits: -2,
+    });
+    this.raycaster = new THREE.Raycaster();
     this.overlayMaterial = new THREE.LineBasicMaterial({ color: 0x1a1a80, depthTest: false, transparent: true, opacity: 0.85 });
     this.plain = new THREE.MeshStandardMaterial({ roughness: 0.6, metalness: 0.05, side: THREE.DoubleSide });
     this.plain.color.setRGB(...PLAIN, THREE.LinearSRGBColorSpace);
@@ -178,6 +186,7 @@ export class Viewer {
     const loaded = await Promise.all(layers.map((l, i) => this.loader.parseAsync(files[i], '')));
     this.models.clear();
     this.overlay.clear();
+    this.lit.clear();
     ends.forEach((e, i) => {
       if (!e) return;
       const geometry = new THREE.BufferGeometry();
@@ -221,6 +230,50 @@ export class Viewer {
     this.clock.getDelta();
     this.requestRender();
     return objects;
+  }
+
+  // The model's surface under the canvas point (x, y) in CSS pixels: the layer's name and the
+  // point in the kernel's frame (the view's), or null where there is no model.
+  pick(x, y) {
+    const rect = this.renderer.domElement.getBoundingClientRect();
+    const ndc = new THREE.Vector2(((x - rect.left) / rect.width) * 2 - 1, -((y - rect.top) / rect.height) * 2 + 1);
+    this.raycaster.setFromCamera(ndc, this.camera);
+    const visible = this.models.children.filter((o) => o.visible);
+    const hit = this.raycaster.intersectObjects(visible, true)[0];
+    if (!hit) return null;
+    let root = hit.object;
+    while (root.parent && root.parent !== this.models) root = root.parent;
+    return { layer: root.name, point: hit.point.toArray() };
+  }
+
+  // Where the kernel-frame point p ([x, y, z]) is on the canvas, in CSS pixels of the page.
+  screenOf(p) {
+    const rect = this.renderer.domElement.getBoundingClientRect();
+    const v = new THREE.Vector3(...p).project(this.camera);
+    return [rect.left + ((v.x + 1) / 2) * rect.width, rect.top + ((1 - v.y) / 2) * rect.height];
+  }
+
+  // The lit triangles' corners (kernel frame), for tests.
+  litCorners() {
+    return this.lit.children.flatMap((m) => Array.from(m.geometry.attributes.position.array));
+  }
+
+  // Lights up triangles (per layer, a Float32Array of x, y, z per corner, kernel frame); none
+  // clears. Returns how many triangles are lit.
+  setLit(arrays) {
+    this.lit.clear();
+    let n = 0;
+    for (const a of arrays) {
+      if (!a || a.length === 0) continue;
+      const geometry = new THREE.BufferGeometry();
+      geometry.setAttribute('position', new THREE.BufferAttribute(a, 3));
+      const mesh = new THREE.Mesh(geometry, this.litMaterial);
+      mesh.renderOrder = 2;
+      this.lit.add(mesh);
+      n += a.length / 9;
+    }
+    this.requestRender();
+    return n;
   }
 
   triangles() {

@@ -45,10 +45,10 @@ pub fn register_all(engine: &mut Engine) {
     blocks::register(engine);
     csg::register(engine);
     profile::register(engine);
-    diagnose::register(engine);
     rng::register(engine);
     noise::register(engine);
     finish::register(engine);
+    diagnose::register(engine);
     engine.register_global_module(exported_module!(runtime::runtime_api).into());
     engine.register_global_module(exported_module!(data::data_api).into());
     engine.register_global_module(exported_module!(nesting::nesting_api).into());
