@@ -20,6 +20,19 @@ pub struct RunRecord {
     pub inputs: Vec<PathBuf>,
     /// Standard-library modules imported (embedded in the binary, so no file), by name.
     pub stdlib: Vec<String>,
+    /// Every `param_check` the run reached, in order: its message and whether it held.
+    pub checks: Vec<ParamCheck>,
+}
+
+/// One `param_check(condition, message)` a run reached.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ParamCheck {
+    /// The recipe's message.
+    pub message: String,
+    /// Whether the condition held.
+    pub passed: bool,
+    /// The script line of the call (1-based; 0 when unknown).
+    pub line: usize,
 }
 
 impl RunRecord {
@@ -63,6 +76,11 @@ impl Recorder {
         if !r.stdlib.iter().any(|n| n == name) {
             r.stdlib.push(name.to_string());
         }
+    }
+
+    /// Records a `param_check` the run reached.
+    pub fn check(&self, check: ParamCheck) {
+        self.0.borrow_mut().checks.push(check);
     }
 
     /// A copy of the record so far.

@@ -169,6 +169,22 @@ fn param_check_reports_a_bad_combination_before_modeling() {
     assert!(!stdout(&o).contains("modeling") && !out.exists(), "the recipe ran on");
     let o = blocksmith().arg("params").arg(&p).args(["--set", "bore=20"]).output().unwrap();
     assert_fails_with(&o, "param_check: the bore (20.0)");
+    // As JSON: the parameters and each check with its outcome and line, the error named, and
+    // the command still failing.
+    let o = blocksmith().arg("params").arg(&p).args(["--set", "bore=20", "--format", "json"]).output().unwrap();
+    assert!(!o.status.success());
+    let listing: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(listing["params"][1]["value"], 20.0);
+    assert_eq!(
+        listing["checks"],
+        serde_json::json!([{ "message": "the bore (20.0) must be smaller than the root circle (9.5)", "passed": false, "line": 4 }])
+    );
+    assert!(listing["error"].as_str().unwrap().contains("param_check: the bore (20.0)"), "{listing}");
+    let o = blocksmith().arg("params").arg(&p).args(["--format", "json"]).output().unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let listing: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    assert_eq!(listing["checks"][0]["passed"], true);
+    assert!(listing.get("error").is_none());
     // A good combination runs.
     let o = blocksmith().arg("run").arg(&p).args(["--set", "bore=4", "-o"]).arg(&out).output().unwrap();
     assert!(o.status.success() && out.exists(), "{}", stderr(&o));

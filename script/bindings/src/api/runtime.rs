@@ -160,10 +160,13 @@ pub mod runtime_api {
     /// ```
     #[rhai_fn(return_raw)]
     pub fn param_check(ctx: NativeCallContext, condition: bool, message: &str) -> ScriptResult<()> {
+        let record = &RunContext::of(&ctx).record;
+        let line = ctx.call_position().line().unwrap_or(0);
+        record.check(crate::record::ParamCheck { message: message.to_string(), passed: condition, line });
         if condition {
             return Ok(());
         }
-        let params = RunContext::of(&ctx).record.snapshot().params;
+        let params = record.snapshot().params;
         let values: Vec<String> =
             params.iter().map(|p| format!("{} = {}{}", p.name, p.value, if p.set { " (--set)" } else { "" })).collect();
         let with = if values.is_empty() { String::new() } else { format!(" (with {})", values.join(", ")) };

@@ -5,6 +5,7 @@ use std::fmt::Write as _;
 use serde_json::{json, Value};
 
 use super::spec::{ParamKind, ParamSpec};
+use crate::record::ParamCheck;
 
 /// How `blocksmith params` prints.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -54,10 +55,17 @@ pub fn to_text(params: &[ParamSpec]) -> String {
     out
 }
 
-/// The listing as JSON: `{"params": [...]}`, each parameter as [`ParamSpec::to_json`].
+/// The listing as JSON: `{"params": [...], "checks": [...]}`, each parameter as
+/// [`ParamSpec::to_json`], each `param_check` the run reached as `{message, passed, line}`.
 #[must_use]
-pub fn to_json(params: &[ParamSpec]) -> Value {
-    json!({ "params": params.iter().map(ParamSpec::to_json).collect::<Vec<_>>() })
+pub fn to_json(params: &[ParamSpec], checks: &[ParamCheck]) -> Value {
+    json!({
+        "params": params.iter().map(ParamSpec::to_json).collect::<Vec<_>>(),
+        "checks": checks
+            .iter()
+            .map(|c| json!({ "message": c.message, "passed": c.passed, "line": c.line }))
+            .collect::<Vec<_>>(),
+    })
 }
 
 /// The range column: the choices, or the bounds and step.
@@ -121,8 +129,11 @@ mod tests {
     fn json_lists_every_declared_field() {
         let p = ParamSpec { min: Some(0.0), doc: Some("d".into()), ..spec("r", ParamKind::Float, json!(1.5)) };
         assert_eq!(
-            to_json(&[p]),
-            json!({"params": [{"name": "r", "kind": "float", "default": 1.5, "value": 1.5, "set": false, "min": 0.0, "doc": "d"}]})
+            to_json(&[p], &[ParamCheck { message: "r < 2".into(), passed: false, line: 3 }]),
+            json!({
+                "params": [{"name": "r", "kind": "float", "default": 1.5, "value": 1.5, "set": false, "min": 0.0, "doc": "d"}],
+                "checks": [{"message": "r < 2", "passed": false, "line": 3}],
+            })
         );
     }
 }
