@@ -335,9 +335,7 @@ fn an_interrupt_stops_a_long_icosphere_in_the_repl_and_keeps_the_session() {
     let mut stdin = child.stdin.take().unwrap();
     // Nine levels are about 5M triangles, a second or two each even in a debug build with
     // optimised dependencies; forty of them in a row take far longer than the bound below.
-    stdin
-        .write_all(b"let n = 0; for i in 0..40 { n += icosphere(1, 9).triangle_count(); }\n")
-        .unwrap();
+    stdin.write_all(b"let n = 0; for i in 0..40 { n += icosphere(1, 9).triangle_count(); }\n").unwrap();
     stdin.flush().unwrap();
     std::thread::sleep(std::time::Duration::from_millis(1500));
     let start = std::time::Instant::now();
