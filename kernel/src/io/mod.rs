@@ -44,6 +44,7 @@ pub mod obj;
 mod options;
 pub mod ply;
 mod profile_files;
+mod single_precision;
 mod source_colors;
 pub mod stl;
 pub mod svg;
@@ -194,6 +195,10 @@ pub fn save(mesh: &Mesh, path: impl AsRef<Path>) -> Result<(), IoError> {
 /// [`IoError::Write`] when the file cannot be created or written; [`IoError::Mesh`] when a
 /// face cannot be triangulated (glTF, STL) or the mesh is too large for the format.
 ///
+/// glTF and STL hold 32-bit coordinates: an edge whose two ends round to one 32-bit point is
+/// collapsed first, so that a closed mesh stays closed for readers that join corners by
+/// position (`single_precision`); other meshes are written as they are.
+///
 /// See also [`load_with`].
 pub fn save_with(mesh: &Mesh, path: impl AsRef<Path>, options: &SaveOptions) -> Result<(), IoError> {
     let path = path.as_ref();
@@ -221,12 +226,18 @@ pub fn save_with(mesh: &Mesh, path: impl AsRef<Path>, options: &SaveOptions) -> 
                     .map_err(|e| IoError::Write { path: path.into(), source: e })
             })
         }
-        Format::Glb => write_atomic(path, |w| gltf::write_glb(mesh, w, path)),
-        Format::Stl => write_atomic(path, |w| stl::write_stl(mesh, w, path)),
+        Format::Glb => write_atomic(path, |w| gltf::write_glb(&*single(mesh, path)?, w, path)),
+        Format::Stl => write_atomic(path, |w| stl::write_stl(&*single(mesh, path)?, w, path)),
         Format::Ply => write_atomic(path, |w| ply::write_ply(mesh, w, options.ply, path)),
         Format::ThreeMf => write_atomic(path, |w| threemf::write_3mf(mesh, w, path)),
-        Format::Gltf => gltf::save_gltf_pair(mesh, path),
+        Format::Gltf => gltf::save_gltf_pair(&*single(mesh, path)?, path),
     }
+}
+
+/// `mesh` as a format with 32-bit coordinates holds it closed
+/// ([`single_precision::for_single_precision`]).
+fn single<'a>(mesh: &'a Mesh, path: &Path) -> Result<Cow<'a, Mesh>, IoError> {
+    single_precision::for_single_precision(mesh).map_err(|e| IoError::from_mesh(path, MeshError::Limit(e)))
 }
 
 /// What a triangle format writes: the mesh (the one given, or its triangulation with added
