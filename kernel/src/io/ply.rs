@@ -182,7 +182,7 @@ pub(crate) fn read_ply_report(bytes: &[u8], path: &Path, weld: Weld, repair: boo
         PlyEncoding::Ascii => {
             let text = std::str::from_utf8(&bytes[body..])
                 .map_err(|_| ply_error(path, "ASCII PLY data that is not valid text".into()))?;
-            Source::Ascii(text.split_ascii_whitespace())
+            Source::Ascii { lines: text.lines(), words: "".split_ascii_whitespace() }
         }
         PlyEncoding::BinaryLittleEndian => Source::Binary { data: &bytes[body..], pos: 0, big: false },
         PlyEncoding::BinaryBigEndian => Source::Binary { data: &bytes[body..], pos: 0, big: true },
@@ -218,6 +218,7 @@ pub(crate) fn read_ply_report(bytes: &[u8], path: &Path, weld: Weld, repair: boo
                             _ => {}
                         }
                     }
+                    src.end_entry();
                     positions.push(Vec3::new(c[0], c[1], c[2]));
                     if has_color {
                         cols.push(rgba);
@@ -255,6 +256,7 @@ pub(crate) fn read_ply_report(bytes: &[u8], path: &Path, weld: Weld, repair: boo
                             }
                         }
                     }
+                    src.end_entry();
                     if has_color {
                         face_colors.push(rgba.map(|c| c.clamp(0.0, 1.0)));
                     }
@@ -276,6 +278,7 @@ pub(crate) fn read_ply_report(bytes: &[u8], path: &Path, weld: Weld, repair: boo
                             src.scalar(p.scalar, path, at(i))?;
                         }
                     }
+                    src.end_entry();
                 }
             }
         }
@@ -504,17 +507,34 @@ fn check_sizes(encoding: PlyEncoding, elements: &[Element], data_len: usize, pat
     Ok(())
 }
 
-/// The data after the header, read value by value.
+/// The data after the header, read value by value. ASCII data is read by lines, one entry of
+/// an element per line as the format has it: an entry starts on a new line, may run on to the
+/// next lines, and whatever its line holds past its declared properties is not read (VCG's
+/// writer, behind MeshLab, puts more values on each face line than its header declares; trimesh
+/// reads those files the same way).
 enum Source<'a> {
-    Ascii(std::str::SplitAsciiWhitespace<'a>),
+    Ascii { lines: std::str::Lines<'a>, words: std::str::SplitAsciiWhitespace<'a> },
     Binary { data: &'a [u8], pos: usize, big: bool },
 }
 
 impl Source<'_> {
+    /// Ends an entry: ASCII data goes on at the next line.
+    fn end_entry(&mut self) {
+        if let Source::Ascii { words, .. } = self {
+            *words = "".split_ascii_whitespace();
+        }
+    }
+
     fn scalar(&mut self, s: Scalar, path: &Path, at: At<'_>) -> Result<f64, IoError> {
         match self {
-            Source::Ascii(words) => {
-                let w = words.next().ok_or_else(|| ply_error(path, format!("{at}: the data ends early")))?;
+            Source::Ascii { lines, words } => {
+                let w = loop {
+                    if let Some(w) = words.next() {
+                        break w;
+                    }
+                    let line = lines.next().ok_or_else(|| ply_error(path, format!("{at}: the data ends early")))?;
+                    *words = line.split_ascii_whitespace();
+                };
                 let v: f64 = w.parse().map_err(|_| ply_error(path, format!("{at}: `{w:.40}` is not a number")))?;
                 if !matches!(s, Scalar::F32 | Scalar::F64) && v.fract() != 0.0 {
                     return Err(ply_error(path, format!("{at}: `{w:.40}` is not a whole number")));
@@ -564,7 +584,7 @@ impl Source<'_> {
 
     fn is_done(&mut self) -> bool {
         match self {
-            Source::Ascii(words) => words.next().is_none(),
+            Source::Ascii { lines, words } => words.next().is_none() && lines.all(|l| l.trim().is_empty()),
             Source::Binary { data, pos, .. } => *pos == data.len(),
         }
     }
@@ -740,6 +760,34 @@ mod tests {
         assert!(m.is_closed() && m.is_manifold());
         assert!((m.volume() - 1.0 / 3.0).abs() < 1e-15, "{}", m.volume());
         assert_eq!(m.vertex_colors().unwrap()[1], [0.0, 1.0, 0.0, 1.0]);
+    }
+
+    #[test]
+    fn ascii_entries_are_lines_and_what_a_line_holds_past_its_properties_is_not_read() {
+        // As VCG (MeshLab) writes some files (trimesh's fuze_ascii.ply): each face line holds a
+        // texture-coordinate list, then ten values where the header declares four colour bytes.
+        // Read by lines, the tetrahedron is whole; read as one stream of values, the extra six
+        // would start the next face ("face 1 has 1 vertices"). A list may still run on to the
+        // next line.
+        let text = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n\
+            property float z\nelement face 4\nproperty list uchar int vertex_indices\n\
+            property list uchar float texcoord\nproperty uchar red\nproperty uchar green\n\
+            property uchar blue\nproperty uchar alpha\nend_header\n\
+            0 0 0 \n1 0 0 extra\n0 1 0\n0 0 1\n\
+            3 0 2 1 6 0 0 1 0 0 1 9 1 1 1 1 1 1 1 1 1\n\
+            3 0 1 3 6 0 0 1 0 0 1 9 1 1 1 1 1 1 1 1 1\n\
+            3 0 3 2 6 0 0 1 0 0 1 9 1 1 1 1 1 1 1 1 1\n\
+            3 1 2\n3 6 0 0 1 0 0 1 9 1 1 1\n\n";
+        let m = read_ply(text.as_bytes(), Path::new("vcg.ply")).unwrap();
+        assert_eq!((m.vertex_count(), m.face_count()), (4, 4));
+        assert!(m.is_closed() && m.is_manifold());
+        assert!((m.volume() - 1.0 / 6.0).abs() < 1e-15, "{}", m.volume());
+        // A line that ends before its entry does still runs on; data past the last entry's
+        // line is still an error.
+        let cut = "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n\
+            property float z\nend_header\n0 0 0\n1 0          \n";
+        let e = read_ply(cut.as_bytes(), Path::new("cut.ply")).unwrap_err().to_string();
+        assert!(e.contains("vertex 1: the data ends early"), "{e}");
     }
 
     #[test]
