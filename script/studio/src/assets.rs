@@ -22,6 +22,8 @@ pub const ASSETS: &[Asset] = assets![
     ("/studio.css", "text/css; charset=utf-8"),
     ("/app.js", JS),
     ("/viewer.js", JS),
+    ("/measure.js", JS),
+    ("/fit.js", JS),
     ("/controls.js", JS),
     ("/connection.js", JS),
     ("/vendor/three/three.module.js", JS),

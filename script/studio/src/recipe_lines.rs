@@ -125,6 +125,13 @@ pub fn triangles(mesh: &Mesh, faces: &[u32]) -> Vec<f32> {
     out
 }
 
+/// The triangles of face `f` as x, y, z of each corner, at full precision (what the page's
+/// measure tool sums for the face's area and normal).
+#[must_use]
+pub fn corners(mesh: &Mesh, f: u32) -> Vec<f64> {
+    triangles_of_face(mesh, f).iter().flatten().flat_map(|p| [p.x, p.y, p.z]).collect()
+}
+
 /// The triangles of face `f` (its fan when it cannot be cut between its corners).
 fn triangles_of_face(mesh: &Mesh, f: u32) -> Vec<[Vec3; 3]> {
     let corners = |t: [u32; 3]| t.map(|v| mesh.position(v));

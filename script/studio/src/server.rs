@@ -14,7 +14,7 @@
 //! | `GET /model/V/I.glb` | header or query | layer `I` of model version `V` (404 once it is no longer shown) |
 //! | `GET /model/V/I.control` | header or query | its control mesh's edges: little-endian `f32` x, y, z of each end |
 //! | `GET /model/V/I.faces?line=L&column=C&file=F` | header or query | the triangles of the faces of layer `I` made by the call written at `F:L:C` (any column when `C` is 0 or missing, any file when `F` is missing): little-endian `f32` x, y, z of each corner |
-//! | `POST /api/pick` (`Content-Type: application/json`, `{"version": V, "layer": I, "point": [x, y, z]}`) | header | the face of layer `I` nearest the point (kernel axes) and the chain of calls that made it, first call first: `{face, steps: [{call, file, line, column}], editor}`; an editor following the studio (`blocksmith lsp`) is shown the first call's line (`editor`: whether one was told) |
+//! | `POST /api/pick` (`Content-Type: application/json`, `{"version": V, "layer": I, "point": [x, y, z], "editor": true}`) | header | the face of layer `I` nearest the point (kernel axes), its triangles and the chain of calls that made it, first call first: `{face, triangles: [x, y, z of each corner], steps: [{call, file, line, column}], editor}`; an editor following the studio (`blocksmith lsp`) is shown the first call's line unless `"editor": false` (the page's measure tool) (`editor`: whether one was told) |
 //! | `GET /download/V/I.glb`, `.obj`, `.stl` | header or query | layer `I` of model `V` as a file |
 //!
 //! At most [`MAX_CONNECTIONS`] connections (sockets included) are served at once; more are
@@ -271,9 +271,11 @@ fn pick(session: &Session, body: &[u8]) -> Response {
     };
     let Some(face) = recipe_lines::face_at(mesh, blocksmith_kernel::Vec3::new(x, y, z)) else { return not_found() };
     let steps = recipe_lines::chain(mesh, face);
-    let editor = !steps.is_empty() && session.picked(&steps);
+    let tell = v["editor"].as_bool().unwrap_or(true);
+    let editor = tell && !steps.is_empty() && session.picked(&steps);
     let body = serde_json::json!({
         "face": face,
+        "triangles": recipe_lines::corners(mesh, face),
         "steps": steps.iter().map(recipe_lines::Step::json).collect::<Vec<_>>(),
         "editor": editor,
     });

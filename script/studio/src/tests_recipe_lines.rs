@@ -84,3 +84,18 @@ fn a_mesh_without_origins_has_no_chain_and_no_faces_of_a_line() {
     assert!(faces_made_at(&cube, &Site { file: None, line: 1, column: 0 }).is_empty());
     assert_eq!(face_at(&cube, Vec3::new(0.0, 0.0, 5.0)).map(|f| cube.face_normal(f).z > 0.9), Some(true));
 }
+
+#[test]
+fn a_faces_corners_are_its_polygons_triangles_at_full_precision() {
+    // A cylinder's top cap is one 32-gon: 30 triangles of its fan, every corner on the rim at
+    // z = 1 and radius 1.5 (f64, not the f32 the drawn triangles hold).
+    let mesh = Mesh::cylinder(1.5, 2.0, 32);
+    let top = face_at(&mesh, Vec3::new(0.1, 0.2, 1.0)).unwrap();
+    let corners = corners(&mesh, top);
+    assert_eq!(corners.len(), 30 * 9);
+    for p in corners.chunks(3) {
+        assert_eq!(p[2], 1.0);
+        let r = p[0].hypot(p[1]);
+        assert!((r - 1.5).abs() < 1e-15, "a corner at radius {r}, off by {}", (r - 1.5).abs());
+    }
+}

@@ -1,7 +1,10 @@
 // The studio page: wires the connection, the 3D view and the panel (facts, layers, toggles,
-// animation timeline, parameters, downloads). `window.studio` tells tests what is on show.
+// animation timeline, parameters, downloads, the measure tool). A click on the model shows the
+// recipe lines that made the face under it; with measure on, it measures instead (measure.js).
+// `window.studio` tells tests what is on show (`studio.measure`: the measure tool's state).
 
 import { Viewer } from './viewer.js';
+import { Measure } from './measure.js';
 import { connect, postJson, sendParams, token } from './connection.js';
 import { renderParams, paramsFromAddress, paramsToAddress } from './controls.js';
 
@@ -78,6 +81,8 @@ async function showModel(message) {
   shown = message.version;
   current = message;
   showSource(null);
+  measure.clear();
+  showMeasure();
   showFacts(message.layers, message.run_ms);
   showLayers(message.layers, objects, message.version);
   showWarnings(message.warnings ?? []);
@@ -198,12 +203,110 @@ async function pickAt(x, y) {
   return picked;
 }
 
+// The measure tool. Its face areas come from the polygon under the click, which the server
+// knows (the .glb holds triangles only); the editor is not told of these picks.
+const measure = new Measure(viewer, async (hit) => {
+  if (!current) return null;
+  let root = hit.object;
+  while (root.parent && root.parent !== viewer.models) root = root.parent;
+  const layer = current.layers.findIndex((l) => l.name === root.name);
+  const body = { version: current.version, layer: Math.max(layer, 0), point: hit.point.toArray(), editor: false };
+  return (await postJson('/api/pick', body)).triangles ?? null;
+});
+let measureClicks = 0;
+let copied = null;
+Object.defineProperty(studio, 'measure', {
+  enumerable: true,
+  get: () => ({ on: measure.on, clicks: measureClicks, copied, ...measure.state }),
+});
+
+const triple = (p) => p.map(fmt).join(', ');
+
+function showMeasure() {
+  const s = measure.state;
+  const rows = [];
+  s.points.forEach((m, i) => rows.push([`point ${'AB'[i]}`, `${triple(m.point)} (${m.kind})`]));
+  if (s.distance !== null) {
+    rows.push(['distance', fmt(s.distance)]);
+    ['dx', 'dy', 'dz'].forEach((k, i) => rows.push([k, fmt(s.deltas[i])]));
+  }
+  if (s.area !== null) {
+    rows.push([s.face.polygon ? 'face area' : 'triangle area', fmt(s.area)]);
+    rows.push(['normal', s.normal ? triple(s.normal) : 'none (no area)']);
+  }
+  if (s.ring.length) rows.push(['ring', `${s.ring.length} point${s.ring.length === 1 ? '' : 's'}`]);
+  if (s.circle) {
+    rows.push(['centre', triple(s.circle.centre)], ['radius', fmt(s.circle.radius)], ['circle normal', triple(s.circle.normal)]);
+  }
+  $('measured').replaceChildren(...rows.flatMap(([k, v]) => {
+    const dt = document.createElement('dt'); dt.textContent = k;
+    const dd = document.createElement('dd'); dd.textContent = v;
+    return [dt, dd];
+  }));
+  $('fit-circle').disabled = s.ring.length < 3;
+  $('measure-copy').disabled = !s.assert;
+  $('measure-assert').hidden = !s.assert;
+  $('measure-assert').textContent = s.assert ?? '';
+}
+
+// Puts `text` on the clipboard; whether that worked (a page without the clipboard's permission
+// falls back to a selected text area; the line is on show to copy by hand either way).
+async function copyText(text) {
+  try {
+    await navigator.clipboard.writeText(text);
+    return true;
+  } catch {
+    const area = document.createElement('textarea');
+    area.value = text;
+    document.body.append(area);
+    area.select();
+    const ok = document.execCommand('copy');
+    area.remove();
+    return ok;
+  }
+}
+
+$('measure').onclick = () => {
+  measure.on = !measure.on;
+  $('measure').setAttribute('aria-pressed', String(measure.on));
+  $('measure-note').hidden = !measure.on;
+  $('measure-actions').hidden = !measure.on;
+  showMeasure();
+};
+$('fit-circle').onclick = () => {
+  const fitted = measure.fitCircle();
+  showMeasure();
+  if (!fitted) {
+    const dd = document.createElement('dd');
+    dd.textContent = 'none: the ring needs three points or more, not on one line';
+    const dt = document.createElement('dt'); dt.textContent = 'circle';
+    $('measured').append(dt, dd);
+  }
+};
+$('measure-clear').onclick = () => {
+  measure.clear();
+  copied = null;
+  showMeasure();
+};
+$('measure-copy').onclick = async () => {
+  const text = measure.state.assert;
+  if (!text) return;
+  copied = null;
+  copied = { text, clipboard: await copyText(text) };
+};
+
 let pressed = null;
 $('view').addEventListener('pointerdown', (e) => { pressed = [e.clientX, e.clientY]; });
 $('view').addEventListener('pointerup', (e) => {
   // A click, not the end of a turn of the view.
   if (pressed && Math.hypot(e.clientX - pressed[0], e.clientY - pressed[1]) < 4) {
-    pickAt(e.clientX, e.clientY).catch((err) => showError(`cannot pick: ${err}`));
+    if (measure.on) {
+      measure.click(e.clientX, e.clientY, e.shiftKey)
+        .catch((err) => showError(`cannot measure: ${err}`))
+        .finally(() => { measureClicks += 1; showMeasure(); });
+    } else {
+      pickAt(e.clientX, e.clientY).catch((err) => showError(`cannot pick: ${err}`));
+    }
   }
   pressed = null;
 });

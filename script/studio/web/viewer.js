@@ -2,7 +2,8 @@
 // zoom, fit to view on the first model (the whole bounding box in the frame; later models keep
 // the camera), normals that follow the model's sharp edges (see `creased`), feature colours or a
 // plain material, wireframe, the control mesh a surface was made from (lines over it), and the
-// playback of a model's animation. It draws only when something changed (a model, the camera,
+// playback of a model's animation (the measure tool, measure.js, draws its marks in the same
+// scene). It draws only when something changed (a model, the camera,
 // a toggle, the size, a playing animation): an idle page costs nothing, and a new model is drawn
 // once, not behind a queue of frames of the old one.
 
@@ -202,7 +203,11 @@ export class Viewer {
     loaded.forEach((gltf, i) => {
       const root = gltf.scene;
       root.name = layers[i].name;
-      root.rotation.x = Math.PI / 2;
+      // An exact quarter turn (rotation.x = π/2 would leave 6e-17 where 0 is, and the measure
+      // tool reads vertex positions through this matrix).
+      root.matrixAutoUpdate = false;
+      root.matrix.set(1, 0, 0, 0, 0, 0, -1, 0, 0, 1, 0, 0, 0, 0, 0, 1);
+      root.updateMatrixWorld(true);
       root.traverse((o) => {
         if (o.isMesh) {
           o.geometry = creased(o.geometry);
