@@ -108,6 +108,9 @@ struct Scan {
     groups: Vec<(Option<String>, Option<String>)>,
     /// The material libraries `mtllib` lines name, in order.
     libraries: Vec<String>,
+    /// Faces of two corners (`f 1 2`: a line, not a face), dropped as a repair: the face's
+    /// number among the file's `f` lines and its corners as 0-based vertex ids.
+    short_faces: Vec<(u32, [usize; 2])>,
 }
 
 fn obj_error(path: &Path, line: usize, reason: impl Into<String>) -> IoError {
@@ -150,8 +153,26 @@ fn numbered_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
     text.split('\n').enumerate().map(|(i, l)| (i + 1, l.strip_suffix('\r').unwrap_or(l)))
 }
 
+/// The 0-based vertex an OBJ corner (`7`, `7/1`, `7//2`, `-1`: relative to the `count`
+/// vertices read so far) names, or an error naming the line.
+fn corner_vertex(word: &str, count: usize, path: &Path, line: usize) -> Result<usize, IoError> {
+    let head = word.split('/').next().unwrap_or("");
+    let i: i64 = head.parse().map_err(|_| obj_error(path, line, format!("`{head:.40}` is not a vertex index")))?;
+    let v = if i > 0 { i - 1 } else { count as i64 + i };
+    if i == 0 || v < 0 || v >= count as i64 {
+        return Err(IoError::IndexOutOfRange {
+            path: path.into(),
+            at: format!("line {line}"),
+            index: i,
+            vertex_count: count,
+        });
+    }
+    Ok(v as usize)
+}
+
 /// First pass: check every keyword, count the vertices and their colours, and read the tags.
-fn scan(text: &str, path: &Path) -> Result<Scan, IoError> {
+/// A face of two corners is refused unless `repair`: then it is listed to be dropped.
+fn scan(text: &str, path: &Path, repair: bool) -> Result<Scan, IoError> {
     let mut n = 0usize;
     let mut colored = 0usize;
     let mut first_plain = None;
@@ -161,6 +182,7 @@ fn scan(text: &str, path: &Path) -> Result<Scan, IoError> {
     let mut groups: Vec<(Option<String>, Option<String>)> = vec![(None, None)];
     let mut current = 0u32;
     let mut libraries = Vec::new();
+    let mut short_faces = Vec::new();
     let rest_of = |line: &str, keyword: &str| line.trim_start()[keyword.len()..].trim().to_string();
     for (number, line) in numbered_lines(text) {
         let mut words = line.split_whitespace();
@@ -208,11 +230,24 @@ fn scan(text: &str, path: &Path) -> Result<Scan, IoError> {
                 n += 1;
             }
             "f" => {
-                let n = words.count();
-                if n < 3 {
-                    return Err(obj_error(path, number, format!("a face needs at least 3 vertices, this one has {n}")));
+                let corners: Vec<&str> = words.collect();
+                match corners.len() {
+                    // tobj reads two corners as a line element and drops it (`ignore_lines`).
+                    2 if repair => {
+                        let face = (face_groups.len() + short_faces.len()) as u32;
+                        let ends =
+                            [corner_vertex(corners[0], n, path, number)?, corner_vertex(corners[1], n, path, number)?];
+                        short_faces.push((face, ends));
+                    }
+                    k if k < 3 => {
+                        return Err(obj_error(
+                            path,
+                            number,
+                            format!("a face needs at least 3 vertices, this one has {k}"),
+                        ));
+                    }
+                    _ => face_groups.push(current),
                 }
-                face_groups.push(current);
             }
             "t" => {
                 tags.extend(parse_tag(words, number, path)?);
@@ -230,7 +265,7 @@ fn scan(text: &str, path: &Path) -> Result<Scan, IoError> {
         return Err(obj_error(path, line, "some vertices have colours (v x y z r g b) and others do not"));
     }
     // tobj reads one model; the point elements `f 1` … `f n` make its vertex order the file's.
-    Ok(Scan { vertex_count: n, has_colors: colored > 0, tags, face_groups, groups, libraries })
+    Ok(Scan { vertex_count: n, has_colors: colored > 0, tags, face_groups, groups, libraries, short_faces })
 }
 
 /// What tobj reads, made on the fly from the text (no copy of the file): one point element
@@ -490,7 +525,7 @@ pub(crate) fn read_obj_report(
     })?;
     let joined = join_continued_lines(text);
     let text: &str = &joined;
-    let scan = scan(text, path)?;
+    let scan = scan(text, path, repair)?;
     let options = tobj_options();
     let mut reader = TobjInput::new(text, scan.vertex_count);
     let (models, _) = tobj::load_obj_buf(&mut reader, &options, |_| Err(tobj::LoadError::GenericFailure))
@@ -538,7 +573,24 @@ pub(crate) fn read_obj_report(
             a.set_input_parts(&scan.face_groups, parts, path)?;
         }
     }
-    let (mut mesh, repairs) = (a.mesh, a.repairs);
+    let (mut mesh, mut repairs) = (a.mesh, a.repairs);
+    // Two-corner faces, dropped before tobj: reported with the others dropped, every face
+    // numbered among the file's `f` lines (the faces tobj read skip the two-corner ones).
+    if !scan.short_faces.is_empty() {
+        for d in &mut repairs.dropped_faces {
+            let mut file_face = d.0;
+            for &(short, _) in &scan.short_faces {
+                if short <= file_face {
+                    file_face += 1;
+                }
+            }
+            d.0 = file_face;
+        }
+        for &(face, [u, v]) in &scan.short_faces {
+            repairs.dropped_faces.push((face, (positions[u] + positions[v]) * 0.5));
+        }
+        repairs.dropped_faces.sort_by_key(|d| d.0);
+    }
     if scan.has_colors {
         let colors: Vec<[f32; 4]> =
             m.vertex_color.chunks_exact(3).map(|c| [c[0] as f32, c[1] as f32, c[2] as f32, 1.0]).collect();
@@ -904,11 +956,34 @@ mod tests {
     fn malformed_numbers_and_short_faces_name_their_line() {
         assert!(matches!(read("v 0 0 0\nv 1 zero 0\n"), Err(IoError::Obj { line: 2, .. })));
         assert!(matches!(read("v 0 0\n"), Err(IoError::Obj { line: 1, .. })));
-        assert!(matches!(read("v 0 0 0\nv 1 0 0\nf 1 2\n"), Err(IoError::Obj { line: 3, .. })));
+        let refused = |text: &str| read_obj_report(text.as_bytes(), None, Path::new("t/test.obj"), false).unwrap_err();
+        assert!(matches!(refused("v 0 0 0\nv 1 0 0\nf 1 2\n"), IoError::Obj { line: 3, .. }));
+        assert!(matches!(read("v 0 0 0\nv 1 0 0\nf 1\n"), Err(IoError::Obj { line: 3, .. })));
         assert!(matches!(read("v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 x\n"), Err(IoError::Obj { line: 4, .. })));
         assert!(matches!(read("v 0 0 0 1 0 0\nv 1 0 0\n"), Err(IoError::Obj { line: 2, .. })));
         assert!(matches!(read("v 0 0 0\nt crease 2/1/0 0\n"), Err(IoError::Obj { line: 2, .. })));
         assert!(matches!(read_obj(b"v 0 0 0\n\xff\n", Path::new("x.obj")), Err(IoError::Obj { line: 2, .. })));
+    }
+
+    #[test]
+    fn a_face_of_two_corners_is_dropped_and_reported_as_trimesh_drops_it() {
+        // trimesh's notenoughindices.obj: a two-corner `f` (a line) before a triangle. Dropped as
+        // a repair, numbered among the file's faces; the corner indices are still checked.
+        let text = "v -500 0 500\nv 500 0 500\nv 500 500 500\nv 0 0 0\n\
+                    f 1// 2//\nf 1// 2// 3//\nf 1 2 4\nf -1 -4\nf 1 1 2\n";
+        let (m, repairs) = read_obj_report(text.as_bytes(), None, Path::new("t/test.obj"), true).unwrap();
+        assert_eq!((m.vertex_count(), m.face_count()), (4, 2));
+        let dropped: Vec<(u32, Vec3)> = repairs.dropped_faces.clone();
+        assert_eq!(
+            dropped,
+            [
+                (0, Vec3::new(0.0, 0.0, 500.0)),
+                (3, Vec3::new(-250.0, 0.0, 250.0)),
+                (4, Vec3::new(-500.0 / 3.0, 0.0, 500.0))
+            ]
+        );
+        let e = read_obj_report(b"v 0 0 0\nv 1 0 0\nf 1 3\n", None, Path::new("t/test.obj"), true).unwrap_err();
+        assert!(matches!(e, IoError::IndexOutOfRange { index: 3, vertex_count: 2, .. }), "{e}");
     }
 
     #[test]
