@@ -9,7 +9,6 @@ use lsp_types::{CompletionItem, CompletionItemKind, Documentation};
 
 use crate::infer::{members, type_of_text, variables_in_text};
 use crate::navigate::{functions, imports};
-use crate::text::is_ident;
 use crate::Analyzer;
 
 /// Rhai's statement keywords, offered among plain words.
@@ -58,10 +57,10 @@ pub fn complete(a: &Analyzer, text: &str, offset: usize, dir: Option<&Path>) -> 
             return import_paths(&line[q + 1..], dir);
         }
     }
-    let start = before.rfind(|c: char| !is_ident(c)).map_or(0, |i| i + 1);
+    let start = crate::text::ident_start(before);
     let head = &before[..start];
     if let Some(path) = head.strip_suffix("::") {
-        let alias_start = path.rfind(|c: char| !is_ident(c)).map_or(0, |i| i + 1);
+        let alias_start = crate::text::ident_start(path);
         return module_members(a, text, &path[alias_start..], dir);
     }
     if let Some(receiver) = head.strip_suffix('.') {

@@ -70,7 +70,7 @@ pub fn signature_help(a: &Analyzer, text: &str, offset: usize, dir: Option<&Path
     let head = &text[..callee_start];
     let mut sigs: Vec<SignatureInformation> = Vec::new();
     if let Some(alias_path) = head.strip_suffix("::") {
-        let alias = &alias_path[alias_path.rfind(|c: char| !crate::text::is_ident(c)).map_or(0, |i| i + 1)..];
+        let alias = &alias_path[crate::text::ident_start(alias_path)..];
         let imp = imports(text).into_iter().find(|i| i.alias == alias)?;
         let source = std::fs::read_to_string(module_file(&imp.name, dir)?).ok()?;
         for f in functions(&source).into_iter().filter(|f| f.name == name) {

@@ -115,7 +115,7 @@ pub fn type_of_text(vars: &dyn Fn(&str) -> Option<String>, catalogue: &[Overload
         Some(inner) => (&expr[..matching_open(inner)?], true),
         None => (expr, false),
     };
-    let name_start = callee.rfind(|c: char| !is_ident(c)).map_or(0, |i| i + 1);
+    let name_start = crate::text::ident_start(callee);
     let name = &callee[name_start..];
     let receiver = callee[..name_start].strip_suffix('.');
     if !called && receiver.is_none() {

@@ -74,3 +74,5 @@ impl Default for Analyzer {
 
 #[cfg(test)]
 mod tests_features;
+#[cfg(test)]
+mod tests_fuzz;

@@ -88,6 +88,13 @@ pub fn is_ident(c: char) -> bool {
     c.is_alphanumeric() || c == '_'
 }
 
+/// Where the identifier `s` ends with starts (a byte index, `s.len()` when `s` ends with none):
+/// after the last character that is not part of one, whatever its length in bytes.
+#[must_use]
+pub fn ident_start(s: &str) -> usize {
+    s.char_indices().rev().find(|&(_, c)| !is_ident(c)).map_or(0, |(i, c)| i + c.len_utf8())
+}
+
 /// The length in bytes of the identifier at the start of `s`.
 #[must_use]
 pub fn word_len(s: &str) -> usize {
