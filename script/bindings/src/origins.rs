@@ -341,20 +341,21 @@ impl Marker {
         call
     }
 
-    /// `__made_at(e, name, file, line, column)`.
-    fn wrap(&self, e: Expr, name: ImmutableString, pos: Position) -> Expr {
+    /// The arguments naming a call's site: `name, file, line, column`.
+    fn site(&self, name: ImmutableString, pos: Position) -> [Expr; 4] {
         let (line, column) = (pos.line().unwrap_or(0), pos.position().unwrap_or(0));
-        let template = TEMPLATE.with(Clone::clone);
-        let mut call = template;
-        call.args = [
-            e,
+        [
             Expr::StringConstant(name, pos),
             Expr::StringConstant(self.file.clone(), pos),
             Expr::IntegerConstant(line as INT, pos),
             Expr::IntegerConstant(column as INT, pos),
         ]
-        .into_iter()
-        .collect();
+    }
+
+    /// `__made_at(e, name, file, line, column)`.
+    fn wrap(&self, e: Expr, name: ImmutableString, pos: Position) -> Expr {
+        let mut call = TEMPLATE.with(Clone::clone);
+        call.args = std::iter::once(e).chain(self.site(name, pos)).collect();
         Expr::FnCall(call.into(), pos)
     }
 }
@@ -385,16 +386,8 @@ fn last_method(rhs: &Expr) -> Option<(ImmutableString, Position)> {
 impl Marker {
     /// `variable.__made_here(name, file, line, column)`.
     fn wrap_in_place(&self, variable: Expr, name: ImmutableString, pos: Position) -> Stmt {
-        let (line, column) = (pos.line().unwrap_or(0), pos.position().unwrap_or(0));
         let mut call = IN_PLACE.with(Clone::clone);
-        call.args = [
-            Expr::StringConstant(name, pos),
-            Expr::StringConstant(self.file.clone(), pos),
-            Expr::IntegerConstant(line as INT, pos),
-            Expr::IntegerConstant(column as INT, pos),
-        ]
-        .into_iter()
-        .collect();
+        call.args = self.site(name, pos).into_iter().collect();
         let dot = BinaryExpr { lhs: variable, rhs: Expr::MethodCall(call.into(), pos) };
         Stmt::Expr(Expr::Dot(dot.into(), ASTFlags::empty(), pos).into())
     }

@@ -6,6 +6,7 @@
 
 use std::path::PathBuf;
 use std::process::Command;
+use std::time::{Duration, Instant};
 
 fn python() -> Option<PathBuf> {
     if let Some(p) = std::env::var_os("BLOCKSMITH_LSP_PYTHON") {
@@ -25,13 +26,35 @@ fn a_real_client_gets_diagnostics_completion_hover_definitions_and_the_run_lens(
         return;
     };
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/lsp");
-    let out = Command::new(python)
+    let logs = tempfile::tempdir().unwrap();
+    let (out_path, err_path) = (logs.path().join("stdout"), logs.path().join("stderr"));
+    let mut child = Command::new(python)
         .args(["-m", "pytest", "-q", "-p", "no:cacheprovider", "test_lsp.py"])
         .current_dir(&dir)
         .env("BLOCKSMITH_BIN", env!("CARGO_BIN_EXE_blocksmith"))
-        .output()
+        .stdout(std::fs::File::create(&out_path).unwrap())
+        .stderr(std::fs::File::create(&err_path).unwrap())
+        .spawn()
         .expect("run pytest");
-    let text = format!("{}{}", String::from_utf8_lossy(&out.stdout), String::from_utf8_lossy(&out.stderr));
-    assert!(out.status.success(), "{text}");
+    // A server that stops answering (or never ends) fails the test instead of holding CI.
+    let until = Instant::now() + Duration::from_secs(300);
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break Some(status);
+        }
+        if Instant::now() > until {
+            let _ = child.kill();
+            let _ = child.wait();
+            break None;
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    };
+    let text = format!(
+        "{}{}",
+        std::fs::read_to_string(&out_path).unwrap_or_default(),
+        std::fs::read_to_string(&err_path).unwrap_or_default()
+    );
+    let status = status.unwrap_or_else(|| panic!("pytest-lsp still ran after 300 s:\n{text}"));
+    assert!(status.success(), "{text}");
     assert!(text.contains("5 passed"), "{text}");
 }

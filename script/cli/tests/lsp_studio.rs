@@ -8,15 +8,17 @@
 
 #[path = "support/browser.rs"]
 mod browser;
+#[path = "support/http.rs"]
+mod http;
 mod support;
 
 use std::io::{BufRead, BufReader, Read, Write};
-use std::net::TcpStream;
 use std::process::{Child, ChildStdin, Command, Stdio};
 use std::sync::mpsc::{self, Receiver};
 use std::time::{Duration, Instant};
 
 use browser::Browser;
+use http::raw;
 use serde_json::{json, Value};
 
 /// The die in small: a cube with three sphere pips cut from it, the pip made on line 3.
@@ -113,18 +115,6 @@ fn position_of(text: &str, needle: &str, plus: usize) -> Value {
     let line = text[..at].matches('\n').count();
     let character = at - text[..at].rfind('\n').map_or(0, |i| i + 1);
     json!({ "line": line, "character": character })
-}
-
-/// A raw request on a new connection: the status of the answer and its body.
-fn raw(addr: &str, request: &[u8]) -> (u16, Vec<u8>) {
-    let mut s = TcpStream::connect(addr).unwrap();
-    s.set_read_timeout(Some(Duration::from_secs(30))).unwrap();
-    let _ = s.write_all(request);
-    let mut out = Vec::new();
-    let _ = s.read_to_end(&mut out);
-    let status = out.get(9..12).and_then(|c| std::str::from_utf8(c).ok()).and_then(|c| c.parse().ok()).unwrap_or(0);
-    let body = out.windows(4).position(|w| w == b"\r\n\r\n").map_or(Vec::new(), |i| out[i + 4..].to_vec());
-    (status, body)
 }
 
 /// A pick as a page would send it, with `headers` (Host and Connection added) and `body`.
@@ -281,4 +271,32 @@ fn a_click_in_the_studio_shows_the_line_in_the_editor_and_the_cursor_lights_the_
                  .some(([x, y, z]) => Math.hypot(a[i] - x, a[i + 1] - y, a[i + 2] - z) <= 0.3 + 1e-4))";
     assert_eq!(b.eval(lower), true);
     assert!(b.eval("studio.lit").as_u64().unwrap() > 0);
+}
+
+/// `exit` ends the server even with a studio running: the studio's threads, which outlive the
+/// editor's loop, must not keep the connection (and so the process) open — an editor waits for
+/// its server to end, and a test client waits forever.
+#[test]
+fn exit_ends_the_server_with_a_studio_running() {
+    let dir = tempfile::tempdir().unwrap();
+    let recipe = dir.path().join("die.rhai");
+    std::fs::write(&recipe, DIE).unwrap();
+    let uri = format!("file://{}", recipe.canonicalize().unwrap().display());
+    let mut lsp = Lsp::start();
+    lsp.request("initialize", json!({ "processId": null, "rootUri": null, "capabilities": {} }));
+    lsp.notify("initialized", json!({}));
+    let started =
+        lsp.request("workspace/executeCommand", json!({ "command": "blocksmith.studio", "arguments": [uri] }));
+    assert!(started["url"].as_str().unwrap().starts_with("http://"), "{started}");
+    lsp.request("shutdown", Value::Null);
+    lsp.notify("exit", Value::Null);
+    let until = Instant::now() + Duration::from_secs(20);
+    let status = loop {
+        if let Some(status) = lsp.child.try_wait().unwrap() {
+            break status;
+        }
+        assert!(Instant::now() < until, "the server still runs 20 s after `exit`");
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    assert!(status.success(), "{status}");
 }

@@ -6,8 +6,11 @@
 
 #[path = "support/browser.rs"]
 mod browser;
+#[path = "support/http.rs"]
+mod http;
 mod support;
 use browser::Browser;
+use http::raw;
 use support::chromium;
 
 use std::io::{BufRead, BufReader, Read, Write};
@@ -95,18 +98,6 @@ fn watch_env(command: &str, file: &Path, args: &[&str], env: &[(&str, &str)]) ->
     // Keep draining its messages so it never blocks on a full pipe.
     std::thread::spawn(move || lines.for_each(drop));
     Watch { child, server: Server::of(&first) }
-}
-
-/// Sends `request` as it is on a new connection; the status (0: none) and body of the answer.
-fn raw(addr: &str, request: &[u8]) -> (u16, Vec<u8>) {
-    let mut s = TcpStream::connect(addr).unwrap();
-    s.set_read_timeout(Some(Duration::from_secs(30))).unwrap();
-    let _ = s.write_all(request);
-    let mut out = Vec::new();
-    let _ = s.read_to_end(&mut out);
-    let status = out.get(9..12).and_then(|c| std::str::from_utf8(c).ok()).and_then(|c| c.parse().ok()).unwrap_or(0);
-    let body = out.windows(4).position(|w| w == b"\r\n\r\n").map_or(Vec::new(), |i| out[i + 4..].to_vec());
-    (status, body)
 }
 
 /// A raw GET of `path` as sent (no normalisation), with the token in its header: status and body.

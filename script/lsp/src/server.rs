@@ -69,12 +69,20 @@ pub fn serve_stdio() -> Result<(), String> {
     let mut server = Server::new();
     server.refresh_lenses = params["capabilities"]["workspace"]["codeLens"]["refreshSupport"] == true;
     server.show_document = params["capabilities"]["window"]["showDocument"]["support"] == true;
-    let sender = connection.sender.clone();
+    // Studios' threads hold the outbox past `exit`: they reach the sender through a weak
+    // handle, so that once the loop ends the writer thread sees its last sender gone and stops.
+    let sender = Arc::new(connection.sender.clone());
+    let weak = Arc::downgrade(&sender);
     server.outbox = Some(Arc::new(move |m| {
-        let _ = sender.send(m);
+        if let Some(sender) = weak.upgrade() {
+            let _ = sender.send(m);
+        }
     }));
-    server.main_loop(&connection)?;
+    let served = server.main_loop(&connection);
+    drop(sender);
+    drop(server);
     drop(connection);
+    served?;
     io_threads.join().map_err(|e| format!("lsp: {e}"))
 }
 

@@ -143,12 +143,16 @@ async def test_signature_help_symbols_inlay_hints_and_the_run_lens(client: Langu
     )
     assert hints[0].label.startswith(": int, ") and "12" in hints[0].label
     lenses = await client.text_document_code_lens_async(types.CodeLensParams(text_document=doc_id))
-    assert lenses[0].command.command == "blocksmith.run"
+    (run,) = [lens for lens in lenses if lens.command.command == "blocksmith.run"]
     shown = await client.workspace_execute_command_async(
-        types.ExecuteCommandParams(command="blocksmith.run", arguments=lenses[0].command.arguments)
+        types.ExecuteCommandParams(command="blocksmith.run", arguments=run.command.arguments)
     )
     # A cube of side 2: closed, manifold, genus 0, volume 8.
     assert shown["line"] == 2
     assert shown["text"].startswith("closed · manifold · genus 0 · volume 8.000000"), shown
     lenses = await client.text_document_code_lens_async(types.CodeLensParams(text_document=doc_id))
-    assert lenses[1].range.start.line == 2 and lenses[1].command.title == shown["text"]
+    commands = [lens.command.command for lens in lenses]
+    assert commands.count("blocksmith.run") == 1 and commands.count("blocksmith.studio") == 1, commands
+    # The run's outcome shows above the line it ran to.
+    results = [lens for lens in lenses if lens.command.title == shown["text"]]
+    assert [lens.range.start.line for lens in results] == [2], lenses
