@@ -134,6 +134,10 @@ pub fn fits(param: &str, given: &str) -> bool {
 
 fn unknown_function(all: &[Overload], name: &str, receiver: Option<&str>, shown: &str) -> String {
     if let Some(t) = receiver {
+        // A property called like a method (`pm.face_count()`): it is read without brackets.
+        if all.iter().any(|o| o.receiver() == Some(t) && o.name == name && o.property == Some("get")) {
+            return format!("`{name}` is a property of {t}: read it without brackets, as `.{name}`");
+        }
         let methods: Vec<&str> = unique(all.iter().filter(|o| o.receiver() == Some(t)).map(|o| o.name.as_str()));
         if let Some(near) = did_you_mean(name, methods.iter().copied()) {
             return format!("{t} has no method `{name}` (did you mean `{near}`?)");
@@ -255,6 +259,10 @@ mod tests {
         assert_eq!(explained("cilinder(1, 2, 3)"), "unknown function `cilinder` (did you mean `cylinder`?)");
         assert_eq!(explained("tours(1, 2, 3, 4)"), "unknown function `tours` (did you mean `torus`?)");
         assert_eq!(explained("cube(1).volum()"), "Mesh has no method `volum` (did you mean `volume`?)");
+        assert_eq!(
+            explained("polar_sphere(1, 8, 4).face_count()"),
+            "`face_count` is a property of PolarMesh: read it without brackets, as `.face_count`"
+        );
         assert_eq!(explained("cube(1).volum"), "Mesh has no property `volum` (did you mean the method `.volume()`?)");
         assert_eq!(
             explained("cube(1).vertex_cont"),
