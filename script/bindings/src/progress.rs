@@ -119,6 +119,20 @@ mod tests {
         engine.run("let m = cube(2) - cube(1);").unwrap();
         let seen = log.lock().unwrap().clone();
         assert_eq!(seen, ["start -: evaluating the boolean None", "end"], "{seen:?}");
+        // Every long kernel operation is a task: finishing, growing, solids, voxels.
+        for (script, task) in [
+            ("icosphere(1, 2).remesh(#{edge_length: 0.3, iterations: 1})", "remesh"),
+            ("icosphere(1, 2).decimate(#{ratio: 0.5})", "decimate"),
+            ("cube(1).relax(#{iterations: 1})", "relax"),
+            ("lsystem(#{axiom: \"F[+F]F\"}).grow(0).to_solid()", "to_solid"),
+            ("let v = voxels(8); v.fill_box([2, 2, 2], [6, 6, 6]); v.to_mesh()", "to_mesh: marching cubes"),
+        ] {
+            log.lock().unwrap().clear();
+            engine.run(script).unwrap_or_else(|e| panic!("{script}: {e}"));
+            let seen = log.lock().unwrap().clone();
+            assert!(seen.contains(&format!("start {task} None")), "{script}: {seen:?}");
+            assert_eq!(seen.last().map(String::as_str), Some("end"), "{script}: {seen:?}");
+        }
         // An engine without a sink: the same work reports nowhere, and a stale sink is not used.
         log.lock().unwrap().clear();
         crate::new_engine(crate::EngineOptions::default()).run("let m = cube(2) - cube(1);").unwrap();

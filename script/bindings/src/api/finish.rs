@@ -128,6 +128,7 @@ pub mod finish_api {
         if !(1..=INT::from(finish::MAX_REFINE)).contains(&n) {
             return fail("refine", format!("argument `n` must be between 1 and {}, got {n}", finish::MAX_REFINE));
         }
+        let _task = crate::progress::start("refine", None);
         kernel("refine", finish::refine(&m.0, n as u32)).map(SharedMesh::new)
     }
 
@@ -142,6 +143,7 @@ pub mod finish_api {
     #[rhai_fn(pure, return_raw)]
     pub fn refine_to_length(m: &mut SharedMesh, length: Number) -> ScriptResult<SharedMesh> {
         let l = number("refine_to_length", "length", &length)?;
+        let _task = crate::progress::start("refine_to_length", None);
         kernel("refine_to_length", finish::refine_to_length(&m.0, l)).map(SharedMesh::new)
     }
 
@@ -183,6 +185,7 @@ pub mod finish_api {
     pub fn remesh_report(m: &mut SharedMesh, options: Map) -> ScriptResult<Map> {
         let o = Options::new("remesh", options, &["edge_length", "iterations", "sharp_angle"])?;
         let opts = remesh_options(&o)?;
+        let _task = crate::progress::start("remesh", None);
         let (mesh, report) = kernel("remesh", finish::remesh(&m.0, opts))?;
         let mut map = remesh_map(&report);
         map.insert("mesh".into(), Dynamic::from(SharedMesh::new(mesh)));
@@ -206,6 +209,7 @@ pub mod finish_api {
     pub fn decimate(m: &mut SharedMesh, options: Map) -> ScriptResult<SharedMesh> {
         let o = Options::new("decimate", options, &["ratio", "triangles", "error"])?;
         let opts = decimate_options(&o)?;
+        let _task = crate::progress::start("decimate", None);
         kernel("decimate", finish::decimate(&m.0, opts)).map(|(mesh, _)| SharedMesh::new(mesh))
     }
 
@@ -220,6 +224,7 @@ pub mod finish_api {
     pub fn decimate_report(m: &mut SharedMesh, options: Map) -> ScriptResult<Map> {
         let o = Options::new("decimate", options, &["ratio", "triangles", "error"])?;
         let opts = decimate_options(&o)?;
+        let _task = crate::progress::start("decimate", None);
         let (mesh, report) = kernel("decimate", finish::decimate(&m.0, opts))?;
         let mut map = decimate_map(&report);
         map.insert("mesh".into(), Dynamic::from(SharedMesh::new(mesh)));
@@ -250,6 +255,7 @@ pub mod finish_api {
             "laplacian" => RelaxMethod::Laplacian,
             _ => RelaxMethod::Taubin,
         };
+        let _task = crate::progress::start("relax", None);
         kernel("relax", finish::relax(&m.0, RelaxOptions { iterations: iterations as u32, method }))
             .map(SharedMesh::new)
     }

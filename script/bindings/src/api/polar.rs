@@ -526,6 +526,7 @@ pub mod polar_api {
     /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn to_solid(pm: &mut PolarMesh) -> ScriptResult<SharedMesh> {
+        let _task = crate::progress::start("to_solid", None);
         kernel("to_solid", pm.0.to_solid()).map(SharedMesh::new)
     }
     /// Writes the mesh with its feature colours (see `to_colored_mesh`) by extension, like a

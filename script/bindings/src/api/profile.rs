@@ -788,6 +788,7 @@ pub mod profile_api {
     /// ```
     #[rhai_fn(return_raw)]
     pub fn minkowski(a: SharedMesh, b: SharedMesh) -> ScriptResult<SharedMesh> {
+        let _task = crate::progress::start("minkowski", None);
         kernel("minkowski", kernel_profile::minkowski(&a.0, &b.0)).map(SharedMesh::new)
     }
 
