@@ -147,12 +147,11 @@ impl PolarMesh {
         // when the union is a valid solid, closed and manifold with no two triangles crossing.
         let (want, got) = (self.mesh().genus(), solid.genus());
         let (parts, mesh_parts) = (solid.component_count(), self.mesh().component_count());
-        let not_tubes = |why: &str| {
-            PolarError::NotTubes {
+        let not_tubes = |why: &str| PolarError::NotTubes {
             reason: format!(
-                "the union of its tubes has genus {got} in {parts} part(s), the mesh genus {want} in {mesh_parts}: {why}"
+                "the union of its tubes has genus {got} in {parts} part(s), \
+                 the mesh genus {want} in {mesh_parts}: {why}"
             ),
-        }
         };
         if got < want || parts != mesh_parts {
             return Err(not_tubes("a loop runs round a hole instead of across a limb"));
