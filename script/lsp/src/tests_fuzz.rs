@@ -4,8 +4,9 @@
 //! diagnostics, and completion, hover, signature help, definition, symbols and inlay hints at
 //! the edited place. A panic fails the test; so does a call that runs for many seconds (a hang,
 //! not a speed). The suite makes 20 edits of each file (about 20 s); the full fuzz is
-//! `BLOCKSMITH_LSP_FUZZ_EDITS=1000 cargo test -p blocksmith-lsp --lib tests_fuzz` (about 15
-//! minutes on one core: all seven features after every edit cost about 25 ms on a 7 KB recipe).
+//! `BLOCKSMITH_LSP_FUZZ_EDITS=1000 cargo test --release -p blocksmith-lsp --lib tests_fuzz --
+//! --nocapture` (40,000 edits in 755 s on one core, 2026-12-06: no panic, the slowest edit 42 ms;
+//! all seven features after every edit cost about 19 ms), which prints the slowest edit.
 
 use std::path::Path;
 use std::time::{Duration, Instant};
