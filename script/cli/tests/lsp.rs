@@ -6,7 +6,10 @@
 
 use std::path::PathBuf;
 use std::process::Command;
-use std::time::{Duration, Instant};
+use std::time::Duration;
+
+#[path = "support/child.rs"]
+mod child;
 
 fn python() -> Option<PathBuf> {
     if let Some(p) = std::env::var_os("BLOCKSMITH_LSP_PYTHON") {
@@ -37,18 +40,11 @@ fn a_real_client_gets_diagnostics_completion_hover_definitions_and_the_run_lens(
         .spawn()
         .expect("run pytest");
     // A server that stops answering (or never ends) fails the test instead of holding CI.
-    let until = Instant::now() + Duration::from_secs(300);
-    let status = loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            break Some(status);
-        }
-        if Instant::now() > until {
-            let _ = child.kill();
-            let _ = child.wait();
-            break None;
-        }
-        std::thread::sleep(Duration::from_millis(100));
-    };
+    let status = child::wait_within(&mut child, Duration::from_secs(300));
+    if status.is_none() {
+        let _ = child.kill();
+        let _ = child.wait();
+    }
     let text = format!(
         "{}{}",
         std::fs::read_to_string(&out_path).unwrap_or_default(),

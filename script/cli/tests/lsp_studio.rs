@@ -8,6 +8,8 @@
 
 #[path = "support/browser.rs"]
 mod browser;
+#[path = "support/child.rs"]
+mod child;
 #[path = "support/http.rs"]
 mod http;
 mod support;
@@ -290,13 +292,7 @@ fn exit_ends_the_server_with_a_studio_running() {
     assert!(started["url"].as_str().unwrap().starts_with("http://"), "{started}");
     lsp.request("shutdown", Value::Null);
     lsp.notify("exit", Value::Null);
-    let until = Instant::now() + Duration::from_secs(20);
-    let status = loop {
-        if let Some(status) = lsp.child.try_wait().unwrap() {
-            break status;
-        }
-        assert!(Instant::now() < until, "the server still runs 20 s after `exit`");
-        std::thread::sleep(Duration::from_millis(50));
-    };
+    let status = child::wait_within(&mut lsp.child, Duration::from_secs(20))
+        .unwrap_or_else(|| panic!("the server still runs 20 s after `exit`"));
     assert!(status.success(), "{status}");
 }

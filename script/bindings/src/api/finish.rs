@@ -7,7 +7,7 @@ use blocksmith_kernel::finish::{
     self, DecimateOptions, DecimateReport, DecimateTarget, RelaxMethod, RelaxOptions, RemeshOptions, RemeshReport,
     DEFAULT_SHARP_ANGLE,
 };
-use blocksmith_kernel::Vec3;
+use blocksmith_kernel::{Mesh, Vec3};
 use rhai::plugin::*;
 use rhai::{exported_module, Engine, FnPtr, Map, INT};
 
@@ -48,6 +48,14 @@ fn remesh_options(o: &Options) -> ScriptResult<RemeshOptions> {
         iterations: iterations as u32,
         sharp_angle: o.number("sharp_angle", d.sharp_angle)?,
     })
+}
+
+/// `decimate` with `options` checked, reported to the host's progress: the mesh and the report.
+fn decimated(m: &SharedMesh, options: Map) -> ScriptResult<(Mesh, DecimateReport)> {
+    let o = Options::new("decimate", options, &["ratio", "triangles", "error"])?;
+    let opts = decimate_options(&o)?;
+    let _task = crate::progress::start("decimate", None);
+    kernel("decimate", finish::decimate(&m.0, opts))
 }
 
 fn decimate_options(o: &Options) -> ScriptResult<DecimateOptions> {
@@ -207,10 +215,7 @@ pub mod finish_api {
     /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn decimate(m: &mut SharedMesh, options: Map) -> ScriptResult<SharedMesh> {
-        let o = Options::new("decimate", options, &["ratio", "triangles", "error"])?;
-        let opts = decimate_options(&o)?;
-        let _task = crate::progress::start("decimate", None);
-        kernel("decimate", finish::decimate(&m.0, opts)).map(|(mesh, _)| SharedMesh::new(mesh))
+        decimated(m, options).map(|(mesh, _)| SharedMesh::new(mesh))
     }
 
     /// `decimate` with what it did: `#{mesh, triangles_before, triangles_after, max_error}`.
@@ -222,10 +227,7 @@ pub mod finish_api {
     /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn decimate_report(m: &mut SharedMesh, options: Map) -> ScriptResult<Map> {
-        let o = Options::new("decimate", options, &["ratio", "triangles", "error"])?;
-        let opts = decimate_options(&o)?;
-        let _task = crate::progress::start("decimate", None);
-        let (mesh, report) = kernel("decimate", finish::decimate(&m.0, opts))?;
+        let (mesh, report) = decimated(m, options)?;
         let mut map = decimate_map(&report);
         map.insert("mesh".into(), Dynamic::from(SharedMesh::new(mesh)));
         Ok(map)
