@@ -8,6 +8,8 @@ use crate::context::Warning;
 #[must_use]
 pub fn message(err: &EvalAltResult) -> String {
     let text = match err {
+        // Raised inside a script function: what was raised there.
+        EvalAltResult::ErrorInFunctionCall(_, _, inner, _) => return message(inner),
         EvalAltResult::ErrorTerminated(token, _) => format!("script stopped: {token}"),
         EvalAltResult::ErrorRuntime(value, _) => value.to_string(),
         _ => err.to_string(),
@@ -32,21 +34,9 @@ fn strip_position(text: &str) -> &str {
     trimmed
 }
 
-/// The innermost position that lies in the script itself (an error raised inside a called
-/// script function carries the call's position outside and the failing line inside).
-fn innermost_position(err: &EvalAltResult) -> Position {
-    match err {
-        EvalAltResult::ErrorInFunctionCall(_, src, inner, pos) if src.is_empty() => {
-            let p = innermost_position(inner);
-            if p.is_none() {
-                *pos
-            } else {
-                p
-            }
-        }
-        _ => err.position(),
-    }
-}
+/// At most this many calls of script functions are shown under an error raised inside them
+/// (a deep recursion would otherwise list every level); the rest are counted.
+const CALLS_SHOWN: usize = 8;
 
 /// Formats `err` raised in `engine` by the script `name` whose text is `source`:
 ///
@@ -56,10 +46,49 @@ fn innermost_position(err: &EvalAltResult) -> Position {
 ///       |         ^
 /// ```
 ///
-/// An error inside an imported module (a syntax error, or its top-level code failing) points
-/// into the module's file, followed by a note at the `import`.
+/// An error raised inside one of the script's functions is shown at its own line, followed by
+/// a note at each call that led there, innermost first (`note: in the call of `f` here`). An
+/// error inside an imported module (a syntax error, or its top-level code or one of its
+/// functions failing) points into the module's file, followed by a note at the `import` or
+/// the call.
 #[must_use]
 pub fn format_error(engine: &Engine, name: &str, source: &str, err: &EvalAltResult) -> String {
+    let mut file = (name.to_string(), source.to_string());
+    let mut calls: Vec<String> = Vec::new();
+    let mut err = err;
+    while let EvalAltResult::ErrorInFunctionCall(function, defined_in, inner, call) = err {
+        calls.push(format_kind(&file.0, &file.1, *call, "note", &format!("in the call of `{function}` here")));
+        if !defined_in.is_empty() && *defined_in != file.0 {
+            let Some(text) = module_source(defined_in) else { break };
+            file = (defined_in.clone(), text);
+        }
+        err = inner;
+    }
+    let mut out = format_raised(engine, &file.0, &file.1, err);
+    // A recursion's calls from one place: one note, counted.
+    let mut repeated: Vec<(String, usize)> = Vec::new();
+    for note in calls.into_iter().rev() {
+        match repeated.last_mut() {
+            Some((last, n)) if *last == note => *n += 1,
+            _ => repeated.push((note, 1)),
+        }
+    }
+    let hidden: usize = repeated.iter().skip(CALLS_SHOWN).map(|(_, n)| n).sum();
+    for (note, n) in repeated.iter().take(CALLS_SHOWN) {
+        out.push('\n');
+        match note.split_once('\n') {
+            Some((first, rest)) if *n > 1 => out.push_str(&format!("{first} ({n} times)\n{rest}")),
+            _ => out.push_str(note),
+        }
+    }
+    if hidden > 0 {
+        out.push_str(&format!("\n… and {hidden} earlier call(s)"));
+    }
+    out
+}
+
+/// [`format_error`] of an error raised where it is reported (not inside a script function).
+fn format_raised(engine: &Engine, name: &str, source: &str, err: &EvalAltResult) -> String {
     if let EvalAltResult::ErrorInModule(path, inner, pos) = err {
         if let Some(module_source) = module_source(path) {
             let inner_text = match &**inner {
@@ -72,7 +101,7 @@ pub fn format_error(engine: &Engine, name: &str, source: &str, err: &EvalAltResu
             return format!("{inner_text}\n{}", format_kind(name, source, *pos, "note", "imported here"));
         }
     }
-    let pos = innermost_position(err);
+    let pos = err.position();
     let text = explained_message(engine, err);
     // A data race carries no position: find the call whose closure causes it.
     if pos.is_none() {

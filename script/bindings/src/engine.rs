@@ -60,6 +60,7 @@ pub fn new_engine(options: EngineOptions) -> Engine {
     engine.set_fast_operators(false);
     api::register_all(&mut engine);
     crate::origins::register(&mut engine);
+    crate::lookup_failure::install(&mut engine);
     engine.set_module_resolver(
         resolver::Resolver::new(options.context.script_dir.clone())
             .recording(options.context.record.clone())

@@ -76,6 +76,13 @@ fn function_not_found(all: &[Overload], sig: &str) -> String {
             return wrong_type(all, name, t, &owners, &same);
         }
     }
+    // Of a name with many overloads (`+` has forty), those for the script API's types given.
+    let for_given: Vec<&Overload> = same
+        .iter()
+        .copied()
+        .filter(|o| o.params.iter().zip(&given).any(|((_, p), g)| is_api_type(g) && p == g))
+        .collect();
+    let same = if for_given.is_empty() { same } else { for_given };
     let mut msg = format!("{shown} matches no signature of `{name}`");
     let fitting: Vec<&&Overload> = same.iter().filter(|o| o.params.len() == given.len()).collect();
     if fitting.is_empty() {
@@ -97,8 +104,10 @@ fn not_a_solid(name: &str, given: &[String]) -> Option<String> {
     if !given.iter().any(|t| solid(t)) {
         return None;
     }
-    let other = given.iter().find(|t| !solid(t) && is_api_type(t))?;
-    Some(format!("`{name}` (CSG) takes a Mesh or a BlockModel on each side, not {}{}", a(other), solid_hint(other)))
+    let other = given.iter().find(|t| !solid(t))?;
+    // A way to a solid, for the script API's types (a Profile extrudes); a number has none.
+    let hint = if is_api_type(other) { solid_hint(other) } else { String::new() };
+    Some(format!("`{name}` (CSG) takes a Mesh or a BlockModel on each side, not {}{hint}", a(other)))
 }
 
 /// Why `given` does not fit `o`: the first argument whose type differs.

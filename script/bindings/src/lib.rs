@@ -11,7 +11,7 @@
 //!   parameters (declared, parsed, checked, listed); [`resolver`]: imports and the standard library.
 //! - [`lint`]: warnings found before a run (dropped results); [`diagnostics`]: errors and
 //!   warnings formatted at their line, [`printable`] escaped; [`explain`]: lookup failures explained from the
-//!   [`catalogue`] of what exists; [`spelling`]: near names for did-you-mean.
+//!   [`catalogue`] of what exists, and raised explained by [`lookup_failure`]; [`spelling`]: near names for did-you-mean.
 //! - [`doc`]: the API reference, generated from the engine's metadata; [`editing_rules`]: how
 //!   each kind of value changes, stated once.
 //! - [`facts`]: a mesh's measures as JSON; [`gltf_buffers`]: the files a `.gltf` refers to.
@@ -35,6 +35,7 @@ pub mod explain;
 pub mod facts;
 pub mod gltf_buffers;
 pub mod lint;
+pub mod lookup_failure;
 pub mod origins;
 pub mod params;
 pub mod printable;

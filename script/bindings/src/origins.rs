@@ -23,9 +23,10 @@
 //! no step.
 //!
 //! The same pass makes each `catch (e)` begin with `e.__caught()`, which turns an error Rhai
-//! raised itself (caught as an object map) into the message a run prints, explained: a call
-//! matching no signature is caught as "catmull_clark(Mesh, float) matches no signature of …",
-//! as it would be printed.
+//! raised itself (caught as an object map) into the message a run prints, explained: an unknown
+//! property is caught as "Mesh has no property `volum` …", as it would be printed. A call that
+//! finds no function is raised explained in the first place, wherever it is, by
+//! [`crate::lookup_failure`] (this pass cannot reach the bodies of the script's functions).
 
 use std::sync::Arc;
 

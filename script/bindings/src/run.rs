@@ -192,19 +192,23 @@ pub fn save_value(engine: &Engine, functions: &AST, value: Dynamic, out: &Path) 
     // The host names `out` (`run -o`, the studio's own file): the recipe's confinement and a
     // policy that only reports saves do not apply to it; the recipe's source still does.
     crate::RunContext::of_engine(engine).access.grant_host(out);
+    let arg_types = [value.type_id(), std::any::TypeId::of::<rhai::ImmutableString>()];
     let mut scope = Scope::new();
     scope.push("__value", value);
     scope.push("__path", out.display().to_string());
     let call = engine.compile("save(__value, __path)").map_err(|e| RunError(format!("error: {e}")))?;
     let call = functions.clone_functions_only().merge(&call);
-    engine.run_ast_with_scope(&mut scope, &call).map_err(|e| match *e {
-        rhai::EvalAltResult::ErrorFunctionNotFound(ref sig, _) if sig.starts_with("save ") => RunError(format!(
-            "error: cannot write {} to {}: values of that type cannot be saved{}",
-            crate::catalogue::a(&type_name),
-            out.display(),
-            savable_from(engine, &type_name)
-        )),
-        _ => RunError(format!("error: {}", crate::diagnostics::explained_message(engine, &e))),
+    engine.run_ast_with_scope(&mut scope, &call).map_err(|e| {
+        if crate::lookup_failure::finds_native(engine, "save", &arg_types) {
+            RunError(format!("error: {}", crate::diagnostics::explained_message(engine, &e)))
+        } else {
+            RunError(format!(
+                "error: cannot write {} to {}: values of that type cannot be saved{}",
+                crate::catalogue::a(&type_name),
+                out.display(),
+                savable_from(engine, &type_name)
+            ))
+        }
     })
 }
 
