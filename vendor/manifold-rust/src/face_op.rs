@@ -145,6 +145,14 @@ pub fn set_face_normals_and_coplanar(mesh: &mut ManifoldImpl) {
     let mut interior_halfedges: Vec<usize> = Vec::new();
     for (i, tp) in tri_priority.iter().enumerate() {
         crate::cancel::checkpoint_at(i);
+        // blocksmith patch (PATCHES.md, 11): the faces come in order of area, scattered
+        // through the mesh; fetch what a later face's flood will read.
+        if let Some(far) = tri_priority.get(i + 16) {
+            prefetch_face(mesh, far.tri);
+        }
+        if let Some(near) = tri_priority.get(i + 8) {
+            prefetch_flood_of(mesh, near.tri);
+        }
         let tri = tp.tri;
         if tri >= mesh.mesh_relation.tri_ref.len() {
             continue;
@@ -197,6 +205,47 @@ pub fn set_face_normals_and_coplanar(mesh: &mut ManifoldImpl) {
         }
     }
 
+}
+
+/// Fetches face `tri`'s half-edges, relation and normal (blocksmith patch, PATCHES.md, 11).
+#[inline(always)]
+fn prefetch_face(mesh: &ManifoldImpl, tri: usize) {
+    use crate::prefetch::prefetch;
+    if let (Some(first), Some(last)) = (mesh.halfedge.get(3 * tri), mesh.halfedge.get(3 * tri + 2)) {
+        prefetch(first);
+        prefetch(last);
+    }
+    if let Some(r) = mesh.mesh_relation.tri_ref.get(tri) {
+        prefetch(r);
+    }
+    if let Some(n) = mesh.face_normal.get(tri) {
+        prefetch(n);
+    }
+}
+
+/// Fetches what the coplanar flood from face `tri` reads first, its half-edges being fetched
+/// already: its base vertex, and each neighbour's half-edge and relation (blocksmith patch,
+/// PATCHES.md, 11).
+#[inline(always)]
+fn prefetch_flood_of(mesh: &ManifoldImpl, tri: usize) {
+    use crate::prefetch::prefetch;
+    for j in 0..3 {
+        let Some(h) = mesh.halfedge.get(3 * tri + j) else { return };
+        if j == 0 {
+            if let Some(v) = usize::try_from(h.start_vert).ok().and_then(|v| mesh.vert_pos.get(v)) {
+                prefetch(v);
+            }
+        }
+        if h.paired_halfedge >= 0 {
+            let h2 = next_halfedge(h.paired_halfedge) as usize;
+            if let Some(e) = mesh.halfedge.get(h2) {
+                prefetch(e);
+            }
+            if let Some(r) = mesh.mesh_relation.tri_ref.get(h2 / 3) {
+                prefetch(r);
+            }
+        }
+    }
 }
 
 // -----------------------------------------------------------------------

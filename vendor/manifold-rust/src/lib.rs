@@ -89,6 +89,7 @@ pub mod math;
 pub mod minkowski;
 pub mod par;
 pub mod polygon;
+mod prefetch;
 pub mod progress;
 pub mod properties;
 pub mod quickhull;

@@ -2,6 +2,7 @@
 // Contains MeshBuilder, Pool, FaceData, and QuickHull struct/impl
 
 use crate::linalg::{dot, Vec3};
+use crate::prefetch::prefetch;
 use crate::types::Halfedge;
 use std::collections::VecDeque;
 
@@ -17,6 +18,7 @@ use super::{
 struct Face {
     he: i32,
     plane: Plane,
+    plane_bound: PlaneBound,
     most_distant_point_dist: f64,
     most_distant_point: usize,
     visibility_checked_on_iteration: usize,
@@ -31,6 +33,7 @@ impl Face {
         Self {
             he,
             plane: Plane::default(),
+            plane_bound: PlaneBound::UNKNOWN,
             most_distant_point_dist: 0.0,
             most_distant_point: 0,
             visibility_checked_on_iteration: 0,
@@ -220,6 +223,95 @@ impl Pool {
 
     fn clear(&mut self) {
         self.data.clear();
+    }
+}
+
+/// How many points ahead the redistribution of a disabled face's points fetches positions.
+const PREFETCH_AHEAD: usize = 24;
+
+/// The unit round-off of `f64`.
+const EPS: f64 = f64::EPSILON / 2.0;
+
+/// `|x| + |y| + |z|`.
+#[inline]
+fn l1(p: Vec3) -> f64 {
+    p.x.abs() + p.y.abs() + p.z.abs()
+}
+
+/// How far a face's float plane distance may be from the exact one (blocksmith patch,
+/// PATCHES.md, 12), so that "above" (the exact orientation of `is_above`) is read off the
+/// stored plane when the distance is clearly away from zero, as the C++ reads it, and decided
+/// exactly from the corners only near zero. Results are those of the exact test.
+///
+/// The plane is `triangle_normal(a, b, c)` (the cross product of `a - c` and `b - c`, then
+/// normalised) through a corner `point`. With `L` the largest coordinate of the two
+/// differences, the computed cross product is within `8√3 ε L²` of the exact one (a rounded
+/// difference, two products and their difference per component); the bound takes `32 ε L²`.
+/// Its direction is then off by at most `θ ≤ (π/2)·32εL² / (|n| − 32εL²)`, taken as twice
+/// that ratio, plus `8ε` for the normalisation. A point `p`'s float distance
+/// `n·p + (−n·point)` is then within `slope·(‖p‖₁ + ‖point‖₁)` of the exact distance from the
+/// normal, `3ε(‖p‖₁ + ‖point‖₁) + ε|d|` from the rounding of the two dot products and the sum
+/// (taken as `8ε` and `4ε`). A face whose cross product is not clearly larger than its error
+/// (a sliver) has no bound: every test of it is exact.
+#[derive(Clone, Copy)]
+struct PlaneBound {
+    slope: f64,
+    point_l1: f64,
+}
+
+impl PlaneBound {
+    /// No bound: every test is exact.
+    const UNKNOWN: Self = Self { slope: f64::INFINITY, point_l1: f64::INFINITY };
+
+    /// The bound of the plane `triangle_normal(a, b, c)` through `point` (a corner).
+    fn of(a: Vec3, b: Vec3, c: Vec3, point: Vec3) -> Self {
+        let (u, v) = (a - c, b - c);
+        let l = [u.x, u.y, u.z, v.x, v.y, v.z].iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let raw = Vec3::new(u.y * v.z - u.z * v.y, u.z * v.x - u.x * v.z, u.x * v.y - u.y * v.x);
+        let n = dot(raw, raw).sqrt();
+        let cross_error = 32.0 * EPS * l * l;
+        if !n.is_finite() || !l.is_finite() || n <= 4.0 * cross_error {
+            return Self::UNKNOWN;
+        }
+        Self { slope: 2.0 * cross_error / (n - cross_error) + 8.0 * EPS, point_l1: l1(point) }
+    }
+
+    /// A bound on the error of the float distance `d` of a point with `‖p‖₁ = p_l1`: infinite
+    /// (or NaN) without a bound, so that no comparison with it holds.
+    #[inline]
+    fn error(&self, p_l1: f64, d: f64) -> f64 {
+        let reach = p_l1 + self.point_l1;
+        (self.slope + 8.0 * EPS) * reach + 4.0 * EPS * d.abs()
+    }
+}
+
+/// A cursor over the points of a list of point lists, a few places ahead of the loop that
+/// reads them (blocksmith patch, PATCHES.md, 11).
+#[derive(Default)]
+struct PointsAhead {
+    list: usize,
+    offset: usize,
+}
+
+impl PointsAhead {
+    /// Prefetches the position of the next point, if any, and moves past it.
+    #[inline(always)]
+    fn prefetch_next(&mut self, lists: &[Vec<usize>], verts: &[Vec3]) {
+        while let Some(list) = lists.get(self.list) {
+            if let Some(&point) = list.get(self.offset) {
+                self.offset += 1;
+                if let Some(pos) = verts.get(point) {
+                    prefetch(pos);
+                }
+                return;
+            }
+            self.list += 1;
+            self.offset = 0;
+            // Each list is its own allocation: fetch a later one's storage.
+            if let Some(later) = lists.get(self.list + 2).and_then(|v| v.first()) {
+                prefetch(later);
+            }
+        }
     }
 }
 
@@ -488,6 +580,8 @@ impl QuickHull {
                             let paired = self.mesh.halfedges[he_index as usize].paired_halfedge;
                             if paired != face_data.entered_from_halfedge {
                                 let neighbor_face = self.mesh.halfedge_to_face[paired as usize];
+                                // blocksmith patch (PATCHES.md, 11): the face is read when popped.
+                                prefetch(&self.mesh.faces[neighbor_face as usize]);
                                 self.possibly_visible_faces.push(FaceData {
                                     face_index: neighbor_face as usize,
                                     entered_from_halfedge: he_index,
@@ -610,6 +704,12 @@ impl QuickHull {
                 let plane_normal =
                     triangle_normal(self.verts[a as usize], self.verts[b as usize], active_point);
                 self.mesh.faces[new_face_index].plane = Plane::new(plane_normal, active_point);
+                self.mesh.faces[new_face_index].plane_bound = PlaneBound::of(
+                    self.verts[a as usize],
+                    self.verts[b as usize],
+                    active_point,
+                    active_point,
+                );
                 self.mesh.faces[new_face_index].he = ab as i32;
 
                 // Set paired halfedge links for the new edges
@@ -625,8 +725,17 @@ impl QuickHull {
             // Assign points from disabled faces to new faces
             let mut dfpv = std::mem::take(&mut self.disabled_face_point_vectors);
             let nfi_copy = self.new_face_indices.clone();
-            for disabled_points in dfpv.drain(..) {
-                for &point in &disabled_points {
+            // blocksmith patch (PATCHES.md, 11): a cursor runs PREFETCH_AHEAD points ahead
+            // through the lists (most hold a point or two), fetching positions before they
+            // are tested, and each list's own storage before the cursor reaches it.
+            let mut ahead = PointsAhead::default();
+            for _ in 0..PREFETCH_AHEAD {
+                ahead.prefetch_next(&dfpv, &self.verts);
+            }
+            for d in 0..dfpv.len() {
+                for k in 0..dfpv[d].len() {
+                    ahead.prefetch_next(&dfpv, &self.verts);
+                    let point = dfpv[d][k];
                     if point == active_point_index {
                         continue;
                     }
@@ -636,6 +745,8 @@ impl QuickHull {
                         }
                     }
                 }
+            }
+            for disabled_points in dfpv.drain(..) {
                 self.index_vector_pool.reclaim(disabled_points);
             }
             self.disabled_face_point_vectors = dfpv;
@@ -868,6 +979,12 @@ impl QuickHull {
             );
             let plane = Plane::new(n1, self.verts[v[0] as usize]);
             self.mesh.faces[fi].plane = plane;
+            self.mesh.faces[fi].plane_bound = PlaneBound::of(
+                self.verts[v[0] as usize],
+                self.verts[v[1] as usize],
+                self.verts[v[2] as usize],
+                self.verts[v[0] as usize],
+            );
         }
 
         // Assign points to initial faces
@@ -881,7 +998,23 @@ impl QuickHull {
         }
     }
 
+    /// Whether `point` is exactly above the face (see `is_above`). blocksmith patch
+    /// (PATCHES.md, 12): decided from the face's stored plane when the float distance is
+    /// farther from zero than its error bound, else exactly from the face's corners.
     fn is_face_above(&self, face_index: usize, point: Vec3) -> bool {
+        let d = signed_distance_to_plane(point, &self.mesh.faces[face_index].plane);
+        self.is_face_above_at(face_index, point, d)
+    }
+
+    /// [`Self::is_face_above`] given the float distance `d` of `point` to the face's plane.
+    fn is_face_above_at(&self, face_index: usize, point: Vec3, d: f64) -> bool {
+        let error = self.mesh.faces[face_index].plane_bound.error(l1(point), d);
+        if d > error {
+            return true;
+        }
+        if d < -error {
+            return false;
+        }
         let [a, b, c] = self.mesh.get_vertex_indices_of_face_by_index(face_index);
         is_above(
             self.verts[a as usize],
@@ -898,7 +1031,7 @@ impl QuickHull {
         // is queued on is one the flood fill will find visible from it.
         if d > 0.0
             && d * d > self.epsilon_squared * self.mesh.faces[face_index].plane.sqr_n_length
-            && self.is_face_above(face_index, self.verts[point_index])
+            && self.is_face_above_at(face_index, self.verts[point_index], d)
         {
             let f = &mut self.mesh.faces[face_index];
             if f.points_on_positive_side.is_none() {
@@ -915,5 +1048,77 @@ impl QuickHull {
             return true;
         }
         false
+    }
+}
+
+/// blocksmith patch (PATCHES.md, 12): the stored-plane shortcut of `is_face_above` agrees with
+/// the exact orientation wherever it decides.
+#[cfg(test)]
+mod plane_bound_tests {
+    use super::{l1, PlaneBound, Plane};
+    use crate::linalg::{cross, Vec3};
+    use crate::quickhull::{signed_distance_to_plane, triangle_normal};
+    use crate::robust::exact::filtered::orient3d;
+    use crate::robust::exact::Sign;
+
+    struct Lcg(u64);
+    impl Lcg {
+        fn unit(&mut self) -> f64 {
+            self.0 = self.0.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (self.0 >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        }
+        fn point(&mut self, scale: f64, centre: Vec3) -> Vec3 {
+            centre + Vec3::new(self.unit(), self.unit(), self.unit()) * scale
+        }
+    }
+
+    #[test]
+    fn the_stored_plane_decides_only_where_it_agrees_with_the_exact_orientation() {
+        let mut rng = Lcg(0x5eed);
+        // Of points well off ordinary triangles: decided by the plane, and all of them.
+        let (mut clear, mut clear_decided, mut decided) = (0usize, 0usize, 0usize);
+        for case in 0..200_000 {
+            let scale = 10f64.powi((case % 13) as i32 - 4);
+            let centre = Vec3::new(3.0, -7.0, 11.0) * scale * ((case % 5) as f64);
+            let a = rng.point(scale, centre);
+            let b = rng.point(scale, centre);
+            // Every fourth triangle a sliver: c a hair off the segment ab.
+            let c = if case % 4 == 0 {
+                let t = rng.unit() * 0.5 + 0.5;
+                a + (b - a) * t + Vec3::new(rng.unit(), rng.unit(), rng.unit()) * (scale * 1e-9)
+            } else {
+                rng.point(scale, centre)
+            };
+            let normal = cross(b - a, c - a);
+            // Points far off, and points within rounding of the plane (on it, and a few ulps off).
+            let p = match case % 3 {
+                0 => rng.point(scale * 4.0, centre),
+                _ => {
+                    let (s, t) = (rng.unit(), rng.unit());
+                    let off = rng.unit() * scale * 1e-14 * ((case % 7) as f64);
+                    a + (b - a) * s + (c - a) * t + normal * (off / (normal.x.abs() + normal.y.abs() + normal.z.abs()).max(1e-300))
+                }
+            };
+            let exact = orient3d(a, b, c, p);
+            let is_clear = case % 3 == 0 && case % 4 != 0;
+            for (corner, plane) in [(a, Plane::new(triangle_normal(a, b, c), a)), (c, Plane::new(triangle_normal(a, b, c), c))] {
+                let bound = PlaneBound::of(a, b, c, corner);
+                let d = signed_distance_to_plane(p, &plane);
+                let error = bound.error(l1(p), d);
+                clear += usize::from(is_clear);
+                if d > error {
+                    assert_eq!(exact, Sign::Pos, "case {case}: d {d:e} > bound {error:e} but the point is not above");
+                    decided += 1;
+                    clear_decided += usize::from(is_clear);
+                } else if d < -error {
+                    assert_ne!(exact, Sign::Pos, "case {case}: d {d:e} < -bound {error:e} but the point is above");
+                    decided += 1;
+                    clear_decided += usize::from(is_clear);
+                }
+            }
+        }
+        // The shortcut must decide the clear cases, or it saves nothing.
+        assert!(clear_decided * 1000 >= clear * 999, "decided {clear_decided} of {clear} clear cases");
+        assert!(decided > 100_000, "decided {decided}");
     }
 }
