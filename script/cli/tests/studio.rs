@@ -255,6 +255,7 @@ fn only_the_printed_page_may_read_or_drive_the_studio() {
         "/app.js".into(),
         "/api/state".into(),
         format!("/model/{n}/0.glb"),
+        format!("/model/{n}/0.defects"),
         format!("/download/{n}/0.glb"),
     ];
     // A DNS-rebinding page names its own host: nothing is answered, not even the page.

@@ -23,6 +23,7 @@ pub const ASSETS: &[Asset] = assets![
     ("/app.js", JS),
     ("/viewer.js", JS),
     ("/measure.js", JS),
+    ("/defects.js", JS),
     ("/fit.js", JS),
     ("/controls.js", JS),
     ("/connection.js", JS),

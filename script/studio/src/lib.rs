@@ -9,6 +9,7 @@
 //! notify, image); nothing of the terminal. Who may read and drive a page is [`guard`]'s. The command line depends on it, never the reverse.
 
 pub mod assets;
+pub mod defects;
 pub mod guard;
 pub mod http;
 pub mod recipe_lines;

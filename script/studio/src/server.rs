@@ -14,6 +14,8 @@
 //! | `GET /model/V/I.glb` | header or query | layer `I` of model version `V` (404 once it is no longer shown) |
 //! | `GET /model/V/I.control` | header or query | its control mesh's edges: little-endian `f32` x, y, z of each end |
 //! | `GET /model/V/I.faces?line=L&column=C&file=F` | header or query | the triangles of the faces of layer `I` made by the call written at `F:L:C` (any column when `C` is 0 or missing, any file when `F` is missing): little-endian `f32` x, y, z of each corner |
+//! | `GET /model/V/I.faces?component=K` | header or query | the same, of the faces of component `K` of layer `I` (numbered as `.defects` lists them) |
+//! | `GET /model/V/I.defects` | header or query | what is wrong with layer `I` as geometry to draw, JSON ([`super::defects::json`]): boundaries and handle loops as segments, crossing faces as triangles, the components |
 //! | `POST /api/pick` (`Content-Type: application/json`, `{"version": V, "layer": I, "point": [x, y, z], "editor": true}`) | header | the face of layer `I` nearest the point (kernel axes), its triangles and the chain of calls that made it, first call first: `{face, triangles: [x, y, z of each corner], steps: [{call, file, line, column}], editor}`; an editor following the studio (`blocksmith lsp`) is shown the first call's line unless `"editor": false` (the page's measure tool) (`editor`: whether one was told) |
 //! | `GET /download/V/I.glb`, `.obj`, `.stl` | header or query | layer `I` of model `V` as a file |
 //!
@@ -232,6 +234,7 @@ fn route(request: &Request, session: &Session, token: &str) -> Response {
         }
         ("POST", ["", "api", "pick"]) => pick(session, &request.body),
         ("GET", ["", "model", version, file]) if file.ends_with(".faces") => faces(session, request, version, file),
+        ("GET", ["", "model", version, file]) if file.ends_with(".defects") => defects(session, version, file),
         ("GET", ["", "model", version, file]) => {
             let found = version.parse().ok().and_then(|v| session.model_numbered(v)).and_then(|m| {
                 let (i, ext) = file.split_once('.')?;
@@ -282,23 +285,42 @@ fn pick(session: &Session, body: &[u8]) -> Response {
     Response::new(200, "application/json", body.to_string().into_bytes())
 }
 
-/// `GET /model/V/I.faces?line=L&column=C&file=F`: the triangles of the faces made at a line.
+/// `GET /model/V/I.faces?line=L&column=C&file=F`: the triangles of the faces made at a line;
+/// `?component=K`: of a component's faces.
 fn faces(session: &Session, request: &Request, version: &str, file: &str) -> Response {
     let query = request.query_pairs();
     let number = |k: &str| query.get(k).map_or(Some(0), |v| v.parse::<u32>().ok());
-    let (Some(line), Some(column)) = (number("line"), number("column")) else {
-        return Response::new(400, "text/plain; charset=utf-8", b"line, column: expected whole numbers".to_vec());
+    let (Some(line), Some(column), Some(component)) = (number("line"), number("column"), number("component")) else {
+        return Response::new(
+            400,
+            "text/plain; charset=utf-8",
+            b"line, column, component: expected whole numbers".to_vec(),
+        );
     };
-    let site = recipe_lines::Site { file: query.get("file").cloned(), line, column };
     let model = version.parse().ok().and_then(|v| session.model_numbered(v));
     let index = file.trim_end_matches(".faces").parse::<usize>().ok();
     let Some(layer) = model.as_ref().and_then(|m| m.layers.get(index?)) else { return not_found() };
-    let faces = recipe_lines::faces_made_at(&layer.mesh, &site);
+    let faces = if query.contains_key("component") {
+        super::defects::component_faces(&layer.mesh, component as usize)
+    } else {
+        recipe_lines::faces_made_at(&layer.mesh, &recipe_lines::Site { file: query.get("file").cloned(), line, column })
+    };
     let corners = recipe_lines::triangles(&layer.mesh, &faces);
     Response::new(200, "application/octet-stream", corners.iter().flat_map(|x| x.to_le_bytes()).collect())
 }
 
 /// Layer `I` of model `V` as `I.glb` (as shown, animation included), `.obj` or `.stl`.
+/// `GET /model/V/I.defects`: what is wrong with a layer, as geometry to draw.
+fn defects(session: &Session, version: &str, file: &str) -> Response {
+    let model = version.parse().ok().and_then(|v| session.model_numbered(v));
+    let index = file.trim_end_matches(".defects").parse::<usize>().ok();
+    let Some(layer) = model.as_ref().and_then(|m| m.layers.get(index?)) else { return not_found() };
+    match super::defects::json(&layer.mesh) {
+        Ok(j) => Response::new(200, "application/json", j.to_string().into_bytes()),
+        Err(why) => Response::new(422, "text/plain; charset=utf-8", why.into_bytes()),
+    }
+}
+
 fn download(session: &Session, version: &str, file: &str) -> Response {
     let model = version.parse().ok().and_then(|v| session.model_numbered(v));
     let Some((index, ext)) = file.split_once('.') else { return not_found() };

@@ -1,10 +1,12 @@
 // The studio page: wires the connection, the 3D view and the panel (facts, layers, toggles,
 // animation timeline, parameters, downloads, the measure tool). A click on the model shows the
 // recipe lines that made the face under it; with measure on, it measures instead (measure.js).
-// `window.studio` tells tests what is on show (`studio.measure`: the measure tool's state).
+// `window.studio` tells tests what is on show (`studio.measure`: the measure tool's state;
+// `studio.defects`: the defects view's, defects.js).
 
 import { Viewer } from './viewer.js';
 import { Measure } from './measure.js';
+import { Defects, describe } from './defects.js';
 import { connect, postJson, sendParams, token } from './connection.js';
 import { renderParams, paramsFromAddress, paramsToAddress } from './controls.js';
 
@@ -16,6 +18,47 @@ let loading = Promise.resolve();
 let specs = [];
 let current = null; // the model message on show
 let values = {};
+
+// A layer's resource of model `version` (`suffix`: `defects`, `faces`...), or null when gone.
+async function fetchLayer(version, layer, suffix, query = {}) {
+  const answer = await fetch(`/model/${version}/${layer}.${suffix}?${new URLSearchParams({ token, ...query })}`);
+  return answer.ok ? answer : null;
+}
+const defects = new Defects(viewer, fetchLayer);
+studio.defects = defects.state;
+
+// The defects panel: what was found, and a checkbox per component.
+function showDefects() {
+  const s = defects.state;
+  studio.defects = s;
+  $('defects').setAttribute('aria-pressed', String(s.on));
+  $('defects-note').hidden = !s.on;
+  $('defects-none').hidden = !(s.loaded && Object.keys(s.counts).length === 0);
+  $('defect-counts').replaceChildren(...describe(s.counts).flatMap(([k, v]) => {
+    const dt = document.createElement('dt'); dt.textContent = k;
+    const dd = document.createElement('dd'); dd.textContent = v;
+    return [dt, dd];
+  }));
+  $('components').replaceChildren(...s.components.map((c, k) => {
+    const li = document.createElement('li');
+    const box = document.createElement('input');
+    box.type = 'checkbox'; box.checked = c.visible; box.id = `component-${k}`;
+    box.onchange = () => {
+      defects.setComponent(k, box.checked);
+      studio.triangles = defects.visibleTriangles() ?? viewer.triangles();
+    };
+    const genus = c.genus ? `, genus ${c.genus}` : '';
+    li.append(box, ` component ${k + 1}: ${c.faces} faces${genus}`);
+    return li;
+  }));
+  studio.triangles = defects.visibleTriangles() ?? viewer.triangles();
+}
+
+async function setDefects(on) {
+  if (on && current) await defects.show(current);
+  else defects.clear();
+  showDefects();
+}
 
 function showParams() {
   renderParams($('params'), specs, values, (changed) => {
@@ -86,13 +129,15 @@ async function showModel(message) {
   showFacts(message.layers, message.run_ms);
   showLayers(message.layers, objects, message.version);
   showWarnings(message.warnings ?? []);
+  if (defects.state.on) await setDefects(true);
   $('animation').hidden = !viewer.duration;
   const control = message.layers.some((l) => l.control);
   $('control-label').hidden = !control;
   $('control-note').hidden = control;
   $('timeline').max = viewer.duration || 1;
   Object.assign(studio, {
-    version: message.version, triangles: viewer.triangles(), controlEdges: viewer.controlEdges(), loads: studio.loads + 1,
+    version: message.version, triangles: defects.visibleTriangles() ?? viewer.triangles(),
+    controlEdges: viewer.controlEdges(), loads: studio.loads + 1,
   });
   document.title = `blocksmith: ${studio.triangles} triangles`;
   // When the model reached the screen: after the next frame is drawn (for latency scripts),
@@ -343,6 +388,8 @@ $('control').onchange = (e) => {
   studio.controlEdges = viewer.controlEdges();
 };
 $('fit').onclick = () => viewer.fit();
+$('defects').onclick = () => setDefects(!defects.state.on).catch((e) => showError(`cannot show the defects: ${e}`));
+studio.defectSegments = (key) => defects.segments(key);
 $('play').onclick = () => {
   viewer.setPlaying(!viewer.playing);
   $('play').textContent = viewer.playing ? 'pause' : 'play';

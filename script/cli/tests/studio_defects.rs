@@ -1,0 +1,134 @@
+//! The studio's defects view in a real browser (Debian's `chromium`, headless; skipped when it
+//! is missing, except under CI=true): a model of four parts — an open square, two cubes that
+//! cross each other, a torus — shows its open boundary and the torus's handle loop as lines on
+//! the surface (checked in the scene and in the pixels drawn), the crossing faces, and its four
+//! components, each of which can be hidden on its own.
+
+#[path = "support/browser.rs"]
+mod browser;
+mod support;
+
+use std::io::{BufRead, BufReader};
+use std::process::{Child, Command, Stdio};
+use std::time::Duration;
+
+use browser::Browser;
+use serde_json::Value;
+
+/// A `blocksmith watch` process, stopped when dropped.
+struct Watch(Child);
+
+impl Drop for Watch {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// `blocksmith watch recipe` and the address it printed.
+fn watch(recipe: &std::path::Path) -> (Watch, String) {
+    let mut child =
+        Command::new(env!("CARGO_BIN_EXE_blocksmith")).arg("watch").arg(recipe).stderr(Stdio::piped()).spawn().unwrap();
+    let mut lines = BufReader::new(child.stderr.take().unwrap()).lines();
+    let Some(line) = lines.by_ref().map_while(Result::ok).find(|l| l.contains("http://")) else {
+        let _ = child.kill();
+        panic!("no address printed");
+    };
+    std::thread::spawn(move || lines.for_each(drop));
+    let url = format!("http://{}", line.split("http://").nth(1).unwrap().split_whitespace().next().unwrap());
+    (Watch(child), url)
+}
+
+fn numbers(v: &Value) -> Vec<f64> {
+    v.as_array().unwrap_or_else(|| panic!("not an array: {v}")).iter().map(|x| x.as_f64().unwrap()).collect()
+}
+
+const RECIPE: &str = "\
+let square = mesh([[5, 0, 0], [6, 0, 0], [6, 1, 0], [5, 1, 0]], [[0, 1, 2, 3]]);
+let a = cube(1);
+let b = cube(1).translate([0.5, 0.5, 0.5]);
+let ring = torus(2, 0.5, 24, 12).translate([-6, 0, 0]);
+combine([square, a, b, ring])
+";
+
+#[test]
+fn the_defects_view_draws_boundaries_handle_loops_and_crossings_and_toggles_components() {
+    let dir = tempfile::tempdir().unwrap();
+    let recipe = dir.path().join("broken.rhai");
+    std::fs::write(&recipe, RECIPE).unwrap();
+    let (_watch, url) = watch(&recipe);
+    let Some(mut b) = Browser::open(&url) else { return };
+    b.wait("window.studio && studio.triangles > 0", Duration::from_secs(30));
+    let all = b.eval("studio.triangles").as_f64().unwrap();
+    b.eval("document.getElementById('defects').click()");
+    b.wait("studio.defects.loaded", Duration::from_secs(30));
+    assert!(b.eval("studio.error").is_null(), "{}", b.eval("studio.error"));
+    let state = b.eval("JSON.parse(JSON.stringify(studio.defects, (k, v) => k === 'mesh' ? undefined : v))");
+    let counts = &state["counts"];
+    assert_eq!(
+        (counts["component"].as_u64(), counts["boundary"].as_u64(), counts["handle"].as_u64()),
+        (Some(4), Some(1), Some(1)),
+        "{state}"
+    );
+    assert!(counts["self_intersection"].as_u64().unwrap() > 0, "{state}");
+    assert!(state["crossings"].as_f64().unwrap() >= 12.0, "the crossing faces are drawn: {state}");
+    assert_eq!(b.eval("document.getElementById('defects').getAttribute('aria-pressed')"), "true");
+
+    // The square's boundary: four unit segments on its edges (z = 0, x in 5..6).
+    let boundary = numbers(&b.eval("studio.defectSegments('boundaries')"));
+    assert_eq!(boundary.len(), 4 * 6);
+    for s in boundary.chunks_exact(6) {
+        let len = ((s[0] - s[3]).powi(2) + (s[1] - s[4]).powi(2) + (s[2] - s[5]).powi(2)).sqrt();
+        assert!((len - 1.0).abs() < 1e-5 && s[2] == 0.0 && s[0] >= 5.0, "{s:?}");
+    }
+    // The handle loop lies on the torus (0.5 from its core circle of radius 2 about x = -6) and
+    // goes once round the tube: a short loop, not one round the whole ring.
+    let handle = numbers(&b.eval("studio.defectSegments('handles')"));
+    assert!(handle.len() >= 6 * 3, "{handle:?}");
+    let mut length = 0.0;
+    for s in handle.chunks_exact(6) {
+        for p in [&s[..3], &s[3..]] {
+            let (x, y, z) = (p[0] + 6.0, p[1], p[2]);
+            let tube = (((x * x + y * y).sqrt() - 2.0).powi(2) + z * z).sqrt();
+            assert!((tube - 0.5).abs() < 1e-4, "{p:?} is {tube} from the core");
+        }
+        length += ((s[0] - s[3]).powi(2) + (s[1] - s[4]).powi(2) + (s[2] - s[5]).powi(2)).sqrt();
+    }
+    assert!(length < 2.0 * std::f64::consts::PI * 0.5 * 1.1, "a loop round the tube, not the ring: {length}");
+
+    // The loop is on the screen in its colour: magenta pixels where the page draws its first
+    // segment's middle (lines are drawn over everything).
+    let mid: Vec<f64> = (0..3).map(|i| (handle[i] + handle[i + 3]) / 2.0).collect();
+    // Two animation frames: the view draws on the next one after a change.
+    b.eval("new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(() => done(true))))");
+    let magenta = b.eval(&format!(
+        "(() => {{ const c = document.querySelector('#view canvas'); const r = c.getBoundingClientRect();
+           const [x, y] = studio.screenOf([{}, {}, {}]); const k = c.width / r.width;
+           const o = document.createElement('canvas'); o.width = c.width; o.height = c.height;
+           const g = o.getContext('2d'); g.drawImage(c, 0, 0);
+           const px = g.getImageData(Math.round((x - r.left) * k) - 3, Math.round((y - r.top) * k) - 3, 7, 7).data;
+           let n = 0; for (let i = 0; i < px.length; i += 4) if (px[i] > 120 && px[i + 1] < 90 && px[i + 2] > 120) n++;
+           return n; }})()",
+        mid[0], mid[1], mid[2]
+    ));
+    assert!(magenta.as_u64().unwrap() > 0, "no magenta pixel near the handle loop's segment at {mid:?}");
+
+    // Four components drawn in place of the model, together the model's triangles; hiding the
+    // torus leaves the others.
+    let components = state["components"].as_array().unwrap();
+    assert_eq!(components.len(), 4);
+    let triangles: Vec<f64> = components.iter().map(|c| c["triangles"].as_f64().unwrap()).collect();
+    assert_eq!(triangles.iter().sum::<f64>(), all, "{triangles:?}");
+    assert_eq!(b.eval("studio.triangles").as_f64().unwrap(), all);
+    let ring = components.iter().position(|c| c["genus"] == 1).expect("the torus is the component of genus 1");
+    b.eval(&format!("document.getElementById('component-{ring}').click()"));
+    assert_eq!(b.eval(&format!("studio.defects.components[{ring}].visible")), false);
+    assert_eq!(b.eval("studio.triangles").as_f64().unwrap(), all - triangles[ring]);
+    assert_eq!(b.eval("studio.defects.components.filter((c) => c.mesh.visible).length"), 3);
+
+    // Off again: the model as it was.
+    b.eval("document.getElementById('defects').click()");
+    b.wait("!studio.defects.on", Duration::from_secs(10));
+    assert_eq!(b.eval("studio.triangles").as_f64().unwrap(), all);
+    assert_eq!(b.eval("studio.defectSegments('handles').length"), 0);
+}
