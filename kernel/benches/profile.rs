@@ -9,22 +9,28 @@
 //! `num_tri()`. Run: `cargo bench -p blocksmith-kernel --bench profile`; the peer:
 //! `~/.cache/blocksmith-peers/venv/bin/python kernel/benches/profile_peer.py bench`.
 //!
-//! Measured (release, this 2-core machine with a load of about 3 from other builds, 2026-12-04,
-//! `--quick` then the peer straight after; ours criterion's middle estimate, manifold3d's median
-//! and best of 10–500). Runs minutes apart differed by up to 1.8×, so only ratios are quoted:
-//! | case | ours / manifold3d median | ours / manifold3d best |
-//! |---|---|---|
-//! | extrude, 64-gon, 90° twist, 32 layers (1.0 ms) | 0.85× | 0.88× |
-//! | revolve, 64-gon in 128 steps (6.4 ms) | 1.0× | 1.5× |
-//! | hull of 100,000 sphere points (259 ms) | 0.92× | 1.1× |
-//! | Minkowski, L prism ⊕ sphere (83 ms; engine alone 86 ms) | 0.54× | 0.96× |
-//! | offset, round joins (2.9 µs) | 1.0× | 1.0× |
-//! | hull of 1,000,000 sphere points (8.7 s; every point is on the hull: 2M triangles) | 1.3× | 1.56× |
+//! Measured (release, this 2-core machine, 2026-12-06, `--quick` interleaved with the peer in
+//! one sitting: ours criterion's middle estimate, manifold3d's median of 10–300; the machine's
+//! speed drifts by up to 1.8× over minutes, so only ratios of neighbouring runs are quoted):
+//! | case | ours / manifold3d median |
+//! |---|---|
+//! | extrude, 64-gon, 90° twist, 32 layers (2.1–2.4 ms) | 1.3–1.4× |
+//! | revolve, 64-gon in 128 steps (7.5–10 ms) | 1.3–1.7× |
+//! | hull of 100,000 sphere points (342–369 ms) | 0.88–0.99× |
+//! | Minkowski, L prism ⊕ sphere (116–135 ms) | 0.95–1.0× |
+//! | offset, round joins (4.3–4.6 µs; the peer's timer shows 4 µs) | about 1.1× |
+//! | hull of 1,000,000 sphere points (5.4–6.0 s; every point is on the hull: 2M triangles) | 0.92–1.01× |
 //!
-//! The 1M-point hull's gap is the engine's: its quickhull took 7.2 s of a 7.6 s run (our
-//! export and half-edge build 0.36 s, the volume check 0.03 s). Text has no peer here: 10,000
-//! characters take about 19 ms (each glyph cleaned once, only glyphs whose ink meets unioned;
-//! a union of the whole text took 3.7 s).
+//! The hulls were 0.92× and 1.3× on 2026-12-04; engine patches 11 and 12
+//! (`vendor/manifold-rust/PATCHES.md`) took the quickhull's cache misses and its exact
+//! orientation tests of faces clearly decided by their float planes off (1M: 7.4–7.8 s before
+//! them, in the same sitting). On 2026-12-04 extrude and revolve measured 0.85× and 1.0×; today
+//! the build from before those patches measures as this one does, so the change is the
+//! machine's, and both are slower than the peer here: a quarter of their time is the engine's
+//! normals and coplanar pass (`acos` of every corner's angle), a tenth the thread switches of
+//! its parallel passes on meshes of 4k–16k triangles.
+//! Text has no peer here: 10,000 characters take about 7 ms (each glyph cleaned once, only
+//! glyphs whose ink meets unioned; a union of the whole text took 3.7 s).
 
 #[global_allocator]
 static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;

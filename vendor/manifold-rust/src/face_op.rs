@@ -146,12 +146,15 @@ pub fn set_face_normals_and_coplanar(mesh: &mut ManifoldImpl) {
     for (i, tp) in tri_priority.iter().enumerate() {
         crate::cancel::checkpoint_at(i);
         // blocksmith patch (PATCHES.md, 11): the faces come in order of area, scattered
-        // through the mesh; fetch what a later face's flood will read.
-        if let Some(far) = tri_priority.get(i + 16) {
-            prefetch_face(mesh, far.tri);
-        }
-        if let Some(near) = tri_priority.get(i + 8) {
-            prefetch_flood_of(mesh, near.tri);
+        // through the mesh; fetch what a later face's flood will read (a mesh small enough
+        // to stay in cache has nothing to gain).
+        if num_tri >= PREFETCH_FROM_TRIANGLES {
+            if let Some(far) = tri_priority.get(i + 16) {
+                prefetch_face(mesh, far.tri);
+            }
+            if let Some(near) = tri_priority.get(i + 8) {
+                prefetch_flood_of(mesh, near.tri);
+            }
         }
         let tri = tp.tri;
         if tri >= mesh.mesh_relation.tri_ref.len() {
@@ -206,6 +209,10 @@ pub fn set_face_normals_and_coplanar(mesh: &mut ManifoldImpl) {
     }
 
 }
+
+/// The triangle count from which the coplanar flood fetches ahead: below it the mesh's arrays
+/// (about 150 bytes a triangle) fit in a core's cache (blocksmith patch, PATCHES.md, 11).
+const PREFETCH_FROM_TRIANGLES: usize = 20_000;
 
 /// Fetches face `tri`'s half-edges, relation and normal (blocksmith patch, PATCHES.md, 11).
 #[inline(always)]
