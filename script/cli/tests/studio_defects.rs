@@ -6,38 +6,15 @@
 
 #[path = "support/browser.rs"]
 mod browser;
+#[path = "support/studio_watch.rs"]
+mod studio_watch;
 mod support;
 
-use std::io::{BufRead, BufReader};
-use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
 use browser::Browser;
 use serde_json::Value;
-
-/// A `blocksmith watch` process, stopped when dropped.
-struct Watch(Child);
-
-impl Drop for Watch {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
-/// `blocksmith watch recipe` and the address it printed.
-fn watch(recipe: &std::path::Path) -> (Watch, String) {
-    let mut child =
-        Command::new(env!("CARGO_BIN_EXE_blocksmith")).arg("watch").arg(recipe).stderr(Stdio::piped()).spawn().unwrap();
-    let mut lines = BufReader::new(child.stderr.take().unwrap()).lines();
-    let Some(line) = lines.by_ref().map_while(Result::ok).find(|l| l.contains("http://")) else {
-        let _ = child.kill();
-        panic!("no address printed");
-    };
-    std::thread::spawn(move || lines.for_each(drop));
-    let url = format!("http://{}", line.split("http://").nth(1).unwrap().split_whitespace().next().unwrap());
-    (Watch(child), url)
-}
+use studio_watch::watch;
 
 fn numbers(v: &Value) -> Vec<f64> {
     v.as_array().unwrap_or_else(|| panic!("not an array: {v}")).iter().map(|x| x.as_f64().unwrap()).collect()
@@ -56,8 +33,8 @@ fn the_defects_view_draws_boundaries_handle_loops_and_crossings_and_toggles_comp
     let dir = tempfile::tempdir().unwrap();
     let recipe = dir.path().join("broken.rhai");
     std::fs::write(&recipe, RECIPE).unwrap();
-    let (_watch, url) = watch(&recipe);
-    let Some(mut b) = Browser::open(&url) else { return };
+    let w = watch(&recipe);
+    let Some(mut b) = Browser::open(&w.url) else { return };
     b.wait("window.studio && studio.triangles > 0", Duration::from_secs(30));
     let all = b.eval("studio.triangles").as_f64().unwrap();
     b.eval("document.getElementById('defects').click()");

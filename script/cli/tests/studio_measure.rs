@@ -6,43 +6,17 @@
 
 #[path = "support/browser.rs"]
 mod browser;
+#[path = "support/studio_watch.rs"]
+mod studio_watch;
 mod support;
 
-use std::io::{BufRead, BufReader};
 use std::path::Path;
-use std::process::{Child, Command, Stdio};
+use std::process::Command;
 use std::time::Duration;
 
 use browser::Browser;
 use serde_json::{json, Value};
-
-/// A `blocksmith watch` process and its page's address, stopped when dropped.
-struct Watch {
-    child: Child,
-    url: String,
-}
-
-impl Drop for Watch {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-/// `blocksmith watch recipe`, once it has printed its address.
-fn watch(recipe: &Path) -> Watch {
-    let mut child =
-        Command::new(env!("CARGO_BIN_EXE_blocksmith")).arg("watch").arg(recipe).stderr(Stdio::piped()).spawn().unwrap();
-    let mut lines = BufReader::new(child.stderr.take().unwrap()).lines();
-    let Some(line) = lines.by_ref().map_while(Result::ok).find(|l| l.contains("http://")) else {
-        let _ = child.kill();
-        panic!("no address printed");
-    };
-    // Keep draining its messages so it never blocks on a full pipe.
-    std::thread::spawn(move || lines.for_each(drop));
-    let url = format!("http://{}", line.split("http://").nth(1).unwrap().split_whitespace().next().unwrap());
-    Watch { child, url }
-}
+use studio_watch::{watch, Watch};
 
 /// The page of a studio watching a recipe of `source`, with the measure tool on; None where
 /// chromium is missing.
