@@ -13,6 +13,7 @@
 //! | `POST /api/params` (`Content-Type: application/json`, `{"name": "value", ...}`) | header | asks for the variant with those parameters, run if new; 202 and the parameters in force |
 //! | `GET /model/V/I.glb` | header or query | layer `I` of model version `V` (404 once it is no longer shown) |
 //! | `GET /model/V/I.control` | header or query | its control mesh's edges: little-endian `f32` x, y, z of each end |
+//! | `GET /model/V/I.provenance` | header or query | for a boolean result, the layer as `.glb` coloured by operand (one colour per source mesh), the page's debugging view |
 //! | `GET /model/V/I.faces?line=L&column=C&file=F` | header or query | the triangles of the faces of layer `I` made by the call written at `F:L:C` (any column when `C` is 0 or missing, any file when `F` is missing): little-endian `f32` x, y, z of each corner |
 //! | `GET /model/V/I.faces?component=K` | header or query | the same, of the faces of component `K` of layer `I` (numbered as `.defects` lists them) |
 //! | `GET /model/V/I.defects` | header or query | what is wrong with layer `I` as geometry to draw, JSON ([`super::defects::json`]): boundaries and handle loops as segments, crossing faces as triangles, the components |
@@ -241,6 +242,7 @@ fn route(request: &Request, session: &Session, token: &str) -> Response {
                 let layer = m.layers.get(i.parse::<usize>().ok()?)?;
                 match ext {
                     "glb" => Some(("model/gltf-binary", layer.glb.clone())),
+                    "provenance" => Some(("model/gltf-binary", layer.provenance.clone()?)),
                     "control" => {
                         let ends = layer.control.as_ref()?;
                         Some(("application/octet-stream", ends.iter().flat_map(|x| x.to_le_bytes()).collect()))

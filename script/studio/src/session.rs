@@ -89,7 +89,8 @@ impl Model {
 
     /// The message that tells a page about the model (its files follow it on the page's
     /// socket; tools fetch them by URL): JSON `{type: "model", version, run_ms, layers: [{name,
-    /// url, facts, control?, control_edges?}], params, warnings}`.
+    /// url, facts, control?, control_edges?, provenance?}], params, warnings}` (`provenance`: the
+    /// URL of a boolean result's view coloured by operand).
     #[must_use]
     pub fn message(&self) -> &str {
         &self.message
@@ -109,6 +110,9 @@ impl Model {
                 if let Some(c) = &l.control {
                     layer["control"] = json!(format!("/model/{}/{i}.control", self.version));
                     layer["control_edges"] = json!(c.len() / 6);
+                }
+                if l.provenance.is_some() {
+                    layer["provenance"] = json!(format!("/model/{}/{i}.provenance", self.version));
                 }
                 layer
             })

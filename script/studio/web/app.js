@@ -54,6 +54,19 @@ function showDefects() {
   studio.triangles = defects.visibleTriangles() ?? viewer.triangles();
 }
 
+// Each layer of a boolean result coloured by the operand each face came from, or as it is.
+async function setProvenance(on) {
+  if (!current) return;
+  const files = await Promise.all(current.layers.map(async (l) => {
+    if (!on || !l.provenance) return null;
+    const answer = await fetch(`${l.provenance}?${new URLSearchParams({ token })}`);
+    return answer.ok ? answer.arrayBuffer() : null;
+  }));
+  studio.provenance = await viewer.setProvenance(files);
+  $('provenance-note').hidden = !on;
+  studio.triangles = defects.visibleTriangles() ?? viewer.triangles();
+}
+
 async function setDefects(on) {
   if (on && current) await defects.show(current);
   else defects.clear();
@@ -95,7 +108,9 @@ function showLayers(layers, objects, version) {
     const box = document.createElement('input');
     box.type = 'checkbox'; box.checked = true;
     box.onchange = () => {
-      objects[l.name].visible = box.checked;
+      // The layer as drawn: its view coloured by operand while that is on.
+      const view = viewer.models.children.find((o) => o.name === l.name && o.userData.provenanceOf);
+      (view ?? objects[l.name]).visible = box.checked;
       const lines = viewer.overlay.getObjectByName(l.name);
       if (lines) lines.visible = box.checked;
       viewer.requestRender();
@@ -130,6 +145,9 @@ async function showModel(message) {
   showLayers(message.layers, objects, message.version);
   showWarnings(message.warnings ?? []);
   if (defects.state.on) await setDefects(true);
+  $('provenance-label').hidden = !message.layers.some((l) => l.provenance);
+  studio.provenance = 0;
+  if ($('provenance').checked) await setProvenance(true);
   $('animation').hidden = !viewer.duration;
   const control = message.layers.some((l) => l.control);
   $('control-label').hidden = !control;
@@ -382,6 +400,8 @@ function setStatus(state) {
 
 $('colours').onchange = (e) => viewer.setColours(e.target.checked);
 $('wireframe').onchange = (e) => viewer.setWireframe(e.target.checked);
+$('provenance').onchange = (e) => setProvenance(e.target.checked).catch((err) => showError(`cannot colour by operand: ${err}`));
+studio.shownColours = () => viewer.shownColours();
 $('grid').onchange = (e) => viewer.setHelpers(e.target.checked);
 $('control').onchange = (e) => {
   viewer.setControl(e.target.checked);

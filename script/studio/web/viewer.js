@@ -283,8 +283,10 @@ export class Viewer {
 
   triangles() {
     let n = 0;
-    this.models.traverse((o) => {
-      if (o.isMesh && o.visible) n += (o.geometry.index ? o.geometry.index.count : o.geometry.attributes.position.count) / 3;
+    // Of the layers shown: a hidden layer (or the model hidden under its coloured-by-operand
+    // view) hides its meshes.
+    this.models.traverseVisible((o) => {
+      if (o.isMesh) n += (o.geometry.index ? o.geometry.index.count : o.geometry.attributes.position.count) / 3;
     });
     return n;
   }
@@ -302,6 +304,54 @@ export class Viewer {
 
   setColours(on) { this.colours = on; this.applyMaterials(); }
   setWireframe(on) { this.wireframe = on; this.plain.wireframe = on; this.applyMaterials(); }
+  // Draws each layer coloured by operand in place of itself (`files`: per layer, a `.glb`
+  // ArrayBuffer of its provenance view, or null to keep it), or each layer as it is again when
+  // every entry is null. Returns how many layers are recoloured.
+  async setProvenance(files) {
+    for (const view of this.models.children.filter((o) => o.userData.provenanceOf)) {
+      view.userData.provenanceOf.visible = view.visible;
+      view.removeFromParent();
+    }
+    const layers = [...this.models.children];
+    const views = await Promise.all(files.map((f) => (f ? this.loader.parseAsync(f, '') : null)));
+    let n = 0;
+    views.forEach((gltf, i) => {
+      const own = layers[i];
+      if (!gltf || !own) return;
+      const root = gltf.scene;
+      root.name = own.name;
+      root.matrixAutoUpdate = false;
+      root.matrix.copy(own.matrix);
+      root.updateMatrixWorld(true);
+      root.traverse((o) => {
+        if (o.isMesh) {
+          o.geometry = creased(o.geometry);
+          o.userData.own = o.material;
+          o.material.side = THREE.DoubleSide;
+        }
+      });
+      root.userData.provenanceOf = own;
+      root.visible = own.visible;
+      own.visible = false;
+      this.models.add(root);
+      n += 1;
+    });
+    this.applyMaterials();
+    return n;
+  }
+
+  // The distinct vertex colours of the visible meshes (as 0–255 RGB strings), for tests.
+  shownColours() {
+    const seen = new Set();
+    this.models.traverseVisible((o) => {
+      if (!o.isMesh) return;
+      const c = o.geometry.attributes.color;
+      if (!c || !o.material.vertexColors) return;
+      for (let k = 0; k < c.count; k++) seen.add([c.getX(k), c.getY(k), c.getZ(k)].map((x) => Math.round(x * 255)).join(','));
+    });
+    return [...seen];
+  }
+
   setHelpers(on) { this.helpers.visible = on; this.requestRender(); }
   setControl(on) { this.overlay.visible = on; this.requestRender(); }
 

@@ -1,8 +1,11 @@
-//! The studio's defects view in a real browser (Debian's `chromium`, headless; skipped when it
-//! is missing, except under CI=true): a model of four parts — an open square, two cubes that
-//! cross each other, a torus — shows its open boundary and the torus's handle loop as lines on
-//! the surface (checked in the scene and in the pixels drawn), the crossing faces, and its four
-//! components, each of which can be hidden on its own.
+//! The studio's debugging views in a real browser (Debian's `chromium`, headless; skipped when
+//! it is missing, except under CI=true).
+//! - Defects: a model of four parts — an open square, two cubes that cross each other, a torus —
+//!   shows its open boundary and the torus's handle loop as lines on the surface (checked in the
+//!   scene and in the pixels drawn), the crossing faces, and its four components, each of which
+//!   can be hidden on its own.
+//! - Provenance: a boolean result, drawn uncoloured, is coloured by operand on request (one
+//!   colour per operand, the faces of the cut in the cutter's) and drawn as it was again after.
 
 #[path = "support/browser.rs"]
 mod browser;
@@ -108,4 +111,32 @@ fn the_defects_view_draws_boundaries_handle_loops_and_crossings_and_toggles_comp
     b.wait("!studio.defects.on", Duration::from_secs(10));
     assert_eq!(b.eval("studio.triangles").as_f64().unwrap(), all);
     assert_eq!(b.eval("studio.defectSegments('handles').length"), 0);
+}
+
+#[test]
+fn a_boolean_result_is_coloured_by_operand_on_request_and_uncoloured_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let recipe = dir.path().join("cut.rhai");
+    std::fs::write(&recipe, "cube(2) - cylinder(0.5, 3, 32)\n").unwrap();
+    let w = watch(&recipe);
+    let Some(mut b) = Browser::open(&w.url) else { return };
+    b.wait("window.studio && studio.triangles > 0", Duration::from_secs(30));
+    let triangles = b.eval("studio.triangles");
+    assert_eq!(b.eval("document.getElementById('provenance-label').hidden"), false, "offered for a boolean result");
+    assert_eq!(b.eval("studio.shownColours().length"), 0, "drawn uncoloured at first");
+    b.eval("document.getElementById('provenance').click()");
+    b.wait("studio.provenance === 1", Duration::from_secs(30));
+    assert!(b.eval("studio.error").is_null(), "{}", b.eval("studio.error"));
+    // Two operands, two colours: the cube's faces and the bore's.
+    assert_eq!(b.eval("studio.shownColours().length"), 2, "{}", b.eval("studio.shownColours()"));
+    assert_eq!(b.eval("studio.triangles"), triangles, "the same triangles, recoloured");
+    assert_eq!(b.eval("document.getElementById('provenance-note').hidden"), false);
+    b.eval("document.getElementById('provenance').click()");
+    b.wait("studio.provenance === 0", Duration::from_secs(10));
+    assert_eq!(b.eval("studio.shownColours().length"), 0);
+    assert_eq!(b.eval("studio.triangles"), triangles);
+    // A model from no boolean has no such view.
+    std::fs::write(&recipe, "cube(2)\n").unwrap();
+    b.wait("studio.triangles === 12", Duration::from_secs(30));
+    assert_eq!(b.eval("document.getElementById('provenance-label').hidden"), true);
 }
