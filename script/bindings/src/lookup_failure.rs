@@ -11,16 +11,23 @@
 //! `levels` must be an integer, got a float …") as a runtime error, which `catch (e)` binds as
 //! that string and the printer shows unchanged.
 //!
+//! A property that is not found (`m.volum`, `m.volum = 1`) goes another way: Rhai looks for a
+//! getter or setter without the hook, then falls back to an indexer taking the property's
+//! name. Each of the script API's types gets that indexer ([`install`]), which fails with the
+//! explanation ("Mesh has no property `volum` (did you mean the method `.volume()`?)"); so
+//! does `m["volum"]`, since the API's types have no indexing of their own.
+//!
 //! Left to Rhai: a call that found its function and failed in it (the script API's own errors,
 //! arithmetic overflow), operators between Rhai's own types (its built-in operators are no
-//! registered functions), property and index access (`get$x`, `index$get$`: Rhai words those
-//! failures itself), and Rhai's keyword functions.
+//! registered functions), indexing of Rhai's own types, and Rhai's keyword functions.
 
 use std::any::TypeId;
 use std::collections::HashMap;
 use std::sync::{Arc, OnceLock};
 
-use rhai::{Array, Blob, Dynamic, Engine, EvalAltResult, FnPtr, ImmutableString, Map, Position, FLOAT, INT};
+use rhai::{
+    Array, Blob, Dynamic, Engine, EvalAltResult, FnPtr, ImmutableString, Map, NativeCallContext, Position, FLOAT, INT,
+};
 
 /// The native functions of an engine: for each name, the parameter types of each overload.
 type Overloads = HashMap<String, Vec<Vec<TypeId>>>;
@@ -29,6 +36,7 @@ type Overloads = HashMap<String, Vec<Vec<TypeId>>>;
 /// module's doc). Call it once the engine has all its functions.
 #[allow(deprecated)] // `on_missing_function` is marked volatile, not deprecated.
 pub fn install(engine: &mut Engine) {
+    register_property_fallbacks(engine);
     let overloads: Arc<OnceLock<Overloads>> = Arc::default();
     engine.on_missing_function(move |name, args, _is_method, ctx| {
         if !explains(name, args) {
@@ -45,6 +53,58 @@ pub fn install(engine: &mut Engine) {
         Err(EvalAltResult::ErrorRuntime(text.into(), Position::NONE).into())
     });
 }
+
+/// Registers, for each of the script API's types, the indexers Rhai falls back to when a
+/// property is not found, failing with the explanation a run prints.
+fn register_property_fallbacks(engine: &mut Engine) {
+    use crate::api::{
+        anim::Animation, block_handle::Block, blocks::BlockModel, lsystem::LSystem, mesh::SharedMesh, polar::PolarMesh,
+        polar::Skeleton, profile::Profile, rng::Rng, solve::Solver, voxel::Voxels,
+    };
+    fn fallback<T: rhai::Variant + Clone>(engine: &mut Engine) {
+        let unknown = |ctx: &NativeCallContext, name: &str, setter: bool| -> Box<EvalAltResult> {
+            let engine = ctx.engine();
+            let t = engine.map_type_name(std::any::type_name::<T>());
+            let text = if setter {
+                format!("No writable property '{name}' for type '{t}'")
+            } else {
+                format!("Unknown property '{name}' - a getter is not registered for type '{t}'")
+            };
+            EvalAltResult::ErrorRuntime(crate::explain::explain(engine, &text).into(), Position::NONE).into()
+        };
+        engine.register_fn(
+            INDEX_GET,
+            move |ctx: NativeCallContext, _: &mut T, name: ImmutableString| -> Result<Dynamic, Box<EvalAltResult>> {
+                Err(unknown(&ctx, &name, false))
+            },
+        );
+        engine.register_fn(
+            INDEX_SET,
+            move |ctx: NativeCallContext,
+                  _: &mut T,
+                  name: ImmutableString,
+                  _: Dynamic|
+                  -> Result<(), Box<EvalAltResult>> { Err(unknown(&ctx, &name, true)) },
+        );
+    }
+    fallback::<SharedMesh>(engine);
+    fallback::<blocksmith_kernel::Vec3>(engine);
+    fallback::<Block>(engine);
+    fallback::<BlockModel>(engine);
+    fallback::<PolarMesh>(engine);
+    fallback::<Skeleton>(engine);
+    fallback::<Profile>(engine);
+    fallback::<Voxels>(engine);
+    fallback::<Animation>(engine);
+    fallback::<LSystem>(engine);
+    fallback::<Rng>(engine);
+    fallback::<Solver>(engine);
+}
+
+/// Rhai's names of the indexer functions.
+pub const INDEX_GET: &str = "index$get$";
+/// See [`INDEX_GET`].
+pub const INDEX_SET: &str = "index$set$";
 
 /// Whether a call of `name` with arguments of types `args` finds a native function of
 /// `engine` (a `Dynamic` parameter takes anything): whether a failure of that call is the
@@ -178,6 +238,22 @@ mod tests {
         for case in &cases {
             assert!(!case[0].contains("Function not found") && !case[0].starts_with("#{"), "raw Rhai text: {case:?}");
         }
+    }
+
+    #[test]
+    fn an_unknown_property_is_caught_explained_in_a_function_body_at_top_level_and_in_a_closure() {
+        let cases =
+            caught(&["cube(1).volum", "let m = cube(1); m.volum = 2", "vec3(1, 2, 3).w", "cube(1)[\"volume\"]"]);
+        for (i, case) in cases.iter().enumerate() {
+            assert!(case.iter().all(|c| c == &case[0]), "case {i}: the three places differ: {case:?}");
+        }
+        assert!(cases[0][0].starts_with("Mesh has no property `volum`"), "{cases:?}");
+        assert!(cases[1][0].contains("volum") && !cases[1][0].starts_with("#{"), "{cases:?}");
+        assert!(cases[2][0].starts_with("Vec3 has no property `w`"), "{cases:?}");
+        assert!(
+            cases[3][0].contains("Mesh has no property `volume`") && cases[3][0].contains(".volume()"),
+            "{cases:?}"
+        );
     }
 
     #[test]
