@@ -101,6 +101,23 @@ impl Quadric {
 /// that is not finite and 0 or more; [`FinishError::NotClosed`] for a mesh with a boundary; a
 /// stop of the cancellation token.
 pub fn decimate(mesh: &Mesh, options: DecimateOptions) -> Result<(Mesh, DecimateReport), FinishError> {
+    decimate_reporting(mesh, options, &mut |_, _| {})
+}
+
+/// How many collapses a decimation makes between two reports of its progress.
+const REPORT_EVERY: usize = 1024;
+
+/// [`decimate`], telling `progress(done, total)` as it goes: the triangles removed of the
+/// `before − target` to remove (an `error` target counts down to 4 triangles and may stop
+/// sooner; the last report is then the whole).
+///
+/// # Errors
+/// As [`decimate`].
+pub fn decimate_reporting(
+    mesh: &Mesh,
+    options: DecimateOptions,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<(Mesh, DecimateReport), FinishError> {
     let before = mesh.triangle_count();
     let (target, max_error) = match options.target {
         DecimateTarget::Ratio(r) if r > 0.0 && r <= 1.0 => (((before as f64) * r).round() as usize, f64::INFINITY),
@@ -137,9 +154,14 @@ pub fn decimate(mesh: &Mesh, options: DecimateOptions) -> Result<(Mesh, Decimate
     }
     let mut worst = 0.0f64;
     let mut step = 0usize;
+    let total = before.saturating_sub(target) as u64;
+    progress(0, total);
     while d.w.alive_tris > target {
         step += 1;
         limits::poll_at(step)?;
+        if step.is_multiple_of(REPORT_EVERY) {
+            progress(before.saturating_sub(d.w.alive_tris) as u64, total);
+        }
         let Some((Reverse(bits), h, sa, sb)) = d.heap.pop() else { break };
         let cost = f64::from_bits(bits);
         if !d.current(h, sa, sb) {
@@ -152,6 +174,7 @@ pub fn decimate(mesh: &Mesh, options: DecimateOptions) -> Result<(Mesh, Decimate
             worst = worst.max(cost.max(0.0).sqrt());
         }
     }
+    progress(total, total);
     let (mut out, parents) = w.to_mesh(&|_| true)?;
     out.inherit_parts(mesh, &parents)?;
     let report = DecimateReport { triangles_before: before, triangles_after: out.face_count(), max_error: worst };

@@ -152,6 +152,19 @@ fn estimate(mesh: &Mesh, l: f64) -> f64 {
 /// is beyond [`MAX_TRIANGLES`] (refused before anything is made); a stop of the cancellation
 /// token.
 pub fn remesh(mesh: &Mesh, options: RemeshOptions) -> Result<(Mesh, RemeshReport), FinishError> {
+    remesh_reporting(mesh, options, &mut |_, _| {})
+}
+
+/// [`remesh`], telling `progress(done, total)` after each of its steps: four per iteration
+/// (split, collapse, flip, relax), `total` = 4 × iterations.
+///
+/// # Errors
+/// As [`remesh`].
+pub fn remesh_reporting(
+    mesh: &Mesh,
+    options: RemeshOptions,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<(Mesh, RemeshReport), FinishError> {
     let l = options.edge_length;
     if !(l.is_finite() && l > 0.0) {
         return Err(FinishError::bad("edge_length", l, "a finite number above 0"));
@@ -194,15 +207,21 @@ pub fn remesh(mesh: &Mesh, options: RemeshOptions) -> Result<(Mesh, RemeshReport
     let (low, high) = (0.8 * l, 4.0 / 3.0 * l);
     let mut ring_a = Vec::new();
     let mut ring_b = Vec::new();
-    for _ in 0..options.iterations {
+    let total = 4 * u64::from(options.iterations);
+    progress(0, total);
+    for i in 0..u64::from(options.iterations) {
         limits::check()?;
         split_long(&mut w, high)?;
+        progress(4 * i + 1, total);
         limits::check()?;
         collapse_short(&mut w, low, high, &mut ring_a, &mut ring_b)?;
+        progress(4 * i + 2, total);
         limits::check()?;
         flip_to_valence(&mut w, &mut ring_a)?;
+        progress(4 * i + 3, total);
         limits::check()?;
         relax_and_project(&mut w, &reference, &mut ring_a)?;
+        progress(4 * i + 4, total);
     }
     let (mut out, parents) = w.to_mesh(&|_| true)?;
     out.inherit_parts(mesh, &parents)?;

@@ -65,3 +65,19 @@ fn bad_targets_are_refused_by_name() {
         .to_string()
         .contains("boundary"));
 }
+
+#[test]
+fn a_decimation_reports_its_progress_up_to_the_triangles_it_removes() {
+    let ball = Mesh::icosphere(1.0, 5); // 20480 triangles
+    let mut seen: Vec<(u64, u64)> = Vec::new();
+    let options = DecimateOptions { target: DecimateTarget::Triangles(2000) };
+    let (out, _) = decimate_reporting(&ball, options, &mut |done, total| seen.push((done, total))).unwrap();
+    let total = 20480 - 2000;
+    assert!(seen.iter().all(|&(_, t)| t == total), "{seen:?}");
+    assert_eq!(seen.first(), Some(&(0, total)));
+    assert_eq!(seen.last(), Some(&(total, total)));
+    // Along the way, never backwards: a collapse removes two triangles.
+    assert!(seen.len() > 4 && seen.windows(2).all(|w| w[0].0 <= w[1].0), "{seen:?}");
+    // The same result as without a report.
+    assert_eq!(out.positions(), decimate(&ball, options).unwrap().0.positions());
+}

@@ -83,6 +83,27 @@ impl Task {
     }
 }
 
+/// A task whose total the work tells as it goes (a kernel operation that reports
+/// `(done, total)`): started with that total on its first report, ended when dropped.
+pub struct Meter {
+    name: &'static str,
+    task: Option<Task>,
+}
+
+impl Meter {
+    /// A meter for the task `name`, not yet started.
+    #[must_use]
+    pub fn new(name: &'static str) -> Meter {
+        Meter { name, task: None }
+    }
+
+    /// `done` of `total` units are done.
+    pub fn update(&mut self, done: u64, total: u64) {
+        let name = self.name;
+        self.task.get_or_insert_with(|| start(name, Some(total))).set(done);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -119,19 +140,26 @@ mod tests {
         engine.run("let m = cube(2) - cube(1);").unwrap();
         let seen = log.lock().unwrap().clone();
         assert_eq!(seen, ["start -: evaluating the boolean None", "end"], "{seen:?}");
-        // Every long kernel operation is a task: finishing, growing, solids, voxels.
-        for (script, task) in [
-            ("icosphere(1, 2).remesh(#{edge_length: 0.3, iterations: 1})", "remesh"),
-            ("icosphere(1, 2).decimate(#{ratio: 0.5})", "decimate"),
-            ("cube(1).relax(#{iterations: 1})", "relax"),
-            ("lsystem(#{axiom: \"F[+F]F\"}).grow(0).to_solid()", "to_solid"),
-            ("let v = voxels(8); v.fill_box([2, 2, 2], [6, 6, 6]); v.to_mesh()", "to_mesh: marching cubes"),
+        // Every long kernel operation is a task: finishing, growing, solids, voxels. Remesh and
+        // decimate know their total (a bar): 4 steps an iteration; the 160 triangles of 320 to
+        // remove; each ends at its total.
+        for (script, start, last_set) in [
+            ("icosphere(1, 2).remesh(#{edge_length: 0.3, iterations: 2})", "remesh Some(8)", Some("set 8")),
+            ("icosphere(1, 2).decimate(#{ratio: 0.5})", "decimate Some(160)", Some("set 160")),
+            ("cube(1).relax(#{iterations: 1})", "relax None", None),
+            ("lsystem(#{axiom: \"F[+F]F\"}).grow(0).to_solid()", "to_solid None", None),
+            ("let v = voxels(8); v.fill_box([2, 2, 2], [6, 6, 6]); v.to_mesh()", "to_mesh: marching cubes None", None),
         ] {
             log.lock().unwrap().clear();
             engine.run(script).unwrap_or_else(|e| panic!("{script}: {e}"));
             let seen = log.lock().unwrap().clone();
-            assert!(seen.contains(&format!("start {task} None")), "{script}: {seen:?}");
+            assert!(seen.contains(&format!("start {start}")), "{script}: {seen:?}");
             assert_eq!(seen.last().map(String::as_str), Some("end"), "{script}: {seen:?}");
+            if let Some(last_set) = last_set {
+                let sets: Vec<&String> = seen.iter().filter(|l| l.starts_with("set ")).collect();
+                assert_eq!(sets.last().map(|s| s.as_str()), Some(last_set), "{script}: {seen:?}");
+                assert!(sets.len() >= 2, "{script}: progress along the way: {seen:?}");
+            }
         }
         // An engine without a sink: the same work reports nowhere, and a stale sink is not used.
         log.lock().unwrap().clear();
