@@ -97,6 +97,18 @@ export function creased(geometry, angle = SHARP_ANGLE) {
   return out;
 }
 
+// Readies a loaded glTF scene's meshes to be drawn: creases split, their own material kept
+// (for the colour toggle), both sides lit.
+function drawable(root) {
+  root.traverse((o) => {
+    if (o.isMesh) {
+      o.geometry = creased(o.geometry);
+      o.userData.own = o.material;
+      o.material.side = THREE.DoubleSide;
+    }
+  });
+}
+
 export class Viewer {
   constructor(container) {
     this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
@@ -208,13 +220,7 @@ export class Viewer {
       root.matrixAutoUpdate = false;
       root.matrix.set(1, 0, 0, 0, 0, 0, -1, 0, 0, 1, 0, 0, 0, 0, 0, 1);
       root.updateMatrixWorld(true);
-      root.traverse((o) => {
-        if (o.isMesh) {
-          o.geometry = creased(o.geometry);
-          o.userData.own = o.material;
-          o.material.side = THREE.DoubleSide;
-        }
-      });
+      drawable(root);
       if (gltf.animations.length) {
         const mixer = new THREE.AnimationMixer(root);
         gltf.animations.forEach((clip) => {
@@ -323,13 +329,7 @@ export class Viewer {
       root.matrixAutoUpdate = false;
       root.matrix.copy(own.matrix);
       root.updateMatrixWorld(true);
-      root.traverse((o) => {
-        if (o.isMesh) {
-          o.geometry = creased(o.geometry);
-          o.userData.own = o.material;
-          o.material.side = THREE.DoubleSide;
-        }
-      });
+      drawable(root);
       root.userData.provenanceOf = own;
       root.visible = own.visible;
       own.visible = false;
