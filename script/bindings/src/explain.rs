@@ -194,6 +194,13 @@ fn wrong_type(all: &[Overload], name: &str, t: &str, owners: &[&str], same: &[&O
     msg
 }
 
+/// The explanation of a property `name` of a `t` (a script type) that is not there: read, or
+/// written when `setter` ("Mesh has no property `volum` (did you mean the method `.volume()`?)").
+#[must_use]
+pub fn property_not_found(engine: &Engine, name: &str, t: &str, setter: bool) -> String {
+    unknown_property(&crate::catalogue::of(engine), name, t, setter)
+}
+
 fn unknown_property(all: &[Overload], name: &str, t: &str, setter: bool) -> String {
     let props: Vec<&Overload> = all.iter().filter(|o| o.receiver() == Some(t) && o.property.is_some()).collect();
     if setter && props.iter().any(|o| o.name == name && o.property == Some("get")) {

@@ -64,13 +64,9 @@ fn register_property_fallbacks(engine: &mut Engine) {
     fn fallback<T: rhai::Variant + Clone>(engine: &mut Engine) {
         let unknown = |ctx: &NativeCallContext, name: &str, setter: bool| -> Box<EvalAltResult> {
             let engine = ctx.engine();
-            let t = engine.map_type_name(std::any::type_name::<T>());
-            let text = if setter {
-                format!("No writable property '{name}' for type '{t}'")
-            } else {
-                format!("Unknown property '{name}' - a getter is not registered for type '{t}'")
-            };
-            EvalAltResult::ErrorRuntime(crate::explain::explain(engine, &text).into(), Position::NONE).into()
+            let t = crate::catalogue::script_type(engine.map_type_name(std::any::type_name::<T>()));
+            let text = crate::explain::property_not_found(engine, name, &t, setter);
+            EvalAltResult::ErrorRuntime(text.into(), Position::NONE).into()
         };
         engine.register_fn(
             INDEX_GET,
@@ -117,16 +113,12 @@ pub fn finds_native(engine: &Engine, name: &str, args: &[TypeId]) -> bool {
 /// Whether a failed call of `name` with `args` is one this module words: not a property or
 /// index access, not a keyword, not an operator between Rhai's own types.
 fn explains(name: &str, args: &[&mut Dynamic]) -> bool {
-    if name.contains('$') || KEYWORDS.contains(&name) {
+    if name.contains('$') || crate::origins::KEYWORDS.contains(&name) {
         return false;
     }
     let operator = !name.starts_with(|c: char| c.is_alphabetic() || c == '_');
     !(operator && args.iter().all(|a| is_rhai_type(a)))
 }
-
-/// Rhai's keyword functions, evaluated specially.
-const KEYWORDS: &[&str] =
-    &["Fn", "call", "curry", "eval", "print", "debug", "type_of", "is_def_var", "is_def_fn", "is_shared", "this"];
 
 /// Whether `value` is one of Rhai's own types, which its built-in operators take.
 fn is_rhai_type(value: &Dynamic) -> bool {

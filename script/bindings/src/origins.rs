@@ -138,7 +138,7 @@ pub fn mark_call_sites(ast: &AST) -> AST {
 
 /// Rhai's keyword functions, whose calls are evaluated specially (in the caller's scope, or
 /// as a print), and which make no mesh.
-const KEYWORDS: &[&str] =
+pub(crate) const KEYWORDS: &[&str] =
     &["Fn", "call", "curry", "eval", "print", "debug", "type_of", "is_def_var", "is_def_fn", "is_shared", "this"];
 
 /// Operators that may take meshes and make one.

@@ -84,23 +84,33 @@ impl Task {
 }
 
 /// A task whose total the work tells as it goes (a kernel operation that reports
-/// `(done, total)`): started with that total on its first report, ended when dropped.
+/// `(done, total)`): started with that total on its first report — when the total is at least
+/// its threshold, so short work shows nothing — and ended when dropped.
 pub struct Meter {
     name: &'static str,
-    task: Option<Task>,
+    from: u64,
+    task: Option<Option<Task>>,
 }
 
 impl Meter {
-    /// A meter for the task `name`, not yet started.
+    /// A meter for the task `name`, shown whatever its total.
     #[must_use]
     pub fn new(name: &'static str) -> Meter {
-        Meter { name, task: None }
+        Meter::at_least(name, 0)
+    }
+
+    /// A meter for the task `name`, shown only for a total of `from` units or more.
+    #[must_use]
+    pub fn at_least(name: &'static str, from: u64) -> Meter {
+        Meter { name, from, task: None }
     }
 
     /// `done` of `total` units are done.
     pub fn update(&mut self, done: u64, total: u64) {
-        let name = self.name;
-        self.task.get_or_insert_with(|| start(name, Some(total))).set(done);
+        let (name, from) = (self.name, self.from);
+        if let Some(task) = self.task.get_or_insert_with(|| (total >= from).then(|| start(name, Some(total)))) {
+            task.set(done);
+        }
     }
 }
 

@@ -33,10 +33,9 @@ pub const MAX_CROSSING_FACES: usize = 20_000;
 pub fn json(mesh: &Mesh) -> Result<Value, String> {
     let found = defects(mesh).map_err(|e| e.to_string())?;
     let of = |kind: DefectKind| found.iter().filter(move |d| d.kind == kind);
-    let mut counts = serde_json::Map::new();
+    let mut counts = std::collections::BTreeMap::<&str, usize>::new();
     for d in &found {
-        let n = counts.entry(d.kind.name()).or_insert(json!(0));
-        *n = json!(n.as_u64().unwrap_or(0) + 1);
+        *counts.entry(d.kind.name()).or_default() += 1;
     }
     let loops = |kind| of(kind).flat_map(|d: &Defect| loop_segments(mesh, &d.elements)).collect::<Vec<f32>>();
     let edges: Vec<f32> = of(DefectKind::NonManifoldEdge)

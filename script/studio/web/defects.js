@@ -24,8 +24,13 @@ export class Defects {
       color: 0xff2a00, transparent: true, opacity: 0.8, side: THREE.DoubleSide, depthTest: false,
     });
     this.componentMaterial = new THREE.MeshStandardMaterial({ color: 0x8fa6c8, roughness: 0.6, side: THREE.DoubleSide });
-    this.state = { on: false, loaded: false, counts: {}, lines: {}, loops: {}, crossings: 0, points: 0, components: [] };
+    this.state = Defects.empty();
     this.shownFor = null;
+  }
+
+  // What is drawn: nothing.
+  static empty() {
+    return { on: false, loaded: false, counts: {}, crossings: 0, points: 0, components: [] };
   }
 
   // Draws the defects of every layer of `model` (a model message), replacing what was drawn.
@@ -48,10 +53,7 @@ export class Defects {
         const lines = this.lines(d[key], style.color);
         lines.name = key;
         this.group.add(lines);
-        this.state.lines[key] = (this.state.lines[key] ?? 0) + d[key].length / 6;
       }
-      this.state.loops.handles = (this.state.loops.handles ?? 0) + (d.counts.handle ?? 0);
-      this.state.loops.boundaries = (this.state.loops.boundaries ?? 0) + (d.counts.boundary ?? 0);
       if (d.crossings.length) {
         const g = new THREE.BufferGeometry();
         g.setAttribute('position', new THREE.BufferAttribute(new Float32Array(d.crossings), 3));
@@ -131,7 +133,7 @@ export class Defects {
     this.group.clear();
     this.viewer.models.visible = true;
     this.shownFor = null;
-    this.state = { on: false, loaded: false, counts: {}, lines: {}, loops: {}, crossings: 0, points: 0, components: [] };
+    this.state = Defects.empty();
     this.viewer.requestRender();
   }
 }

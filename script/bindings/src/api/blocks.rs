@@ -228,28 +228,6 @@ fn bilinear(grid: &[Vec<f64>], u: f64, v: f64) -> f64 {
 /// Work units (two per patch) from which a meshing reports its progress to the host.
 const PROGRESS_FROM: usize = 20_000;
 
-/// The progress of a meshing, reported (see [`crate::progress`]) only for long ones
-/// ([`PROGRESS_FROM`] units or more).
-#[derive(Default)]
-struct MeshingProgress {
-    task: Option<crate::progress::Task>,
-    checked: bool,
-}
-
-impl MeshingProgress {
-    fn update(&mut self, done: usize, total: usize) {
-        if !self.checked {
-            self.checked = true;
-            if total >= PROGRESS_FROM {
-                self.task = Some(crate::progress::start("mesh", Some(total as u64)));
-            }
-        }
-        if let Some(task) = &mut self.task {
-            task.set(done as u64);
-        }
-    }
-}
-
 /// Meshes `m` with the options of `options` (checked key by key).
 fn mesh_model(ctx: &NativeCallContext, m: &mut BlockModel, options: Map) -> ScriptResult<SharedMesh> {
     let opts = Options::new("mesh", options, &["tolerance", "max_depth", "displacement"])?;
@@ -269,9 +247,9 @@ fn mesh_model(ctx: &NativeCallContext, m: &mut BlockModel, options: Map) -> Scri
     let f = if map.is_some() { None } else { opts.fn_ptr("displacement").map_err(|_| not_displacement(&opts))? };
     // The closure may read the model: mesh a copy, so nothing is borrowed while it runs.
     let model = m.model.clone();
-    let mut bar = MeshingProgress::default();
+    let mut bar = crate::progress::Meter::at_least("mesh", PROGRESS_FROM as u64);
     let result = {
-        let mut progress = |done: usize, total: usize| bar.update(done, total);
+        let mut progress = |done: usize, total: usize| bar.update(done as u64, total as u64);
         match &f {
             None if map.is_some() => {
                 let grid = map.unwrap_or_default();
