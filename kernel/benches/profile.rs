@@ -14,8 +14,8 @@
 //! speed drifts by up to 1.8× over minutes, so only ratios of neighbouring runs are quoted):
 //! | case | ours / manifold3d median |
 //! |---|---|
-//! | extrude, 64-gon, 90° twist, 32 layers (2.1–2.4 ms) | 1.3–1.4× |
-//! | revolve, 64-gon in 128 steps (7.5–10 ms) | 1.3–1.7× |
+//! | extrude, 64-gon, 90° twist, 32 layers (0.21 ms) | 0.13–0.14× |
+//! | revolve, 64-gon in 128 steps (1.0 ms) | 0.18–0.19× |
 //! | hull of 100,000 sphere points (342–369 ms) | 0.88–0.99× |
 //! | Minkowski, L prism ⊕ sphere (116–135 ms) | 0.95–1.0× |
 //! | offset, round joins (4.3–4.6 µs; the peer's timer shows 4 µs) | about 1.1× |
@@ -24,11 +24,12 @@
 //! The hulls were 0.92× and 1.3× on 2026-12-04; engine patches 11 and 12
 //! (`vendor/manifold-rust/PATCHES.md`) took the quickhull's cache misses and its exact
 //! orientation tests of faces clearly decided by their float planes off (1M: 7.4–7.8 s before
-//! them, in the same sitting). On 2026-12-04 extrude and revolve measured 0.85× and 1.0×; today
-//! the build from before those patches measures as this one does, so the change is the
-//! machine's, and both are slower than the peer here: a quarter of their time is the engine's
-//! normals and coplanar pass (`acos` of every corner's angle), a tenth the thread switches of
-//! its parallel passes on meshes of 4k–16k triangles.
+//! them, in the same sitting). Extrude and revolve were 1.2–1.4× the peer (1.8–2.0 ms and
+//! 7.2–8.2 ms) while they made the engine's solid and exported its triangles: 85 % of that time
+//! was the solid's sort, normals, coplanar groups and collider, which nothing reads before a
+//! boolean (and a boolean imports the mesh again). Engine patch 13 hands out the constructors'
+//! triangles, and the mesh is built from them directly; manifold3d's figure still includes
+//! building its manifold.
 //! Text has no peer here: 10,000 characters take about 7 ms (each glyph cleaned once, only
 //! glyphs whose ink meets unioned; a union of the whole text took 3.7 s).
 

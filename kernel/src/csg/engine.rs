@@ -531,15 +531,75 @@ fn checked(inner: Manifold) -> Result<Solid, EngineError> {
     }
 }
 
+/// A closed surface of triangles (counter-clockwise seen from outside) built by one of the
+/// engine's constructors before it becomes a [`Solid`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Surface {
+    /// The vertices' positions.
+    pub positions: Vec<Vec3>,
+    /// Three vertex ids a triangle.
+    pub corners: Vec<u32>,
+}
+
+impl Surface {
+    /// The engine's construction as ours.
+    fn from_engine((positions, triangles): (Vec<EVec3>, Vec<manifold_rust::linalg::IVec3>)) -> Surface {
+        Surface {
+            positions: positions.iter().map(|p| Vec3::new(p.x, p.y, p.z)).collect(),
+            corners: triangles.iter().flat_map(|t| [t.x as u32, t.y as u32, t.z as u32]).collect(),
+        }
+    }
+
+    /// The closed surface of the region of `contours` (clean: outer counter-clockwise, holes
+    /// clockwise, none crossing, as [`Section::contours`] gives) extruded from z = 0 to `height`
+    /// through `divisions` intermediate layers, the top turned by `twist_degrees`
+    /// (counter-clockwise seen from above) and scaled by `scale_top` (x, y) about the origin,
+    /// every layer in between interpolated; the sides' quads split as Manifold's `Extrude` splits
+    /// them, the caps by its ear clipping, a top scaled to (0, 0) one apex per contour. The
+    /// contours go in as they are (not snapped to the section grid). `None` for no contours or a
+    /// height not positive.
+    ///
+    /// The engine's own construction without the solid's sort, normals and collider, which
+    /// nothing needs until the surface takes part in a boolean (and then its import builds them).
+    #[must_use]
+    pub fn extruded(
+        contours: &[Vec<glam::DVec2>],
+        height: f64,
+        divisions: u32,
+        twist_degrees: f64,
+        scale_top: glam::DVec2,
+    ) -> Option<Surface> {
+        let divisions = i32::try_from(divisions).unwrap_or(i32::MAX);
+        let scale = EVec2::new(scale_top.x, scale_top.y);
+        manifold_rust::constructors::extrude_triangles(
+            &engine_polygons(contours),
+            height,
+            divisions,
+            twist_degrees,
+            scale,
+        )
+        .map(Surface::from_engine)
+    }
+
+    /// The closed surface of the region of clean `contours` (as for [`Surface::extruded`];
+    /// x the radius, y the height, the parts at x < 0 cut off) turned `degrees` about the z axis
+    /// in `segments` steps, capped when partial (Manifold's `Revolve`): a point on the axis is
+    /// one vertex. `None` when no part of the region lies at x ≥ 0.
+    #[must_use]
+    pub fn revolved(contours: &[Vec<glam::DVec2>], segments: u32, degrees: f64) -> Option<Surface> {
+        let segments = i32::try_from(segments).unwrap_or(i32::MAX);
+        manifold_rust::constructors::revolve_triangles(&engine_polygons(contours), segments, degrees)
+            .map(Surface::from_engine)
+    }
+}
+
 impl Solid {
-    /// The region of `contours` (clean: outer counter-clockwise, holes clockwise, none crossing,
-    /// as [`Section::contours`] gives) extruded from z = 0 to `height` through `divisions`
-    /// intermediate layers, the top turned by `twist_degrees` (counter-clockwise seen from above)
-    /// and scaled by `scale_top` (x, y) about the origin, every layer in between interpolated.
-    /// The contours go in as they are (not snapped to the section grid).
+    /// The engine's solid of [`Surface::extruded`] (its surface sorted, with normals and a
+    /// collider), to compare with.
     ///
     /// # Errors
     /// The engine's reason when it builds no valid solid.
+    #[cfg(test)]
     pub fn extrude(
         contours: &[Vec<glam::DVec2>],
         height: f64,
@@ -552,11 +612,11 @@ impl Solid {
         checked(Manifold::extrude(&polygons, height, divisions, twist_degrees, EVec2::new(scale_top.x, scale_top.y)))
     }
 
-    /// The region of clean `contours` (as for [`Solid::extrude`]; x ≥ 0: x the radius, y the
-    /// height) turned `degrees` about the z axis in `segments` steps, capped when partial.
+    /// The engine's solid of [`Surface::revolved`], to compare with.
     ///
     /// # Errors
     /// The engine's reason when it builds no valid solid.
+    #[cfg(test)]
     pub fn revolve(contours: &[Vec<glam::DVec2>], segments: u32, degrees: f64) -> Result<Solid, EngineError> {
         let polygons = engine_polygons(contours);
         let segments = i32::try_from(segments).unwrap_or(i32::MAX);

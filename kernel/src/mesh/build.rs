@@ -48,6 +48,92 @@ fn repeated_vertex(corners: &[u32]) -> Option<u32> {
     }
 }
 
+/// The twins of a mesh's face half-edges, and the half-edges bucketed by origin vertex.
+struct FaceTwins {
+    /// Each face half-edge's twin, [`NONE`] where no face runs the other way.
+    twins: Vec<u32>,
+    /// Vertex `v`'s outgoing half-edges are `out_list[out_start[v]..out_start[v + 1]]`, in
+    /// increasing id.
+    out_start: Vec<u32>,
+    out_list: Vec<u32>,
+}
+
+impl FaceTwins {
+    /// Buckets the face half-edges (origins `he_origin`, targets `he_target`, faces `he_face`)
+    /// by origin (a counting sort) and finds each one's twin in its target's bucket (scanned, or
+    /// bisected when the valence is high): linear in the number of half-edges.
+    ///
+    /// # Errors
+    /// [`MeshError::NonManifoldEdge`] when two faces use the same directed edge; what `tick`
+    /// returns, called once per vertex.
+    fn find(
+        nv: usize,
+        he_origin: &[u32],
+        he_target: &[u32],
+        he_face: &[u32],
+        tick: &mut dyn FnMut(usize) -> Result<(), crate::limits::LimitError>,
+    ) -> Result<FaceTwins, MeshError> {
+        // Bucket face half-edges by origin (CSR).
+        let nfh = he_origin.len();
+        let mut out_start = vec![0u32; nv + 1];
+        for &v in he_origin {
+            out_start[v as usize + 1] += 1;
+        }
+        for i in 0..nv {
+            out_start[i + 1] += out_start[i];
+        }
+        let mut fill = out_start.clone();
+        let mut out_list = vec![0u32; nfh];
+        for (h, &v) in he_origin.iter().enumerate() {
+            out_list[fill[v as usize] as usize] = h as u32;
+            fill[v as usize] += 1;
+        }
+        // The same buckets for searching by target: those of high valence (a polygon's centre
+        // after a subdivision step, a fan's hub) sorted by (target, id) and searched by bisection,
+        // so that a vertex of valence n costs n log n rather than n².
+        let mut by_target = out_list.clone();
+        for v in 0..nv {
+            let bucket = &mut by_target[out_start[v] as usize..out_start[v + 1] as usize];
+            if bucket.len() > SCAN_VALENCE {
+                bucket.sort_unstable_by_key(|&h| (he_target[h as usize], h));
+            }
+        }
+        // The lowest-id half-edge of `v`'s bucket that ends at `t`.
+        let first_to = |v: u32, t: u32| -> Option<u32> {
+            let bucket = &by_target[out_start[v as usize] as usize..out_start[v as usize + 1] as usize];
+            if bucket.len() > SCAN_VALENCE {
+                let i = bucket.partition_point(|&o| he_target[o as usize] < t);
+                bucket.get(i).copied().filter(|&o| he_target[o as usize] == t)
+            } else {
+                bucket.iter().copied().find(|&o| he_target[o as usize] == t)
+            }
+        };
+
+        // Twins. A repeated directed edge is a non-manifold edge.
+        let mut he_twin = vec![NONE; nfh];
+        for v in 0..nv {
+            tick(v)?;
+            let bucket = &out_list[out_start[v] as usize..out_start[v + 1] as usize];
+            for &h in bucket {
+                let t = he_target[h as usize];
+                if let Some(other) = first_to(v as u32, t).filter(|&o| o != h) {
+                    return Err(MeshError::NonManifoldEdge {
+                        a: v as u32,
+                        b: t,
+                        first: he_face[other as usize] as usize,
+                        second: he_face[h as usize] as usize,
+                    });
+                }
+                if let Some(tw) = first_to(t, v as u32) {
+                    he_twin[h as usize] = tw;
+                }
+            }
+        }
+
+        Ok(FaceTwins { twins: he_twin, out_start, out_list })
+    }
+}
+
 impl Mesh {
     /// Builds a mesh from positions and faces given as vertex-id lists (counter-clockwise seen
     /// from outside).
@@ -148,61 +234,9 @@ impl Mesh {
             start += arity;
         }
 
-        // 2. Bucket face half-edges by origin (CSR).
-        let mut out_start = vec![0u32; nv + 1];
-        for &v in &he_origin {
-            out_start[v as usize + 1] += 1;
-        }
-        for i in 0..nv {
-            out_start[i + 1] += out_start[i];
-        }
-        let mut fill = out_start.clone();
-        let mut out_list = vec![0u32; nfh];
-        for (h, &v) in he_origin.iter().enumerate() {
-            out_list[fill[v as usize] as usize] = h as u32;
-            fill[v as usize] += 1;
-        }
-        // The same buckets for searching by target: those of high valence (a polygon's centre
-        // after a subdivision step, a fan's hub) sorted by (target, id) and searched by bisection,
-        // so that a vertex of valence n costs n log n rather than n².
-        let mut by_target = out_list.clone();
-        for v in 0..nv {
-            let bucket = &mut by_target[out_start[v] as usize..out_start[v + 1] as usize];
-            if bucket.len() > SCAN_VALENCE {
-                bucket.sort_unstable_by_key(|&h| (he_target[h as usize], h));
-            }
-        }
-        // The lowest-id half-edge of `v`'s bucket that ends at `t`.
-        let first_to = |v: u32, t: u32| -> Option<u32> {
-            let bucket = &by_target[out_start[v as usize] as usize..out_start[v as usize + 1] as usize];
-            if bucket.len() > SCAN_VALENCE {
-                let i = bucket.partition_point(|&o| he_target[o as usize] < t);
-                bucket.get(i).copied().filter(|&o| he_target[o as usize] == t)
-            } else {
-                bucket.iter().copied().find(|&o| he_target[o as usize] == t)
-            }
-        };
-
-        // 3. Twins. A repeated directed edge is a non-manifold edge.
-        let mut he_twin = vec![NONE; nfh];
-        for v in 0..nv {
-            tick(v)?;
-            let bucket = &out_list[out_start[v] as usize..out_start[v + 1] as usize];
-            for &h in bucket {
-                let t = he_target[h as usize];
-                if let Some(other) = first_to(v as u32, t).filter(|&o| o != h) {
-                    return Err(MeshError::NonManifoldEdge {
-                        a: v as u32,
-                        b: t,
-                        first: he_face[other as usize] as usize,
-                        second: he_face[h as usize] as usize,
-                    });
-                }
-                if let Some(tw) = first_to(t, v as u32) {
-                    he_twin[h as usize] = tw;
-                }
-            }
-        }
+        // 2–3. Twins, from the half-edges bucketed by origin.
+        let FaceTwins { twins: mut he_twin, out_start, out_list } =
+            FaceTwins::find(nv, &he_origin, &he_target, &he_face, &mut tick)?;
 
         // 4. Boundary half-edges close every unmatched face half-edge.
         let boundary_out = close_boundary(nv, &mut he_origin, &mut he_next, &mut he_prev, &mut he_face, &mut he_twin)?;
@@ -425,6 +459,37 @@ impl Mesh {
             mesh.split_fans();
         }
         Ok(mesh)
+    }
+
+    /// A closed mesh of the triangles `corners` (three vertex ids each, counter-clockwise seen
+    /// from outside) over `positions`, pairing the half-edges itself ([`FaceTwins::find`]) and
+    /// then as [`Mesh::from_paired_triangles`]: where the surface pinches to a point (a revolved
+    /// profile touching the axis at one point) each fan after the first gets its own vertex.
+    /// For callers whose triangles close a surface by construction (an extrusion, a
+    /// revolution). Cost: O(n) for n triangles.
+    ///
+    /// # Errors
+    /// [`MeshError::IndexOutOfRange`] for a corner ≥ #V; [`MeshError::NonManifoldEdge`] when two
+    /// triangles use the same directed edge; [`MeshError::Internal`] when a half-edge has no twin
+    /// (the triangles do not close) — the caller's bug; as [`Mesh::from_paired_triangles`].
+    pub(crate) fn from_closed_triangles(positions: Vec<Vec3>, corners: Vec<u32>) -> Result<Mesh, MeshError> {
+        let nv = positions.len();
+        if nv >= NONE as usize || corners.len() >= (NONE as usize) / 2 || !corners.len().is_multiple_of(3) {
+            return Err(MeshError::TooLarge { what: format!("{nv} vertices, {} corners", corners.len()) });
+        }
+        if let Some(i) = corners.iter().position(|&v| v as usize >= nv) {
+            return Err(MeshError::IndexOutOfRange { face: i / 3, index: u64::from(corners[i]), vertex_count: nv });
+        }
+        let targets: Vec<u32> = corners.chunks_exact(3).flat_map(|c| [c[1], c[2], c[0]]).collect();
+        let faces: Vec<u32> = (0..corners.len() as u32).map(|h| h / 3).collect();
+        let twins = FaceTwins::find(nv, &corners, &targets, &faces, &mut |_| Ok(()))?.twins;
+        if let Some(h) = twins.iter().position(|&t| t == NONE) {
+            return Err(MeshError::Internal(format!(
+                "closed triangles: the edge from vertex {} to vertex {} has no twin",
+                corners[h], targets[h]
+            )));
+        }
+        Mesh::from_paired_triangles(positions, corners, twins)
     }
 
     /// Walks the fan of half-edges leaving `first`'s origin (each the twin of the one before it

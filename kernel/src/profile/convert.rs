@@ -1,7 +1,7 @@
 //! Crossing the engine seam: profiles ⇄ engine sections, meshes ⇄ engine solids.
 
 use super::{Profile, ProfileError};
-use crate::csg::engine::{EngineError, Fill, Section, Solid, Stop};
+use crate::csg::engine::{EngineError, Fill, Section, Solid, Stop, Surface};
 use crate::mesh::{Mesh, MeshError};
 
 impl Profile {
@@ -54,6 +54,21 @@ pub(super) fn mesh_from_solid(solid: &Solid) -> Result<Mesh, ProfileError> {
     let t = solid.paired_triangles();
     crate::limits::charge(t.tags.len() as u64)?;
     Mesh::from_paired_triangles(t.positions, t.corners, t.pairs).map_err(mesh_error)
+}
+
+/// The surface an engine constructor built (`None`: nothing) as a half-edge mesh
+/// ([`Mesh::from_closed_triangles`]: linear; a point where the surface pinches gets a vertex per
+/// fan, as in [`mesh_from_solid`]); `what` names the profile in the error for an empty result.
+///
+/// # Errors
+/// [`ProfileError::ZeroArea`] for no triangles; the limit's error when the operation limit is
+/// reached; a build failure as [`ProfileError::Engine`].
+pub(super) fn mesh_from_surface(surface: Option<Surface>, what: &str) -> Result<Mesh, ProfileError> {
+    let Some(Surface { positions, corners }) = surface.filter(|s| !s.corners.is_empty()) else {
+        return Err(ProfileError::ZeroArea { what: what.into() });
+    };
+    crate::limits::charge(corners.len() as u64 / 3)?;
+    Mesh::from_closed_triangles(positions, corners).map_err(mesh_error)
 }
 
 /// A closed mesh as an engine solid; `what` names it in errors.

@@ -1,9 +1,9 @@
 //! Linear extrusion: a profile pulled up along z, optionally twisted and scaled towards the top
 //! (OpenSCAD's `linear_extrude`, Manifold's `Extrude`).
 
-use super::convert::{check_finite, check_number, check_solid_size, engine_error, mesh_from_solid};
+use super::convert::{check_finite, check_number, check_solid_size, mesh_from_surface};
 use super::{Profile, ProfileError, Vec2};
-use crate::csg::engine::Solid;
+use crate::csg::engine::Surface;
 use crate::math::Vec3;
 use crate::mesh::Mesh;
 
@@ -106,10 +106,7 @@ pub fn extrude(profile: &Profile, height: f64, options: &ExtrudeOptions) -> Resu
         2.0 * points * (layers_f + 1.0),
     )?;
     crate::limits::charge(profile.point_count() as u64 * u64::from(layers))?;
-    let solid = Solid::extrude(profile.contours(), height, layers - 1, options.twist, s).map_err(engine_error)?;
-    let mesh = mesh_from_solid(&solid)?;
-    if mesh.face_count() == 0 {
-        return Err(ProfileError::ZeroArea { what: "the profile to extrude".into() });
-    }
+    let surface = Surface::extruded(profile.contours(), height, layers - 1, options.twist, s);
+    let mesh = mesh_from_surface(surface, "the profile to extrude")?;
     Ok(if options.center { mesh.map_positions(|p| p - Vec3::new(0.0, 0.0, height / 2.0)) } else { mesh })
 }

@@ -1,10 +1,10 @@
 //! Revolution: a profile turned about the z axis, its x the radius and its y the height
 //! (OpenSCAD's `rotate_extrude`, Manifold's `Revolve`).
 
-use super::convert::{check_number, check_solid_size, engine_error, mesh_from_solid};
+use super::convert::{check_number, check_solid_size, mesh_from_surface};
 use super::offset::check_segments;
 use super::{Profile, ProfileError};
-use crate::csg::engine::Solid;
+use crate::csg::engine::Surface;
 use crate::mesh::Mesh;
 
 /// Options of [`revolve`].
@@ -83,10 +83,5 @@ pub fn revolve(profile: &Profile, options: &RevolveOptions) -> Result<Mesh, Prof
         2.0 * points * (f64::from(steps) + 1.0),
     )?;
     crate::limits::charge(profile.point_count() as u64 * u64::from(steps))?;
-    let solid = Solid::revolve(profile.contours(), steps, options.angle).map_err(engine_error)?;
-    let mesh = mesh_from_solid(&solid)?;
-    if mesh.face_count() == 0 {
-        return Err(ProfileError::ZeroArea { what: "the profile to revolve".into() });
-    }
-    Ok(mesh)
+    mesh_from_surface(Surface::revolved(profile.contours(), steps, options.angle), "the profile to revolve")
 }

@@ -421,3 +421,52 @@ fn a_profile_touching_the_axis_at_a_point_revolves_to_a_pinched_solid() {
     // ∫x dA over the triangle: area 1, centroid x = 2/3.
     assert_near(solid(&c, 0), 24.0 * (2.0 * PI / 24.0).sin() * (2.0 / 3.0), 1e-9);
 }
+
+#[test]
+fn extrusions_and_revolutions_are_the_engines_solids_without_building_them() {
+    // `extrude` and `revolve` build the mesh from the engine's construction directly (no
+    // sort, normals or collider); the result must be the mesh of the engine's own solid up to
+    // the order of vertices and faces: the same counts, positions and volume.
+    use crate::csg::engine::Solid;
+    let holed = Profile::circle(1.0, 40).unwrap().difference(&rect(-0.3, -0.3, 0.3, 0.3));
+    let corner = rect(0.0, 0.0, 1.0, 1.0).union(&rect(1.0, 1.0, 2.0, 2.0));
+    let on_axis = Profile::circle(1.0, 32).unwrap().translate(v(1.0, 0.0)).unwrap();
+    let tri = Profile::polygon(&[v(0.0, 0.0), v(1.0, -1.0), v(1.0, 1.0)], FillRule::EvenOdd).unwrap();
+    let ring = rect(1.0, 0.0, 2.0, 1.0).difference(&rect(1.2, 0.2, 1.4, 0.4));
+    let sorted = |m: &Mesh| {
+        let mut p: Vec<[u64; 3]> =
+            m.positions().iter().map(|q| [q.x.to_bits(), q.y.to_bits(), q.z.to_bits()]).collect();
+        p.sort_unstable();
+        p
+    };
+    let same = |ours: &Mesh, engine: &Solid, what: &str| {
+        let theirs = super::convert::mesh_from_solid(engine).unwrap();
+        assert!(ours.is_closed() && ours.is_manifold(), "{what}: not a closed 2-manifold");
+        assert_eq!(ours.face_count(), theirs.face_count(), "{what}: faces");
+        assert_eq!(ours.vertex_count(), theirs.vertex_count(), "{what}: vertices");
+        assert_eq!(ours.genus(), theirs.genus(), "{what}: genus");
+        assert_eq!(sorted(ours), sorted(&theirs), "{what}: positions");
+        assert_near(ours.volume(), theirs.volume(), 1e-12 * theirs.volume().abs().max(1.0));
+    };
+    for (what, p, twist, scale) in [
+        ("a holed disc, twisted", &holed, 90.0, Vec2::ONE),
+        ("a holed disc to a point", &holed, 0.0, Vec2::ZERO),
+        ("squares touching at a corner, scaled", &corner, 30.0, Vec2::new(0.5, 2.0)),
+    ] {
+        let options = ExtrudeOptions::DEFAULT.with_twist(twist).with_scale(scale).with_slices(7);
+        let ours = extrude(p, 2.0, &options).unwrap();
+        let engine = Solid::extrude(p.contours(), 2.0, 6, twist, scale).unwrap();
+        same(&ours, &engine, what);
+    }
+    for (what, p, angle) in [
+        ("a disc touching the axis", &on_axis, 360.0),
+        ("a triangle with its apex on the axis, partly", &tri, 135.0),
+        ("a holed rectangle, partly", &ring, 90.0),
+        ("a holed rectangle", &ring, 360.0),
+    ] {
+        let options = RevolveOptions::DEFAULT.with_angle(angle).with_segments(24);
+        let ours = revolve(p, &options).unwrap();
+        let engine = Solid::revolve(p.contours(), options.steps(), angle).unwrap();
+        same(&ours, &engine, what);
+    }
+}

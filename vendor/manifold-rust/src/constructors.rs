@@ -29,8 +29,25 @@ pub fn extrude(
     twist_degrees: f64,
     scale_top: Vec2,
 ) -> ManifoldImpl {
+    match extrude_triangles(cross_section, height, n_divisions, twist_degrees, scale_top) {
+        Some((vert_pos, tri_verts)) => impl_from_triangles(vert_pos, &tri_verts),
+        None => ManifoldImpl::new(),
+    }
+}
+
+/// The vertex positions and triangles (counter-clockwise seen from outside) of [`extrude`],
+/// before they become a manifold: for a caller that wants the extruded surface without the
+/// manifold's sort, normals and collider. `None` where [`extrude`] gives an empty manifold.
+/// blocksmith patch (PATCHES.md, 13).
+pub fn extrude_triangles(
+    cross_section: &Polygons,
+    height: f64,
+    n_divisions: i32,
+    twist_degrees: f64,
+    scale_top: Vec2,
+) -> Option<(Vec<Vec3>, Vec<IVec3>)> {
     if cross_section.is_empty() || height <= 0.0 {
-        return ManifoldImpl::new();
+        return None;
     }
 
     let scale_top = Vec2::new(scale_top.x.max(0.0), scale_top.y.max(0.0));
@@ -126,9 +143,15 @@ pub fn extrude(
         }
     }
 
+    Some((vert_pos, tri_verts))
+}
+
+/// A manifold of the triangles `tri_verts` over `vert_pos`, as [`extrude`] and [`revolve`]
+/// finish theirs. blocksmith patch (PATCHES.md, 13).
+fn impl_from_triangles(vert_pos: Vec<Vec3>, tri_verts: &[IVec3]) -> ManifoldImpl {
     let mut m = ManifoldImpl::new();
     m.vert_pos = vert_pos;
-    m.create_halfedges(&tri_verts, &[]);
+    m.create_halfedges(tri_verts, &[]);
     m.initialize_original();
     m.calculate_bbox();
     m.set_epsilon(-1.0, false);
@@ -151,6 +174,20 @@ pub fn revolve(
     circular_segments: i32,
     revolve_degrees: f64,
 ) -> ManifoldImpl {
+    match revolve_triangles(cross_section, circular_segments, revolve_degrees) {
+        Some((vert_pos, tri_verts)) => impl_from_triangles(vert_pos, &tri_verts),
+        None => ManifoldImpl::new(),
+    }
+}
+
+/// The vertex positions and triangles (counter-clockwise seen from outside) of [`revolve`],
+/// before they become a manifold, as [`extrude_triangles`]. `None` where [`revolve`] gives an
+/// empty manifold. blocksmith patch (PATCHES.md, 13).
+pub fn revolve_triangles(
+    cross_section: &Polygons,
+    circular_segments: i32,
+    revolve_degrees: f64,
+) -> Option<(Vec<Vec3>, Vec<IVec3>)> {
     // Filter to positive-x portion only, clipping at axis
     let mut polygons: Polygons = Vec::new();
     let mut radius: f64 = 0.0;
@@ -188,7 +225,7 @@ pub fn revolve(
     }
 
     if polygons.is_empty() {
-        return ManifoldImpl::new();
+        return None;
     }
 
     let revolve_degrees = revolve_degrees.min(360.0);
@@ -310,15 +347,7 @@ pub fn revolve(
         }
     }
 
-    let mut m = ManifoldImpl::new();
-    m.vert_pos = vert_pos;
-    m.create_halfedges(&tri_verts, &[]);
-    m.initialize_original();
-    m.calculate_bbox();
-    m.set_epsilon(-1.0, false);
-    m.sort_geometry();
-    m.set_normals_and_coplanar();
-    m
+    Some((vert_pos, tri_verts))
 }
 
 // -----------------------------------------------------------------------
