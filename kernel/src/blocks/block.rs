@@ -15,6 +15,7 @@
 //!   (`"+x+y"`, `"-x-z"`, `"+y-z"`); either order is accepted when parsing.
 
 use crate::math::{is_finite, lerp, Quat, Vec3};
+use crate::mesh::Rgba;
 
 use super::BlockError;
 
@@ -208,7 +209,7 @@ impl Edge {
     }
 }
 
-/// A block: 8 corners, per-face sub-face grids, per-edge sharpness and a group id.
+/// A block: 8 corners, per-face sub-face grids, per-edge sharpness, a group id and a colour.
 ///
 /// An edge's sharpness is 0 (smooth), `f64::INFINITY` (sharp: a crease at every level) or between
 /// (semi-sharp: DeRose, Kass & Truong 1998 §3 as OpenSubdiv applies it, the crease rules for that
@@ -223,6 +224,7 @@ pub struct Block {
     divisions: [[u32; 2]; 6],
     sharp: [f64; 12],
     group: i64,
+    color: Option<Rgba>,
 }
 
 impl Block {
@@ -253,7 +255,7 @@ impl Block {
     ///   higher x, y, z) is left-handed or flat at some corner.
     pub fn from_corners(corners: [Vec3; 8]) -> Result<Block, BlockError> {
         validate(&corners)?;
-        Ok(Block { corners, divisions: [[1, 1]; 6], sharp: [0.0; 12], group: 0 })
+        Ok(Block { corners, divisions: [[1, 1]; 6], sharp: [0.0; 12], group: 0, color: None })
     }
 
     /// The 8 corners.
@@ -354,6 +356,28 @@ impl Block {
     /// Sets the group id.
     pub fn set_group(&mut self, group: i64) {
         self.group = group;
+    }
+
+    /// The colour of the block's surface, if set: the faces the meshing makes from its sub-faces
+    /// carry it (and keep it through booleans, as a mesh's colours do).
+    #[must_use]
+    pub fn color(&self) -> Option<Rgba> {
+        self.color
+    }
+
+    /// Sets (`Some`) or clears (`None`) the block's colour.
+    ///
+    /// # Errors
+    /// [`BlockError::BadColor`] for a component outside `0..=1` (NaN included); the block is
+    /// unchanged.
+    pub fn set_color(&mut self, color: Option<Rgba>) -> Result<(), BlockError> {
+        if let Some(c) = color {
+            if let Some(component) = c.iter().position(|x| !(0.0..=1.0).contains(x)) {
+                return Err(BlockError::BadColor { component, value: f64::from(c[component]) });
+            }
+        }
+        self.color = color;
+        Ok(())
     }
 
     /// Moves the block by `offset`.
@@ -475,7 +499,7 @@ fn validate(c: &[Vec3; 8]) -> Result<(), BlockError> {
             }
         }
     }
-    let probe = Block { corners: *c, divisions: [[1, 1]; 6], sharp: [0.0; 12], group: 0 };
+    let probe = Block { corners: *c, divisions: [[1, 1]; 6], sharp: [0.0; 12], group: 0, color: None };
     for face in Face::ALL {
         let q = probe.subface_corners_full(face);
         let n = (q[2] - q[0]).cross(q[3] - q[1]);

@@ -38,6 +38,9 @@ pub enum BlockError {
     /// An edge sharpness that is NaN or negative.
     #[error("edge {edge} needs a sharpness of 0 or more, got {sharpness}")]
     BadSharpness { edge: String, sharpness: f64 },
+    /// A colour component outside `0..=1` (NaN included).
+    #[error("colour component {component} must be between 0 and 1, got {value}")]
+    BadColor { component: usize, value: f64 },
     /// A sub-face index outside `0..nu*nv` of its face.
     #[error("sub-face {sub} of face {face} does not exist (the face has {count})")]
     SubFaceOutOfRange { face: &'static str, sub: i64, count: u32 },

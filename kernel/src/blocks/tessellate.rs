@@ -41,7 +41,7 @@ use rayon::prelude::*;
 
 use crate::limits::{check_memory, CancelToken, LimitError};
 use crate::math::Vec3;
-use crate::mesh::{mesh_bytes, Mesh};
+use crate::mesh::{mesh_bytes, FacePart, Mesh};
 use crate::subdiv::LimitEvaluator;
 
 use super::{BlockError, BlockModel, ControlMesh, SubFaceRef};
@@ -184,9 +184,11 @@ impl BlockModel {
     ) -> Result<Tessellation, BlockError> {
         options.check()?;
         let cm = self.control_mesh()?;
-        let ControlTessellation { mesh, sub_patches, triangle_patches } =
+        let ControlTessellation { mut mesh, sub_patches, triangle_patches } =
             tessellate_control_with_progress(&cm, options, displacement, progress)?;
-        let triangle_sources = triangle_patches.iter().map(|&f| cm.sources[f as usize].subface).collect();
+        let triangle_sources: Vec<SubFaceRef> =
+            triangle_patches.iter().map(|&f| cm.sources[f as usize].subface).collect();
+        self.color_triangles(&mut mesh, &triangle_sources)?;
         let stats = BlockStats {
             blocks: self.blocks().len(),
             patches: cm.mesh.face_count(),
@@ -194,6 +196,35 @@ impl BlockModel {
             triangles: mesh.face_count(),
         };
         Ok(Tessellation { mesh, stats, triangle_sources, control: cm.mesh })
+    }
+}
+
+impl BlockModel {
+    /// Colours each triangle of `mesh` with the colour of the block it lies on (`sources`, one
+    /// per triangle): one face part per colour, in the order first met, and one without a colour
+    /// for the blocks that have none. Nothing when no block has a colour.
+    fn color_triangles(&self, mesh: &mut Mesh, sources: &[SubFaceRef]) -> Result<(), BlockError> {
+        if self.blocks().iter().all(|b| b.color().is_none()) {
+            return Ok(());
+        }
+        let mut parts: Vec<FacePart> = Vec::new();
+        let mut block_part: Vec<Option<u32>> = vec![None; self.blocks().len()];
+        let mut ids = Vec::with_capacity(sources.len());
+        for s in sources {
+            let b = s.block as usize;
+            let id = *block_part[b].get_or_insert_with(|| {
+                let part = FacePart { color: self.blocks()[b].color(), ..FacePart::default() };
+                match parts.iter().position(|p| *p == part) {
+                    Some(i) => i as u32,
+                    None => {
+                        parts.push(part);
+                        parts.len() as u32 - 1
+                    }
+                }
+            });
+            ids.push(id);
+        }
+        mesh.set_face_parts(ids, parts).map_err(|e| BlockError::Internal(format!("block colours: {e}")))
     }
 }
 
@@ -666,7 +697,34 @@ fn side_points(rect: Rect, r: u32) -> Vec<(usize, u32)> {
 mod tests {
     use super::*;
     use crate::blocks::test_models::{along_box_edge, boxed, sharp_box};
-    use crate::blocks::Face;
+    use crate::blocks::{Block, Face};
+
+    #[test]
+    fn each_block_gives_its_colour_to_the_faces_made_from_it() {
+        let (red, blue) = ([1.0, 0.0, 0.0, 1.0], [0.0, 0.0, 1.0, 1.0]);
+        let mut a = Block::from_bounds(Vec3::ZERO, Vec3::ONE).unwrap();
+        a.set_color(Some(red)).unwrap();
+        let mut b = Block::from_bounds(Vec3::new(3.0, 0.0, 0.0), Vec3::new(4.0, 1.0, 1.0)).unwrap();
+        b.set_color(Some(blue)).unwrap();
+        let c = Block::from_bounds(Vec3::new(6.0, 0.0, 0.0), Vec3::new(7.0, 1.0, 1.0)).unwrap();
+        let mut model = BlockModel::new();
+        for blk in [a.clone(), b, c] {
+            model.add(blk);
+        }
+        let t = model.tessellate(&MeshOptions::DEFAULT, None).unwrap();
+        check_solid(&t.mesh);
+        for (f, s) in t.triangle_sources.iter().enumerate() {
+            let want = [Some(red), Some(blue), None][s.block as usize];
+            assert_eq!(t.mesh.face_color(f as u32), want, "face {f} of block {}", s.block);
+        }
+        // No colour on any block: no parts at all.
+        let mut plain = BlockModel::new();
+        plain.add(Block::from_bounds(Vec3::ZERO, Vec3::ONE).unwrap());
+        assert!(plain.tessellate(&MeshOptions::DEFAULT, None).unwrap().mesh.face_part_ids().is_none());
+        // A bad colour is refused and the block keeps its own.
+        assert!(matches!(a.set_color(Some([0.0, 1.5, 0.0, 1.0])), Err(BlockError::BadColor { component: 1, .. })));
+        assert_eq!(a.color(), Some(red));
+    }
 
     fn check_solid(m: &Mesh) {
         assert!(m.is_triangle_mesh());

@@ -212,6 +212,58 @@ impl Mesh {
         Ok(())
     }
 
+    /// The mesh with the faces `faces` coloured `color` and the others as they were: each part
+    /// those faces are in is copied with the colour replaced (names and origins kept).
+    ///
+    /// # Errors
+    /// [`MeshError::BadColor`] for a component outside `0..=1` (NaN included);
+    /// [`MeshError::NoSuchElement`] for a face id out of range. Unchanged on error.
+    pub fn color_faces(&mut self, faces: &[u32], color: Rgba) -> Result<(), MeshError> {
+        check_color(color)?;
+        for &f in faces {
+            self.check_face(i64::from(f))?;
+        }
+        self.ensure_parts();
+        let mut recoloured: std::collections::HashMap<u32, u32> = std::collections::HashMap::new();
+        for &f in faces {
+            let old = self.face_parts.as_ref().map_or(0, |ids| ids[f as usize]);
+            let new = *recoloured.entry(old).or_insert_with(|| {
+                let part = FacePart { color: Some(color), ..self.parts[old as usize].clone() };
+                self.parts.push(part);
+                self.parts.len() as u32 - 1
+            });
+            if let Some(ids) = &mut self.face_parts {
+                ids[f as usize] = new;
+            }
+        }
+        self.drop_unused_parts();
+        Ok(())
+    }
+
+    /// Removes the parts no face is in, renumbering the others in order.
+    fn drop_unused_parts(&mut self) {
+        let Some(ids) = &mut self.face_parts else { return };
+        let mut used = vec![false; self.parts.len()];
+        for &i in ids.iter() {
+            used[i as usize] = true;
+        }
+        if used.iter().all(|&u| u) {
+            return;
+        }
+        let mut renumber = vec![u32::MAX; self.parts.len()];
+        let mut kept = Vec::new();
+        for (i, part) in std::mem::take(&mut self.parts).into_iter().enumerate() {
+            if used[i] {
+                renumber[i] = kept.len() as u32;
+                kept.push(part);
+            }
+        }
+        for i in ids.iter_mut() {
+            *i = renumber[*i as usize];
+        }
+        self.parts = kept;
+    }
+
     /// Applies `f` to every part (a mesh without parts gets one default part first, so `f` sees
     /// every face).
     pub fn map_parts(&mut self, mut f: impl FnMut(&mut FacePart)) {
@@ -319,6 +371,33 @@ mod tests {
         } else {
             BLUE
         }
+    }
+
+    #[test]
+    fn some_faces_recoloured_keep_the_others_and_leave_no_unused_part() {
+        let mut m = two_colour_cube();
+        // All red faces turned green: the red part goes, the blue stays.
+        let green: Rgba = [0.0, 1.0, 0.0, 1.0];
+        m.color_faces(&[0, 1, 2], green).unwrap();
+        assert_eq!(m.parts().len(), 2);
+        assert_eq!(
+            (0..6).map(|f| m.face_color(f).unwrap()).collect::<Vec<_>>(),
+            [green, green, green, BLUE, BLUE, BLUE]
+        );
+        // One blue face turned red: a third part, the others as they were.
+        m.color_faces(&[5], RED).unwrap();
+        assert_eq!(m.face_color(5), Some(RED));
+        assert_eq!(m.face_color(4), Some(BLUE));
+        assert_eq!(m.parts().len(), 3);
+        // A mesh without parts gets them; bad input leaves the mesh as it was.
+        let mut plain = Mesh::cube(1.0);
+        plain.color_faces(&[2], RED).unwrap();
+        assert_eq!((plain.face_color(1), plain.face_color(2)), (None, Some(RED)));
+        let before = m.clone();
+        assert!(matches!(m.color_faces(&[1, 6], RED), Err(MeshError::NoSuchElement { .. })));
+        assert!(matches!(m.color_faces(&[1], [2.0, 0.0, 0.0, 1.0]), Err(MeshError::BadColor { component: 0, .. })));
+        assert_eq!(m.face_part_ids(), before.face_part_ids());
+        assert_eq!(m.parts(), before.parts());
     }
 
     #[test]

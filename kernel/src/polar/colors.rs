@@ -67,10 +67,14 @@ impl PolarMesh {
     }
 
     /// A copy of the mesh with [`PolarMesh::feature_colors`] as its vertex colours, ready to save
-    /// as glTF.
+    /// as glTF; a polar mesh whose faces were coloured ([`PolarMesh::set_color`]) keeps its own
+    /// colours instead.
     #[must_use]
     pub fn to_colored_mesh(&self) -> Mesh {
         let mut m = self.mesh.clone();
+        if m.has_face_colors() {
+            return m;
+        }
         m.set_vertex_colors(Some(self.feature_colors())).expect("one colour per vertex");
         m
     }

@@ -202,6 +202,24 @@ impl PolarMesh {
         self.mesh.clone()
     }
 
+    /// Colours every face `color` (see [`Mesh::set_color`]); faces the operations and growth
+    /// make later take the colour of the faces they replace.
+    ///
+    /// # Errors
+    /// [`PolarError::InvalidArgument`] for a component outside `0..=1`; the polar mesh is
+    /// unchanged.
+    pub fn set_color(&mut self, color: crate::mesh::Rgba) -> Result<(), PolarError> {
+        self.mesh.set_color(color).map_err(|e| PolarError::InvalidArgument(e.to_string()))
+    }
+
+    /// Colours the faces `faces` (a feature's faces, say) `color` (see [`Mesh::color_faces`]).
+    ///
+    /// # Errors
+    /// [`PolarError::InvalidArgument`] for a bad colour or face id; the polar mesh is unchanged.
+    pub fn color_faces(&mut self, faces: &[u32], color: crate::mesh::Rgba) -> Result<(), PolarError> {
+        self.mesh.color_faces(faces, color).map_err(|e| PolarError::InvalidArgument(e.to_string()))
+    }
+
     /// The underlying mesh, consuming the polar mesh.
     #[must_use]
     pub fn into_mesh(self) -> Mesh {

@@ -262,3 +262,34 @@ fn planar_bracketed_plants_with_crossing_and_coincident_branches_become_solids()
     }
     assert!(tunnels > 0, "some branches cross each other and enclose tunnels");
 }
+
+/// Colours ride on a grown plant's faces into its solid: the trunk's feature in one colour, the
+/// rest in another, and every face of the solid in one of the two, each on the side of the plant
+/// it came from (trunk faces low, the rest above).
+#[test]
+fn a_coloured_plant_keeps_its_colours_in_its_solid() {
+    let (green, brown) = ([0.0, 0.5, 0.0, 1.0], [0.5, 0.25, 0.0, 1.0]);
+    let mut pm = grow(&parse_modules("t", "F[+F][-F]F").unwrap(), &GrowOptions::DEFAULT).unwrap().mesh;
+    pm.set_color(green).unwrap();
+    let trunk = pm.select_feature(0).unwrap();
+    pm.color_faces(&trunk, brown).unwrap();
+    let solid = pm.to_solid().unwrap();
+    assert!(solid.is_closed() && solid.is_manifold());
+    let mut count = [0usize; 2];
+    for f in 0..solid.face_count() as u32 {
+        match solid.face_color(f) {
+            Some(c) if c == green => count[0] += 1,
+            Some(c) if c == brown => count[1] += 1,
+            other => panic!("face {f} of the solid has colour {other:?}"),
+        }
+    }
+    assert!(count[0] > 0 && count[1] > 0, "{count:?}");
+    // The colours are written as they were set: the coloured mesh is the polar mesh's own.
+    assert!(pm.to_colored_mesh().vertex_colors().is_none());
+    assert!(pm.to_colored_mesh().has_face_colors());
+    // Bad input leaves the polar mesh as it was.
+    let before = pm.to_mesh();
+    assert!(pm.set_color([f32::NAN, 0.0, 0.0, 1.0]).is_err());
+    assert!(pm.color_faces(&[u32::MAX], green).is_err());
+    assert_eq!(pm.to_mesh().face_part_ids(), before.face_part_ids());
+}

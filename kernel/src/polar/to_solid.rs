@@ -315,11 +315,34 @@ fn piece_mesh(pm: &PolarMesh, sk: &Skeleton, apexes: &[Vec3], polys: &[Vec<u32>]
             "a tube does not close into a manifold ({e}): a region meets one loop along two separate cycles"
         ),
     };
-    let piece = Mesh::from_polygons(positions, &faces).map_err(|e| not_tubes(e.to_string()))?;
+    let mut piece = Mesh::from_polygons(positions, &faces).map_err(|e| not_tubes(e.to_string()))?;
+    if let Some(parents) = parent_faces(pm, polys) {
+        piece.inherit_parts(pm.mesh(), &parents).map_err(|e| PolarError::Internal(e.to_string()))?;
+    }
     if !piece.is_closed() || !piece.is_manifold() {
         return Err(not_tubes("open or not manifold".into()));
     }
     piece.triangulate().map_err(|e| PolarError::Solid(e.to_string()))
+}
+
+/// For each of a piece's polygons, the polar face whose colour and origin it takes: itself, or
+/// for a cap triangle `[a, b, apex]` the face across its rim edge (the one holding `b → a`).
+/// `None` when the polar mesh has no parts to carry.
+fn parent_faces(pm: &PolarMesh, polys: &[Vec<u32>]) -> Option<Vec<u32>> {
+    let m = pm.mesh();
+    m.face_part_ids()?;
+    let nv = pm.vertex_count();
+    let face_of = |a: u32, b: u32| m.find_halfedge(a, b).map(|h| m.face(h));
+    Some(
+        polys
+            .iter()
+            .map(|p| match p[..] {
+                [a, b, x] if x as usize >= nv => face_of(b, a),
+                _ => face_of(p[0], p[1]),
+            })
+            .map(|f| f.unwrap_or(0))
+            .collect(),
+    )
 }
 
 /// `piece` bounding positive volume: reversed when its faces face inwards. A branch grown from
@@ -342,8 +365,13 @@ fn crosses_itself(piece: &Mesh) -> Result<bool, PolarError> {
 
 /// The convex hull of a piece's vertices (its apexes included, so the cones' volume that its
 /// neighbours' cones meet is covered): the stand-in for a region whose own faces cross.
+/// It takes the colour and origin of the piece's first face.
 fn hull_of(piece: &Mesh) -> Result<Mesh, PolarError> {
-    crate::profile::hull_points(piece.positions()).map_err(|e| PolarError::Solid(format!("the hull of a region: {e}")))
+    let mut hull = crate::profile::hull_points(piece.positions())
+        .map_err(|e| PolarError::Solid(format!("the hull of a region: {e}")))?;
+    let parents = vec![0; hull.face_count()];
+    hull.inherit_parts(piece, &parents).map_err(|e| PolarError::Internal(e.to_string()))?;
+    Ok(hull)
 }
 
 /// `solid` without its cavities: the shells of negative volume. The polar mesh is one closed
@@ -371,9 +399,9 @@ fn without_cavities(solid: Mesh) -> Result<Mesh, PolarError> {
     }
     let mut local: HashMap<u32, u32> = HashMap::new();
     let mut positions = Vec::new();
-    let faces: Vec<Vec<u32>> = kept
+    let parents: Vec<u32> = kept.iter().flat_map(|c| c.iter().copied()).collect();
+    let faces: Vec<Vec<u32>> = parents
         .iter()
-        .flat_map(|c| c.iter())
         .map(|&f| {
             solid
                 .face_vertices(f)
@@ -386,5 +414,7 @@ fn without_cavities(solid: Mesh) -> Result<Mesh, PolarError> {
                 .collect()
         })
         .collect();
-    Mesh::from_polygons(positions, &faces).map_err(|e| PolarError::Solid(e.to_string()))
+    let mut out = Mesh::from_polygons(positions, &faces).map_err(|e| PolarError::Solid(e.to_string()))?;
+    out.inherit_parts(&solid, &parents).map_err(|e| PolarError::Internal(e.to_string()))?;
+    Ok(out)
 }

@@ -547,6 +547,28 @@ pub mod blocks_api {
         b.same()
     }
 
+    /// Colours the block: `[r, g, b]` or `[r, g, b, a]` (components 0 to 1) or `"#rrggbb"`.
+    /// The model's mesh gives the faces made from this block's sub-faces that colour (blocks
+    /// without one stay uncoloured), and they keep it through booleans and `save` as a mesh's
+    /// colours do. Changes the block in place and returns it, for a chain (see `blocksmith doc
+    /// Block`); a bad colour is an error and the block keeps its colour.
+    ///
+    /// ```rhai
+    /// let m = blocks();
+    /// m.add(block([0, 0, 0], [2, 1, 1]).sharp_all().color("#8b5a2b"));
+    /// m.add(block([3, 0, 0], [4, 1, 1]).sharp_all().color([0, 0.5, 1]));
+    /// m.add(block([5, 0, 0], [6, 1, 1]).sharp_all());
+    /// let mesh = m.mesh();
+    /// assert_eq(mesh.colors().len(), 2);
+    /// assert_eq(mesh.colors()[1], [0.0, 0.5, 1.0, 1.0]);   // the third block has none
+    /// ```
+    #[rhai_fn(name = "color", return_raw)]
+    pub fn block_color(b: &mut Block, c: crate::convert::Color) -> ScriptResult<Block> {
+        let rgba = crate::api::color::color_value("color", "c", &c)?;
+        kernel("color", b.write().set_color(Some(rgba)))?;
+        Ok(b.same())
+    }
+
     /// The group id (0 by default); blocks connect only across allowed group pairs.
     ///
     /// ```rhai

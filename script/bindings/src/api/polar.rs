@@ -840,6 +840,40 @@ pub mod polar_api {
     ) -> ScriptResult<()> {
         rotate_selection("rotate", pm, &verts, &axis, &degrees, options)
     }
+    /// This polar mesh with every face coloured `c`: `[r, g, b]` or `[r, g, b, a]` (0 to 1) or
+    /// `"#rrggbb"`. The operations and growth give the faces they make the colour of the faces
+    /// they replace; `to_mesh`, `to_solid` and `save` keep the colours (a coloured polar mesh is
+    /// saved in its own colours, not the feature hues). A new polar mesh; this one is left as it
+    /// was.
+    ///
+    /// ```rhai
+    /// let pm = polar_sphere(1, 8, 4).color("#3a7d2c");
+    /// assert_eq(pm.to_mesh().colors().len(), 1);
+    /// ```
+    #[rhai_fn(name = "color", pure, return_raw)]
+    pub fn color_all(pm: &mut PolarMesh, c: crate::convert::Color) -> ScriptResult<PolarMesh> {
+        let rgba = crate::api::color::color_value("color", "c", &c)?;
+        let mut out = pm.clone();
+        kernel("color", out.get_mut().set_color(rgba))?;
+        Ok(out)
+    }
+    /// This polar mesh with the faces `faces` coloured `c` (a feature: `pm.select_feature(f)`),
+    /// the others as they were. A new polar mesh; this one is left as it was.
+    ///
+    /// ```rhai
+    /// let pm = lsystem(#{ axiom: "F[+F][-F]F" }).grow(0).color([0, 0.5, 0]);
+    /// let trunk = pm.color([0.5, 0.25, 0], pm.select_feature(0));
+    /// assert_eq(trunk.to_mesh().colors().len(), 2);
+    /// assert_eq(trunk.to_solid().colors().len(), 2);   // the solid keeps them
+    /// ```
+    #[rhai_fn(name = "color", pure, return_raw)]
+    pub fn color_some(pm: &mut PolarMesh, c: crate::convert::Color, faces: Array) -> ScriptResult<PolarMesh> {
+        let rgba = crate::api::color::color_value("color", "c", &c)?;
+        let f = ids("color", "faces", &faces)?;
+        let mut out = pm.clone();
+        kernel("color", out.get_mut().color_faces(&f, rgba))?;
+        Ok(out)
+    }
     /// This polar mesh moved by `offset`, like a Mesh's `translate`: a new polar mesh with the
     /// same vertex ids, poles and loops; this one is left as it was (keep the result).
     ///
