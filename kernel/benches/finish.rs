@@ -7,16 +7,22 @@
 //! "scan-like" surface of the issue note's pymeshlab table, written by the recipe there);
 //! `scan1m`, the same at 8 subdivisions (1,310,720 triangles).
 //!
-//! The peer side (pymeshlab's `meshing_isotropic_explicit_remeshing` and
-//! `meshing_decimation_quadric_edge_collapse` on the same surface) is in the issue 31 note
-//! (/tmp/notes/31-finish.md): its script writes the input with `blocksmith run` and times both.
+//! The peer side is `finish_peer.py` beside this file: pymeshlab's
+//! `meshing_isotropic_explicit_remeshing` and `meshing_decimation_quadric_edge_collapse` on the
+//! same surface, which this bench leaves in target/bench-data/ (`finish_scan100k.ply`, written
+//! before timing, with our results at the benched settings: `finish_ours_decimate10k.ply`,
+//! `finish_ours_remesh.ply`), and the quality of both sides (Hausdorff distance to the input,
+//! triangle angles, edge lengths) with the time ratios from criterion's estimates.
 //!
-//! Run: `cargo bench -p blocksmith-kernel --bench finish` (release; a few minutes).
+//! Run: `cargo bench -p blocksmith-kernel --bench finish` (release; a few minutes), then
+//! `python kernel/benches/finish_peer.py`.
 
 use std::hint::black_box;
+use std::path::PathBuf;
 use std::time::Duration;
 
 use blocksmith_kernel::finish::{self, DecimateOptions, DecimateTarget, RelaxOptions, RemeshOptions};
+use blocksmith_kernel::io::save;
 use blocksmith_kernel::math::{Noise, NoiseOptions};
 use blocksmith_kernel::Mesh;
 use criterion::{criterion_group, criterion_main, Criterion};
@@ -33,10 +39,25 @@ fn scan(subdivisions: u32) -> Mesh {
     m
 }
 
+/// The 100k input and our results at the benched settings, for `finish_peer.py`.
+fn write_for_peer(s100k: &Mesh, decimate_to: usize, remesh: RemeshOptions) {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/bench-data");
+    std::fs::create_dir_all(&dir).unwrap();
+    let (decimated, _) =
+        finish::decimate(s100k, DecimateOptions { target: DecimateTarget::Triangles(decimate_to) }).unwrap();
+    let (remeshed, _) = finish::remesh(s100k, remesh).unwrap();
+    for (name, mesh) in
+        [("finish_scan100k", s100k), ("finish_ours_decimate10k", &decimated), ("finish_ours_remesh", &remeshed)]
+    {
+        save(mesh, dir.join(format!("{name}.ply"))).unwrap();
+    }
+}
+
 fn finishing(c: &mut Criterion) {
     let mut g = c.benchmark_group("finish");
     g.sample_size(10).measurement_time(Duration::from_secs(20));
     let s100k = scan(6);
+    write_for_peer(&s100k, 10_000, RemeshOptions { edge_length: 0.5, iterations: 5, sharp_angle: 60.0 });
     g.bench_function("remesh_scan100k_L0.5_5it", |b| {
         b.iter(|| {
             finish::remesh(black_box(&s100k), RemeshOptions { edge_length: 0.5, iterations: 5, sharp_angle: 60.0 })

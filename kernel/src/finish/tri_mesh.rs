@@ -130,6 +130,52 @@ impl TriMesh {
         }
     }
 
+    /// The mean length of the live triangles' edges (0 for none).
+    pub fn mean_edge_length(&self) -> f64 {
+        let (mut sum, mut n) = (0.0, 0usize);
+        for h in 0..self.tv.len() as u32 {
+            if self.tri_alive[(h / 3) as usize] {
+                sum += self.len(h);
+                n += 1;
+            }
+        }
+        if n == 0 {
+            0.0
+        } else {
+            sum / n as f64
+        }
+    }
+
+    /// The least quality `4√3·area / (a² + b² + c²)` (1 for an equilateral triangle, 0 for a
+    /// degenerate one) of the triangles around the two ends of `h` once the edge is collapsed
+    /// and its kept end placed at `p`; the two triangles the collapse removes are not counted.
+    pub fn worst_quality_after(&self, h: u32, p: Vec3) -> f64 {
+        let g = self.twin[h as usize];
+        let (t0, t1) = (h / 3, g / 3);
+        let mut worst = 1.0f64;
+        for v in [self.orig(h), self.dest(h)] {
+            let start = self.vout[v as usize];
+            let mut o = start;
+            for _ in 0..10_000 {
+                let t = o / 3;
+                if t != t0 && t != t1 {
+                    let mut c = self.corners(t);
+                    c[(o % 3) as usize] = p;
+                    let area2 = (c[1] - c[0]).cross(c[2] - c[0]).length();
+                    let squares =
+                        c[0].distance_squared(c[1]) + c[1].distance_squared(c[2]) + c[2].distance_squared(c[0]);
+                    let q = if squares > 0.0 { 2.0 * 3f64.sqrt() * area2 / squares } else { 0.0 };
+                    worst = worst.min(q);
+                }
+                o = self.twin[prev(o) as usize];
+                if o == start {
+                    break;
+                }
+            }
+        }
+        worst
+    }
+
     pub fn tri_normal(&self, t: u32) -> Vec3 {
         let [a, b, c] = self.corners(t);
         (b - a).cross(c - a)
