@@ -6,10 +6,10 @@
 use blocksmith_kernel::math::fmt_num;
 use blocksmith_kernel::mesh::{parse_hex_color, Rgba};
 use rhai::plugin::*;
-use rhai::{Array, INT};
+use rhai::{Array, FnPtr, INT};
 
 use super::mesh::SharedMesh;
-use crate::convert::{error, fail, kernel, number, type_name, Color, ColorOrUnit, ScriptResult};
+use crate::convert::{closure_error, error, fail, ids, kernel, number, type_name, Color, ColorOrUnit, ScriptResult};
 
 /// A colour argument: `[r, g, b]` or `[r, g, b, a]` with components 0–1, or a hex string
 /// `"#rgb"`, `"#rgba"`, `"#rrggbb"`, `"#rrggbbaa"`. Errors name `func` and `arg`.
@@ -68,6 +68,56 @@ pub mod color_api {
         let mut out = (*m.0).clone();
         kernel("color", out.set_color(rgba))?;
         Ok(SharedMesh(std::sync::Arc::new(out), m.1.clone()))
+    }
+
+    /// This mesh with the faces `faces` (face ids) coloured `c`, the others as they were (a
+    /// face without a colour stays without). A new mesh; this one is left as it was.
+    ///
+    /// ```rhai
+    /// let m = cube(2);
+    /// let top = m.faces().len() - 1;                       // pick faces by id
+    /// let two = m.color([1, 0, 0], [0, top]);
+    /// assert_eq(two.face_color(0), [1.0, 0.0, 0.0, 1.0]);
+    /// assert_eq(two.face_color(1), ());
+    /// assert_eq(two.colors().len(), 1);
+    /// ```
+    #[rhai_fn(name = "color", return_raw, pure)]
+    pub fn color_faces(m: &mut SharedMesh, c: Color, faces: Array) -> ScriptResult<SharedMesh> {
+        let rgba = color_value("color", "c", &c)?;
+        let f = ids("color", "faces", &faces)?;
+        let mut out = (*m.0).clone();
+        kernel("color", out.color_faces(&f, rgba))?;
+        Ok(SharedMesh(std::sync::Arc::new(out), m.1.clone()))
+    }
+
+    /// The ids of the faces for which the closure `f(centre, normal)` returns `true`: `centre`
+    /// is the face's centroid and `normal` its unit normal (both `Vec3`). For colouring or
+    /// otherwise treating a region picked by place and facing, as CadQuery's face selectors do.
+    ///
+    /// ```rhai
+    /// let m = cube(2);
+    /// let top = m.faces_where(|c, n| n.z > 0.9);
+    /// assert_eq(top.len(), 1);
+    /// let lit = m.color("#999").color("#ffcc00", m.faces_where(|c, n| c.x > 0.5 || n.z > 0.9));
+    /// assert_eq(lit.colors().len(), 2);
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn faces_where(ctx: NativeCallContext, m: &mut SharedMesh, f: FnPtr) -> ScriptResult<Array> {
+        let mesh = std::sync::Arc::clone(&m.0);
+        let mut out = Array::new();
+        for face in 0..mesh.face_count() as u32 {
+            let (centre, normal) = (mesh.face_centroid(face), mesh.face_normal(face));
+            let keep: Dynamic = f
+                .call_within_context(&ctx, (centre, normal))
+                .map_err(|e| error("faces_where", closure_error("the closure", &e)))?;
+            let keep = keep.as_bool().map_err(|t| {
+                error("faces_where", format!("the closure must return true or false, got {t} for face {face}"))
+            })?;
+            if keep {
+                out.push(Dynamic::from(INT::from(face)));
+            }
+        }
+        Ok(out)
     }
 
     /// The colour of face `f` as `[r, g, b, a]`, or `()` when the face has none.
