@@ -6,7 +6,8 @@
 use super::gravity::GravityState;
 use super::minimum_size::hold_minimum_size;
 use super::nodes::Tree;
-use super::skinning::{joint_poses, skin};
+use super::skinning::{joint_poses, skin, skin_blended};
+use super::smooth::Influences;
 use super::{AnimError, Gravity, Growth, JointPose, NodeState, Skinning};
 use crate::math::Vec3;
 use crate::mesh::Mesh;
@@ -52,6 +53,9 @@ pub struct Animation {
     tree: Tree,
     skinning: Skinning,
     modifiers: Vec<Modifier>,
+    /// The joints of each rest vertex when they are more than its node (a subdivided rest
+    /// mesh, see [`Animation::subdivided`]); `None`: each vertex follows its node alone.
+    influences: Option<Influences>,
 }
 
 impl Animation {
@@ -72,7 +76,7 @@ impl Animation {
         let tree = Tree::of_skeleton(&skeleton);
         // The rest mesh carries the feature colours (appendix B.1.3), so poses and the
         // animated file show the structure as the polar mesh's own file does.
-        Ok(Animation { rest: pm.to_colored_mesh(), skeleton, tree, skinning, modifiers: Vec::new() })
+        Ok(Animation { rest: pm.to_colored_mesh(), skeleton, tree, skinning, modifiers: Vec::new(), influences: None })
     }
 
     /// The node of vertex `v`'s binding, to pick a root by a face: see [`Skeleton::node_of`].
@@ -85,6 +89,30 @@ impl Animation {
     #[must_use]
     pub fn rest_mesh(&self) -> &Mesh {
         &self.rest
+    }
+
+    /// The joints that move each rest vertex, with their weights: the vertex's node alone
+    /// unless the rest mesh was subdivided ([`Animation::subdivided`]).
+    #[must_use]
+    pub fn influences(&self) -> Influences {
+        self.influences.clone().unwrap_or_else(|| Influences::single(self.skeleton.vertex_nodes()))
+    }
+
+    /// Whether the rest mesh is a subdivision of the polar mesh ([`Animation::subdivided`]).
+    #[must_use]
+    pub fn is_subdivided(&self) -> bool {
+        self.influences.is_some()
+    }
+
+    /// This animation with another rest mesh and its influences (one per vertex).
+    pub(super) fn with_rest(&self, rest: Mesh, influences: Influences) -> Animation {
+        debug_assert_eq!(rest.vertex_count(), influences.joints.len());
+        Animation { rest, influences: Some(influences), ..self.clone() }
+    }
+
+    /// The children of node `i` in the animation's tree.
+    pub(super) fn children(&self, i: u32) -> &[u32] {
+        &self.tree.children[i as usize]
     }
 
     /// The skinning mode.
@@ -246,7 +274,10 @@ impl Animation {
     #[must_use]
     pub fn skinned_positions(&self, states: &[NodeState]) -> Vec<Vec3> {
         let poses = self.joint_poses(states);
-        skin(self.rest.positions(), self.skeleton.vertex_nodes(), self.skeleton.positions(), &poses)
+        match &self.influences {
+            None => skin(self.rest.positions(), self.skeleton.vertex_nodes(), self.skeleton.positions(), &poses),
+            Some(i) => skin_blended(self.rest.positions(), i, self.skeleton.positions(), &poses),
+        }
     }
 
     /// The rest mesh with its vertices moved by the joints of `states`.

@@ -4,8 +4,9 @@
 //!
 //! Joints. Node `i` is the glTF node `node i`, a child of its tree parent's; the skin's joints are
 //! these nodes (as many as skeleton nodes), each with the inverse bind matrix T(−rest position),
-//! and every vertex has weight 1 on its node's joint, which moves it as [`Animation::mesh_of`]
-//! does. A joint's world transform is T(p)·R·S(thickness); glTF children inherit their parent's
+//! and every vertex has weight 1 on its node's joint — or, for a subdivided rest mesh, up to four
+//! joints with the weights the subdivision carried ([`Animation::influences`]) — which moves it
+//! as [`Animation::mesh_of`] does. A joint's world transform is T(p)·R·S(thickness); glTF children inherit their parent's
 //! scale, so each local transform divides it out (translation and scale over the parent's
 //! thickness). A thickness of exactly 0 (a grown plant's first frame) is written as 1e-6, so
 //! that the division stays finite: the collapsed rings are a millionth of their size instead of
@@ -73,12 +74,14 @@ pub fn write_animation_glb<W: Write>(
     let nv = anim.rest_mesh().vertex_count();
     let rest = sk.positions();
 
-    // Skin attributes: one joint per vertex, weight 1.
-    let joints: Vec<u16> = sk.vertex_nodes().iter().flat_map(|&j| [j as u16, 0, 0, 0]).collect();
+    // Skin attributes: each vertex's joints and weights (its node alone, weight 1, unless the
+    // rest mesh was subdivided).
+    let influences = anim.influences();
+    let joints: Vec<u16> = influences.joints.iter().flat_map(|j| j.map(|x| x as u16)).collect();
     let view = push_view(&mut root, &mut bin, Some(json::buffer::Target::ArrayBuffer), |b| push_u16s(b, &joints));
     let joints_acc =
         root.push(accessor(view, nv, json::accessor::ComponentType::U16, json::accessor::Type::Vec4, None));
-    let weights: Vec<f32> = (0..nv).flat_map(|_| [1.0, 0.0, 0.0, 0.0]).collect();
+    let weights: Vec<f32> = influences.weights.iter().flat_map(|w| w.map(|x| x as f32)).collect();
     let view = push_view(&mut root, &mut bin, Some(json::buffer::Target::ArrayBuffer), |b| push_f32s(b, &weights));
     let weights_acc =
         root.push(accessor(view, nv, json::accessor::ComponentType::F32, json::accessor::Type::Vec4, None));

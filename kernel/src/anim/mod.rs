@@ -8,6 +8,7 @@
 //! - `minimum_size`: every pose held at a minimum size, so that it is a valid mesh;
 //! - `nodes`: the rooted node tree the modifiers walk and each node's [`NodeState`];
 //! - `skinning`: joint transforms and vertex positions from node states;
+//! - `smooth`: the rest mesh subdivided with pointed tips, and the skin carried through it;
 //! - `growth`, `gravity`: the thesis's two behaviours;
 //! - `export`: a glTF 2.0 file with the skeleton as joints, skin weights and one animation.
 
@@ -19,6 +20,7 @@ mod growth;
 mod minimum_size;
 mod nodes;
 mod skinning;
+mod smooth;
 
 pub use animation::{Animation, CustomModifier, Modifier, MAX_POSE_STEPS, POSE_STEPS_PER_UNIT};
 pub use error::AnimError;
@@ -28,6 +30,7 @@ pub use growth::{Curve, Growth};
 pub use minimum_size::MIN_SIZE;
 pub use nodes::NodeState;
 pub use skinning::{JointPose, Skinning};
+pub use smooth::{subdivide_polar_mesh, Influences, MAX_INFLUENCES};
 
 #[cfg(test)]
 mod tests;

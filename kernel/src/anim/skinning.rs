@@ -100,3 +100,32 @@ pub(crate) fn skin(rest_vertices: &[Vec3], vertex_node: &[u32], rest_nodes: &[Ve
         })
         .collect()
 }
+
+/// Vertex positions by linear blend skinning: each rest vertex moved by the weighted sum of its
+/// joints' transforms, Σ wⱼ (tⱼ + sⱼ·Rⱼ(v − p₀ⱼ)) — what a glTF viewer computes from the
+/// skin — written per joint as v + (tⱼ − p₀ⱼ) + (sⱼ·Rⱼ(oⱼ) − oⱼ) so that the rest pose gives v
+/// exactly when the weights sum to 1.
+pub(crate) fn skin_blended(
+    rest_vertices: &[Vec3],
+    influences: &super::smooth::Influences,
+    rest_nodes: &[Vec3],
+    poses: &[JointPose],
+) -> Vec<Vec3> {
+    rest_vertices
+        .iter()
+        .zip(influences.joints.iter().zip(&influences.weights))
+        .map(|(&v, (joints, weights))| {
+            let mut shift = Vec3::ZERO;
+            for (&n, &w) in joints.iter().zip(weights) {
+                if w == 0.0 {
+                    continue;
+                }
+                let j = &poses[n as usize];
+                let p0 = rest_nodes[n as usize];
+                let o = v - p0;
+                shift += ((j.translation - p0) + (j.scale * (j.rotation * o) - o)) * w;
+            }
+            v + shift
+        })
+        .collect()
+}

@@ -248,6 +248,27 @@ fn exported_animation_stands_up_and_poses_as_mesh_of() {
     write_animation_glb(&anim, &frames, 24.0, &mut bytes, std::path::Path::new("plant.glb")).unwrap();
     let gltf = gltf::Gltf::from_slice(&bytes).unwrap();
     let blob = gltf.blob.as_deref().unwrap();
+    let prim = gltf.meshes().next().unwrap().primitives().next().unwrap();
+    let rest: Vec<glam::Vec3> = prim.reader(|_| Some(blob)).read_positions().unwrap().map(glam::Vec3::from).collect();
+    let frame = 5;
+    let joint = file_joint_matrices(&gltf, blob, frame);
+    let posed = anim.mesh_of(&frames[frame]);
+    let nodes = anim.skeleton().vertex_nodes();
+    let mut worst = 0.0f32;
+    for (v, p) in rest.iter().enumerate() {
+        let got = joint[nodes[v] as usize].transform_point3(*p);
+        let want = crate::io::UpAxis::Y.to_file(posed.position(v as u32)).as_vec3();
+        worst = worst.max((got - want).length());
+    }
+    assert!(worst < 1e-5, "largest difference {worst}");
+    // Upright: the file's y extent is the kernel's z extent.
+    let top = anim.rest_mesh().bounds().max.z as f32;
+    assert_eq!(rest.iter().map(|p| p.y).fold(f32::MIN, f32::max), top);
+}
+
+/// The skinning matrix of every joint of the file's skin at animation key `frame` (glTF 2.0
+/// §3.7.3: the joint node's world matrix times its inverse bind matrix), indexed by joint.
+pub(super) fn file_joint_matrices(gltf: &gltf::Gltf, blob: &[u8], frame: usize) -> Vec<glam::Mat4> {
     let skin = gltf.skins().next().unwrap();
     let joints: Vec<usize> = skin.joints().map(|j| j.index()).collect();
     let ibm: Vec<glam::Mat4> = skin
@@ -256,10 +277,7 @@ fn exported_animation_stands_up_and_poses_as_mesh_of() {
         .unwrap()
         .map(|m| glam::Mat4::from_cols_array_2d(&m))
         .collect();
-    let prim = gltf.meshes().next().unwrap().primitives().next().unwrap();
-    let rest: Vec<glam::Vec3> = prim.reader(|_| Some(blob)).read_positions().unwrap().map(glam::Vec3::from).collect();
     let node_count = gltf.nodes().count();
-    let frame = 5;
     let mut local = vec![glam::Mat4::IDENTITY; node_count];
     let (mut t, mut r, mut s) =
         (vec![glam::Vec3::ZERO; node_count], vec![glam::Quat::IDENTITY; node_count], vec![glam::Vec3::ONE; node_count]);
@@ -284,17 +302,5 @@ fn exported_animation_stands_up_and_poses_as_mesh_of() {
             stack.push(c);
         }
     }
-    let posed = anim.mesh_of(&frames[frame]);
-    let nodes = anim.skeleton().vertex_nodes();
-    let mut worst = 0.0f32;
-    for (v, p) in rest.iter().enumerate() {
-        let j = nodes[v] as usize;
-        let got = (world[joints[j]] * ibm[j]).transform_point3(*p);
-        let want = crate::io::UpAxis::Y.to_file(posed.position(v as u32)).as_vec3();
-        worst = worst.max((got - want).length());
-    }
-    assert!(worst < 1e-5, "largest difference {worst}");
-    // Upright: the file's y extent is the kernel's z extent.
-    let top = anim.rest_mesh().bounds().max.z as f32;
-    assert_eq!(rest.iter().map(|p| p.y).fold(f32::MIN, f32::max), top);
+    joints.iter().zip(&ibm).map(|(&j, m)| world[j] * *m).collect()
 }

@@ -313,9 +313,9 @@ mod tests {
         let e = explained("cube(1).subdivide(\"+z\", 2, 2)");
         assert!(e.starts_with("`subdivide` is a method of Block, not of Mesh; for a Mesh see `loop_subdivide`"), "{e}");
         assert!(e.contains("subdivide(b: Block, face_name: string, nu: int, nv: int) -> Block"), "{e}");
-        let e = explained("polar_octahedron().catmull_clark(1)");
+        let e = explained("polar_octahedron().loop_subdivide(1)");
         assert!(
-            e.starts_with("`catmull_clark` is a method of Mesh, not of PolarMesh: get a Mesh with `.to_mesh()`"),
+            e.starts_with("`loop_subdivide` is a method of Mesh, not of PolarMesh: get a Mesh with `.to_mesh()`"),
             "{e}"
         );
     }

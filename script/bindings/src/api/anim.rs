@@ -146,7 +146,10 @@ pub mod anim_api {
     /// becomes the root (default: the first pole); `root_face` — a face id instead (its first
     /// vertex's node); `skinning` — `"smooth"` (default: each joint turned halfway between its
     /// arriving and leaving segments, Fig. 7.5) or `"simple"` (each vertex follows one joint,
-    /// §7.3).
+    /// §7.3); `subdivide` — Catmull–Clark levels (0 to 4, default 0) for a smooth plant: the
+    /// rest mesh is refined with the branch tips kept pointed, and each refined vertex is
+    /// skinned to up to four joints with the weights the refinement carries, so every pose and
+    /// the saved glTF (skin weights in `WEIGHTS_0`) show the smooth plant moving.
     ///
     /// Topic: animation
     ///
@@ -154,10 +157,19 @@ pub mod anim_api {
     /// let pm = polar_sphere(0.2, 8, 6);
     /// let anim = animation(pm, #{ root: pm.vertex_count - 1, skinning: "simple" });
     /// assert_eq(anim.skeleton().root, anim.skeleton().node_of(pm.vertex_count - 1));
+    /// let plant = lsystem(#{ axiom: "F[+F][-F]F" }).grow(0);
+    /// let smooth = animation(plant, #{ subdivide: 2 });
+    /// smooth.add(growth());
+    /// let end = smooth.pose(smooth.duration());
+    /// assert(end.face_count > 10 * plant.face_count && end.is_closed(), "a smooth, closed plant");
     /// ```
     #[rhai_fn(name = "animation", return_raw)]
     pub fn animation_with(pm: PolarMesh, options: Map) -> ScriptResult<Animation> {
-        let opts = Options::new("animation", options, &["root", "root_face", "skinning"])?;
+        let opts = Options::new("animation", options, &["root", "root_face", "skinning", "subdivide"])?;
+        let levels = opts.int("subdivide", 0)?;
+        if !(0..=4).contains(&levels) {
+            return fail("animation", format!("option `subdivide` must be between 0 and 4 (levels), got {levels}"));
+        }
         let skinning = match opts.choice("skinning", "smooth", &["smooth", "simple"])?.as_str() {
             "simple" => Skinning::Simple,
             _ => Skinning::Smooth,
@@ -173,7 +185,11 @@ pub mod anim_api {
         } else {
             None
         };
-        let anim = kernel("animation", KernelAnimation::new(&pm.0, root, skinning))?;
+        let mut anim = kernel("animation", KernelAnimation::new(&pm.0, root, skinning))?;
+        if levels > 0 {
+            let _task = crate::progress::start("subdivide", None);
+            anim = kernel("animation", anim.subdivided(levels as u32))?;
+        }
         Ok(Animation { anim: Rc::new(anim), closures: Vec::new() })
     }
 

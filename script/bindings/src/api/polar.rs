@@ -494,6 +494,29 @@ pub mod polar_api {
     pub fn to_mesh(pm: &mut PolarMesh) -> SharedMesh {
         SharedMesh::new(pm.0.to_mesh())
     }
+    /// This polar mesh as a smooth surface: `levels` Catmull–Clark steps (0 to 4) with the
+    /// branch tips kept pointed (the poles at the ends of the skeleton, rooted at the first
+    /// pole; the root is smoothed like the rest). Face colours ride on their faces. For a smooth
+    /// plant that moves, use `animation(pm, #{ subdivide: levels })`.
+    ///
+    /// ```rhai
+    /// let plant = lsystem(#{ axiom: "F[+F][-F]F" }).grow(0);
+    /// let smooth = plant.catmull_clark(2);
+    /// assert(smooth.is_closed() && smooth.is_manifold() && smooth.genus() == 0, "a closed surface");
+    /// assert(smooth.volume() < plant.to_mesh().volume(), "smoothing rounds the facets in");
+    /// ```
+    #[rhai_fn(pure, return_raw)]
+    pub fn catmull_clark(pm: &mut PolarMesh, levels: INT) -> ScriptResult<SharedMesh> {
+        if !(0..=4).contains(&levels) {
+            return crate::convert::fail(
+                "catmull_clark",
+                format!("argument `levels` must be between 0 and 4, got {levels}"),
+            );
+        }
+        let _task = crate::progress::start("catmull_clark", None);
+        kernel("catmull_clark", blocksmith_kernel::anim::subdivide_polar_mesh(&pm.0, None, levels as u32))
+            .map(SharedMesh::new)
+    }
     /// The mesh with each feature in its own hue as vertex colours (appendix B.1.3),
     /// neighbouring features in different hues.
     ///
