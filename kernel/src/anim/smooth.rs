@@ -98,7 +98,8 @@ impl Animation {
     /// tips kept pointed and the skin carried through (see the module documentation). The
     /// skeleton and the modifier stack are the same, so every pose is the smooth plant posed;
     /// face colours ride on their faces and vertex colours (the feature hues) are refined with
-    /// the positions. 0 levels returns a copy.
+    /// the positions. 0 levels returns a copy. Tells a listener ([`crate::limits::listen`]) its
+    /// five steps.
     ///
     /// # Errors
     /// [`AnimError::InvalidParameter`] naming `levels` above 4, or when the result would exceed
@@ -127,14 +128,20 @@ impl Animation {
             SubdivError::Limit(l) => AnimError::Limit(l),
             e => AnimError::InvalidParameter { name: "levels", reason: e.to_string() },
         };
+        // Progress: five steps (topology, positions, mesh, weights composed, influences).
+        let work = crate::limits::Work::start(5);
         let refiner = Refiner::new(&control, Scheme::CatmullClark, levels).map_err(subdiv)?;
+        work.set(1);
         let positions = refiner.try_refine_positions(control.positions()).map_err(subdiv)?;
+        work.set(2);
         let mut rest = refiner.to_mesh(positions).map_err(subdiv)?;
+        work.set(3);
         if control.face_part_ids().is_some() {
             rest.inherit_parts(&control, &refiner.base_faces())
                 .map_err(|e| AnimError::InvalidParameter { name: "levels", reason: e.to_string() })?;
         }
         let stencils = refiner.composed_stencils();
+        work.set(4);
         if let Some(colors) = control.vertex_colors() {
             let refined = (0..stencils.rows())
                 .map(|i| {
@@ -157,6 +164,7 @@ impl Animation {
             }
         }
         let influences = self.influences().refined(&stencils);
+        work.finish();
         Ok(self.with_rest(rest, influences))
     }
 

@@ -99,30 +99,17 @@ impl Quadric {
     }
 }
 
+/// How many collapses a decimation makes between two reports of its progress.
+const REPORT_EVERY: usize = 1024;
+
 /// `mesh` with its triangles collapsed by quadric error to `options.target`, and a report.
+/// Tells a listener ([`limits::listen`]) the triangles removed of those to remove.
 ///
 /// # Errors
 /// [`FinishError::BadOption`] for a ratio outside (0, 1], fewer than 4 triangles, or an error
 /// that is not finite and 0 or more; [`FinishError::NotClosed`] for a mesh with a boundary; a
 /// stop of the cancellation token.
 pub fn decimate(mesh: &Mesh, options: DecimateOptions) -> Result<(Mesh, DecimateReport), FinishError> {
-    decimate_reporting(mesh, options, &mut |_, _| {})
-}
-
-/// How many collapses a decimation makes between two reports of its progress.
-const REPORT_EVERY: usize = 1024;
-
-/// [`decimate`], telling `progress(done, total)` as it goes: the triangles removed of the
-/// `before − target` to remove (an `error` target counts down to 4 triangles and may stop
-/// sooner; the last report is then the whole).
-///
-/// # Errors
-/// As [`decimate`].
-pub fn decimate_reporting(
-    mesh: &Mesh,
-    options: DecimateOptions,
-    progress: &mut dyn FnMut(u64, u64),
-) -> Result<(Mesh, DecimateReport), FinishError> {
     let before = mesh.triangle_count();
     let (target, max_error) = match options.target {
         DecimateTarget::Ratio(r) if r > 0.0 && r <= 1.0 => (((before as f64) * r).round() as usize, f64::INFINITY),
@@ -161,13 +148,14 @@ pub fn decimate_reporting(
     }
     let mut worst = 0.0f64;
     let mut step = 0usize;
-    let total = before.saturating_sub(target) as u64;
-    progress(0, total);
+    // Progress: the triangles removed of the `before − target` to remove (an `error` target
+    // counts down to 4 triangles and may stop sooner; the whole is then reported at the end).
+    let work = limits::Work::start(before.saturating_sub(target) as u64);
     while d.w.alive_tris > target {
         step += 1;
         limits::poll_at(step)?;
         if step.is_multiple_of(REPORT_EVERY) {
-            progress(before.saturating_sub(d.w.alive_tris) as u64, total);
+            work.set(before.saturating_sub(d.w.alive_tris) as u64);
         }
         let Some((Reverse(queued), h, sa, sb)) = d.heap.pop() else { break };
         if !d.current(h, sa, sb) {
@@ -177,7 +165,7 @@ pub fn decimate_reporting(
             worst = worst.max(error);
         }
     }
-    progress(total, total);
+    work.finish();
     let (mut out, parents) = w.to_mesh(&|_| true)?;
     out.inherit_parts(mesh, &parents)?;
     let report = DecimateReport { triangles_before: before, triangles_after: out.face_count(), max_error: worst };

@@ -15,11 +15,11 @@ mod remesh;
 mod sharp;
 mod tri_mesh;
 
-pub use decimate::{decimate, decimate_reporting, DecimateOptions, DecimateReport, DecimateTarget};
+pub use decimate::{decimate, DecimateOptions, DecimateReport, DecimateTarget};
 pub use error::FinishError;
 pub use refine::{refine, refine_to_length, MAX_REFINE};
 pub use relax::{relax, RelaxMethod, RelaxOptions};
-pub use remesh::{remesh, remesh_reporting, RemeshOptions, RemeshReport};
+pub use remesh::{remesh, RemeshOptions, RemeshReport};
 pub use sharp::{sharp_edges, DEFAULT_SHARP_ANGLE};
 
 /// The most triangles any finishing operation makes (beyond it the request is refused by

@@ -39,7 +39,8 @@ const LAMBDA: f64 = 0.5;
 const MU: f64 = -0.53;
 
 /// A copy of `mesh` relaxed by `options` (see the module notes). Vertices on crease edges or
-/// the boundary do not move.
+/// the boundary do not move. Tells a listener ([`limits::listen`]) its smoothing steps (two an
+/// iteration for Taubin's).
 ///
 /// # Errors
 /// [`FinishError::BadOption`] for iterations outside 1–10 000; a stop of the cancellation token.
@@ -64,8 +65,10 @@ pub fn relax(mesh: &Mesh, options: RelaxOptions) -> Result<Mesh, FinishError> {
         RelaxMethod::Taubin => (0..options.iterations).flat_map(|_| [LAMBDA, MU]).collect(),
         RelaxMethod::Laplacian => vec![0.5; options.iterations as usize],
     };
+    let work = limits::Work::start(steps.len() as u64);
     for (i, &w) in steps.iter().enumerate() {
         limits::poll_at(i * n)?;
+        work.set(i as u64);
         for v in 0..n {
             let ring = &nbr[start[v]..start[v + 1]];
             if fixed[v] || ring.is_empty() {
@@ -77,6 +80,7 @@ pub fn relax(mesh: &Mesh, options: RelaxOptions) -> Result<Mesh, FinishError> {
         }
         std::mem::swap(&mut p, &mut next);
     }
+    work.finish();
     let mut out = mesh.clone();
     out.set_positions(p)?;
     Ok(out)

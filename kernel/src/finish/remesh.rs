@@ -144,6 +144,8 @@ fn estimate(mesh: &Mesh, l: f64) -> f64 {
 
 /// `mesh` remeshed to near-equilateral triangles of edge `options.edge_length` (see the module
 /// notes), with a report of the volume before and after and the distance to the input.
+/// Tells a listener ([`limits::listen`]) its steps: four an iteration (split, collapse, flip,
+/// relax).
 ///
 /// # Errors
 /// [`FinishError::BadOption`] for an edge length that is not finite and above 0, iterations
@@ -152,19 +154,6 @@ fn estimate(mesh: &Mesh, l: f64) -> f64 {
 /// is beyond [`MAX_TRIANGLES`] (refused before anything is made); a stop of the cancellation
 /// token.
 pub fn remesh(mesh: &Mesh, options: RemeshOptions) -> Result<(Mesh, RemeshReport), FinishError> {
-    remesh_reporting(mesh, options, &mut |_, _| {})
-}
-
-/// [`remesh`], telling `progress(done, total)` after each of its steps: four per iteration
-/// (split, collapse, flip, relax), `total` = 4 × iterations.
-///
-/// # Errors
-/// As [`remesh`].
-pub fn remesh_reporting(
-    mesh: &Mesh,
-    options: RemeshOptions,
-    progress: &mut dyn FnMut(u64, u64),
-) -> Result<(Mesh, RemeshReport), FinishError> {
     let l = options.edge_length;
     if !(l.is_finite() && l > 0.0) {
         return Err(FinishError::bad("edge_length", l, "a finite number above 0"));
@@ -207,21 +196,21 @@ pub fn remesh_reporting(
     let (low, high) = (0.8 * l, 4.0 / 3.0 * l);
     let mut ring_a = Vec::new();
     let mut ring_b = Vec::new();
-    let total = 4 * u64::from(options.iterations);
-    progress(0, total);
+    // Progress: four steps an iteration (split, collapse, flip, relax).
+    let work = limits::Work::start(4 * u64::from(options.iterations));
     for i in 0..u64::from(options.iterations) {
         limits::check()?;
         split_long(&mut w, high)?;
-        progress(4 * i + 1, total);
+        work.set(4 * i + 1);
         limits::check()?;
         collapse_short(&mut w, low, high, &mut ring_a, &mut ring_b)?;
-        progress(4 * i + 2, total);
+        work.set(4 * i + 2);
         limits::check()?;
         flip_to_valence(&mut w, &mut ring_a)?;
-        progress(4 * i + 3, total);
+        work.set(4 * i + 3);
         limits::check()?;
         relax_and_project(&mut w, &reference, &mut ring_a)?;
-        progress(4 * i + 4, total);
+        work.set(4 * i + 4);
     }
     let (mut out, parents) = w.to_mesh(&|_| true)?;
     out.inherit_parts(mesh, &parents)?;

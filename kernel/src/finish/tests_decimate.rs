@@ -69,9 +69,9 @@ fn bad_targets_are_refused_by_name() {
 #[test]
 fn a_decimation_reports_its_progress_up_to_the_triangles_it_removes() {
     let ball = Mesh::icosphere(1.0, 5); // 20480 triangles
-    let mut seen: Vec<(u64, u64)> = Vec::new();
     let options = DecimateOptions { target: DecimateTarget::Triangles(2000) };
-    let (out, _) = decimate_reporting(&ball, options, &mut |done, total| seen.push((done, total))).unwrap();
+    let (result, seen) = crate::limits::heard(|| decimate(&ball, options));
+    let (out, _) = result.unwrap();
     let total = 20480 - 2000;
     assert!(seen.iter().all(|&(_, t)| t == total), "{seen:?}");
     assert_eq!(seen.first(), Some(&(0, total)));

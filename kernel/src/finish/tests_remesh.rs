@@ -108,9 +108,9 @@ fn bad_requests_are_refused_by_name_before_allocating() {
 #[test]
 fn a_remesh_reports_four_steps_an_iteration() {
     let ball = Mesh::icosphere(1.0, 2);
-    let mut seen: Vec<(u64, u64)> = Vec::new();
     let options = RemeshOptions { edge_length: 0.3, iterations: 3, sharp_angle: 180.0 };
-    let (out, _) = remesh_reporting(&ball, options, &mut |done, total| seen.push((done, total))).unwrap();
+    let (result, seen) = crate::limits::heard(|| remesh(&ball, options));
+    let (out, _) = result.unwrap();
     let want: Vec<(u64, u64)> = (0..=12).map(|d| (d, 12)).collect();
     assert_eq!(seen, want);
     assert_eq!(out.positions(), remesh(&ball, options).unwrap().0.positions());

@@ -509,7 +509,8 @@ pub fn grow(modules: &[Module], opts: &GrowOptions) -> Result<Grown, LsystemErro
 /// Grows `modules` (a derived string) as a sequence of polar operations (§11.1); `size(what,
 /// step)` gives each segment's length and radius from its step — the first parameter of a thesis
 /// symbol (`L(3)`), else the branch depth (a parameter of `F` is its length, as `F(l)` in L-Py).
-/// Time linear in the size of the result.
+/// Time linear in the size of the result. Tells a listener ([`crate::limits::listen`]) the
+/// modules drawn.
 ///
 /// # Errors
 /// [`LsystemError::InvalidOption`], [`LsystemError::NothingDrawn`],
@@ -574,6 +575,9 @@ fn valence_that_works<E: Display>(
     Some(hi)
 }
 
+/// How many modules are drawn between two reports of a growth's progress.
+const REPORT_EVERY: usize = 256;
+
 fn grow_once<E: Display>(
     modules: &[Module],
     opts: &GrowOptions,
@@ -615,7 +619,12 @@ fn grow_once<E: Display>(
         siblings: 1,
         sector: None,
     };
+    // Progress: the modules drawn (a search for a valence that grows reports each try).
+    let work = crate::limits::Work::start(modules.len() as u64);
     for (i, m) in modules.iter().enumerate() {
+        if i.is_multiple_of(REPORT_EVERY) {
+            work.set(i as u64);
+        }
         let s = m.symbol.as_str();
         match s {
             "[" => {
@@ -678,6 +687,7 @@ fn grow_once<E: Display>(
             }
         }
     }
+    work.finish();
     let mesh = g.mesh.take().ok_or(LsystemError::NothingDrawn)?;
     let open_ends = g.branches.iter().filter(|b| b.ended.is_none()).count();
     Ok(Grown { mesh, root: g.root, segments: g.segments, branches: g.branches.len(), open_ends, features: g.features })

@@ -86,7 +86,8 @@ impl PolarMesh {
     ///
     /// Time: the skeleton and the tubes in linear time, then the engine's union (near-linear
     /// in the triangles, tubes far apart composed without a boolean); when branches enclose
-    /// tunnels, the exact crossing test of the union (O(n log n) in its triangles).
+    /// tunnels, the exact crossing test of the union (O(n log n) in its triangles). Tells a
+    /// listener ([`crate::limits::listen`]) the tubes built, then the union as many units again.
     ///
     /// # Errors
     /// [`PolarError::NotTubes`] when the loops do not cut the mesh into tubes (a loop round a
@@ -115,8 +116,11 @@ impl PolarMesh {
         // Regions as pieces of their own, built only if some tube crosses itself.
         let mut regions: Option<Vec<Vec<Vec<u32>>>> = None;
         let mut parts = Vec::with_capacity(tubes.len());
+        // Progress: each tube, then their union as much again.
+        let work = crate::limits::Work::start(2 * tubes.len() as u64);
         for (t, polys) in tubes.iter().enumerate() {
             crate::limits::poll_at(t)?;
+            work.set(t as u64);
             let tube = outward(piece_mesh(self, &sk, &apexes, polys)?);
             if crosses_itself(&tube)? {
                 if regions.is_none() {
@@ -139,6 +143,7 @@ impl PolarMesh {
             crate::csg::CsgError::Limit(l) => PolarError::Limit(l),
             e => PolarError::Solid(format!("the boolean engine refused the tubes: {e}")),
         })?;
+        work.finish();
         let solid = without_cavities(solid)?;
         // A loop round a hole (not across a limb) fills the hole: fewer handles than the mesh,
         // or a piece left apart. More handles come from branches that cross or touch each other

@@ -56,7 +56,7 @@ impl Voxels {
     /// The surface of each level is cached block by block; after an edit only the blocks it
     /// touched (and, for the smooth surface, those within the filter's reach of it) are extracted
     /// again from the hierarchy and re-meshed. A different iso level or surface rebuilds that
-    /// level's cache.
+    /// level's cache. Tells a listener ([`crate::limits::listen`]) the blocks re-meshed.
     ///
     /// # Errors
     /// [`VoxelError::LevelOutOfRange`] outside 0…log₂ n; [`VoxelError::NonFinite`] or

@@ -13,6 +13,9 @@ use crate::mesh::Mesh;
 /// with partial coverage lies close to the shape's own surface.
 pub const DEFAULT_ISO: f64 = 127.5;
 
+/// The fewest blocks meshed between two reports of progress: enough to keep the workers busy.
+const BATCH_LEAST: usize = 64;
+
 /// The marching-cubes surface of one level of detail, block by block.
 #[derive(Clone, Debug)]
 pub(super) struct SurfaceCache {
@@ -134,10 +137,18 @@ impl SurfaceCache {
         }
         let dirty: Vec<usize> = (0..self.dirty.len()).filter(|&b| self.dirty[b]).collect();
         let img = if level == 0 { Image { values: data, m } } else { Image { values: &self.image, m } };
-        let fresh = map_range_checked(parallel, dirty.len(), CELLS_PER_BLOCK, |i| {
-            let bi = dirty[i];
-            mesh_block(img, iso, [bi % nb, (bi / nb) % nb, bi / (nb * nb)], surface)
-        })?;
+        // In batches, so that the blocks meshed so far are reported (a hundred reports at most)
+        // from this thread while the workers mesh each batch.
+        let work = crate::limits::Work::start(dirty.len() as u64);
+        let batch = (dirty.len() / 100).max(BATCH_LEAST);
+        let mut fresh = Vec::with_capacity(dirty.len());
+        for (k, part) in dirty.chunks(batch).enumerate() {
+            fresh.extend(map_range_checked(parallel, part.len(), CELLS_PER_BLOCK, |i| {
+                let bi = part[i];
+                mesh_block(img, iso, [bi % nb, (bi / nb) % nb, bi / (nb * nb)], surface)
+            })?);
+            work.set((k * batch + part.len()) as u64);
+        }
         self.last_remeshed = dirty.len();
         for (bi, tris) in dirty.into_iter().zip(fresh) {
             self.blocks[bi] = tris;

@@ -114,6 +114,15 @@ impl Meter {
     }
 }
 
+/// Shows as a bar named `name` the progress the kernel reports on this thread while the guard
+/// lives ([`blocksmith_kernel::limits::Work`]: the outermost work of the call the guard is
+/// made for); nothing when the kernel reports none.
+#[must_use = "the bar shows only while the guard lives"]
+pub fn bar(name: &'static str) -> blocksmith_kernel::limits::ListenGuard {
+    let mut meter = Meter::new(name);
+    blocksmith_kernel::limits::listen(move |done, total| meter.update(done, total))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -150,27 +159,45 @@ mod tests {
         engine.run("let m = cube(2) - cube(1);").unwrap();
         let seen = log.lock().unwrap().clone();
         assert_eq!(seen, ["start -: evaluating the boolean None", "end"], "{seen:?}");
-        // Every long kernel operation is a task: finishing, growing, solids, voxels. Remesh and
-        // decimate know their total (a bar): 4 steps an iteration; the 160 triangles of 320 to
-        // remove; each ends at its total.
-        for (script, start, last_set) in [
-            ("icosphere(1, 2).remesh(#{edge_length: 0.3, iterations: 2})", "remesh Some(8)", Some("set 8")),
-            ("icosphere(1, 2).decimate(#{ratio: 0.5})", "decimate Some(160)", Some("set 160")),
-            ("cube(1).relax(#{iterations: 1})", "relax None", None),
-            ("lsystem(#{axiom: \"F[+F]F\"}).grow(0).to_solid()", "to_solid None", None),
-            ("let v = voxels(8); v.fill_box([2, 2, 2], [6, 6, 6]); v.to_mesh()", "to_mesh: marching cubes None", None),
+        // The long kernel operations that know their length show bars: each starts with its
+        // total, goes forward, and ends at its total (remesh: 4 steps an iteration; decimate: the
+        // 160 triangles of 320 to remove; relax: Taubin's 2 steps an iteration; a growth: its
+        // 6 modules; a plant's solid: its tubes, then their union; marching cubes: the blocks).
+        for (script, task, total) in [
+            ("icosphere(1, 2).remesh(#{edge_length: 0.3, iterations: 2})", "remesh", Some(8)),
+            ("icosphere(1, 2).decimate(#{ratio: 0.5})", "decimate", Some(160)),
+            ("cube(1).relax(#{iterations: 3})", "relax", Some(6)),
+            ("lsystem(#{axiom: \"F[+F]F\"}).grow(0)", "grow", Some(6)),
+            ("lsystem(#{axiom: \"F[+F]F\"}).grow(0).to_solid()", "to_solid", None),
+            ("lsystem(#{axiom: \"F[+F]F\"}).grow(0).catmull_clark(2)", "catmull_clark", Some(5)),
+            ("let v = voxels(64); v.fill_box([2, 2, 2], [60, 60, 60]); v.to_mesh()", "to_mesh: marching cubes", None),
         ] {
             log.lock().unwrap().clear();
             engine.run(script).unwrap_or_else(|e| panic!("{script}: {e}"));
             let seen = log.lock().unwrap().clone();
-            assert!(seen.contains(&format!("start {start}")), "{script}: {seen:?}");
-            assert_eq!(seen.last().map(String::as_str), Some("end"), "{script}: {seen:?}");
-            if let Some(last_set) = last_set {
-                let sets: Vec<&String> = seen.iter().filter(|l| l.starts_with("set ")).collect();
-                assert_eq!(sets.last().map(|s| s.as_str()), Some(last_set), "{script}: {seen:?}");
-                assert!(sets.len() >= 2, "{script}: progress along the way: {seen:?}");
+            let started: Vec<u64> = seen
+                .iter()
+                .filter_map(|l| l.strip_prefix(&format!("start {task} Some(")))
+                .map(|t| t.trim_end_matches(')').parse().unwrap())
+                .collect();
+            assert_eq!(started.len(), 1, "{script}: one bar: {seen:?}");
+            if let Some(total) = total {
+                assert_eq!(started[0], total, "{script}: {seen:?}");
             }
+            // The bar's own lines: from its start to its end.
+            let from = seen.iter().position(|l| l.starts_with(&format!("start {task} "))).unwrap();
+            let own = &seen[from..];
+            let own = &own[..=own.iter().position(|l| l == "end").unwrap_or(own.len() - 1)];
+            let sets: Vec<u64> = own.iter().filter_map(|l| l.strip_prefix("set ")?.parse().ok()).collect();
+            assert!(sets.len() >= 2 && sets.windows(2).all(|w| w[0] <= w[1]), "{script}: forward: {seen:?}");
+            assert_eq!(sets.last(), Some(&started[0]), "{script}: ends at its total: {seen:?}");
+            assert_eq!(own.last().map(String::as_str), Some("end"), "{script}: {seen:?}");
         }
+        // Work inside the kernel that reports none (a boolean, the engine's own loops) stays a
+        // spinner.
+        log.lock().unwrap().clear();
+        engine.run("minkowski(cube(1), cube(1))").unwrap();
+        assert_eq!(*log.lock().unwrap(), ["start minkowski None", "end"]);
         // An engine without a sink: the same work reports nowhere, and a stale sink is not used.
         log.lock().unwrap().clear();
         crate::new_engine(crate::EngineOptions::default()).run("let m = cube(2) - cube(1);").unwrap();

@@ -187,7 +187,7 @@ pub mod anim_api {
         };
         let mut anim = kernel("animation", KernelAnimation::new(&pm.0, root, skinning))?;
         if levels > 0 {
-            let _task = crate::progress::start("subdivide", None);
+            let _bar = crate::progress::bar("subdivide");
             anim = kernel("animation", anim.subdivided(levels as u32))?;
         }
         Ok(Animation { anim: Rc::new(anim), closures: Vec::new() })

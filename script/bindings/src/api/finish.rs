@@ -54,8 +54,8 @@ fn remesh_options(o: &Options) -> ScriptResult<RemeshOptions> {
 fn decimated(m: &SharedMesh, options: Map) -> ScriptResult<(Mesh, DecimateReport)> {
     let o = Options::new("decimate", options, &["ratio", "triangles", "error"])?;
     let opts = decimate_options(&o)?;
-    let mut meter = crate::progress::Meter::new("decimate");
-    kernel("decimate", finish::decimate_reporting(&m.0, opts, &mut |done, total| meter.update(done, total)))
+    let _bar = crate::progress::bar("decimate");
+    kernel("decimate", finish::decimate(&m.0, opts))
 }
 
 fn decimate_options(o: &Options) -> ScriptResult<DecimateOptions> {
@@ -193,9 +193,8 @@ pub mod finish_api {
     pub fn remesh_report(m: &mut SharedMesh, options: Map) -> ScriptResult<Map> {
         let o = Options::new("remesh", options, &["edge_length", "iterations", "sharp_angle"])?;
         let opts = remesh_options(&o)?;
-        let mut meter = crate::progress::Meter::new("remesh");
-        let (mesh, report) =
-            kernel("remesh", finish::remesh_reporting(&m.0, opts, &mut |done, total| meter.update(done, total)))?;
+        let _bar = crate::progress::bar("remesh");
+        let (mesh, report) = kernel("remesh", finish::remesh(&m.0, opts))?;
         let mut map = remesh_map(&report);
         map.insert("mesh".into(), Dynamic::from(SharedMesh::new(mesh)));
         Ok(map)
@@ -258,7 +257,7 @@ pub mod finish_api {
             "laplacian" => RelaxMethod::Laplacian,
             _ => RelaxMethod::Taubin,
         };
-        let _task = crate::progress::start("relax", None);
+        let _bar = crate::progress::bar("relax");
         kernel("relax", finish::relax(&m.0, RelaxOptions { iterations: iterations as u32, method }))
             .map(SharedMesh::new)
     }

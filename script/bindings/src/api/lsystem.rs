@@ -240,7 +240,7 @@ fn grow_all(ctx: &NativeCallContext, ls: &LSystem, steps: INT, options: Map) -> 
             }
         }
     };
-    let _task = crate::progress::start(F, None);
+    let _bar = crate::progress::bar(F);
     kernel(F, grow_with(&modules, &o, &mut size))
 }
 

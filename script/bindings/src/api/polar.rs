@@ -513,7 +513,7 @@ pub mod polar_api {
                 format!("argument `levels` must be between 0 and 4, got {levels}"),
             );
         }
-        let _task = crate::progress::start("catmull_clark", None);
+        let _bar = crate::progress::bar("catmull_clark");
         kernel("catmull_clark", blocksmith_kernel::anim::subdivide_polar_mesh(&pm.0, None, levels as u32))
             .map(SharedMesh::new)
     }
@@ -549,7 +549,7 @@ pub mod polar_api {
     /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn to_solid(pm: &mut PolarMesh) -> ScriptResult<SharedMesh> {
-        let _task = crate::progress::start("to_solid", None);
+        let _bar = crate::progress::bar("to_solid");
         kernel("to_solid", pm.0.to_solid()).map(SharedMesh::new)
     }
     /// Writes the mesh with its feature colours (see `to_colored_mesh`) by extension, like a

@@ -403,7 +403,7 @@ pub mod voxel_api {
     /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn to_mesh(vx: &mut Voxels) -> ScriptResult<SharedMesh> {
-        let _task = crate::progress::start("to_mesh: marching cubes", None);
+        let _bar = crate::progress::bar("to_mesh: marching cubes");
         kernel("to_mesh", vx.get_mut().to_mesh(0, DEFAULT_ISO)).map(SharedMesh::new)
     }
 
@@ -436,7 +436,7 @@ pub mod voxel_api {
             "raw" => Surface::Raw,
             _ => Surface::Smooth,
         };
-        let _task = crate::progress::start("to_mesh: marching cubes", None);
+        let _bar = crate::progress::bar("to_mesh: marching cubes");
         kernel("to_mesh", vx.get_mut().to_mesh_with(lvl, iso, surface)).map(SharedMesh::new)
     }
 
