@@ -32,6 +32,14 @@
 //! 83.3 / 384 ms (1.01 / 0.83 / 0.85 / 0.98 µs per vertex); default gaps 56 ms; derivation 1.4 ms.
 //! Run: `cargo bench -p blocksmith-kernel --bench lsystem -- --warm-up-time 1 --measurement-time 3
 //! --sample-size 10`.
+//!
+//! `to_solid` (issue 35) of the same case at 5 / 7 steps, wide gaps (7,040 / 28,544 faces):
+//! 0.41 / 1.52 s for solids of 9,526 / 32,568 triangles (2026-12-06), near-linear. Tried and not
+//! kept: regions whose faces cross standing in as thin convex slices (the hull of each face,
+//! its neighbours and the apexes) instead of their convex hulls: the release sweep's worst case
+//! (thesis plant 7, wide gaps) went from 5.4 % to 4.0 % above the union of the tubes, but
+//! to_solid took 3.1 / 14.7 s and the solids had 2.7x the triangles; slices of 45 degrees round
+//! the axis: 0.79 s, and 5.1 %.
 
 /// The allocator the `blocksmith` binary uses (script/src/main.rs), so the figures are what a
 /// recipe run gets.
@@ -82,6 +90,19 @@ fn bench(c: &mut Criterion) {
         eprintln!("{steps} steps: {} vertices", grow(&s, &options()).expect("grows").mesh.vertex_count());
         group.bench_with_input(BenchmarkId::from_parameter(steps), &s, |b, s| {
             b.iter(|| grow(s, &options()).expect("grows"))
+        });
+    }
+    group.finish();
+    // The plant as a valid solid (PolarMesh::to_solid: tubes, stand-ins for twisted regions, the
+    // engine's union) at 5 and 7 steps of the same case, wide gaps.
+    let mut group = c.benchmark_group("lsystem/to_solid_by_steps");
+    group.sample_size(10);
+    for steps in [5u32, 7] {
+        let pm = grow(&ls.derive(steps).expect("derives"), &options()).expect("grows").mesh;
+        let solid = pm.to_solid().expect("a solid");
+        eprintln!("{steps} steps: {} faces, solid of {} triangles", pm.face_count(), solid.face_count());
+        group.bench_with_input(BenchmarkId::from_parameter(steps), &pm, |b, pm| {
+            b.iter(|| pm.to_solid().expect("a solid"))
         });
     }
     group.finish();
