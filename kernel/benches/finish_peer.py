@@ -19,7 +19,13 @@ the edge-length spread (standard deviation / mean) and the volume change. The ti
 of --reps runs here, and ours is criterion's median
 (target/criterion/finish/<function>/new/estimates.json); the ratio printed is ours / theirs.
 
-  ~/.cache/blocksmith-peers/venv/bin/python kernel/benches/finish_peer.py [--reps 3]
+The CSG plate (`finish_plate.ply`) is remeshed by both to edges of 0.1 in 6 iterations, edges
+sharper than 60 degrees kept. With --big, pymeshlab is timed on the 1.3M-triangle surface too
+(remesh L 0.15 3 iterations, decimate to 100k, 10 rounds of Taubin smoothing) against the bench's
+1M cases. With manifold3d installed, smooth refinement (refine 2 of the 100k surface) is timed
+against Manifold's own smooth_out and refine.
+
+  ~/.cache/blocksmith-peers/venv/bin/python kernel/benches/finish_peer.py [--reps 3] [--big]
 """
 import argparse
 import json
@@ -73,45 +79,88 @@ def quality(ms, index, input_index, input_volume, diagonal):
     }
 
 
+def side_by_side(ms, input_file, cases, reps):
+    """Each case on a fresh copy of `input_file` (loaded as the set's first mesh): pymeshlab's time
+    and, when our result is on file, both results' quality."""
+    ms.load_new_mesh(input_file)
+    input_index = ms.current_mesh_id()
+    input_volume = ms.get_geometric_measures()["mesh_volume"]
+    diagonal = ms.current_mesh().bounding_box().diagonal()
+    for name, function, ours_file, run in cases:
+        times = []
+        for _ in range(reps):
+            ms.set_current_mesh(input_index)
+            ms.add_mesh(ms.mesh(input_index))  # a fresh copy of the input becomes the current mesh
+            t = time.perf_counter()
+            run()
+            times.append(time.perf_counter() - t)
+        theirs_index = ms.current_mesh_id()
+        peer_time, our_time = statistics.median(times), ours_time(function)
+        ratio = f"{our_time / peer_time:.2f}" if our_time else "n/a (run the bench)"
+        print(f"{name}: pymeshlab {peer_time:.3f} s, ours {our_time if our_time else float('nan'):.3f} s, ratio {ratio}")
+        if ours_file is None:
+            continue
+        ms.load_new_mesh(os.path.join(DATA, ours_file))
+        ours_index = ms.current_mesh_id()
+        theirs = quality(ms, theirs_index, input_index, input_volume, diagonal)
+        ours = quality(ms, ours_index, input_index, input_volume, diagonal)
+        for key in theirs:
+            t, o = theirs[key], ours[key]
+            print(f"  {key:28s} pymeshlab {t:12.6g}   ours {o:12.6g}")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--reps", type=int, default=3)
+    ap.add_argument("--big", action="store_true", help="also time the 1.3M-triangle cases (no quality measures)")
     args = ap.parse_args()
     scan = os.path.join(DATA, "finish_scan100k.ply")
     if not os.path.exists(scan):
         raise SystemExit(f"{scan} is missing: run `cargo bench -p blocksmith-kernel --bench finish` first")
 
     ms = pymeshlab.MeshSet()
-    ms.load_new_mesh(scan)  # mesh 0
-    input_volume = ms.get_geometric_measures()["mesh_volume"]
-    diagonal = ms.current_mesh().bounding_box().diagonal()
-
-    cases = [
+    side_by_side(ms, scan, [
         ("decimate", "decimate_scan100k_to10k", "finish_ours_decimate10k.ply",
          lambda: ms.meshing_decimation_quadric_edge_collapse(targetfacenum=10_000, preservenormal=True,
                                                              optimalplacement=True)),
         ("remesh", "remesh_scan100k_L0.5_5it", "finish_ours_remesh.ply",
          lambda: ms.meshing_isotropic_explicit_remeshing(targetlen=ABSOLUTE(0.5), iterations=5)),
-    ]
-    for name, function, ours_file, run in cases:
+    ], args.reps)
+    # The CSG plate: edges of 0.1, 6 iterations, creases above 60 degrees kept on both sides.
+    side_by_side(ms, os.path.join(DATA, "finish_plate.ply"), [
+        ("remesh the plate", "remesh_plate_L0.1_6it", "finish_ours_plate_remesh.ply",
+         lambda: ms.meshing_isotropic_explicit_remeshing(targetlen=ABSOLUTE(0.1), iterations=6, featuredeg=60)),
+    ], args.reps)
+    # Smooth refinement has no pymeshlab counterpart: Manifold's own, through manifold3d (our
+    # `refine` is its smooth_out by sector normals and refine, plus the half-edge build).
+    try:
+        import manifold3d
+    except ImportError:
+        manifold3d = None
+    if manifold3d is not None:
+        ms.set_current_mesh(0)
+        m = ms.mesh(0)
+        solid = manifold3d.Manifold(manifold3d.Mesh(vert_properties=m.vertex_matrix().astype(np.float32),
+                                                    tri_verts=m.face_matrix().astype(np.uint32)))
         times = []
         for _ in range(args.reps):
-            ms.set_current_mesh(0)
-            ms.add_mesh(ms.mesh(0))  # a fresh copy of the input becomes the current mesh
             t = time.perf_counter()
-            run()
+            solid.smooth_out(60.0, 0.0).refine(2).num_tri()
             times.append(time.perf_counter() - t)
-        theirs_index = ms.current_mesh_id()
-        ms.load_new_mesh(os.path.join(DATA, ours_file))
-        ours_index = ms.current_mesh_id()
-        theirs = quality(ms, theirs_index, 0, input_volume, diagonal)
-        ours = quality(ms, ours_index, 0, input_volume, diagonal)
-        peer_time, our_time = statistics.median(times), ours_time(function)
+        peer_time, our_time = statistics.median(times), ours_time("refine2_scan100k")
         ratio = f"{our_time / peer_time:.2f}" if our_time else "n/a (run the bench)"
-        print(f"{name}: pymeshlab {peer_time:.3f} s, ours {our_time if our_time else float('nan'):.3f} s, ratio {ratio}")
-        for key in theirs:
-            t, o = theirs[key], ours[key]
-            print(f"  {key:28s} pymeshlab {t:12.6g}   ours {o:12.6g}")
+        print(f"refine 2: manifold3d {peer_time:.3f} s, ours {our_time if our_time else float('nan'):.3f} s, ratio {ratio}")
+    if args.big:
+        ms = pymeshlab.MeshSet()
+        side_by_side(ms, os.path.join(DATA, "finish_scan1m.ply"), [
+            ("remesh 1.3M", "remesh_scan1m_L0.15_3it", None,
+             lambda: ms.meshing_isotropic_explicit_remeshing(targetlen=ABSOLUTE(0.15), iterations=3)),
+            ("decimate 1.3M to 100k", "decimate_scan1m_to100k", None,
+             lambda: ms.meshing_decimation_quadric_edge_collapse(targetfacenum=100_000, preservenormal=True,
+                                                                 optimalplacement=True)),
+            ("Taubin 1.3M, 10 rounds", "relax_taubin_scan1m_10", None,
+             lambda: ms.apply_coord_taubin_smoothing(stepsmoothnum=10)),
+        ], 1)
 
 
 if __name__ == "__main__":
