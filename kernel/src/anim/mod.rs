@@ -30,7 +30,7 @@ pub use growth::{Curve, Growth};
 pub use minimum_size::MIN_SIZE;
 pub use nodes::NodeState;
 pub use skinning::{JointPose, Skinning};
-pub use smooth::{subdivide_polar_mesh, Influences, MAX_INFLUENCES};
+pub use smooth::{subdivide_polar_mesh, Influences, MAX_INFLUENCES, MAX_LEVELS};
 
 #[cfg(test)]
 mod tests;

@@ -93,6 +93,20 @@ impl Influences {
     }
 }
 
+/// The most Catmull–Clark levels a plant is refined by (each makes four faces of one).
+pub const MAX_LEVELS: u32 = 4;
+
+/// `levels` within 0–[`MAX_LEVELS`], else the error naming it.
+fn check_levels(levels: u32) -> Result<(), AnimError> {
+    if levels > MAX_LEVELS {
+        return Err(AnimError::InvalidParameter {
+            name: "levels",
+            reason: format!("must be between 0 and {MAX_LEVELS} (each level makes four faces of one), got {levels}"),
+        });
+    }
+    Ok(())
+}
+
 impl Animation {
     /// This animation with its rest mesh refined by `levels` Catmull–Clark steps, the branch
     /// tips kept pointed and the skin carried through (see the module documentation). The
@@ -102,15 +116,11 @@ impl Animation {
     /// five steps.
     ///
     /// # Errors
-    /// [`AnimError::InvalidParameter`] naming `levels` above 4, or when the result would exceed
-    /// the subdivision's face cap (its estimate named); [`AnimError::Limit`] when stopped.
+    /// [`AnimError::InvalidParameter`] naming `levels` above [`MAX_LEVELS`], or when the result
+    /// would exceed the subdivision's face cap (its estimate named); [`AnimError::Limit`] when
+    /// stopped.
     pub fn subdivided(&self, levels: u32) -> Result<Animation, AnimError> {
-        if levels > 4 {
-            return Err(AnimError::InvalidParameter {
-                name: "levels",
-                reason: format!("must be between 0 and 4 (each level makes four faces of one), got {levels}"),
-            });
-        }
+        check_levels(levels)?;
         if levels == 0 {
             return Ok(self.clone());
         }
@@ -120,6 +130,21 @@ impl Animation {
                 reason: "the animation is already subdivided: subdivide the one made from the polar mesh".into(),
             });
         }
+        // Progress: five steps (topology, positions, mesh, weights composed, influences).
+        let work = crate::limits::Work::start(5);
+        let (mut rest, refiner) = self.smooth_rest(levels, &work)?;
+        let stencils = refiner.composed_stencils();
+        work.set(4);
+        refine_vertex_colors(&mut rest, self.rest_mesh(), &stencils);
+        let influences = self.influences().refined(&stencils);
+        work.finish();
+        Ok(self.with_rest(rest, influences))
+    }
+
+    /// The rest mesh refined by `levels` Catmull–Clark steps with the tips held as corners
+    /// (cleared after), without vertex colours, and the refiner. Tells `work` its first three
+    /// steps.
+    fn smooth_rest(&self, levels: u32, work: &crate::limits::Work) -> Result<(Mesh, Refiner), AnimError> {
         let mut control = self.rest_mesh().clone();
         for v in self.tip_vertices() {
             control.set_corner(v, true);
@@ -128,8 +153,6 @@ impl Animation {
             SubdivError::Limit(l) => AnimError::Limit(l),
             e => AnimError::InvalidParameter { name: "levels", reason: e.to_string() },
         };
-        // Progress: five steps (topology, positions, mesh, weights composed, influences).
-        let work = crate::limits::Work::start(5);
         let refiner = Refiner::new(&control, Scheme::CatmullClark, levels).map_err(subdiv)?;
         work.set(1);
         let positions = refiner.try_refine_positions(control.positions()).map_err(subdiv)?;
@@ -140,32 +163,13 @@ impl Animation {
             rest.inherit_parts(&control, &refiner.base_faces())
                 .map_err(|e| AnimError::InvalidParameter { name: "levels", reason: e.to_string() })?;
         }
-        let stencils = refiner.composed_stencils();
-        work.set(4);
-        if let Some(colors) = control.vertex_colors() {
-            let refined = (0..stencils.rows())
-                .map(|i| {
-                    let (sources, ws) = stencils.row(i);
-                    let mut c = [0.0f64; 4];
-                    for (&s, &w) in sources.iter().zip(ws) {
-                        for (k, x) in colors[s as usize].iter().enumerate() {
-                            c[k] += w * f64::from(*x);
-                        }
-                    }
-                    c.map(|x| x.clamp(0.0, 1.0) as f32)
-                })
-                .collect();
-            rest.set_vertex_colors(Some(refined)).expect("one colour per refined vertex");
-        }
         // Corners were marks for the refinement, not part of the plant.
         for v in 0..rest.vertex_count() as u32 {
             if rest.is_corner(v) {
                 rest.set_corner(v, false);
             }
         }
-        let influences = self.influences().refined(&stencils);
-        work.finish();
-        Ok(self.with_rest(rest, influences))
+        Ok((rest, refiner))
     }
 
     /// The vertices at the branch tips: poles bound to a leaf node of the tree.
@@ -180,19 +184,50 @@ impl Animation {
     }
 }
 
+/// `refined` given the vertex colours of `control` (if any) refined by `stencils` (the
+/// composed stencils from `control`'s vertices to `refined`'s), clamped to 0–1.
+fn refine_vertex_colors(refined: &mut Mesh, control: &Mesh, stencils: &StencilTable) {
+    let Some(colors) = control.vertex_colors() else { return };
+    let out = (0..stencils.rows())
+        .map(|i| {
+            let (sources, ws) = stencils.row(i);
+            let mut c = [0.0f64; 4];
+            for (&s, &w) in sources.iter().zip(ws) {
+                for (k, x) in colors[s as usize].iter().enumerate() {
+                    c[k] += w * f64::from(*x);
+                }
+            }
+            c.map(|x| x.clamp(0.0, 1.0) as f32)
+        })
+        .collect();
+    refined.set_vertex_colors(Some(out)).expect("one colour per refined vertex");
+}
+
 /// The polar mesh `pm` as a smooth surface: the rest mesh of [`Animation::subdivided`] for the
 /// skeleton rooted at the node of vertex `root` (default: the first pole), which decides which
 /// poles are tips. The mesh keeps the polar mesh's face colours (not the feature hues an
-/// animation's rest mesh shows).
+/// animation's rest mesh shows); no skin is refined. Tells a listener
+/// ([`crate::limits::listen`]) its steps, five as [`Animation::subdivided`].
 ///
 /// # Errors
 /// As [`Animation::new`] and [`Animation::subdivided`].
 pub fn subdivide_polar_mesh(pm: &crate::polar::PolarMesh, root: Option<u32>, levels: u32) -> Result<Mesh, AnimError> {
-    let anim = Animation::new(pm, root, super::Skinning::Smooth)?.subdivided(levels)?;
-    let mut mesh = anim.rest_mesh().clone();
-    if pm.mesh().vertex_colors().is_none() {
-        mesh.set_vertex_colors(None).expect("clearing colours");
+    check_levels(levels)?;
+    let anim = Animation::new(pm, root, super::Skinning::Smooth)?;
+    let colors = pm.mesh().vertex_colors().is_some();
+    if levels == 0 {
+        let mut mesh = anim.rest_mesh().clone();
+        if !colors {
+            mesh.set_vertex_colors(None).expect("clearing colours");
+        }
+        return Ok(mesh);
     }
+    let work = crate::limits::Work::start(5);
+    let (mut mesh, refiner) = anim.smooth_rest(levels, &work)?;
+    if colors {
+        refine_vertex_colors(&mut mesh, anim.rest_mesh(), &refiner.composed_stencils());
+    }
+    work.finish();
     Ok(mesh)
 }
 

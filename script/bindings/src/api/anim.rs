@@ -167,8 +167,9 @@ pub mod anim_api {
     pub fn animation_with(pm: PolarMesh, options: Map) -> ScriptResult<Animation> {
         let opts = Options::new("animation", options, &["root", "root_face", "skinning", "subdivide"])?;
         let levels = opts.int("subdivide", 0)?;
-        if !(0..=4).contains(&levels) {
-            return fail("animation", format!("option `subdivide` must be between 0 and 4 (levels), got {levels}"));
+        let max = blocksmith_kernel::anim::MAX_LEVELS;
+        if !(0..=INT::from(max)).contains(&levels) {
+            return fail("animation", format!("option `subdivide` must be between 0 and {max} (levels), got {levels}"));
         }
         let skinning = match opts.choice("skinning", "smooth", &["smooth", "simple"])?.as_str() {
             "simple" => Skinning::Simple,

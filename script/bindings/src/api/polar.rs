@@ -507,10 +507,11 @@ pub mod polar_api {
     /// ```
     #[rhai_fn(pure, return_raw)]
     pub fn catmull_clark(pm: &mut PolarMesh, levels: INT) -> ScriptResult<SharedMesh> {
-        if !(0..=4).contains(&levels) {
+        let max = blocksmith_kernel::anim::MAX_LEVELS;
+        if !(0..=INT::from(max)).contains(&levels) {
             return crate::convert::fail(
                 "catmull_clark",
-                format!("argument `levels` must be between 0 and 4, got {levels}"),
+                format!("argument `levels` must be between 0 and {max}, got {levels}"),
             );
         }
         let _bar = crate::progress::bar("catmull_clark");
