@@ -468,6 +468,8 @@ fn pair_group(
     };
     let mut around: Vec<(f64, u32)> = free.iter().map(|&x| (angle(x), x)).collect();
     around.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.cmp(&q.1)));
+    let far = |x: u32| positions[corner_at(uses[x as usize].face, uses[x as usize].corner + 2) as usize];
+    order_coincident_faces(&mut around, pa, pb, &far, &|x| uses[x as usize].forward);
     let n = around.len();
     let mut taken = vec![false; n];
     for k in 0..n {
@@ -483,6 +485,52 @@ fn pair_group(
             taken[j] = true;
             pairs.push((x, y));
         }
+    }
+}
+
+/// Faces leaving an edge at angles closer than this (radians) leave it in one direction: the
+/// rounding of a transform, far below any angle a model draws.
+const COINCIDENT_ANGLE: f64 = 1e-9;
+
+/// Orders the faces that leave the edge `pa → pb` in one direction (two solids touching along
+/// a face: an STL of stacked boxes) so that each pairs with its own solid: of such a run, the
+/// faces running along the edge (whose partner is the face before) come first, those running
+/// against it (whose partner is the face after) last, and the faces of two touching solids are
+/// never paired with each other. `around` is sorted by angle. A run is found exactly (Shewchuk's
+/// `orient3d`: the far corners lie in one plane with the edge, on one side of it), as rounded
+/// angles of one direction may differ, or within [`COINCIDENT_ANGLE`], as a file's node
+/// transform in floating point tilts a face it rotates by rounding (a glTF's −90° about x
+/// turns a plane by 2e-16). A run across the angle's wrap at ±π is brought to the front.
+fn order_coincident_faces(
+    around: &mut [(f64, u32)],
+    pa: Vec3,
+    pb: Vec3,
+    far: &impl Fn(u32) -> Vec3,
+    forward: &impl Fn(u32) -> bool,
+) {
+    let n = around.len();
+    let d = (pb - pa).normalize_or_zero();
+    let away = |x: u32| {
+        let w = far(x) - pa;
+        (w - d * d.dot(w)).normalize_or_zero()
+    };
+    let same = |x: u32, y: u32| {
+        let (p, q) = (far(x), far(y));
+        let (u, w) = (away(x), away(y));
+        (crate::diagnose::triangle_pair::o3(pa, pb, p, q) == 0 && u.dot(w) > 0.0)
+            || (u.dot(w) > 0.0 && u.cross(w).length() < COINCIDENT_ANGLE)
+    };
+    // Start at a face not in one direction with the face before it.
+    let Some(start) = (0..n).find(|&k| !same(around[(k + n - 1) % n].1, around[k].1)) else { return };
+    around.rotate_left(start);
+    let mut k = 0;
+    while k < n {
+        let mut end = k + 1;
+        while end < n && same(around[end - 1].1, around[end].1) {
+            end += 1;
+        }
+        around[k..end].sort_by_key(|e| !forward(e.1));
+        k = end;
     }
 }
 

@@ -68,6 +68,86 @@ fn two_cubes_sharing_an_edge_come_apart_as_two_closed_cubes() {
     assert!(r.repairs.flipped.is_empty());
 }
 
+/// The faces of `p, f` whose corners all satisfy `on`.
+fn faces_on(p: &[Vec3], f: &[Vec<u32>], on: impl Fn(Vec3) -> bool) -> Vec<Vec<u32>> {
+    f.iter().filter(|t| t.iter().all(|&x| on(p[x as usize]))).cloned().collect()
+}
+
+/// Two unit cubes side by side along x, touching along the face x = 1, as a soup welded by
+/// position: the shared face's triangles are A's and, when `same_diagonal`, B's are A's
+/// reversed (coincident triangles), else B's own.
+fn touching_cubes(same_diagonal: bool) -> (Vec<Vec3>, Vec<Vec<u32>>) {
+    let (mut p, mut f) = cube(Vec3::ZERO, 0);
+    let (pb, mut fb) = cube(v(1.0, 0.0, 0.0), 8);
+    p.extend(pb);
+    if same_diagonal {
+        fb.retain(|t| !t.iter().all(|&x| p[x as usize].x == 1.0));
+        fb.extend(faces_on(&p, &f, |q| q.x == 1.0).into_iter().map(|t| t.into_iter().rev().collect::<Vec<u32>>()));
+    }
+    f.extend(fb);
+    let same: Vec<u32> = (0..16).map(|i| (0..i).find(|&j| p[j as usize] == p[i as usize]).unwrap_or(i)).collect();
+    let f = f.iter().map(|t| t.iter().map(|&x| same[x as usize]).collect()).collect();
+    (p, f)
+}
+
+#[test]
+fn two_cubes_touching_along_a_face_come_apart_as_two_closed_cubes() {
+    // Around each edge of the shared face, two faces leave in one direction (A's and B's
+    // shared-face triangles): each must pair with its own cube's side, never with the other.
+    for same_diagonal in [false, true] {
+        let (p, f) = touching_cubes(same_diagonal);
+        let r = repair(&p, &f);
+        let m = &r.mesh;
+        assert!(m.is_closed() && m.is_manifold(), "same diagonal {same_diagonal}");
+        assert_eq!((m.component_count(), m.euler()), (2, 4), "two spheres, same diagonal {same_diagonal}");
+        assert!((m.volume() - 2.0).abs() < 1e-12, "same diagonal {same_diagonal}: volume {}", m.volume());
+        assert!(r.repairs.separated_edges.iter().all(|e| e.separated == 0), "{:?}", r.repairs.summary());
+        assert!(r.repairs.flipped.is_empty());
+        // And so as an STL, where the soup is welded by position.
+        let dir = tempfile::tempdir().unwrap();
+        let path = write(dir.path(), "touching.stl", &stl(&soup(&p, &f)));
+        let (m, repairs) = io::load_report(&path, &LoadOptions::DEFAULT).unwrap();
+        assert!(m.is_closed() && m.is_manifold(), "{:?}", repairs.summary());
+        assert_eq!((m.component_count(), m.euler()), (2, 4), "{:?}", repairs.summary());
+        assert!((m.volume() - 2.0).abs() < 1e-12, "volume {}", m.volume());
+    }
+}
+
+#[test]
+fn touching_cubes_turned_by_a_rounded_rotation_still_come_apart() {
+    // A glTF node's −90° about x in floating point tilts each face by rounding (2e-16), so
+    // the faces of one plane no longer lie exactly in it: found within an angle instead.
+    let turn =
+        crate::math::Quat::from_xyzw(-std::f64::consts::FRAC_1_SQRT_2, 0.0, 0.0, std::f64::consts::FRAC_1_SQRT_2);
+    for same_diagonal in [false, true] {
+        let (p, f) = touching_cubes(same_diagonal);
+        let p: Vec<Vec3> = p.iter().map(|&q| turn * (q + v(0.1, 0.3, 0.7))).collect();
+        let r = repair(&p, &f);
+        let m = &r.mesh;
+        assert!(m.is_closed() && m.is_manifold(), "same diagonal {same_diagonal}");
+        assert_eq!((m.component_count(), m.euler()), (2, 4), "same diagonal {same_diagonal}");
+        assert!((m.volume() - 2.0).abs() < 1e-9, "same diagonal {same_diagonal}: volume {}", m.volume());
+    }
+}
+
+#[test]
+fn a_stack_of_eight_cubes_comes_apart_as_eight_closed_cubes() {
+    let (mut p, mut f) = (Vec::new(), Vec::new());
+    for k in 0..8u32 {
+        let (q, g) = cube(v(f64::from(k & 1), f64::from((k >> 1) & 1), f64::from(k >> 2)), 8 * k);
+        p.extend(q);
+        f.extend(g);
+    }
+    let same: Vec<u32> =
+        (0..p.len() as u32).map(|i| (0..i).find(|&j| p[j as usize] == p[i as usize]).unwrap_or(i)).collect();
+    let f: Vec<Vec<u32>> = f.iter().map(|t| t.iter().map(|&x| same[x as usize]).collect()).collect();
+    let r = repair(&p, &f);
+    let m = &r.mesh;
+    assert!(m.is_closed() && m.is_manifold());
+    assert_eq!((m.component_count(), m.euler()), (8, 16));
+    assert!((m.volume() - 8.0).abs() < 1e-12, "volume {}", m.volume());
+}
+
 #[test]
 fn a_fin_on_an_edge_is_separated_into_its_own_sheet() {
     let (mut p, mut f) = cube(Vec3::ZERO, 0);
@@ -208,4 +288,54 @@ fn an_obj_keeps_its_vertex_ids_through_a_repair() {
     assert_eq!(m.face_vertices(1).collect::<Vec<_>>(), vec![5, 3, 4]);
     assert_eq!(repairs.summary().len(), 1);
     assert!(io::load_with(&path, &LoadOptions::DEFAULT.with_repair(false)).is_err());
+}
+
+/// The OBJ text of `tris`, each triangle with corners of its own (as a converter from STL
+/// writes it), and `extra` lines after.
+fn obj_soup(tris: &[[Vec3; 3]], extra: &str) -> String {
+    let mut text = String::new();
+    for t in tris {
+        for q in t {
+            text += &format!("v {} {} {}\n", q.x, q.y, q.z);
+        }
+    }
+    for k in 0..tris.len() {
+        text += &format!("f {} {} {}\n", 3 * k + 1, 3 * k + 2, 3 * k + 3);
+    }
+    text + extra
+}
+
+#[test]
+fn an_obj_or_3mf_of_corners_apart_is_welded_as_an_stl_is() {
+    // Touching cubes written per triangle: welded, and repaired as the STL of the same
+    // triangles is (two closed cubes); without the weld, 24 separate triangles.
+    let (p, f) = touching_cubes(false);
+    let tris = soup(&p, &f);
+    let dir = tempfile::tempdir().unwrap();
+    let path = write(dir.path(), "soup.obj", obj_soup(&tris, "").as_bytes());
+    let (m, _) = io::load_report(&path, &LoadOptions::DEFAULT).unwrap();
+    assert!(m.is_closed() && m.is_manifold());
+    assert_eq!((m.component_count(), m.euler()), (2, 4));
+    let stl_path = write(dir.path(), "soup.stl", &stl(&tris));
+    assert_eq!(io::load(&stl_path).unwrap().vertex_count(), m.vertex_count());
+    let apart = io::load_with(&path, &LoadOptions::DEFAULT.with_weld(io::Weld::Off)).unwrap();
+    assert_eq!((apart.component_count(), apart.vertex_count()), (24, 72));
+    // The same as 3MF.
+    let tmf = write(dir.path(), "soup.3mf", &[]);
+    io::save(&apart, &tmf).unwrap();
+    let m3 = io::load(&tmf).unwrap();
+    assert!(m3.is_closed() && m3.is_manifold());
+    assert_eq!((m3.component_count(), m3.vertex_count()), (2, m.vertex_count()));
+}
+
+#[test]
+fn an_obj_with_subdivision_tags_is_not_welded() {
+    // Its tags name its vertex ids: a weld would renumber them. One cube written per triangle
+    // with a corner tag on vertex 5 stays 12 triangles apart, the tag on vertex 5.
+    let (p, f) = cube(Vec3::ZERO, 0);
+    let dir = tempfile::tempdir().unwrap();
+    let path = write(dir.path(), "tagged.obj", obj_soup(&soup(&p, &f), "t corner 1/1/0 5 4\n").as_bytes());
+    let m = io::load(&path).unwrap();
+    assert_eq!((m.vertex_count(), m.component_count()), (36, 12));
+    assert_eq!(m.corner_sharpness(5), 4.0);
 }

@@ -4,8 +4,8 @@
 //! The fast path welds by the rule and builds, as readers always did: a valid file costs
 //! nothing more. When that build fails, the faces are taken again in two stages:
 //! 1. **The file's own topology**: its indices (OBJ, 3MF, indexed glTF, PLY), or for a
-//!    triangle soup (STL, glTF without indices) its corners joined where their coordinates are
-//!    equal. If that is not a manifold surface, it is repaired by
+//!    triangle soup (STL, glTF without indices, or indexed faces of which no two share a
+//!    vertex) its corners joined where their coordinates are equal. If that is not a manifold surface, it is repaired by
 //!    [`repair_polygons`](crate::diagnose::repair_polygons) with re-orientation — vertices
 //!    split per fan, faces beyond two on an edge separated, components re-oriented, faces
 //!    repeating a vertex dropped — and each repair is reported (the loader's warnings); with
@@ -84,7 +84,12 @@ pub(crate) fn assemble(
         Err(e) => return Err(io(e)),
     }
 
-    // 1. The file's own topology.
+    // 1. The file's own topology. Indexed faces of which no two share a vertex (an OBJ or
+    // 3MF converted from an STL) name no topology: they are a soup.
+    let topology = match topology {
+        Topology::Indexed if shares_no_vertex(indices, positions.len()) => Topology::Soup,
+        t => t,
+    };
     let (a_idx, a_ar, a_from, a_vertex_from, a_pos) = match topology {
         Topology::Indexed => (indices.to_vec(), arities.to_vec(), None, None, positions.to_vec()),
         Topology::Soup => {
@@ -153,6 +158,13 @@ pub(crate) fn assemble(
     let vertex_from = r.vertex_from.iter().map(|&v| to_input_vertex(kept[v as usize])).collect();
     let face_from = r.face_from.iter().map(|&f| to_input_face(w_from[f as usize])).collect();
     Ok(Assembled { mesh: r.mesh, vertex_from, face_from, repairs })
+}
+
+/// Whether no vertex is a corner of two faces (nor twice of one) in `indices`, which index
+/// `vertex_count` vertices.
+fn shares_no_vertex(indices: &[u32], vertex_count: usize) -> bool {
+    let mut used = vec![false; vertex_count];
+    indices.iter().all(|&v| used.get_mut(v as usize).is_some_and(|u| !std::mem::replace(u, true)))
 }
 
 /// [`super::weld::remap_faces`] that also gives, for each kept corner, the vertex it had before

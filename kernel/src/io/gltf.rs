@@ -831,7 +831,8 @@ pub(crate) fn read_gltf_report(
     .map_err(over)?;
     // Only the file's own folder is read, and only the declared lengths (see `uri`).
     let buffers = super::uri::read_buffers(&doc, base, blob, path)?;
-    let instances = mesh_instances(&doc).map_err(|reason| gltf_error(path, reason))?;
+    let exact = exact_local_matrices(bytes);
+    let instances = mesh_instances(&doc, &exact).map_err(|reason| gltf_error(path, reason))?;
     check_placed_size(&instances).map_err(over)?;
 
     let mut soup =
@@ -949,8 +950,9 @@ fn check_placed_size(instances: &[Instance<'_>]) -> Result<(), LimitError> {
 /// A mesh the scene instances: the mesh, its node's world matrix and its node's name.
 type Instance<'a> = (gltf::Mesh<'a>, Mat4, Option<Arc<str>>);
 
-/// Every mesh the scene instances, with its node's world matrix and name.
-fn mesh_instances(doc: &gltf::Document) -> Result<Vec<Instance<'_>>, String> {
+/// Every mesh the scene instances, with its node's world matrix and name. A node's local
+/// matrix is `exact[node]` when given (see [`exact_local_matrices`]), else gltf's.
+fn mesh_instances<'a>(doc: &'a gltf::Document, exact: &[Option<Mat4>]) -> Result<Vec<Instance<'a>>, String> {
     let roots: Vec<gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
         Some(scene) => scene.nodes().collect(),
         None => {
@@ -971,8 +973,12 @@ fn mesh_instances(doc: &gltf::Document) -> Result<Vec<Instance<'_>>, String> {
         if std::mem::replace(&mut seen[node.index()], true) {
             return Err(format!("node {} is reached twice: the node hierarchy is not a tree", node.index()));
         }
-        let local = node.transform().matrix().map(|c| c.map(f64::from));
-        let world = parent * Mat4::from_cols_array_2d(&local);
+        let local = exact
+            .get(node.index())
+            .copied()
+            .flatten()
+            .unwrap_or_else(|| Mat4::from_cols_array_2d(&node.transform().matrix().map(|c| c.map(f64::from))));
+        let world = parent * local;
         if let Some(m) = node.mesh() {
             out.push((m, world, node.name().map(Arc::from)));
         }
@@ -980,6 +986,50 @@ fn mesh_instances(doc: &gltf::Document) -> Result<Vec<Instance<'_>>, String> {
         stack.extend(children.into_iter().rev().map(|c| (c, world)));
     }
     Ok(out)
+}
+
+/// Each node's local matrix from the JSON's numbers in double precision (glTF 2.0 §5.25:
+/// `matrix`, or `translation` × `rotation` × `scale`), where gltf reads them in single
+/// precision: a rotation of −90° about x written as ±0.7071067811865476 is not orthonormal in
+/// `f32`, and it moved every position of a Y-up building by 1e-7 of its size. `None` for a node
+/// whose numbers are not well-formed (gltf's own reading, or its error, then stands); empty when
+/// the JSON does not parse.
+fn exact_local_matrices(bytes: &[u8]) -> Vec<Option<Mat4>> {
+    use crate::math::Quat;
+    let json = match bytes.get(..20) {
+        Some(h) if h.starts_with(b"glTF") && &h[16..20] == b"JSON" => {
+            let length = u32::from_le_bytes([h[12], h[13], h[14], h[15]]) as usize;
+            bytes.get(20..20usize.saturating_add(length)).unwrap_or(&[])
+        }
+        _ => bytes,
+    };
+    let Ok(root) = serde_json::from_slice::<serde_json::Value>(json) else { return Vec::new() };
+    let Some(nodes) = root.get("nodes").and_then(serde_json::Value::as_array) else { return Vec::new() };
+    let numbers = |node: &serde_json::Value, key: &str, n: usize, default: &[f64]| -> Option<Vec<f64>> {
+        match node.get(key) {
+            None => Some(default.to_vec()),
+            Some(v) => {
+                let a = v.as_array().filter(|a| a.len() == n)?;
+                a.iter().map(|x| x.as_f64().filter(|x| x.is_finite())).collect()
+            }
+        }
+    };
+    nodes
+        .iter()
+        .map(|node| {
+            if node.get("matrix").is_some() {
+                return numbers(node, "matrix", 16, &[]).map(|m| Mat4::from_cols_slice(&m));
+            }
+            let t = numbers(node, "translation", 3, &[0.0; 3])?;
+            let r = numbers(node, "rotation", 4, &[0.0, 0.0, 0.0, 1.0])?;
+            let s = numbers(node, "scale", 3, &[1.0; 3])?;
+            Some(Mat4::from_scale_rotation_translation(
+                Vec3::new(s[0], s[1], s[2]),
+                Quat::from_xyzw(r[0], r[1], r[2], r[3]),
+                Vec3::new(t[0], t[1], t[2]),
+            ))
+        })
+        .collect()
 }
 
 /// blocksmith's `extras` on a glTF mesh, if present and well-formed.
@@ -1868,6 +1918,44 @@ pub(crate) mod tests {
         let c: Vec3 = m.positions()[8..].iter().copied().sum::<Vec3>() / 8.0;
         assert!((c - Vec3::new(0.0, 3.0, 0.0)).length() < 1e-6, "{c}");
         assert!((m.volume() - 2.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn node_transforms_are_read_in_double_precision_from_the_files_numbers() {
+        // A translation of 0.1 (not a single-precision number) and a −90° turn about x written
+        // as ±0.7071067811865476: positions are the file's numbers' own arithmetic in f64.
+        let (mut root, bin) = document(&Mesh::cube(1.0), None, Path::new("mem.glb")).unwrap();
+        root.nodes[0].translation = Some([0.1, 0.0, 0.0]);
+        let mut bytes = Vec::new();
+        write_glb_document(&root, bin, &mut bytes, Path::new("mem.glb")).unwrap();
+        let m = read_gltf(&bytes, None, Path::new("moved.glb")).unwrap();
+        let min_x = m.positions().iter().map(|p| p.x).fold(f64::INFINITY, f64::min);
+        assert_eq!(min_x, -0.5 + 0.1, "not {}", -0.5 + f64::from(0.1f32));
+
+        let text =
+            String::from_utf8(bytes[20..20 + u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize].to_vec())
+                .unwrap();
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        let turned = text.replacen("\"translation\":[0.1,0.0,0.0]", &format!("\"rotation\":[{},0,0,{}]", -h, h), 1);
+        assert_ne!(turned, text, "{text}");
+        let mut glb = Vec::new();
+        let json_len = turned.len().div_ceil(4) * 4;
+        let rest = &bytes[20 + u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize..];
+        glb.extend(b"glTF");
+        glb.extend(2u32.to_le_bytes());
+        glb.extend(((12 + 8 + json_len + rest.len()) as u32).to_le_bytes());
+        glb.extend((json_len as u32).to_le_bytes());
+        glb.extend(b"JSON");
+        glb.extend(format!("{turned:<json_len$}").as_bytes());
+        glb.extend(rest);
+        let m = read_gltf(&glb, None, Path::new("turned.glb")).unwrap();
+        // glTF y turned to −z by the node, then glTF (x, y, z) is kernel (x, −z, y): kernel y
+        // is the file's y, up to the rounding of the exact quaternion (2e-16), not of f32's (1e-8).
+        let q = crate::math::Quat::from_xyzw(-h, 0.0, 0.0, h);
+        for (p, c) in m.positions().iter().zip(Mesh::cube(1.0).positions()) {
+            let g = q * Vec3::new(c.x, c.z, -c.y);
+            assert!((*p - Vec3::new(g.x, -g.z, g.y)).length() < 1e-14, "{p} for {c}");
+        }
     }
 
     #[test]

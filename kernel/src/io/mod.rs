@@ -17,7 +17,10 @@
 //! Welding: STL stores each triangle's corners apart and glTF (and PLY from many exporters)
 //! splits vertices at normal and UV seams; they are welded by position on reading, within a tolerance relative to the model's
 //! size ([`Weld`], default 1e-8 of the bounding box's diagonal), so that they read as the closed
-//! surfaces they draw. OBJ names its shared vertices and is read as it is.
+//! surfaces they draw. Every format is welded so: an OBJ or 3MF that names its shared vertices
+//! has no corners to join and is read as it is, but one converted from an STL repeats each
+//! corner per triangle (an OBJ with subdivision tags is never welded: the tags name its vertex
+//! ids). A weld never makes a manifold file non-manifold: sheets that touch stay apart.
 //!
 //! What each format keeps:
 //!
@@ -114,7 +117,7 @@ pub fn load(path: impl AsRef<Path>) -> Result<Mesh, IoError> {
 
 /// Reads the mesh in the file at `path`, by extension: `.obj`, `.glb`, `.gltf`, `.stl`, `.ply`,
 /// `.3mf`, in kernel (Z-up) axes. `options.up` is the file's up axis (OBJ, STL and PLY only; glTF is
-/// Y-up by specification), `options.weld` how STL, glTF and PLY vertices are welded.
+/// Y-up by specification), `options.weld` how corners at one place are welded.
 ///
 /// # Errors
 /// [`IoError::UnknownExtension`] first, then [`IoError::Unsupported`] for an up axis given to
@@ -143,11 +146,13 @@ pub fn load_report(path: impl AsRef<Path>, options: &LoadOptions) -> Result<(Mes
     let bytes = uri::read_regular(path).map_err(|e| e.into_io(path))?;
     let repair = options.repair;
     let (mesh, repairs) = match format {
-        Format::Obj => obj::read_obj_report(&bytes, Some(path.parent().unwrap_or(Path::new(""))), path, repair)?,
+        Format::Obj => {
+            obj::read_obj_report(&bytes, Some(path.parent().unwrap_or(Path::new(""))), path, options.weld, repair)?
+        }
         Format::Glb | Format::Gltf => gltf::read_gltf_report(&bytes, path.parent(), path, options.weld, repair)?,
         Format::Stl => stl::read_stl_report(&bytes, path, options.weld, repair)?,
         Format::Ply => ply::read_ply_report(&bytes, path, options.weld, repair)?,
-        Format::ThreeMf => threemf::read_3mf_report(&bytes, path, repair)?,
+        Format::ThreeMf => threemf::read_3mf_report(&bytes, path, options.weld, repair)?,
     };
     let mesh = match up {
         UpAxis::Z => mesh,

@@ -40,6 +40,7 @@ use std::path::{Component, Path, PathBuf};
 use std::sync::Arc;
 
 use super::error::IoError;
+use super::weld::Weld;
 use crate::diagnose::Repairs;
 use crate::math::Vec3;
 use crate::mesh::{BoundaryInterpolation, CreaseMethod, FacePart, Mesh, Rgba, SubdivOptions, TriangleSubdivision};
@@ -492,7 +493,7 @@ fn tobj_options() -> tobj::LoadOptions {
 ///
 /// See also [`write_obj`], [`super::load`].
 pub fn read_obj(bytes: &[u8], path: &Path) -> Result<Mesh, IoError> {
-    read_obj_report(bytes, None, path, true).map(|r| r.0)
+    read_obj_report(bytes, None, path, Weld::DEFAULT, true).map(|r| r.0)
 }
 
 /// [`read_obj`] of a file in the folder `base`, whose material libraries (`mtllib`) are read
@@ -502,13 +503,14 @@ pub fn read_obj(bytes: &[u8], path: &Path) -> Result<Mesh, IoError> {
 /// As [`read_obj`]; [`IoError::Obj`] naming the library and its line for a malformed number
 /// in a material library.
 pub fn read_obj_in(bytes: &[u8], base: &Path, path: &Path) -> Result<Mesh, IoError> {
-    read_obj_report(bytes, Some(base), path, true).map(|r| r.0)
+    read_obj_report(bytes, Some(base), path, Weld::DEFAULT, true).map(|r| r.0)
 }
 
-/// [`read_obj`], repairing a file that is not manifold as written (or refusing it when
-/// `repair` is false), with what was repaired (see [`super::assemble`]). Repairs keep every
-/// vertex id of the file (vertices split per fan get new ids after them), so tags still name
-/// the file's vertices.
+/// [`read_obj`], welding corners by `weld` (an OBJ converted from an STL repeats each corner
+/// per triangle, as an STL does), repairing a file that is not manifold as written (or refusing
+/// it when `repair` is false), with what was repaired (see [`super::assemble`]). A file with
+/// subdivision tags (`t`) is never welded: its tags name the file's vertex ids, and repairs keep
+/// every one of them (vertices split per fan get new ids after them).
 ///
 /// # Errors
 /// As [`read_obj`]; [`IoError::NotManifold`] when `repair` is false and the file is not a
@@ -517,6 +519,7 @@ pub(crate) fn read_obj_report(
     bytes: &[u8],
     base: Option<&Path>,
     path: &Path,
+    weld: Weld,
     repair: bool,
 ) -> Result<(Mesh, Repairs), IoError> {
     let text = std::str::from_utf8(bytes).map_err(|e| {
@@ -551,7 +554,7 @@ pub(crate) fn read_obj_report(
         &m.indices[n..],
         arities,
         super::assemble::Topology::Indexed,
-        super::weld::Weld::Off,
+        if scan.tags.is_empty() { weld } else { Weld::Off },
         repair,
         path,
     )?;
@@ -956,7 +959,9 @@ mod tests {
     fn malformed_numbers_and_short_faces_name_their_line() {
         assert!(matches!(read("v 0 0 0\nv 1 zero 0\n"), Err(IoError::Obj { line: 2, .. })));
         assert!(matches!(read("v 0 0\n"), Err(IoError::Obj { line: 1, .. })));
-        let refused = |text: &str| read_obj_report(text.as_bytes(), None, Path::new("t/test.obj"), false).unwrap_err();
+        let refused = |text: &str| {
+            read_obj_report(text.as_bytes(), None, Path::new("t/test.obj"), Weld::DEFAULT, false).unwrap_err()
+        };
         assert!(matches!(refused("v 0 0 0\nv 1 0 0\nf 1 2\n"), IoError::Obj { line: 3, .. }));
         assert!(matches!(read("v 0 0 0\nv 1 0 0\nf 1\n"), Err(IoError::Obj { line: 3, .. })));
         assert!(matches!(read("v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 x\n"), Err(IoError::Obj { line: 4, .. })));
@@ -971,7 +976,8 @@ mod tests {
         // a repair, numbered among the file's faces; the corner indices are still checked.
         let text = "v -500 0 500\nv 500 0 500\nv 500 500 500\nv 0 0 0\n\
                     f 1// 2//\nf 1// 2// 3//\nf 1 2 4\nf -1 -4\nf 1 1 2\n";
-        let (m, repairs) = read_obj_report(text.as_bytes(), None, Path::new("t/test.obj"), true).unwrap();
+        let (m, repairs) =
+            read_obj_report(text.as_bytes(), None, Path::new("t/test.obj"), Weld::DEFAULT, true).unwrap();
         assert_eq!((m.vertex_count(), m.face_count()), (4, 2));
         let dropped: Vec<(u32, Vec3)> = repairs.dropped_faces.clone();
         assert_eq!(
@@ -982,7 +988,8 @@ mod tests {
                 (4, Vec3::new(-500.0 / 3.0, 0.0, 500.0))
             ]
         );
-        let e = read_obj_report(b"v 0 0 0\nv 1 0 0\nf 1 3\n", None, Path::new("t/test.obj"), true).unwrap_err();
+        let e = read_obj_report(b"v 0 0 0\nv 1 0 0\nf 1 3\n", None, Path::new("t/test.obj"), Weld::DEFAULT, true)
+            .unwrap_err();
         assert!(matches!(e, IoError::IndexOutOfRange { index: 3, vertex_count: 2, .. }), "{e}");
     }
 
@@ -997,10 +1004,11 @@ mod tests {
         // Three triangles on the edge 1–2: by default the third becomes a sheet of its own
         // (no vertex moves); with repair off, the load is refused naming the edge.
         let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 0 0 -1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n";
-        let (m, repairs) = read_obj_report(text.as_bytes(), None, Path::new("t/test.obj"), true).unwrap();
+        let (m, repairs) =
+            read_obj_report(text.as_bytes(), None, Path::new("t/test.obj"), Weld::DEFAULT, true).unwrap();
         assert!(m.is_manifold() && m.face_count() == 3 && m.component_count() == 2);
         assert_eq!((repairs.separated_edges.len(), repairs.separated_edges[0].separated), (1, 1));
-        let e = read_obj_report(text.as_bytes(), None, Path::new("t/test.obj"), false).unwrap_err();
+        let e = read_obj_report(text.as_bytes(), None, Path::new("t/test.obj"), Weld::DEFAULT, false).unwrap_err();
         assert!(matches!(e, IoError::NotManifold { .. }), "{e}");
         assert!(e.to_string().contains("edge (0, 1)") && e.to_string().starts_with("t/test.obj"), "{e}");
     }

@@ -37,6 +37,7 @@ use std::sync::Arc;
 use quick_xml::events::{BytesStart, Event};
 
 use super::error::IoError;
+use super::weld::Weld;
 use crate::diagnose::Repairs;
 use crate::limits::LimitError;
 use crate::math::Vec3;
@@ -377,16 +378,18 @@ const KNOWN_NS: [&str; 3] = [MATERIAL_NS, PRODUCTION_NS, CORE_NS];
 ///
 /// See also [`write_3mf`], [`super::load`].
 pub fn read_3mf(bytes: &[u8], path: &Path) -> Result<Mesh, IoError> {
-    read_3mf_report(bytes, path, true).map(|r| r.0)
+    read_3mf_report(bytes, path, Weld::DEFAULT, true).map(|r| r.0)
 }
 
-/// [`read_3mf`], repairing a file that is not manifold as written (or refusing it when
-/// `repair` is false), with what was repaired (see [`super::assemble`]).
+/// [`read_3mf`], welding corners by `weld` (the specification asks for shared vertices, but
+/// an exporter may write an object's corners per triangle), repairing a file that is not
+/// manifold as written (or refusing it when `repair` is false), with what was repaired (see
+/// [`super::assemble`]).
 ///
 /// # Errors
 /// As [`read_3mf`]; [`IoError::NotManifold`] when `repair` is false and the file is not a
 /// manifold surface as written.
-pub(crate) fn read_3mf_report(bytes: &[u8], path: &Path, repair: bool) -> Result<(Mesh, Repairs), IoError> {
+pub(crate) fn read_3mf_report(bytes: &[u8], path: &Path, weld: Weld, repair: bool) -> Result<(Mesh, Repairs), IoError> {
     let mut zip = zip::ZipArchive::new(Cursor::new(bytes))
         .map_err(|e| tmf_error(path, format!("not a 3MF package (a zip archive): {e}")))?;
     let model_name = match read_part(&mut zip, "_rels/.rels", path)? {
@@ -422,7 +425,7 @@ pub(crate) fn read_3mf_report(bytes: &[u8], path: &Path, repair: bool) -> Result
     }
     let scale = root.scale;
     parts.insert(model_name.clone(), root);
-    build_mesh(&parts, &model_name, scale, repair, path)
+    build_mesh(&parts, &model_name, scale, weld, repair, path)
 }
 
 /// The bytes of the part `name` (without a leading `/`), `None` when there is none. Its
@@ -794,6 +797,7 @@ fn build_mesh<'a>(
     parts: &'a Parts,
     root: &'a str,
     scale: f64,
+    weld: Weld,
     repair: bool,
     path: &Path,
 ) -> Result<(Mesh, Repairs), IoError> {
@@ -835,7 +839,7 @@ fn build_mesh<'a>(
         &out.indices,
         &arities,
         super::assemble::Topology::Indexed,
-        super::weld::Weld::Off,
+        weld,
         repair,
         path,
     )?;

@@ -132,9 +132,9 @@ pub mod files_api {
     /// the reason.
     ///
     /// Axes: blocksmith is Z-up. glTF is Y-up by specification (glTF 2.0 §3.4) and is turned
-    /// to Z-up exactly; 3MF is Z-up by specification; OBJ, STL and PLY are read as they are (see `load(path, #{up})`). STL
-    /// corners and glTF and PLY vertices split at seams are welded by position (see
-    /// `load(path, #{weld})`).
+    /// to Z-up exactly; 3MF is Z-up by specification; OBJ, STL and PLY are read as they are (see `load(path, #{up})`). Corners
+    /// stored apart at one place (an STL's, a glTF's or PLY's split at seams, an OBJ converted
+    /// from an STL) are welded by position (see `load(path, #{weld})`).
     ///
     /// A `.svg` or `.dxf` file is read as a 2D `Profile` (SVG paths, polygons and basic shapes
     /// with their transforms; DXF LWPOLYLINE, POLYLINE, LINE, ARC and CIRCLE).
@@ -156,8 +156,9 @@ pub mod files_api {
 
     /// Reads a mesh file with options: `up` (`"z"` or `"y"`: the file's up axis, for OBJ, STL
     /// and PLY, which have no convention; default `"z"`, read as it is; glTF is always Y-up and
-    /// takes no other), `weld` (STL, glTF and PLY: corners closer than this fraction of the model's
-    /// bounding-box diagonal in every coordinate become one vertex — default `true`, 1e-8;
+    /// takes no other), `weld` (any format: corners closer than this fraction of the model's
+    /// bounding-box diagonal in every coordinate become one vertex — default `true`, 1e-8; an
+    /// OBJ with subdivision tags is not welded, its tags naming its vertices;
     /// `0` joins equal coordinates only; `false` keeps every vertex of the file, so a glTF
     /// split at normal or UV seams stays split; welding never joins sheets that touch into a
     /// non-manifold mesh: such vertices are kept apart), `repair` (default `true`: a file whose
