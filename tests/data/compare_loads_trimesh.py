@@ -210,7 +210,10 @@ def main():
             o, warnings = ours(a.bin, path, tmp)
         key = os.path.relpath(path, os.path.dirname(os.path.abspath(a.write_expected)))
         if o is None:
-            expected[key] = {"refused": warnings[0] if warnings else "", "trimesh": verdict}
+            # The reason, after "error: load: PATH: " (no temporary or absolute path).
+            said = warnings[0] if warnings else ""
+            reason = said.split(os.path.abspath(path) + ": ", 1)[-1]
+            expected[key] = {"refused": reason, "trimesh": verdict}
             return
         st = o[0]
         expected[key] = {

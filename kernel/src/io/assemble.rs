@@ -161,7 +161,7 @@ pub(crate) fn assemble(
 }
 
 /// Whether no vertex is a corner of two faces (nor twice of one) in `indices`, which index
-/// `vertex_count` vertices.
+/// `vertex_count` vertices: a soup written with indices (an OBJ or 3MF converted from an STL).
 fn shares_no_vertex(indices: &[u32], vertex_count: usize) -> bool {
     let mut used = vec![false; vertex_count];
     indices.iter().all(|&v| used.get_mut(v as usize).is_some_and(|u| !std::mem::replace(u, true)))

@@ -17,10 +17,12 @@
 //! Welding: STL stores each triangle's corners apart and glTF (and PLY from many exporters)
 //! splits vertices at normal and UV seams; they are welded by position on reading, within a tolerance relative to the model's
 //! size ([`Weld`], default 1e-8 of the bounding box's diagonal), so that they read as the closed
-//! surfaces they draw. Every format is welded so: an OBJ or 3MF that names its shared vertices
-//! has no corners to join and is read as it is, but one converted from an STL repeats each
-//! corner per triangle (an OBJ with subdivision tags is never welded: the tags name its vertex
-//! ids). A weld never makes a manifold file non-manifold: sheets that touch stay apart.
+//! surfaces they draw. OBJ and 3MF name their shared vertices: by default only corners at equal
+//! coordinates are joined there (a file converted from an STL, or split at UV seams, repeats a
+//! corner with the same numbers), so vertices a file keeps apart at nearly one place stay apart
+//! and our own files read back as written (an OBJ with subdivision tags is never welded: the
+//! tags name its vertex ids). A weld never makes a manifold file non-manifold: sheets that touch
+//! stay apart.
 //!
 //! What each format keeps:
 //!

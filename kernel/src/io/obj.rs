@@ -506,11 +506,13 @@ pub fn read_obj_in(bytes: &[u8], base: &Path, path: &Path) -> Result<Mesh, IoErr
     read_obj_report(bytes, Some(base), path, Weld::DEFAULT, true).map(|r| r.0)
 }
 
-/// [`read_obj`], welding corners by `weld` (an OBJ converted from an STL repeats each corner
-/// per triangle, as an STL does), repairing a file that is not manifold as written (or refusing
-/// it when `repair` is false), with what was repaired (see [`super::assemble`]). A file with
-/// subdivision tags (`t`) is never welded: its tags name the file's vertex ids, and repairs keep
-/// every one of them (vertices split per fan get new ids after them).
+/// [`read_obj`], welding corners by `weld` ([`Weld::for_named_vertices`]: by default only
+/// corners at equal coordinates, as an OBJ converted from an STL repeats each corner per
+/// triangle, or one split at UV seams repeats a vertex), repairing a file that is not manifold
+/// as written (or refusing it when `repair` is false), with what was repaired (see
+/// [`super::assemble`]). A file with subdivision tags (`t`) is never welded: its tags name the
+/// file's vertex ids, and repairs keep every one of them (vertices split per fan get new ids
+/// after them).
 ///
 /// # Errors
 /// As [`read_obj`]; [`IoError::NotManifold`] when `repair` is false and the file is not a
@@ -554,7 +556,7 @@ pub(crate) fn read_obj_report(
         &m.indices[n..],
         arities,
         super::assemble::Topology::Indexed,
-        if scan.tags.is_empty() { weld } else { Weld::Off },
+        if scan.tags.is_empty() { weld.for_named_vertices() } else { Weld::Off },
         repair,
         path,
     )?;

@@ -69,8 +69,9 @@ pub struct LoadOptions {
     /// The file's up axis; `None` takes the format's convention (glTF Y, 3MF Z, others Z).
     /// Only OBJ, STL and PLY accept another axis. Default value: `None`.
     pub up: Option<UpAxis>,
-    /// How corners at one place are welded, in every format (an OBJ with subdivision tags
-    /// excepted: its tags name its vertex ids). Default value: [`Weld::DEFAULT`].
+    /// How corners at one place are welded. OBJ and 3MF, which name their shared vertices,
+    /// join only corners at equal coordinates under the default ([`Weld::for_named_vertices`]);
+    /// an OBJ with subdivision tags is never welded. Default value: [`Weld::DEFAULT`].
     pub weld: Weld,
     /// Whether a file that is not a manifold surface as written is repaired (vertices split
     /// per fan, faces beyond two on an edge separated, components re-oriented, faces repeating

@@ -381,8 +381,9 @@ pub fn read_3mf(bytes: &[u8], path: &Path) -> Result<Mesh, IoError> {
     read_3mf_report(bytes, path, Weld::DEFAULT, true).map(|r| r.0)
 }
 
-/// [`read_3mf`], welding corners by `weld` (the specification asks for shared vertices, but
-/// an exporter may write an object's corners per triangle), repairing a file that is not
+/// [`read_3mf`], welding corners by `weld` ([`Weld::for_named_vertices`]: by default only
+/// corners at equal coordinates; the specification asks for shared vertices, but an exporter
+/// may write each triangle's corners apart), repairing a file that is not
 /// manifold as written (or refusing it when `repair` is false), with what was repaired (see
 /// [`super::assemble`]).
 ///
@@ -839,7 +840,7 @@ fn build_mesh<'a>(
         &out.indices,
         &arities,
         super::assemble::Topology::Indexed,
-        weld,
+        weld.for_named_vertices(),
         repair,
         path,
     )?;

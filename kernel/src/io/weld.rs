@@ -37,6 +37,19 @@ impl Weld {
     /// The default: `Relative(1e-8)`, far below any feature a model draws and far above the
     /// noise of a CAD exporter's arithmetic (1e-17 and below).
     pub const DEFAULT: Weld = Weld::Relative(1e-8);
+
+    /// The rule for a format that names its shared vertices (OBJ, 3MF): by default only
+    /// corners at equal coordinates join (an exporter that repeats a corner writes it the same
+    /// way each time), so two vertices a file keeps apart at nearly one place stay apart and a
+    /// file we wrote reads back as written; a rule other than the default applies as given.
+    #[must_use]
+    pub(crate) fn for_named_vertices(self) -> Weld {
+        if self == Weld::DEFAULT {
+            Weld::Relative(0.0)
+        } else {
+            self
+        }
+    }
 }
 
 /// Fine cell width in tolerances. Kept vertices are more than the tolerance apart in some

@@ -156,9 +156,10 @@ pub mod files_api {
 
     /// Reads a mesh file with options: `up` (`"z"` or `"y"`: the file's up axis, for OBJ, STL
     /// and PLY, which have no convention; default `"z"`, read as it is; glTF is always Y-up and
-    /// takes no other), `weld` (any format: corners closer than this fraction of the model's
-    /// bounding-box diagonal in every coordinate become one vertex — default `true`, 1e-8; an
-    /// OBJ with subdivision tags is not welded, its tags naming its vertices;
+    /// takes no other), `weld` (corners closer than this fraction of the model's bounding-box
+    /// diagonal in every coordinate become one vertex — default `true`, 1e-8 for STL, glTF and
+    /// PLY, and equal coordinates only for OBJ and 3MF, which name their shared vertices; an OBJ
+    /// with subdivision tags is never welded;
     /// `0` joins equal coordinates only; `false` keeps every vertex of the file, so a glTF
     /// split at normal or UV seams stays split; welding never joins sheets that touch into a
     /// non-manifold mesh: such vertices are kept apart), `repair` (default `true`: a file whose
