@@ -20,13 +20,14 @@
 //! Rhai compiles to it) is followed by `m.__made_here(…)`, which stamps the variable in place,
 //! so `+=` on an array still appends in place.
 //! A call that hands back a mesh held elsewhere (`fn keep(m) { m }`) made nothing new and adds
-//! no step.
+//! no step. The bodies of the script's functions are marked too: a mesh made inside `fn part()`
+//! records its line there, then `part` where it is called.
 //!
 //! The same pass makes each `catch (e)` begin with `e.__caught()`, which turns an error Rhai
 //! raised itself (caught as an object map) into the message a run prints, explained: an unknown
 //! property is caught as "Mesh has no property `volum` …", as it would be printed. A call that
 //! finds no function is raised explained in the first place, wherever it is, by
-//! [`crate::lookup_failure`] (this pass cannot reach the bodies of the script's functions).
+//! [`crate::lookup_failure`].
 
 use std::sync::Arc;
 
@@ -120,16 +121,30 @@ pub fn stamp(value: Dynamic, call: &str, span: &Span) -> Dynamic {
 }
 
 /// `ast` with every call that may make a mesh marked, and every `catch (e)` explaining `e`
-/// (see the module's doc). The bodies of the script's own functions stay as written: Rhai gives
-/// no way to rebuild a compiled function's body, so calls inside them are marked only where the
-/// function is called.
-/// `file` is the script's name as errors give it (the AST's source).
+/// (see the module's doc), at the top level and in the bodies of the script's own functions
+/// and closures: a mesh made inside `fn part()` remembers its line there, and then the call of
+/// `part` at its own line. The file is the script's name as errors give it (the AST's source).
+///
+/// A call that cannot make a mesh is left as it is, so that arithmetic in a loop costs what it
+/// did: a function or method of `engine` whose every overload returns something that holds no
+/// mesh (`sin`, `len`, `volume`, Vec3 arithmetic; see [`never_makes_a_mesh`]), and an operator
+/// with a literal operand (no operator takes a mesh and a literal). The script's own functions
+/// and closures may return anything, and are marked.
 #[must_use]
-pub fn mark_call_sites(ast: &AST) -> AST {
+pub fn mark_call_sites(engine: &Engine, ast: &AST) -> AST {
     let file: ImmutableString = ast.source().unwrap_or_default().into();
-    let marker = Marker { file };
+    let marker = Marker { file, never_mesh: never_makes_a_mesh(engine) };
     let statements: Vec<Stmt> = ast.statements().iter().cloned().map(|s| marker.stmt(s)).collect();
-    let mut marked = AST::new(statements, ast.shared_lib().clone());
+    let mut functions = rhai::Module::new();
+    for (.., def) in ast.shared_lib().iter_script_fn_info() {
+        let mut def = rhai::ScriptFuncDef::clone(def);
+        #[allow(irrefutable_let_patterns)] // one variant without rhai's `grain` feature
+        if let rhai::ScriptFuncPayload::Statements(body) = &mut def.body {
+            marker.block(body);
+        }
+        functions.set_script_fn(def);
+    }
+    let mut marked = AST::new(statements, functions);
     if let Some(source) = ast.source() {
         marked.set_source(source);
     }
@@ -146,6 +161,35 @@ const MESH_OPERATORS: &[&str] = &["+", "-", "*", "/", "%", "&", "|", "^"];
 
 struct Marker {
     file: ImmutableString,
+    /// Names of functions, methods and operators that never return a mesh.
+    never_mesh: std::collections::HashSet<ImmutableString>,
+}
+
+/// The names whose every overload registered on `engine` returns a type that holds no mesh
+/// (what [`stamp`] stamps: a `Mesh`, or an array of them; `any` may be either). Script-defined
+/// functions are not registered and never in the set.
+#[must_use]
+pub fn never_makes_a_mesh(engine: &Engine) -> std::collections::HashSet<ImmutableString> {
+    let may = |returns: &str| returns.contains("Mesh") || returns.contains("array") || returns == "any";
+    let mut by_name: std::collections::HashMap<&str, bool> = std::collections::HashMap::new();
+    let catalogue = crate::catalogue::of(engine);
+    for o in catalogue.iter() {
+        *by_name.entry(o.name.as_str()).or_insert(false) |= may(&o.returns);
+    }
+    by_name.into_iter().filter(|(_, may)| !may).map(|(name, _)| name.into()).collect()
+}
+
+/// Whether `e` is a literal (no mesh operator takes one).
+fn is_literal(e: &Expr) -> bool {
+    matches!(
+        e,
+        Expr::IntegerConstant(..)
+            | Expr::FloatConstant(..)
+            | Expr::StringConstant(..)
+            | Expr::BoolConstant(..)
+            | Expr::CharConstant(..)
+            | Expr::Unit(..)
+    )
 }
 
 impl Marker {
@@ -192,7 +236,12 @@ impl Marker {
                 // The target stays as written; only the value is marked.
                 x.1.rhs = self.expr(std::mem::replace(&mut x.1.rhs, Expr::Unit(Position::NONE)));
                 let op = x.0.get_op_assignment_info().map(|info| info.5).filter(|op| MESH_OPERATORS.contains(op));
-                match (op, &x.1.lhs) {
+                // A value left unmarked (a literal, or a call that makes no mesh) adds no mesh.
+                let adds_mesh = match &x.1.rhs {
+                    Expr::FnCall(call, _) => call.name == MADE_AT || KEYWORDS.contains(&call.name.as_str()),
+                    e => !is_literal(e),
+                };
+                match (op.filter(|_| adds_mesh), &x.1.lhs) {
                     (Some(op), target @ Expr::Variable(..)) => {
                         let pos = x.0.position();
                         let after = self.wrap_in_place(target.clone(), op.into(), pos);
@@ -239,7 +288,8 @@ impl Marker {
                 let args = std::mem::take(&mut call.args);
                 call.args = self.exprs(args.into_iter()).into_iter().collect();
                 let marked = !KEYWORDS.contains(&call.name.as_str())
-                    && (call.op_token.is_none() || MESH_OPERATORS.contains(&call.name.as_str()));
+                    && (call.op_token.is_none()
+                        || (MESH_OPERATORS.contains(&call.name.as_str()) && !call.args.iter().any(is_literal)));
                 if marked {
                     let name = call.name.clone();
                     self.wrap(Expr::FnCall(call, pos), name, pos)
@@ -355,6 +405,9 @@ impl Marker {
 
     /// `__made_at(e, name, file, line, column)`.
     fn wrap(&self, e: Expr, name: ImmutableString, pos: Position) -> Expr {
+        if self.never_mesh.contains(&name) {
+            return e;
+        }
         let mut call = TEMPLATE.with(Clone::clone);
         call.args = std::iter::once(e).chain(self.site(name, pos)).collect();
         Expr::FnCall(call.into(), pos)

@@ -109,7 +109,7 @@ impl ModuleResolver for Resolver {
                 .map_err(|e| Box::new(EvalAltResult::ErrorInModule(format!("stdlib/{name}.rhai"), e.into(), pos)))?;
             ast.set_source(format!("stdlib/{name}.rhai"));
             let module: SharedModule =
-                Module::eval_ast_as_new(Scope::new(), &crate::origins::mark_call_sites(&ast), engine)
+                Module::eval_ast_as_new(Scope::new(), &crate::origins::mark_call_sites(engine, &ast), engine)
                     .map_err(|e| Box::new(EvalAltResult::ErrorInModule(format!("stdlib/{name}.rhai"), e, pos)))?
                     .into();
             self.stdlib_cache.borrow_mut().insert(name.to_string(), module.clone());

@@ -136,7 +136,7 @@ pub fn run_recipe(path: &Path, mut options: EngineOptions) -> Result<RecipeRun, 
         .collect();
     warnings.extend(crate::lint::imported_warnings(&engine, &ast, path.parent()));
     // Marked after the lint, which judges the recipe as written.
-    let ast = crate::origins::mark_call_sites(&ast);
+    let ast = crate::origins::mark_call_sites(&engine, &ast);
     let value = engine.eval_ast_with_scope::<Dynamic>(&mut Scope::new(), &ast).map_err(|e| {
         // A dropped result or an unconnected block is often why a later line fails: show it first.
         let mut text: Vec<String> = warnings.clone();

@@ -57,9 +57,29 @@ fn arrays_of_meshes_script_functions_and_operators_in_loops_are_marked() {
                 all\n";
     let m = mesh(run(text).0);
     let chains: Vec<Vec<String>> = (0..m.0.face_count() as u32).map(|f| chain(&m, f)).collect();
-    // The function's own calls are not marked (its body is kept as compiled); its call site is.
-    assert!(chains.iter().any(|c| c == &["+@4:27", "part@2:14"]), "{chains:?}");
-    assert!(chains.iter().any(|c| c == &["+@4:27", "part@2:23"]), "{chains:?}");
+    // The function's own calls are marked at their lines in its body, then its call site.
+    let inside = ["translate@1:22", "cube@1:14"];
+    assert!(chains.iter().any(|c| c[..] == ["+@4:27", "part@2:14", inside[0], inside[1]]), "{chains:?}");
+    assert!(chains.iter().any(|c| c[..] == ["+@4:27", "part@2:23", inside[0], inside[1]]), "{chains:?}");
+}
+
+#[test]
+fn calls_inside_functions_and_closures_are_marked_at_their_own_lines() {
+    // A bore made in a function, a boss made in a closure: each face leads to the line inside
+    // the function or closure, then to where it was called.
+    let text = "fn bore(r) {\n    let c = cylinder(r, 3, 16);\n    c\n}\n\
+                let boss = |h| cube(h).translate([0, 0, 1]);\n\
+                let m = cube(2) - bore(0.5);\n\
+                m = m + boss.call(1);\n\
+                m\n";
+    let m = mesh(run(text).0);
+    let chains: Vec<Vec<String>> = (0..m.0.face_count() as u32).map(|f| chain(&m, f)).collect();
+    assert!(chains.iter().any(|c| c.ends_with(&["bore@6:19".into(), "cylinder@2:13".into()])), "{chains:?}");
+    assert!(chains.iter().any(|c| c.ends_with(&["translate@5:24".into(), "cube@5:16".into()])), "{chains:?}");
+    // A `catch (e)` inside a function explains `e` as at the top level.
+    let text = "fn caught() { try { cube(1).volum() } catch (e) { return e; } }\ncaught()\n";
+    let said = run(text).0.to_string();
+    assert!(said.starts_with("Mesh has no"), "{said}");
 }
 
 #[test]
@@ -96,7 +116,7 @@ fn marking_keeps_what_the_recipe_means() {
 fn runs_without_a_file_name_leave_the_file_out() {
     let engine = crate::new_engine(EngineOptions::default());
     let ast = engine.compile("cube(1)").unwrap();
-    let value = engine.eval_ast::<Dynamic>(&crate::origins::mark_call_sites(&ast)).unwrap();
+    let value = engine.eval_ast::<Dynamic>(&crate::origins::mark_call_sites(&engine, &ast)).unwrap();
     let m = mesh(value);
     let origin = m.0.face_part(0).unwrap().origin.clone().unwrap();
     assert_eq!((origin.span.file.clone(), origin.span.line, origin.span.column), (None, 1, 1));
@@ -144,4 +164,47 @@ fn a_caught_rhai_error_is_the_explained_message_a_run_prints() {
     assert!(caught[3].contains("kept") && caught[3].starts_with("#{"), "{caught:?}");
     assert!(caught[4].starts_with("cube: "), "{caught:?}");
     assert_eq!(caught[5], "0");
+}
+
+#[test]
+fn calls_that_make_no_mesh_are_left_unmarked() {
+    // Arithmetic in a loop costs what it did: `sin` returns a float, `*` only numbers and
+    // vectors, and `+` with a literal takes no mesh; `cube`, `translate` and the script's own
+    // `part` (which may return anything) are marked, and so is `+` of two meshes.
+    let engine = crate::new_engine(EngineOptions::default());
+    let text = "fn part() { cube(1) }\n\
+                let s = 0.0;\n\
+                for i in 0..3 { s += sin(i * 0.001) * 2.0 + 1.0; }\n\
+                let v = cube(1).volume();\n\
+                part().translate([s, 0, 0]) + cube(2)\n";
+    let ast = engine.compile(text).unwrap();
+    let marked = crate::origins::mark_call_sites(&engine, &ast);
+    // The name each `__made_at` records, by where it is.
+    let mut names = Vec::new();
+    let mut visit = |path: &[rhai::ASTNode], place: &str| {
+        let call = match path.last() {
+            Some(
+                rhai::ASTNode::Expr(rhai::Expr::FnCall(call, _)) | rhai::ASTNode::Stmt(rhai::Stmt::FnCall(call, _)),
+            ) => call,
+            _ => return true,
+        };
+        if let (true, Some(rhai::Expr::StringConstant(name, _))) =
+            (call.name == crate::origins::MADE_AT, call.args.get(1))
+        {
+            names.push(format!("{place}{name}"));
+        }
+        true
+    };
+    marked.walk(&mut |path: &[rhai::ASTNode]| visit(path, ""));
+    for (.., def) in marked.shared_lib().iter_script_fn_info() {
+        let rhai::ScriptFuncPayload::Statements(body) = &def.body;
+        for s in body.iter() {
+            s.walk(&mut Vec::new(), &mut |path: &[rhai::ASTNode]| visit(path, "in part: "));
+        }
+    }
+    names.sort();
+    // `AST::walk` visits the functions' bodies too: `cube` three times (the volume's, `cube(2)`
+    // and `part`'s), `part`'s again in its own body.
+    assert_eq!(names, ["+", "cube", "cube", "cube", "in part: cube", "part", "translate"]);
+    assert_eq!(engine.eval_ast::<Dynamic>(&marked).map(|v| v.is::<SharedMesh>()).ok(), Some(true));
 }

@@ -295,6 +295,12 @@ pub use func::Func;
 #[cfg(feature = "internals")]
 pub use func::ScriptFuncDef;
 
+// blocksmith patch (PATCHES.md, 2): a script function's body can be named, so a host can
+// rewrite it as it rewrites the AST's statements.
+#[cfg(feature = "internals")]
+#[cfg(not(feature = "no_function"))]
+pub use func::ScriptFuncPayload;
+
 #[cfg(feature = "internals")]
 #[cfg(not(feature = "no_function"))]
 pub use func::EncapsulatedEnviron;

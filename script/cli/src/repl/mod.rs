@@ -402,7 +402,7 @@ impl Session {
 
     fn run_ast(&mut self, ast: AST, source: &str, name: &str) -> Result<Dynamic, String> {
         self.warnings = self.dropped_results(&ast, source, name);
-        let merged = self.functions.merge(&blocksmith_script::origins::mark_call_sites(&ast));
+        let merged = self.functions.merge(&blocksmith_script::origins::mark_call_sites(&self.engine, &ast));
         self.interrupt.store(false, Ordering::SeqCst);
         blocksmith_script::set_limits(&mut self.engine, &self.limits);
         let result = self.engine.eval_ast_with_scope::<Dynamic>(&mut self.scope, &merged);
