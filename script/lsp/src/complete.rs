@@ -120,7 +120,13 @@ fn methods(a: &Analyzer, t: Option<&str>) -> Vec<CompletionItem> {
         None => a.catalogue.iter().filter(|o| o.ours && o.receiver().is_some() && o.property != Some("set")).collect(),
     };
     let mut out: Vec<CompletionItem> = Vec::new();
-    for o in chosen {
+    // Only names a recipe can write after `.`: not the engine's indexers (`index$get$`) nor
+    // operators.
+    let writable = |name: &str| {
+        name.starts_with(|c: char| c.is_alphabetic() || c == '_')
+            && name.chars().all(|c| c.is_alphanumeric() || c == '_')
+    };
+    for o in chosen.into_iter().filter(|o| writable(&o.name)) {
         if out.last().is_some_and(|l: &CompletionItem| l.label == o.name) {
             continue;
         }

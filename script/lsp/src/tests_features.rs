@@ -112,6 +112,7 @@ fn completion_follows_the_receiver_option_maps_imports_and_modules() {
     let l = labels(&items);
     assert!(l.contains(&"catmull_clark") && l.contains(&"vertex_count") && l.contains(&"volume"), "{l:?}");
     assert!(!l.contains(&"sharp_all"), "a Block method on a Mesh: {l:?}");
+    assert!(l.iter().all(|x| x.chars().all(|c| c.is_alphanumeric() || c == '_')), "engine-internal names: {l:?}");
     let src = "let p = rect([0, 0], [1, 1]);\nextrude(p, 2, #{ tw";
     let l: Vec<String> =
         labels(&crate::complete::complete(&a, src, src.len(), None)).iter().map(|s| s.to_string()).collect();
