@@ -3,7 +3,8 @@
 //! - Defects: a model of four parts — an open square, two cubes that cross each other, a torus —
 //!   shows its open boundary and the torus's handle loop as lines on the surface (checked in the
 //!   scene and in the pixels drawn), the crossing faces, and its four components, each of which
-//!   can be hidden on its own.
+//!   can be hidden on its own. A double torus and a voxel slab with two tunnels show four handle
+//!   loops, each closed and on the screen.
 //! - Provenance: a boolean result, drawn uncoloured, is coloured by operand on request (one
 //!   colour per operand, the faces of the cut in the cutter's) and drawn as it was again after.
 
@@ -111,6 +112,95 @@ fn the_defects_view_draws_boundaries_handle_loops_and_crossings_and_toggles_comp
     b.wait("!studio.defects.on", Duration::from_secs(10));
     assert_eq!(b.eval("studio.triangles").as_f64().unwrap(), all);
     assert_eq!(b.eval("studio.defectSegments('handles').length"), 0);
+}
+
+/// A double torus (two tori united) and a voxel slab with two one-voxel tunnels.
+const HANDLES: &str = "\
+let dt = union(torus(3, 1, 24, 12), torus(3, 1, 24, 12).translate([5, 0, 0]));
+let vx = voxels(16);
+vx.fill_box([2, 2, 2], [14, 14, 6]);
+for z in 2..6 {
+    vx.set(5, 5, z, 0);
+    vx.set(10, 10, z, 0);
+}
+let slab = vx.to_mesh(#{ surface: \"raw\" }).translate([0, 10, 0]);
+combine([dt, slab])
+";
+
+/// The closed loops the segments `s` (six numbers each) make, as their segment counts; panics
+/// when an end is not shared by exactly two segments.
+fn loops_of(s: &[f64]) -> Vec<usize> {
+    let key = |p: &[f64]| p.iter().map(|c| (c * 1e6).round() as i64).collect::<Vec<i64>>();
+    let segments: Vec<[Vec<i64>; 2]> = s.chunks_exact(6).map(|c| [key(&c[..3]), key(&c[3..])]).collect();
+    let mut at: std::collections::HashMap<Vec<i64>, Vec<usize>> = std::collections::HashMap::new();
+    for (i, [a, b]) in segments.iter().enumerate() {
+        at.entry(a.clone()).or_default().push(i);
+        at.entry(b.clone()).or_default().push(i);
+    }
+    assert!(at.values().all(|v| v.len() == 2), "every end joins two segments");
+    let mut seen = vec![false; segments.len()];
+    let mut loops = Vec::new();
+    for start in 0..segments.len() {
+        if seen[start] {
+            continue;
+        }
+        let (mut count, mut stack) = (0, vec![start]);
+        while let Some(i) = stack.pop() {
+            if std::mem::replace(&mut seen[i], true) {
+                continue;
+            }
+            count += 1;
+            for end in &segments[i] {
+                stack.extend(at[end].iter().copied().filter(|&j| !seen[j]));
+            }
+        }
+        loops.push(count);
+    }
+    loops
+}
+
+#[test]
+fn the_handle_loops_of_a_double_torus_and_a_voxel_tunnel_are_drawn_one_closed_loop_each() {
+    // Genus 2 and genus 2: four handles, each drawn as a closed loop on its surface, in the
+    // loop colour on the screen.
+    let dir = tempfile::tempdir().unwrap();
+    let recipe = dir.path().join("handles.rhai");
+    std::fs::write(&recipe, HANDLES).unwrap();
+    let w = watch(&recipe);
+    let Some(mut b) = Browser::open(&w.url) else { return };
+    b.wait("window.studio && studio.triangles > 0", Duration::from_secs(60));
+    b.eval("document.getElementById('defects').click()");
+    b.wait("studio.defects.loaded", Duration::from_secs(60));
+    assert!(b.eval("studio.error").is_null(), "{}", b.eval("studio.error"));
+    let state = b.eval("JSON.parse(JSON.stringify(studio.defects, (k, v) => k === 'mesh' ? undefined : v))");
+    assert_eq!(state["counts"]["handle"].as_u64(), Some(4), "{state}");
+    let genus: Vec<i64> =
+        state["components"].as_array().unwrap().iter().map(|c| c["genus"].as_i64().unwrap()).collect();
+    assert_eq!(genus, [2, 2], "{state}");
+    let handles = numbers(&b.eval("studio.defectSegments('handles')"));
+    let loops = loops_of(&handles);
+    assert_eq!(loops.len(), 4, "{loops:?}");
+    // The voxel tunnels' loops are short (round one voxel column: at most 12 edges); the double
+    // torus's go round its tubes or between its holes.
+    assert!(loops.iter().filter(|&&n| n <= 12).count() >= 2, "{loops:?}");
+    // Each loop on the screen: magenta pixels at one of its segments' middle.
+    b.eval("new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(() => done(true))))");
+    let mut drawn = 0;
+    for s in handles.chunks_exact(6) {
+        let mid: Vec<f64> = (0..3).map(|i| (s[i] + s[i + 3]) / 2.0).collect();
+        let magenta = b.eval(&format!(
+            "(() => {{ const c = document.querySelector('#view canvas'); const r = c.getBoundingClientRect();
+               const [x, y] = studio.screenOf([{}, {}, {}]); const k = c.width / r.width;
+               const o = document.createElement('canvas'); o.width = c.width; o.height = c.height;
+               const g = o.getContext('2d'); g.drawImage(c, 0, 0);
+               const px = g.getImageData(Math.round((x - r.left) * k) - 3, Math.round((y - r.top) * k) - 3, 7, 7).data;
+               let n = 0; for (let i = 0; i < px.length; i += 4) if (px[i] > 120 && px[i + 1] < 90 && px[i + 2] > 120) n++;
+               return n; }})()",
+            mid[0], mid[1], mid[2]
+        ));
+        drawn += usize::from(magenta.as_u64().unwrap() > 0);
+    }
+    assert!(drawn * 2 >= handles.len() / 6, "{drawn} of {} segments show magenta", handles.len() / 6);
 }
 
 #[test]
