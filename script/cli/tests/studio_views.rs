@@ -32,19 +32,49 @@ let ring = torus(2, 0.5, 24, 12).translate([-6, 0, 0]);
 combine([square, a, b, ring])
 ";
 
+/// The studio of `text` (saved as `name` in a new folder) in a browser, its model drawn: the
+/// folder and the server, to keep, and the page; `None` where no browser runs (see `Browser`).
+fn studio_of(text: &str, name: &str) -> Option<(tempfile::TempDir, studio_watch::Watch, Browser)> {
+    let dir = tempfile::tempdir().unwrap();
+    let recipe = dir.path().join(name);
+    std::fs::write(&recipe, text).unwrap();
+    let w = watch(&recipe);
+    let mut b = Browser::open(&w.url)?;
+    b.wait("window.studio && studio.triangles > 0", Duration::from_secs(60));
+    Some((dir, w, b))
+}
+
+/// Turns the defects view on and returns its state (without the three.js meshes).
+fn defects_on(b: &mut Browser) -> Value {
+    b.eval("document.getElementById('defects').click()");
+    b.wait("studio.defects.loaded", Duration::from_secs(60));
+    assert!(b.eval("studio.error").is_null(), "{}", b.eval("studio.error"));
+    b.eval("JSON.parse(JSON.stringify(studio.defects, (k, v) => k === 'mesh' ? undefined : v))")
+}
+
+/// The magenta pixels (the handle loops' colour) within 3 pixels of where the page draws `p`,
+/// after two animation frames (the view draws on the next one after a change).
+fn magenta_near(b: &mut Browser, p: &[f64]) -> u64 {
+    b.eval("new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(() => done(true))))");
+    b.eval(&format!(
+        "(() => {{ const c = document.querySelector('#view canvas'); const r = c.getBoundingClientRect();
+           const [x, y] = studio.screenOf([{}, {}, {}]); const k = c.width / r.width;
+           const o = document.createElement('canvas'); o.width = c.width; o.height = c.height;
+           const g = o.getContext('2d'); g.drawImage(c, 0, 0);
+           const px = g.getImageData(Math.round((x - r.left) * k) - 3, Math.round((y - r.top) * k) - 3, 7, 7).data;
+           let n = 0; for (let i = 0; i < px.length; i += 4) if (px[i] > 120 && px[i + 1] < 90 && px[i + 2] > 120) n++;
+           return n; }})()",
+        p[0], p[1], p[2]
+    ))
+    .as_u64()
+    .unwrap()
+}
+
 #[test]
 fn the_defects_view_draws_boundaries_handle_loops_and_crossings_and_toggles_components() {
-    let dir = tempfile::tempdir().unwrap();
-    let recipe = dir.path().join("broken.rhai");
-    std::fs::write(&recipe, RECIPE).unwrap();
-    let w = watch(&recipe);
-    let Some(mut b) = Browser::open(&w.url) else { return };
-    b.wait("window.studio && studio.triangles > 0", Duration::from_secs(30));
+    let Some((_dir, _server, mut b)) = studio_of(RECIPE, "broken.rhai") else { return };
     let all = b.eval("studio.triangles").as_f64().unwrap();
-    b.eval("document.getElementById('defects').click()");
-    b.wait("studio.defects.loaded", Duration::from_secs(30));
-    assert!(b.eval("studio.error").is_null(), "{}", b.eval("studio.error"));
-    let state = b.eval("JSON.parse(JSON.stringify(studio.defects, (k, v) => k === 'mesh' ? undefined : v))");
+    let state = defects_on(&mut b);
     let counts = &state["counts"];
     assert_eq!(
         (counts["component"].as_u64(), counts["boundary"].as_u64(), counts["handle"].as_u64()),
@@ -80,19 +110,7 @@ fn the_defects_view_draws_boundaries_handle_loops_and_crossings_and_toggles_comp
     // The loop is on the screen in its colour: magenta pixels where the page draws its first
     // segment's middle (lines are drawn over everything).
     let mid: Vec<f64> = (0..3).map(|i| (handle[i] + handle[i + 3]) / 2.0).collect();
-    // Two animation frames: the view draws on the next one after a change.
-    b.eval("new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(() => done(true))))");
-    let magenta = b.eval(&format!(
-        "(() => {{ const c = document.querySelector('#view canvas'); const r = c.getBoundingClientRect();
-           const [x, y] = studio.screenOf([{}, {}, {}]); const k = c.width / r.width;
-           const o = document.createElement('canvas'); o.width = c.width; o.height = c.height;
-           const g = o.getContext('2d'); g.drawImage(c, 0, 0);
-           const px = g.getImageData(Math.round((x - r.left) * k) - 3, Math.round((y - r.top) * k) - 3, 7, 7).data;
-           let n = 0; for (let i = 0; i < px.length; i += 4) if (px[i] > 120 && px[i + 1] < 90 && px[i + 2] > 120) n++;
-           return n; }})()",
-        mid[0], mid[1], mid[2]
-    ));
-    assert!(magenta.as_u64().unwrap() > 0, "no magenta pixel near the handle loop's segment at {mid:?}");
+    assert!(magenta_near(&mut b, &mid) > 0, "no magenta pixel near the handle loop's segment at {mid:?}");
 
     // Four components drawn in place of the model, together the model's triangles; hiding the
     // torus leaves the others.
@@ -163,16 +181,8 @@ fn loops_of(s: &[f64]) -> Vec<usize> {
 fn the_handle_loops_of_a_double_torus_and_a_voxel_tunnel_are_drawn_one_closed_loop_each() {
     // Genus 2 and genus 2: four handles, each drawn as a closed loop on its surface, in the
     // loop colour on the screen.
-    let dir = tempfile::tempdir().unwrap();
-    let recipe = dir.path().join("handles.rhai");
-    std::fs::write(&recipe, HANDLES).unwrap();
-    let w = watch(&recipe);
-    let Some(mut b) = Browser::open(&w.url) else { return };
-    b.wait("window.studio && studio.triangles > 0", Duration::from_secs(60));
-    b.eval("document.getElementById('defects').click()");
-    b.wait("studio.defects.loaded", Duration::from_secs(60));
-    assert!(b.eval("studio.error").is_null(), "{}", b.eval("studio.error"));
-    let state = b.eval("JSON.parse(JSON.stringify(studio.defects, (k, v) => k === 'mesh' ? undefined : v))");
+    let Some((_dir, _server, mut b)) = studio_of(HANDLES, "handles.rhai") else { return };
+    let state = defects_on(&mut b);
     assert_eq!(state["counts"]["handle"].as_u64(), Some(4), "{state}");
     let genus: Vec<i64> =
         state["components"].as_array().unwrap().iter().map(|c| c["genus"].as_i64().unwrap()).collect();
@@ -183,22 +193,11 @@ fn the_handle_loops_of_a_double_torus_and_a_voxel_tunnel_are_drawn_one_closed_lo
     // The voxel tunnels' loops are short (round one voxel column: at most 12 edges); the double
     // torus's go round its tubes or between its holes.
     assert!(loops.iter().filter(|&&n| n <= 12).count() >= 2, "{loops:?}");
-    // Each loop on the screen: magenta pixels at one of its segments' middle.
-    b.eval("new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(() => done(true))))");
+    // The loops on the screen: magenta pixels at most of their segments' middles.
     let mut drawn = 0;
     for s in handles.chunks_exact(6) {
         let mid: Vec<f64> = (0..3).map(|i| (s[i] + s[i + 3]) / 2.0).collect();
-        let magenta = b.eval(&format!(
-            "(() => {{ const c = document.querySelector('#view canvas'); const r = c.getBoundingClientRect();
-               const [x, y] = studio.screenOf([{}, {}, {}]); const k = c.width / r.width;
-               const o = document.createElement('canvas'); o.width = c.width; o.height = c.height;
-               const g = o.getContext('2d'); g.drawImage(c, 0, 0);
-               const px = g.getImageData(Math.round((x - r.left) * k) - 3, Math.round((y - r.top) * k) - 3, 7, 7).data;
-               let n = 0; for (let i = 0; i < px.length; i += 4) if (px[i] > 120 && px[i + 1] < 90 && px[i + 2] > 120) n++;
-               return n; }})()",
-            mid[0], mid[1], mid[2]
-        ));
-        drawn += usize::from(magenta.as_u64().unwrap() > 0);
+        drawn += usize::from(magenta_near(&mut b, &mid) > 0);
     }
     assert!(drawn * 2 >= handles.len() / 6, "{drawn} of {} segments show magenta", handles.len() / 6);
 }
