@@ -86,9 +86,8 @@ fn public_files_load_as_manifolds_with_the_numbers_trimesh_agrees_with() {
             }
         };
         let number = |k: &str| want[k].as_i64().unwrap();
-        let triangles: usize = (0..m.face_count() as u32).map(|f| m.face_vertices(f).count() - 2).sum();
         let have = [
-            ("triangles", triangles as i64),
+            ("triangles", m.triangle_count() as i64),
             ("components", m.component_count() as i64),
             ("boundary_edges", boundary_edges(&m) as i64),
             ("euler", m.euler()),

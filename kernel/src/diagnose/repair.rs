@@ -515,10 +515,10 @@ fn order_coincident_faces(
         (w - d * d.dot(w)).normalize_or_zero()
     };
     let same = |x: u32, y: u32| {
-        let (p, q) = (far(x), far(y));
         let (u, w) = (away(x), away(y));
-        (crate::diagnose::triangle_pair::o3(pa, pb, p, q) == 0 && u.dot(w) > 0.0)
-            || (u.dot(w) > 0.0 && u.cross(w).length() < COINCIDENT_ANGLE)
+        u.dot(w) > 0.0
+            && (u.cross(w).length() < COINCIDENT_ANGLE
+                || crate::diagnose::triangle_pair::o3(pa, pb, far(x), far(y)) == 0)
     };
     // Start at a face not in one direction with the face before it.
     let Some(start) = (0..n).find(|&k| !same(around[(k + n - 1) % n].1, around[k].1)) else { return };

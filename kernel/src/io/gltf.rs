@@ -869,18 +869,23 @@ const JSON_STRUCTURE_BYTES: f64 = 1024.0;
 /// took 430 MiB to parse. Counting `{` and `[` bytes (inside strings too, which only
 /// overestimates; base64 data has none) costs one pass.
 fn check_json_size(bytes: &[u8]) -> Result<(), LimitError> {
-    let json = match bytes.get(12..20) {
+    let n = json_chunk(bytes).iter().filter(|&&b| b == b'{' || b == b'[').count();
+    crate::limits::check_memory(
+        || format!("the glTF's JSON of {n} objects and arrays"),
+        n as f64 * JSON_STRUCTURE_BYTES,
+    )
+}
+
+/// The JSON of a glTF file: a GLB's first chunk (as far as the file holds it), or the whole
+/// text of a `.gltf`.
+fn json_chunk(bytes: &[u8]) -> &[u8] {
+    match bytes.get(12..20) {
         Some(h) if bytes.starts_with(b"glTF") && &h[4..8] == b"JSON" => {
             let len = u32::from_le_bytes([h[0], h[1], h[2], h[3]]) as usize;
             &bytes[20..bytes.len().min(20usize.saturating_add(len))]
         }
         _ => bytes,
-    };
-    let n = json.iter().filter(|&&b| b == b'{' || b == b'[').count();
-    crate::limits::check_memory(
-        || format!("the glTF's JSON of {n} objects and arrays"),
-        n as f64 * JSON_STRUCTURE_BYTES,
-    )
+    }
 }
 
 /// The accessors of a primitive compressed with `KHR_draco_mesh_compression` have no buffer
@@ -996,14 +1001,7 @@ fn mesh_instances<'a>(doc: &'a gltf::Document, exact: &[Option<Mat4>]) -> Result
 /// the JSON does not parse.
 fn exact_local_matrices(bytes: &[u8]) -> Vec<Option<Mat4>> {
     use crate::math::Quat;
-    let json = match bytes.get(..20) {
-        Some(h) if h.starts_with(b"glTF") && &h[16..20] == b"JSON" => {
-            let length = u32::from_le_bytes([h[12], h[13], h[14], h[15]]) as usize;
-            bytes.get(20..20usize.saturating_add(length)).unwrap_or(&[])
-        }
-        _ => bytes,
-    };
-    let Ok(root) = serde_json::from_slice::<serde_json::Value>(json) else { return Vec::new() };
+    let Ok(root) = serde_json::from_slice::<serde_json::Value>(json_chunk(bytes)) else { return Vec::new() };
     let Some(nodes) = root.get("nodes").and_then(serde_json::Value::as_array) else { return Vec::new() };
     let numbers = |node: &serde_json::Value, key: &str, n: usize, default: &[f64]| -> Option<Vec<f64>> {
         match node.get(key) {
@@ -1932,15 +1930,13 @@ pub(crate) mod tests {
         let min_x = m.positions().iter().map(|p| p.x).fold(f64::INFINITY, f64::min);
         assert_eq!(min_x, -0.5 + 0.1, "not {}", -0.5 + f64::from(0.1f32));
 
-        let text =
-            String::from_utf8(bytes[20..20 + u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize].to_vec())
-                .unwrap();
+        let text = String::from_utf8(json_chunk(&bytes).to_vec()).unwrap();
         let h = std::f64::consts::FRAC_1_SQRT_2;
         let turned = text.replacen("\"translation\":[0.1,0.0,0.0]", &format!("\"rotation\":[{},0,0,{}]", -h, h), 1);
         assert_ne!(turned, text, "{text}");
         let mut glb = Vec::new();
         let json_len = turned.len().div_ceil(4) * 4;
-        let rest = &bytes[20 + u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize..];
+        let rest = &bytes[20 + text.len()..];
         glb.extend(b"glTF");
         glb.extend(2u32.to_le_bytes());
         glb.extend(((12 + 8 + json_len + rest.len()) as u32).to_le_bytes());
