@@ -302,8 +302,12 @@ pub(crate) struct SolidPiece {
     /// A closed, manifold triangle mesh of positive volume.
     pub mesh: Mesh,
     /// Whether it is the convex hull standing in for a region whose own faces cross.
+    /// (Read by the tests, which measure where the solid exceeds the union of the tubes.)
+    #[cfg_attr(not(test), allow(dead_code))]
     pub stand_in: bool,
-    /// Whether it is a tube or region turned outwards (an everted branch, see `SolidPiece::outward`).
+    /// Whether it is a tube or region turned outwards (an everted branch,
+    /// `SolidPiece::outward`).
+    #[cfg_attr(not(test), allow(dead_code))]
     pub everted: bool,
 }
 
