@@ -112,6 +112,11 @@ pub struct FlatTriangles {
     /// One tag per triangle (triangles sharing a tag must be coplanar: the engine treats them
     /// as one face).
     pub tags: Vec<u32>,
+    /// The pairing of the half-edges, when known (else empty): `pairs[3 * t + i]` is the
+    /// half-edge opposite triangle `t`'s edge from corner `i` to corner `i + 1`, numbered the
+    /// same way. It spares the engine's import its sort of every half-edge; the engine checks
+    /// it, and sorts as before where it does not hold.
+    pub pairs: Vec<u32>,
 }
 
 /// Triangles out of the engine with the engine's pairing of their half-edges
@@ -186,6 +191,7 @@ impl Solid {
             coordinates: positions.iter().flat_map(|p| [p.x, p.y, p.z]).collect(),
             corners: triangles.as_flattened().to_vec(),
             tags: tags.to_vec(),
+            pairs: Vec::new(),
         };
         Solid::from_flat_until(flat, id, stop)
     }
@@ -208,7 +214,11 @@ impl Solid {
             run_original_id: vec![id],
             ..Default::default()
         };
-        let inner = Manifold::from_mesh_glp_with_token(&mesh, Some(&stop.0));
+        let inner = if flat.pairs.is_empty() {
+            Manifold::from_mesh_glp_with_token(&mesh, Some(&stop.0))
+        } else {
+            Manifold::from_mesh_glp_paired_with_token(&mesh, &flat.pairs, Some(&stop.0))
+        };
         match inner.status() {
             EngineStatus::NoError => Ok(Solid { inner }),
             EngineStatus::Cancelled => Err(EngineError::Stopped),
@@ -736,6 +746,52 @@ mod tests {
             .collect();
         let tags = (0..tris.len() as u32).collect::<Vec<_>>();
         Solid::new(t.positions(), &tris, &tags).unwrap()
+    }
+
+    /// A given half-edge pairing spares the import its sort and changes nothing; a wrong one
+    /// (not mutual, between other vertices, or joining opposed triangles) is not trusted.
+    #[test]
+    fn a_given_pairing_imports_the_same_solid_and_a_wrong_one_is_not_trusted() {
+        let t = Mesh::icosphere(1.0, 2).translate(Vec3::new(0.25, 0.0, 0.0)).triangulate().unwrap();
+        let corners: Vec<u32> = (0..t.face_count() as u32).flat_map(|f| t.face_vertices(f)).collect();
+        let flat = |pairs: Vec<u32>| FlatTriangles {
+            coordinates: t.positions().iter().flat_map(|p| p.to_array()).collect(),
+            corners: corners.clone(),
+            tags: (0..t.face_count() as u32).collect(),
+            pairs,
+        };
+        let edge: std::collections::HashMap<(u32, u32), u32> =
+            (0..corners.len()).map(|h| ((corners[h], corners[h / 3 * 3 + (h + 1) % 3]), h as u32)).collect();
+        let pairs: Vec<u32> =
+            (0..corners.len()).map(|h| edge[&(corners[h / 3 * 3 + (h + 1) % 3], corners[h])]).collect();
+        let import = |pairs: Vec<u32>| Solid::from_flat_until(flat(pairs), 7, &Stop::new()).unwrap();
+        let sorted = import(Vec::new());
+        let cutter = solid(&Mesh::cuboid(Vec3::splat(-0.5), Vec3::splat(0.5)));
+        let result = |s: &Solid| s.boolean(&cutter, CsgOp::Difference).unwrap().triangles();
+        assert_eq!(import(pairs.clone()).triangles(), sorted.triangles());
+        assert_eq!(result(&import(pairs.clone())), result(&sorted));
+        let mut swapped = pairs.clone();
+        swapped.swap(0, 1);
+        let mut one_way = pairs.clone();
+        one_way[pairs[0] as usize] = 1;
+        for wrong in [swapped, one_way, vec![0; pairs.len()], vec![u32::MAX; pairs.len()], pairs[1..].to_vec()] {
+            assert_eq!(import(wrong).triangles(), sorted.triangles());
+        }
+        // Opposed triangles (a closed pair of two, beside a tetrahedron), which the sorting
+        // import removes: a true pairing joins them, and is not trusted.
+        let coordinates = vec![0., 0., 0., 1., 0., 0., 0., 1., 0., 0., 0., 1., 2., 0., 0., 3., 0., 0., 2., 1., 0.];
+        let corners: Vec<u32> = vec![0, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2, 4, 5, 6, 4, 6, 5];
+        let ends = |h: usize| (corners[h], corners[h / 3 * 3 + (h + 1) % 3]);
+        let pairs: Vec<u32> =
+            (0..18).map(|h| (0..18).find(|&g| ends(g) == (ends(h).1, ends(h).0)).unwrap() as u32).collect();
+        let with = |pairs: Vec<u32>| {
+            let flat =
+                FlatTriangles { coordinates: coordinates.clone(), corners: corners.clone(), tags: vec![0; 6], pairs };
+            Solid::from_flat_until(flat, 8, &Stop::new()).unwrap()
+        };
+        let (sorted, paired) = (with(Vec::new()), with(pairs));
+        assert_eq!(sorted.triangles().triangles.len(), 4, "the opposed pair removed");
+        assert_eq!(paired.triangles(), sorted.triangles());
     }
 
     #[test]

@@ -422,6 +422,33 @@ fn imports(pieces: Vec<(usize, usize)>, bounds: &[Vec<Aabb>]) -> Vec<Plan> {
     groups.into_iter().map(|pieces| Plan::Import { pieces, id: Solid::reserve_ids(1) }).collect()
 }
 
+/// Appends the half-edge pairing of component `c` of `p` to `pairs`, numbered as the import
+/// numbers the component's triangles (in component order, after those already in `pairs`);
+/// `false` when a half-edge's pair lies outside the component (never for a closed one).
+/// `place` is scratch space, left ready for the next piece.
+fn pair_piece(p: &Prepared, c: usize, place: &mut Vec<u32>, pairs: &mut Vec<u32>) -> bool {
+    if place.len() < p.triangles.len() {
+        place.resize(p.triangles.len(), NONE);
+    }
+    let first = (pairs.len() / 3) as u32;
+    let component = &p.components[c];
+    for (i, &t) in component.iter().enumerate() {
+        place[t as usize] = first + i as u32;
+    }
+    let mut whole = true;
+    for &t in component {
+        for &q in &p.pairs[3 * t as usize..3 * t as usize + 3] {
+            let at = place[(q / 3) as usize];
+            whole &= at != NONE;
+            pairs.push(if at == NONE { NONE } else { 3 * at + q % 3 });
+        }
+    }
+    for &t in component {
+        place[t as usize] = NONE;
+    }
+    whole
+}
+
 /// Carries out `plan`: imports in parallel, both sides of every boolean in parallel.
 fn run(
     plan: &Plan,
@@ -451,7 +478,11 @@ fn run(
                 coordinates: Vec::with_capacity(3 * (n / 2 + 2)),
                 corners: Vec::with_capacity(3 * n),
                 tags: Vec::with_capacity(n),
+                pairs: Vec::with_capacity(3 * n),
             };
+            // A piece's triangle -> its number in the import, for the half-edge pairing.
+            let mut place: Vec<u32> = Vec::new();
+            let mut paired = pieces.iter().all(|&(k, _)| !prepared[k].pairs.is_empty());
             // A piece's vertex -> its number in the import (`NONE` when not yet used), and
             // the piece's vertices, to clear the map for the next piece.
             let mut number: Vec<u32> = Vec::new();
@@ -482,6 +513,12 @@ fn run(
                 for v in used.drain(..) {
                     number[v as usize] = NONE;
                 }
+                if paired {
+                    paired = pair_piece(p, c, &mut place, &mut flat.pairs);
+                }
+            }
+            if !paired {
+                flat.pairs = Vec::new();
             }
             let triangles = flat.tags.len();
             token.charge(triangles as u64)?;
@@ -613,6 +650,9 @@ struct Prepared {
     /// The triangles of each solid to union (one for a mesh; one per connected component for
     /// a block model).
     components: Vec<Vec<u32>>,
+    /// The half-edge pairing of `triangles` as the engine numbers half-edges (`pairs[3t + i]`
+    /// opposite the edge from corner `i` to `i + 1` of triangle `t`), from the mesh's twins.
+    pairs: Vec<u32>,
 }
 
 impl Prepared {
@@ -718,7 +758,31 @@ fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
         leaf_span,
         first_leaf_hint: leaf_no,
         components,
+        pairs: corner_pairs(&mesh),
     })
+}
+
+/// The pairing of a triangle mesh's half-edges as the engine numbers them (see
+/// [`Prepared::pairs`]): the triangles' corners in the order `face_vertices` gives them.
+/// Empty when some half-edge has no face across it (an open mesh, which the engine refuses).
+fn corner_pairs(mesh: &Mesh) -> Vec<u32> {
+    let mut slot = vec![NONE; mesh.halfedge_count()];
+    for f in 0..mesh.face_count() as u32 {
+        for (i, h) in mesh.face_halfedges(f).enumerate() {
+            slot[h as usize] = 3 * f + i as u32;
+        }
+    }
+    let mut pairs = Vec::with_capacity(3 * mesh.face_count());
+    for f in 0..mesh.face_count() as u32 {
+        for h in mesh.face_halfedges(f) {
+            let q = slot[mesh.twin(h) as usize];
+            if q == NONE {
+                return Vec::new();
+            }
+            pairs.push(q);
+        }
+    }
+    pairs
 }
 
 /// Sines of the angle between two triangles' normals below this count as coplanar.

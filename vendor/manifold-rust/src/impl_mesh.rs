@@ -327,6 +327,45 @@ impl ManifoldImpl {
     ///
     /// When `tri_vert` is empty, `tri_prop` is used for both geometry and properties.
     /// When `tri_vert` is present, `tri_prop[i][j]` = `propVert`, `tri_vert[i][j]` = `startVert`.
+    /// [`Self::create_halfedges`] for triangles `tri_prop` (vertex ids, no property map) whose
+    /// half-edge pairing the caller gives: `pairs[3 * t + i]` opposite triangle `t`'s edge from
+    /// corner `i` to `i + 1`. blocksmith patch (PATCHES.md, 15). Returns `false`, having left
+    /// the half-edges empty, unless every pair is mutual, runs between the same two vertices
+    /// the other way and joins two triangles with different third vertices (no opposed
+    /// triangles, which `create_halfedges` removes) — then, for triangles in which each
+    /// directed edge appears once, the half-edges are the ones `create_halfedges` makes.
+    /// Linear in the triangles.
+    pub fn create_halfedges_paired(&mut self, tri_prop: &[IVec3], pairs: &[u32]) -> bool {
+        self.invalidate_self_intersects();
+        let num_halfedge = 3 * tri_prop.len();
+        self.halfedge.clear();
+        if pairs.len() != num_halfedge || num_halfedge == 0 || num_halfedge > i32::MAX as usize {
+            return false;
+        }
+        let ends = |h: usize| {
+            let (t, i) = (h / 3, h % 3);
+            (tri_prop[t][i], tri_prop[t][next3(i)])
+        };
+        let third = |h: usize| tri_prop[h / 3][next3(next3(h % 3))];
+        for (h, &p) in pairs.iter().enumerate() {
+            crate::cancel::checkpoint_at(h);
+            let p = p as usize;
+            if p >= num_halfedge || pairs[p] as usize != h || p == h {
+                return false;
+            }
+            let ((a, b), (c, d)) = (ends(h), ends(p));
+            if a != d || b != c || a == b || third(h) == third(p) {
+                return false;
+            }
+        }
+        self.halfedge.reserve_exact(num_halfedge);
+        self.halfedge.extend(pairs.iter().enumerate().map(|(h, &p)| {
+            let (start_vert, end_vert) = ends(h);
+            Halfedge { start_vert, end_vert, paired_halfedge: p as i32, prop_vert: start_vert }
+        }));
+        true
+    }
+
     pub fn create_halfedges(&mut self, tri_prop: &[IVec3], tri_vert: &[IVec3]) {
         // The triangle set is being (re)built, so any earlier verdict about
         // self-intersection no longer describes this geometry.

@@ -49,7 +49,7 @@ impl Manifold {
     /// stays -1 for an imported mesh (the input is the original, not this
     /// Manifold), and [`Self::as_original`] discards the face IDs.
     pub fn from_mesh_gl(mesh: &MeshGL) -> Self {
-        Self::from_mesh_impl(mesh, ImportMode::Strict, false, None, None)
+        Self::from_mesh_impl(mesh, ImportMode::Strict, false, None, None, None)
     }
 
     /// Import a double-precision mesh directly into the f64 kernel. Unlike
@@ -60,7 +60,7 @@ impl Manifold {
     /// `uint32_t` casts do — the kernel indexes vertices with 32 bits.
     /// Face IDs and run original IDs are kept as in [`Self::from_mesh_gl`].
     pub fn from_mesh_gl64(mesh: &MeshGL64) -> Self {
-        Self::from_mesh_impl(mesh, ImportMode::Strict, false, None, None)
+        Self::from_mesh_impl(mesh, ImportMode::Strict, false, None, None, None)
     }
 
     /// Import that accepts non-manifold geometry for the robust boolean
@@ -72,12 +72,12 @@ impl Manifold {
     /// transforms, and mesh export; pairing-dependent operations return
     /// empty results with `Error::NotManifold`.
     pub fn from_mesh_gl_robust(mesh: &MeshGL) -> Self {
-        Self::from_mesh_impl(mesh, ImportMode::AllowSoup, false, None, None)
+        Self::from_mesh_impl(mesh, ImportMode::AllowSoup, false, None, None, None)
     }
 
     /// Double-precision variant of [`Self::from_mesh_gl_robust`].
     pub fn from_mesh_gl64_robust(mesh: &MeshGL64) -> Self {
-        Self::from_mesh_impl(mesh, ImportMode::AllowSoup, false, None, None)
+        Self::from_mesh_impl(mesh, ImportMode::AllowSoup, false, None, None, None)
     }
 
     /// Import a mesh of any supported precision and index width — e.g. an
@@ -96,7 +96,7 @@ impl Manifold {
     /// as the C++ import's `uint32_t` casts do. Face IDs and run original
     /// IDs are kept as in [`Self::from_mesh_gl`].
     pub fn from_mesh_glp<P: MeshPrecision, I: MeshIndex>(mesh: &MeshGLP<P, I>) -> Self {
-        Self::from_mesh_impl(mesh, ImportMode::Strict, false, None, None)
+        Self::from_mesh_impl(mesh, ImportMode::Strict, false, None, None, None)
     }
 
     /// [`Self::from_mesh_glp`] with cooperative cancellation: a cancel requested
@@ -111,7 +111,28 @@ impl Manifold {
         // blocksmith patch (PATCHES.md, 7): and inside them, at the checkpoints
         // of their long loops.
         crate::cancel::cancellable(token, || {
-            Self::from_mesh_impl(mesh, ImportMode::Strict, false, None, token)
+            Self::from_mesh_impl(mesh, ImportMode::Strict, false, None, token, None)
+        })
+        .unwrap_or_else(|| Self::make_empty(crate::types::Error::Cancelled))
+    }
+
+    /// [`Self::from_mesh_glp_with_token`] with the pairing of the mesh's half-edges given:
+    /// `pairs[3 * t + i]` is the half-edge opposite triangle `t`'s edge from corner `i` to
+    /// corner `i + 1`, numbered the same way. blocksmith patch (PATCHES.md, 15): a caller
+    /// holding a half-edge mesh knows the pairing, which the import otherwise finds by sorting
+    /// every half-edge by its vertices. The pairing is checked (each pair mutual, running
+    /// between the same two vertices the other way, the two triangles' third vertices
+    /// different: no opposed triangles) in linear time, and the import pairs by sorting as
+    /// before when any check fails, when the mesh merges vertices, or when `pairs` has another
+    /// length; so for a mesh in which each directed edge appears once (as in a half-edge
+    /// mesh) the manifold is the one [`Self::from_mesh_glp_with_token`] makes.
+    pub fn from_mesh_glp_paired_with_token<P: MeshPrecision, I: MeshIndex>(
+        mesh: &MeshGLP<P, I>,
+        pairs: &[u32],
+        token: Option<&crate::cancel::CancelToken>,
+    ) -> Self {
+        crate::cancel::cancellable(token, || {
+            Self::from_mesh_impl(mesh, ImportMode::Strict, false, None, token, Some(pairs))
         })
         .unwrap_or_else(|| Self::make_empty(crate::types::Error::Cancelled))
     }
@@ -121,7 +142,7 @@ impl Manifold {
     /// orientable is kept as a triangle soup for the robust boolean engine.
     /// Precision and index handling are as in [`Self::from_mesh_glp`].
     pub fn from_mesh_glp_robust<P: MeshPrecision, I: MeshIndex>(mesh: &MeshGLP<P, I>) -> Self {
-        Self::from_mesh_impl(mesh, ImportMode::AllowSoup, false, None, None)
+        Self::from_mesh_impl(mesh, ImportMode::AllowSoup, false, None, None, None)
     }
 
     /// [`Self::from_mesh_gl64_robust`] for meshes the robust boolean engine
@@ -142,7 +163,7 @@ impl Manifold {
         mesh: &MeshGL64,
         refs: Option<AssembledRefs>,
     ) -> Self {
-        Self::from_mesh_impl(mesh, ImportMode::AllowSoup, true, refs, None)
+        Self::from_mesh_impl(mesh, ImportMode::AllowSoup, true, refs, None, None)
     }
 
     fn from_mesh_impl<P: MeshPrecision, I: MeshIndex>(
@@ -151,6 +172,7 @@ impl Manifold {
         skip_swap: bool,
         refs: Option<AssembledRefs>,
         token: Option<&crate::cancel::CancelToken>,
+        pairs: Option<&[u32]>,
     ) -> Self {
         // blocksmith patch (PATCHES.md, 6): between the stages below, a cancelled token ends
         // the import with an empty manifold whose status is Cancelled.
@@ -399,7 +421,16 @@ impl Manifold {
             return cancelled_result();
         }
         let t = crate::timing::start();
-        imp.create_halfedges(&tri_prop, &tri_vert);
+        // blocksmith patch (PATCHES.md, 15): the caller's pairing, when it holds.
+        let paired = match pairs {
+            Some(pairs) if tri_vert.is_empty() && tri_prop.len() == num_tri => {
+                imp.create_halfedges_paired(&tri_prop, pairs)
+            }
+            _ => false,
+        };
+        if !paired {
+            imp.create_halfedges(&tri_prop, &tri_vert);
+        }
         crate::timing::print("  Import: halfedges", t);
         if cancelled() {
             return cancelled_result();

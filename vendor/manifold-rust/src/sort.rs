@@ -28,6 +28,9 @@ pub(crate) fn stable_order_by_code(codes: &[u32]) -> Vec<usize> {
 /// The indices `0..n` ordered by `key(i)` (whose significant bits are the low `bits`), equal
 /// keys in index order — a stable sort of `0..n` by key — by an LSD radix sort in 11-bit
 /// digits, a pass skipped when every key has the same digit there: linear in `n`.
+/// blocksmith patch (PATCHES.md, 14): the keys travel with their indices, so every pass reads
+/// its input in order (an index alone sent each pass to `keys[i]` at random), and one read of
+/// the keys counts the digits of every pass.
 pub(crate) fn stable_order_by_key(n: usize, bits: u32, key: impl Fn(usize) -> u64) -> Vec<usize> {
     const DIGIT: u32 = 11;
     const BUCKETS: usize = 1 << DIGIT;
@@ -36,47 +39,44 @@ pub(crate) fn stable_order_by_key(n: usize, bits: u32, key: impl Fn(usize) -> u6
         order.sort_by_key(|&i| key(i));
         return order;
     }
+    let shifts: Vec<u32> = (0..bits).step_by(DIGIT as usize).collect();
+    let digit = |k: u64, shift: u32| ((k >> shift) as usize) & (BUCKETS - 1);
     // blocksmith patch (PATCHES.md, 7): built a chunk at a time, a cancel seen between chunks.
-    let mut order: Vec<usize> = Vec::with_capacity(n);
-    let mut keys: Vec<u64> = Vec::with_capacity(n);
+    let mut items: Vec<(u64, usize)> = Vec::with_capacity(n);
+    let mut counts = vec![[0usize; BUCKETS]; shifts.len()];
     for start in (0..n).step_by(crate::cancel::CHECKPOINT_EVERY) {
         crate::cancel::checkpoint();
-        let end = (start + crate::cancel::CHECKPOINT_EVERY).min(n);
-        order.extend(start..end);
-        keys.extend((start..end).map(&key));
-    }
-    let mut next = vec![0usize; n];
-    let mut count = vec![0usize; BUCKETS];
-    for shift in (0..bits).step_by(DIGIT as usize) {
-        let digit = |i: usize| ((keys[i] >> shift) as usize) & (BUCKETS - 1);
-        count.iter_mut().for_each(|c| *c = 0);
-        // blocksmith patch (PATCHES.md, 7): a cancel ends a long sort between chunks.
-        for part in order.chunks(crate::cancel::CHECKPOINT_EVERY) {
-            crate::cancel::checkpoint();
-            for &i in part {
-                count[digit(i)] += 1;
+        for i in start..(start + crate::cancel::CHECKPOINT_EVERY).min(n) {
+            let k = key(i);
+            for (count, &shift) in counts.iter_mut().zip(&shifts) {
+                count[digit(k, shift)] += 1;
             }
+            items.push((k, i));
         }
+    }
+    let mut next = vec![(0u64, 0usize); n];
+    for (count, &shift) in counts.iter_mut().zip(&shifts) {
         if count.iter().any(|&c| c == n) {
             continue;
         }
         let mut start = 0;
-        for c in &mut count {
+        for c in count.iter_mut() {
             let k = *c;
             *c = start;
             start += k;
         }
-        for part in order.chunks(crate::cancel::CHECKPOINT_EVERY) {
+        // blocksmith patch (PATCHES.md, 7): a cancel ends a long sort between chunks.
+        for part in items.chunks(crate::cancel::CHECKPOINT_EVERY) {
             crate::cancel::checkpoint();
-            for &i in part {
-                let d = digit(i);
-                next[count[d]] = i;
+            for &item in part {
+                let d = digit(item.0, shift);
+                next[count[d]] = item;
                 count[d] += 1;
             }
         }
-        std::mem::swap(&mut order, &mut next);
+        std::mem::swap(&mut items, &mut next);
     }
-    order
+    items.into_iter().map(|(_, i)| i).collect()
 }
 
 /// Spread the low 10 bits of v into bits 0,3,6,9,...,27 (every 3rd bit).
