@@ -5,7 +5,8 @@
 //! nothing more. When that build fails, the faces are taken again in two stages:
 //! 1. **The file's own topology**: its indices (OBJ, 3MF, indexed glTF, PLY), or for a
 //!    triangle soup (STL, glTF without indices, or indexed faces of which no two share a
-//!    vertex) its corners joined where their coordinates are equal. If that is not a manifold surface, it is repaired by
+//!    vertex) its corners joined where their coordinates are equal. If that is not a
+//!    manifold surface, it is repaired by
 //!    [`repair_polygons`](crate::diagnose::repair_polygons) with re-orientation — vertices
 //!    split per fan, faces beyond two on an edge separated, components re-oriented, faces
 //!    repeating a vertex dropped — and each repair is reported (the loader's warnings); with

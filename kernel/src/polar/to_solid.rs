@@ -201,7 +201,7 @@ impl PolarMesh {
             at_tube(t, tubes.len());
             let tube = piece_mesh(self, &sk, &apexes, polys)?;
             if !crosses_itself(&tube)? {
-                pieces.push(SolidPiece::outward(tube, false)?);
+                pieces.push(SolidPiece::new(tube, false)?);
                 continue;
             }
             if regions.is_none() {
@@ -212,7 +212,7 @@ impl PolarMesh {
             for s in (0..sk.segment_count()).filter(|&s| tube_of_segment[s] == t) {
                 let region = piece_mesh(self, &sk, &apexes, &regions[s])?;
                 let crosses = crosses_itself(&region)?;
-                pieces.push(SolidPiece::outward(region, crosses)?);
+                pieces.push(SolidPiece::new(region, crosses)?);
             }
         }
         Ok(pieces)
@@ -307,7 +307,7 @@ pub(crate) struct SolidPiece {
     #[cfg_attr(not(test), allow(dead_code))]
     pub stand_in: bool,
     /// Whether it is a tube or region turned outwards (an everted branch,
-    /// `SolidPiece::outward`).
+    /// `SolidPiece::new`).
     #[cfg_attr(not(test), allow(dead_code))]
     pub everted: bool,
 }
@@ -412,7 +412,7 @@ impl SolidPiece {
     /// (two sibling branches turned the same way at one node take two gaps of the parent's loop,
     /// and the second faces away from where it grows) runs through its parent and comes out
     /// everted: its loops wind the other way round its axis.
-    fn outward(piece: Mesh, stand_in: bool) -> Result<SolidPiece, PolarError> {
+    fn new(piece: Mesh, stand_in: bool) -> Result<SolidPiece, PolarError> {
         let everted = piece.volume() < 0.0;
         let piece = if everted { piece.reversed() } else { piece };
         let mesh = if stand_in { hull_of(&piece)? } else { piece };
