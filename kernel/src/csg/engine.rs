@@ -117,6 +117,22 @@ pub struct FlatTriangles {
     /// same way. It spares the engine's import its sort of every half-edge; the engine checks
     /// it, and sorts as before where it does not hold.
     pub pairs: Vec<u32>,
+    /// The engine's epsilon for the import's clean-up, when above the automatic one (else
+    /// 0): points closer than it merge. [`Solid::compose_apart`] needs its parts cleaned at the
+    /// epsilon of the whole they will form.
+    pub tolerance: f64,
+}
+
+/// One part of [`Solid::compose_apart`].
+pub struct ApartSolid<'a> {
+    /// The part.
+    pub solid: &'a Solid,
+    /// Where its vertices go, in [`Solid::vertex_positions`]' order, for a translated copy
+    /// (every vertex moved by one vector, within the engine's epsilon); `None` leaves the part
+    /// where it is.
+    pub moved_to: Option<Vec<Vec3>>,
+    /// Added to each of its triangles' tags.
+    pub tag_shift: i32,
 }
 
 /// Triangles out of the engine with the engine's pairing of their half-edges
@@ -192,6 +208,7 @@ impl Solid {
             corners: triangles.as_flattened().to_vec(),
             tags: tags.to_vec(),
             pairs: Vec::new(),
+            tolerance: 0.0,
         };
         Solid::from_flat_until(flat, id, stop)
     }
@@ -212,6 +229,7 @@ impl Solid {
             tri_verts: flat.corners,
             face_id: flat.tags,
             run_original_id: vec![id],
+            tolerance: flat.tolerance,
             ..Default::default()
         };
         let inner = if flat.pairs.is_empty() {
@@ -322,6 +340,32 @@ impl Solid {
             })
             .collect();
         union_pairwise(composed, stop)
+    }
+
+    /// The union of `parts`, whose bounds are pairwise apart, by copying them side by side
+    /// (engine patch 16: no import again, one spatial sort), each part optionally a translated
+    /// copy ([`ApartSolid`]). Linear in their size, plus the sort.
+    ///
+    /// `None` when a condition does not hold: bounds not apart, positions of the wrong count
+    /// or not one translation, or a part imported at an epsilon finer than the whole's (see
+    /// [`FlatTriangles::tolerance`]); the caller then imports or composes another way.
+    #[must_use]
+    pub fn compose_apart(parts: &[ApartSolid<'_>]) -> Option<Solid> {
+        let parts: Vec<manifold_rust::manifold::ApartPart<'_>> = parts
+            .iter()
+            .map(|p| manifold_rust::manifold::ApartPart {
+                part: &p.solid.inner,
+                moved_to: p.moved_to.as_ref().map(|to| to.iter().map(|v| EVec3::new(v.x, v.y, v.z)).collect()),
+                face_id_shift: p.tag_shift,
+            })
+            .collect();
+        Manifold::compose_apart(&parts).map(|inner| Solid { inner })
+    }
+
+    /// The positions of the solid's vertices, in the engine's order.
+    #[must_use]
+    pub fn vertex_positions(&self) -> Vec<Vec3> {
+        self.inner.as_impl().vert_pos.iter().map(|p| Vec3::new(p.x, p.y, p.z)).collect()
     }
 
     /// The number of the solid's triangles.
@@ -759,6 +803,7 @@ mod tests {
             corners: corners.clone(),
             tags: (0..t.face_count() as u32).collect(),
             pairs,
+            tolerance: 0.0,
         };
         let edge: std::collections::HashMap<(u32, u32), u32> =
             (0..corners.len()).map(|h| ((corners[h], corners[h / 3 * 3 + (h + 1) % 3]), h as u32)).collect();
@@ -785,8 +830,13 @@ mod tests {
         let pairs: Vec<u32> =
             (0..18).map(|h| (0..18).find(|&g| ends(g) == (ends(h).1, ends(h).0)).unwrap() as u32).collect();
         let with = |pairs: Vec<u32>| {
-            let flat =
-                FlatTriangles { coordinates: coordinates.clone(), corners: corners.clone(), tags: vec![0; 6], pairs };
+            let flat = FlatTriangles {
+                coordinates: coordinates.clone(),
+                corners: corners.clone(),
+                tags: vec![0; 6],
+                pairs,
+                tolerance: 0.0,
+            };
             Solid::from_flat_until(flat, 8, &Stop::new()).unwrap()
         };
         let (sorted, paired) = (with(Vec::new()), with(pairs));

@@ -25,7 +25,7 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 
-use super::engine::{self, EngineError, FlatTriangles, PairedTriangles, Solid, Stop};
+use super::engine::{self, ApartSolid, EngineError, FlatTriangles, PairedTriangles, Solid, Stop};
 use super::{CsgError, CsgOp, Side};
 use crate::blocks::{BlockError, BlockModel, MeshOptions};
 use crate::limits::{check_memory, CancelToken, LimitError, StopReason};
@@ -174,7 +174,7 @@ impl Csg {
         let bounds: Vec<Vec<Aabb>> = prepared.iter().map(Prepared::component_bounds).collect();
         let mut leaf_no = 0usize;
         let plan = plan(self, &bounds, &mut leaf_no);
-        let solid = run(&plan, &prepared, &leaves, &offsets, token, stop)?;
+        let solid = run(&plan, &Inputs { prepared: &prepared, leaves: &leaves, offsets: &offsets, token, stop })?;
         drop(prepared);
         token.charge(solid_size(&solid))?;
         // The result's half-edge mesh from the engine's own pairing of its half-edges: one
@@ -449,122 +449,276 @@ fn pair_piece(p: &Prepared, c: usize, place: &mut Vec<u32>, pairs: &mut Vec<u32>
     whole
 }
 
+/// What [`run`] reads: the prepared leaves, the leaves themselves with their sides, each
+/// leaf's first face tag, and the caller's token with the engine's stop flag.
+struct Inputs<'a> {
+    prepared: &'a [Prepared],
+    leaves: &'a [(&'a Csg, Side)],
+    offsets: &'a [u32],
+    token: &'a CancelToken,
+    stop: &'a Stop,
+}
+
+impl Inputs<'_> {
+    /// The engine's error as a [`CsgError`]: stopped by the token, whose reason is read again
+    /// (a deadline or count, once passed, stays passed; an interrupt flag is never cleared by
+    /// the kernel), or failed.
+    fn engine_error(&self, e: EngineError) -> CsgError {
+        match e {
+            EngineError::Stopped => {
+                CsgError::Limit(LimitError::Stopped(self.token.stopped().unwrap_or(StopReason::Interrupted)))
+            }
+            EngineError::Failed(reason) => CsgError::Engine { reason },
+        }
+    }
+}
+
 /// Carries out `plan`: imports in parallel, both sides of every boolean in parallel.
-fn run(
-    plan: &Plan,
-    prepared: &[Prepared],
-    leaves: &[(&Csg, Side)],
-    offsets: &[u32],
-    token: &CancelToken,
-    stop: &Stop,
-) -> Result<Solid, CsgError> {
-    if let Some(reason) = token.stopped() {
+fn run(plan: &Plan, inputs: &Inputs<'_>) -> Result<Solid, CsgError> {
+    if let Some(reason) = inputs.token.stopped() {
         return Err(LimitError::Stopped(reason).into());
     }
-    // The engine stopped: by the token, whose reason is read again (a deadline or count, once
-    // passed, stays passed; an interrupt flag is never cleared by the kernel).
-    let engine_error = |e: EngineError| match e {
-        EngineError::Stopped => {
-            CsgError::Limit(LimitError::Stopped(token.stopped().unwrap_or(StopReason::Interrupted)))
-        }
-        EngineError::Failed(reason) => CsgError::Engine { reason },
-    };
     match plan {
-        Plan::Import { pieces, id } => {
-            // Each piece brings the vertices its triangles use, numbered in order of first use,
-            // written straight into the arrays the engine reads.
-            let n: usize = pieces.iter().map(|&(k, c)| prepared[k].components[c].len()).sum();
-            let mut flat = FlatTriangles {
-                coordinates: Vec::with_capacity(3 * (n / 2 + 2)),
-                corners: Vec::with_capacity(3 * n),
-                tags: Vec::with_capacity(n),
-                pairs: Vec::with_capacity(3 * n),
-            };
-            // A piece's triangle -> its number in the import, for the half-edge pairing.
-            let mut place: Vec<u32> = Vec::new();
-            let mut paired = pieces.iter().all(|&(k, _)| !prepared[k].pairs.is_empty());
-            // A piece's vertex -> its number in the import (`NONE` when not yet used), and
-            // the piece's vertices, to clear the map for the next piece.
-            let mut number: Vec<u32> = Vec::new();
-            let mut used: Vec<u32> = Vec::new();
-            for &(k, c) in pieces {
-                let p = &prepared[k];
-                if number.len() < p.positions.len() {
-                    number.resize(p.positions.len(), NONE);
-                }
-                for (i, &t) in p.components[c].iter().enumerate() {
-                    // This runs on any worker of the pool: read the token itself.
-                    if i.is_multiple_of(crate::limits::POLL_EVERY) {
-                        if let Some(reason) = token.stopped() {
-                            return Err(LimitError::Stopped(reason).into());
-                        }
-                    }
-                    for v in p.triangles[t as usize] {
-                        let slot = &mut number[v as usize];
-                        if *slot == NONE {
-                            *slot = (flat.coordinates.len() / 3) as u32;
-                            flat.coordinates.extend_from_slice(&p.positions[v as usize].to_array());
-                            used.push(v);
-                        }
-                        flat.corners.push(*slot);
-                    }
-                    flat.tags.push(offsets[k] + p.faces[t as usize]);
-                }
-                for v in used.drain(..) {
-                    number[v as usize] = NONE;
-                }
-                if paired {
-                    paired = pair_piece(p, c, &mut place, &mut flat.pairs);
-                }
-            }
-            if !paired {
-                flat.pairs = Vec::new();
-            }
-            let triangles = flat.tags.len();
-            token.charge(triangles as u64)?;
-            // An operand too small for the precision where it lies is merged away by the
-            // engine's import itself (a unit box at 1e12 became empty, and a union of two of
-            // them 0 faces): refused before, as the boolean's own check would refuse it.
-            let side = leaves[pieces[0].0].1;
-            let (span, magnitude) = span_and_magnitude(&flat.coordinates);
-            if span > 0.0 && span < MIN_SPAN_RESOLUTIONS * ENGINE_PRECISION * magnitude {
-                return Err(CsgError::Precision { side, span, magnitude });
-            }
-            let solid = Solid::from_flat_until(flat, *id, stop).map_err(|e| match e {
-                EngineError::Stopped => engine_error(e),
-                EngineError::Failed(reason) => {
-                    let (k, _) = pieces[0];
-                    CsgError::NonManifold {
-                        side: leaves[k].1,
-                        leaf: prepared[k].first_leaf_hint,
-                        reason: format!("the boolean engine refuses it ({reason})"),
-                    }
-                }
-            })?;
-            // Never an empty operand from a solid one: whatever merged it away was precision.
-            if solid.is_empty() && triangles > 0 && span > 0.0 {
-                return Err(CsgError::Precision { side, span, magnitude });
-            }
-            Ok(solid)
-        }
+        Plan::Import { pieces, id } => import_group(pieces, *id, inputs),
         Plan::Union(parts) => {
-            let solids: Vec<Solid> =
-                parts.par_iter().map(|p| run(p, prepared, leaves, offsets, token, stop)).collect::<Result<_, _>>()?;
+            let solids: Vec<Solid> = parts.par_iter().map(|p| run(p, inputs)).collect::<Result<_, _>>()?;
             check_precision(&solids.iter().collect::<Vec<_>>())?;
-            token.charge(solids.iter().map(solid_size).sum())?;
-            Solid::union_all_until(solids, stop).map_err(engine_error)
+            inputs.token.charge(solids.iter().map(solid_size).sum())?;
+            Solid::union_all_until(solids, inputs.stop).map_err(|e| inputs.engine_error(e))
         }
         Plan::Op(op, a, b) => {
-            let (ra, rb) = rayon::join(
-                || run(a, prepared, leaves, offsets, token, stop),
-                || run(b, prepared, leaves, offsets, token, stop),
-            );
+            let (ra, rb) = rayon::join(|| run(a, inputs), || run(b, inputs));
             let (ra, rb) = (ra?, rb?);
             check_precision(&[&ra, &rb])?;
-            token.charge(solid_size(&ra) + solid_size(&rb))?;
-            ra.boolean_until(&rb, *op, stop).map_err(engine_error)
+            inputs.token.charge(solid_size(&ra) + solid_size(&rb))?;
+            ra.boolean_until(&rb, *op, inputs.stop).map_err(|e| inputs.engine_error(e))
         }
     }
+}
+
+/// Imports one group of pieces (see [`Plan::Import`]). Pieces that are translated copies of
+/// another piece of the group (an instanced pattern: one sphere placed at 21 pips) are imported
+/// once and copied ([`import_instances`]); the others, or all when that does not apply, in one
+/// import ([`import_flat`]).
+fn import_group(pieces: &[(usize, usize)], id: u32, inputs: &Inputs<'_>) -> Result<Solid, CsgError> {
+    if pieces.len() > 1 {
+        if let Some(solid) = import_instances(pieces, id, inputs)? {
+            return Ok(solid);
+        }
+    }
+    import_flat(pieces, id, 0.0, inputs)
+}
+
+/// [`import_group`] by classes of translated copies: each class's first piece is imported (the
+/// pieces of no class together, in parallel with them), at the epsilon of the whole group so
+/// the clean-up is the one a single import would run; each copy takes its first piece's
+/// engine form with its own vertex positions, found through the positions' correspondence (a
+/// closed input never has two vertices at one point, see [`check_solid`]); and the parts are
+/// put side by side (engine patch 16).
+///
+/// `Ok(None)` when no two pieces are copies, or a condition of the copy does not hold (the
+/// import merged a vertex; the engine refuses the composition): the caller imports as one.
+fn import_instances(pieces: &[(usize, usize)], id: u32, inputs: &Inputs<'_>) -> Result<Option<Solid>, CsgError> {
+    let prepared = inputs.prepared;
+    // Each piece's bounds, the whole group's, and the engine's epsilon for them.
+    let piece_bounds: Vec<Aabb> = pieces
+        .iter()
+        .map(|&(k, c)| {
+            prepared[k].components[c]
+                .iter()
+                .flat_map(|&t| prepared[k].triangles[t as usize])
+                .fold(Aabb::EMPTY, |b, v| b.grow(prepared[k].positions[v as usize]))
+        })
+        .collect();
+    let bounds = piece_bounds.iter().fold(Aabb::EMPTY, |a, &b| a.union(b));
+    let (span, magnitude) =
+        ((bounds.max - bounds.min).min_element(), bounds.min.abs().max(bounds.max.abs()).max_element());
+    let epsilon = ENGINE_PRECISION * magnitude;
+    let classes = instance_classes(pieces, prepared, epsilon);
+    if classes.is_empty() {
+        return Ok(None);
+    }
+    if span > 0.0 && span < MIN_SPAN_RESOLUTIONS * epsilon {
+        return Err(CsgError::Precision { side: inputs.leaves[pieces[0].0].1, span, magnitude });
+    }
+    let mut in_class = vec![false; pieces.len()];
+    classes.iter().flatten().for_each(|&i| in_class[i] = true);
+    let rest: Vec<(usize, usize)> = pieces.iter().zip(&in_class).filter(|(_, &c)| !c).map(|(&p, _)| p).collect();
+    let mut jobs: Vec<Vec<(usize, usize)>> = classes.iter().map(|c| vec![pieces[c[0]]]).collect();
+    // The other pieces in one import when their bounds together stay apart from every copy's
+    // (the parts of the composition must be), else one import each.
+    let rest_bounds = (0..pieces.len()).filter(|&i| !in_class[i]).fold(Aabb::EMPTY, |a, i| a.union(piece_bounds[i]));
+    let rest_apart = classes.iter().flatten().all(|&i| piece_bounds[i].is_apart(&rest_bounds));
+    if rest_apart && !rest.is_empty() {
+        jobs.push(rest);
+    } else {
+        jobs.extend(rest.into_iter().map(|p| vec![p]));
+    }
+    let solids: Vec<Solid> =
+        jobs.par_iter().map(|job| import_flat(job, id, epsilon, inputs)).collect::<Result<_, _>>()?;
+    // Each class's copies: their positions in the engine's vertex order of the first piece.
+    let mut copies: Vec<Vec<(Vec<Vec3>, i32)>> = Vec::with_capacity(classes.len());
+    for (class, first) in classes.iter().zip(&solids) {
+        let (k0, _) = pieces[class[0]];
+        let p0 = &prepared[k0];
+        let Some(order) = engine_vertex_order(p0, first) else { return Ok(None) };
+        inputs.token.charge((p0.triangles.len() * (class.len() - 1)) as u64)?;
+        copies.push(
+            class[1..]
+                .par_iter()
+                .map(|&i| {
+                    let k = pieces[i].0;
+                    let moved = order.iter().map(|&v| prepared[k].positions[v as usize]).collect();
+                    (moved, inputs.offsets[k] as i32 - inputs.offsets[k0] as i32)
+                })
+                .collect(),
+        );
+    }
+    let mut parts = Vec::with_capacity(pieces.len());
+    for (j, class_copies) in copies.into_iter().enumerate() {
+        parts.push(ApartSolid { solid: &solids[j], moved_to: None, tag_shift: 0 });
+        parts.extend(class_copies.into_iter().map(|(moved, shift)| ApartSolid {
+            solid: &solids[j],
+            moved_to: Some(moved),
+            tag_shift: shift,
+        }));
+    }
+    parts.extend(solids[classes.len()..].iter().map(|solid| ApartSolid { solid, moved_to: None, tag_shift: 0 }));
+    Ok(Solid::compose_apart(&parts))
+}
+
+/// The pieces of a group that are whole mesh leaves (one component, with a half-edge pairing),
+/// dealt into classes of translated copies, as indices into `pieces`: each class starts with
+/// its first member, whose triangles, pairing and faces the others repeat exactly, with
+/// positions that are its own moved by one vector within `epsilon`. Only classes of two or more.
+fn instance_classes(pieces: &[(usize, usize)], prepared: &[Prepared], epsilon: f64) -> Vec<Vec<usize>> {
+    let mut classes: Vec<Vec<usize>> = Vec::new();
+    for (i, &(k, _)) in pieces.iter().enumerate() {
+        let p = &prepared[k];
+        if p.components.len() != 1 || p.pairs.is_empty() {
+            continue;
+        }
+        match classes.iter_mut().find(|class| is_translated_copy(&prepared[pieces[class[0]].0], p, epsilon)) {
+            Some(class) => class.push(i),
+            None => classes.push(vec![i]),
+        }
+    }
+    classes.retain(|c| c.len() > 1);
+    classes
+}
+
+/// Whether `b` is `a` moved by one vector (within `epsilon` per coordinate): the same triangles,
+/// half-edge pairing and faces.
+fn is_translated_copy(a: &Prepared, b: &Prepared, epsilon: f64) -> bool {
+    if a.positions.len() != b.positions.len()
+        || a.positions.is_empty()
+        || a.triangles != b.triangles
+        || a.pairs != b.pairs
+        || a.faces != b.faces
+    {
+        return false;
+    }
+    let d = b.positions[0] - a.positions[0];
+    a.positions.iter().zip(&b.positions).all(|(&p, &q)| (q - p - d).abs().max_element() <= epsilon)
+}
+
+/// For each vertex of `solid` (the engine's import of the whole of `p`), in the engine's order,
+/// the vertex of `p` at its position; `None` when the import did not keep `p`'s vertices one
+/// for one (it merged or dropped some).
+fn engine_vertex_order(p: &Prepared, solid: &Solid) -> Option<Vec<u32>> {
+    let key = |x: Vec3| x.to_array().map(f64::to_bits);
+    let mut at: IdMap<[u64; 3], u32> = IdMap::with_capacity_and_hasher(p.positions.len(), Default::default());
+    for &v in p.triangles.iter().flatten() {
+        at.insert(key(p.positions[v as usize]), v);
+    }
+    let positions = solid.vertex_positions();
+    if positions.len() != at.len() {
+        return None;
+    }
+    positions.iter().map(|&x| at.get(&key(x)).copied()).collect()
+}
+
+/// One engine import of `pieces` (each piece brings the vertices its triangles use, numbered in
+/// order of first use, written straight into the arrays the engine reads), cleaned up at
+/// `tolerance` when above the engine's automatic epsilon ([`FlatTriangles::tolerance`]).
+fn import_flat(pieces: &[(usize, usize)], id: u32, tolerance: f64, inputs: &Inputs<'_>) -> Result<Solid, CsgError> {
+    let Inputs { prepared, leaves, offsets, token, stop } = *inputs;
+    // Each piece brings the vertices its triangles use, numbered in order of first use,
+    // written straight into the arrays the engine reads.
+    let n: usize = pieces.iter().map(|&(k, c)| prepared[k].components[c].len()).sum();
+    let mut flat = FlatTriangles {
+        coordinates: Vec::with_capacity(3 * (n / 2 + 2)),
+        corners: Vec::with_capacity(3 * n),
+        tags: Vec::with_capacity(n),
+        pairs: Vec::with_capacity(3 * n),
+        tolerance,
+    };
+    // A piece's triangle -> its number in the import, for the half-edge pairing.
+    let mut place: Vec<u32> = Vec::new();
+    let mut paired = pieces.iter().all(|&(k, _)| !prepared[k].pairs.is_empty());
+    // A piece's vertex -> its number in the import (`NONE` when not yet used), and
+    // the piece's vertices, to clear the map for the next piece.
+    let mut number: Vec<u32> = Vec::new();
+    let mut used: Vec<u32> = Vec::new();
+    for &(k, c) in pieces {
+        let p = &prepared[k];
+        if number.len() < p.positions.len() {
+            number.resize(p.positions.len(), NONE);
+        }
+        for (i, &t) in p.components[c].iter().enumerate() {
+            // This runs on any worker of the pool: read the token itself.
+            if i.is_multiple_of(crate::limits::POLL_EVERY) {
+                if let Some(reason) = token.stopped() {
+                    return Err(LimitError::Stopped(reason).into());
+                }
+            }
+            for v in p.triangles[t as usize] {
+                let slot = &mut number[v as usize];
+                if *slot == NONE {
+                    *slot = (flat.coordinates.len() / 3) as u32;
+                    flat.coordinates.extend_from_slice(&p.positions[v as usize].to_array());
+                    used.push(v);
+                }
+                flat.corners.push(*slot);
+            }
+            flat.tags.push(offsets[k] + p.faces[t as usize]);
+        }
+        for v in used.drain(..) {
+            number[v as usize] = NONE;
+        }
+        if paired {
+            paired = pair_piece(p, c, &mut place, &mut flat.pairs);
+        }
+    }
+    if !paired {
+        flat.pairs = Vec::new();
+    }
+    let triangles = flat.tags.len();
+    token.charge(triangles as u64)?;
+    // An operand too small for the precision where it lies is merged away by the
+    // engine's import itself (a unit box at 1e12 became empty, and a union of two of
+    // them 0 faces): refused before, as the boolean's own check would refuse it.
+    let side = leaves[pieces[0].0].1;
+    let (span, magnitude) = span_and_magnitude(&flat.coordinates);
+    if span > 0.0 && span < MIN_SPAN_RESOLUTIONS * (ENGINE_PRECISION * magnitude).max(tolerance) {
+        return Err(CsgError::Precision { side, span, magnitude });
+    }
+    let solid = Solid::from_flat_until(flat, id, stop).map_err(|e| match e {
+        EngineError::Stopped => inputs.engine_error(e),
+        EngineError::Failed(reason) => {
+            let (k, _) = pieces[0];
+            CsgError::NonManifold {
+                side: leaves[k].1,
+                leaf: prepared[k].first_leaf_hint,
+                reason: format!("the boolean engine refuses it ({reason})"),
+            }
+        }
+    })?;
+    // Never an empty operand from a solid one: whatever merged it away was precision.
+    if solid.is_empty() && triangles > 0 && span > 0.0 {
+        return Err(CsgError::Precision { side, span, magnitude });
+    }
+    Ok(solid)
 }
 
 /// A solid's work units for the operation count: its triangles.
@@ -927,3 +1081,7 @@ fn check_solid(
     }
     Ok(())
 }
+
+#[cfg(test)]
+#[path = "tests_instances.rs"]
+mod tests_instances;

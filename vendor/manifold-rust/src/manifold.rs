@@ -549,6 +549,11 @@ pub(crate) use meshgl::AssembledRefs;
 #[path = "manifold_meshgl_export.rs"]
 mod meshgl_export;
 
+// blocksmith patch (PATCHES.md, 16).
+#[path = "manifold_compose_apart.rs"]
+mod compose_apart;
+pub use compose_apart::ApartPart;
+
 #[path = "manifold_shape.rs"]
 mod shape;
 

@@ -1,0 +1,124 @@
+//! Tests of the instanced import ([`import_instances`]): translated copies of one mesh are
+//! imported once and copied, giving exactly what one import of them all gives.
+
+use super::*;
+
+/// A triangulated icosphere of radius 0.5.
+fn ball() -> Mesh {
+    Mesh::icosphere(0.5, 2).triangulate().unwrap()
+}
+
+/// The leaves prepared as `evaluate` prepares them, with their first face tags.
+fn prepared(leaves: &[(&Csg, Side)]) -> (Vec<Prepared>, Vec<u32>) {
+    let prepared: Vec<Prepared> =
+        leaves.iter().enumerate().map(|(k, (leaf, side))| prepare(leaf, *side, k as u32).unwrap()).collect();
+    let offsets = prepared
+        .iter()
+        .scan(0u32, |tag, p| {
+            let first = *tag;
+            *tag += p.face_sources.len() as u32;
+            Some(first)
+        })
+        .collect();
+    (prepared, offsets)
+}
+
+/// Each triangle of `s` as its tag and its corners' coordinates (bits), from the smallest
+/// corner on, sorted: what two imports must agree on whatever their orders.
+fn triangles(s: &Solid) -> Vec<(u32, [[u64; 3]; 3])> {
+    let t = s.paired_triangles();
+    let mut out: Vec<(u32, [[u64; 3]; 3])> = t
+        .corners
+        .chunks_exact(3)
+        .zip(&t.tags)
+        .map(|(c, &tag)| {
+            let mut corners = [0, 1, 2].map(|i| t.positions[c[i] as usize].to_array().map(f64::to_bits));
+            let first = (0..3).min_by_key(|&i| corners[i]).unwrap_or(0);
+            corners.rotate_left(first);
+            (tag, corners)
+        })
+        .collect();
+    out.sort_unstable();
+    out
+}
+
+#[test]
+fn translated_copies_import_once_and_exactly_as_one_import_would() {
+    let s = ball();
+    let centres = [[0.0, 0.0, 0.0], [2.0, 0.0, 0.0], [0.0, 2.0, 0.3], [2.0, 2.0, -0.7], [-3.25, 1.0, 0.1]];
+    let mut leaves: Vec<Csg> = centres.iter().map(|&c| Csg::mesh(s.translate(Vec3::from(c)))).collect();
+    // Not copies: the same triangles turned, and scaled.
+    leaves.push(Csg::mesh(s.rotate(Vec3::Z, 30.0).translate(Vec3::new(6.0, 0.0, 0.0))));
+    leaves.push(Csg::mesh(s.scale(Vec3::splat(1.5)).translate(Vec3::new(-6.0, 0.0, 0.0))));
+    // And a box, of other triangles.
+    leaves.push(Csg::mesh(Mesh::cuboid(Vec3::new(5.0, 5.0, 5.0), Vec3::new(6.0, 6.0, 6.0))));
+    let sided: Vec<(&Csg, Side)> = leaves.iter().map(|l| (l, Side::Right)).collect();
+    let (prepared, offsets) = prepared(&sided);
+    let pieces: Vec<(usize, usize)> = (0..leaves.len()).map(|k| (k, 0)).collect();
+    let classes = instance_classes(&pieces, &prepared, 1e-11);
+    assert_eq!(classes, vec![vec![0, 1, 2, 3, 4]], "the five translates, and only they");
+    let token = CancelToken::new();
+    let stop = Stop::new();
+    let inputs = Inputs { prepared: &prepared, leaves: &sided, offsets: &offsets, token: &token, stop: &stop };
+    let instanced = import_instances(&pieces, 9, &inputs).unwrap().expect("the copies are instanced");
+    let flat = import_flat(&pieces, 9, 0.0, &inputs).unwrap();
+    assert_eq!(instanced.triangle_count(), flat.triangle_count());
+    assert!((instanced.volume() - flat.volume()).abs() <= 1e-12 * flat.volume());
+    // The same triangles at the same coordinates with the same tags: each copy keeps its own
+    // positions and its own leaf's faces.
+    assert_eq!(triangles(&instanced), triangles(&flat));
+}
+
+#[test]
+fn a_group_without_copies_or_with_a_near_copy_is_imported_as_one() {
+    let s = ball();
+    let mut bent = s.translate(Vec3::new(3.0, 0.0, 0.0));
+    let p = bent.position(5);
+    bent.set_position(5, p + Vec3::new(1e-6, 0.0, 0.0)).unwrap();
+    let leaves =
+        [Csg::mesh(s.clone()), Csg::mesh(bent), Csg::mesh(s.rotate(Vec3::X, 90.0).translate(Vec3::splat(-3.0)))];
+    let sided: Vec<(&Csg, Side)> = leaves.iter().map(|l| (l, Side::Left)).collect();
+    let (prepared, offsets) = prepared(&sided);
+    let pieces: Vec<(usize, usize)> = (0..leaves.len()).map(|k| (k, 0)).collect();
+    assert!(instance_classes(&pieces, &prepared, 1e-11).is_empty());
+    let token = CancelToken::new();
+    let stop = Stop::new();
+    let inputs = Inputs { prepared: &prepared, leaves: &sided, offsets: &offsets, token: &token, stop: &stop };
+    assert!(import_instances(&pieces, 3, &inputs).unwrap().is_none());
+}
+
+/// Through a whole boolean: a block minus a pattern of translated balls. The volume is the
+/// block's less the balls' (each wholly inside), every ball's faces name that ball's leaf and
+/// lie on it, and the same tree gives the same mesh every time.
+#[test]
+fn a_pattern_of_copies_cut_from_a_block_keeps_each_copy_its_own_faces() {
+    let s = ball();
+    let centres: Vec<Vec3> = (0..12)
+        .map(|i| Vec3::new((i % 4) as f64 * 1.5 - 2.25, (i / 4) as f64 * 1.5 - 1.5, 0.2 * (i % 3) as f64))
+        .collect();
+    let block = Csg::mesh(Mesh::cuboid(Vec3::new(-4.0, -3.0, -2.0), Vec3::new(4.0, 3.0, 2.0)));
+    let balls = Csg::union_all(centres.iter().map(|&c| Csg::mesh(s.translate(c))).collect()).unwrap();
+    let tree = block.difference(balls);
+    let m = tree.evaluate().unwrap();
+    assert!(m.is_closed() && m.is_manifold());
+    assert_eq!(m.component_count(), 13, "the block's shell and twelve cavities");
+    let expected = 8.0 * 6.0 * 4.0 - 12.0 * s.volume();
+    assert!((m.volume() - expected).abs() < 1e-9, "{} != {expected}", m.volume());
+    let sources = m.face_sources().unwrap();
+    for f in 0..m.face_count() as u32 {
+        match sources[f as usize] {
+            FaceSource::Mesh { leaf: 0, .. } => {}
+            FaceSource::Mesh { leaf, .. } => {
+                let c = centres[leaf as usize - 1];
+                for v in m.face_vertices(f) {
+                    let r = m.position(v).distance(c);
+                    assert!((r - 0.5).abs() < 1e-9, "face {f} of ball {leaf} at {r} from its centre");
+                }
+            }
+            other => panic!("face {f}: {other:?}"),
+        }
+    }
+    let again = tree.evaluate().unwrap();
+    assert_eq!(again.positions(), m.positions());
+    assert_eq!(again.face_sources(), m.face_sources());
+}

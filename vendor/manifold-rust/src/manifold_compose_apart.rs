@@ -1,0 +1,340 @@
+//! blocksmith patch (PATCHES.md, 16): the union of parts that are apart, by concatenation, and
+//! translated copies of a part placed without importing them again.
+//!
+//! `compose_meshes` (`Manifold::compose`) rebuilds its result from triangles: it pairs every
+//! half-edge again, cleans up, recomputes the normals and coplanar groups and sorts — as much
+//! work as importing the parts afresh. C++ Manifold's `CsgLeafNode::Compose` instead copies its
+//! parts' half-edges with their indices shifted and only sorts, and its lazily transformed
+//! leaves share their topology with the manifold they were made from. This is that path for
+//! parts already valid: an instanced pattern (a sphere translated to 21 places) is imported
+//! once and copied 20 times.
+
+use super::Manifold;
+use crate::impl_mesh::ManifoldImpl;
+use crate::linalg::Vec3;
+use crate::types::{Error, Halfedge, TriRef};
+
+/// One part of [`Manifold::compose_apart`].
+pub struct ApartPart<'a> {
+    /// The part.
+    pub part: &'a Manifold,
+    /// Where its vertices go, in its own vertex order, for a translated copy: every vertex
+    /// moved by one vector, within the part's epsilon (checked). `None` leaves the part where
+    /// it is.
+    pub moved_to: Option<Vec<Vec3>>,
+    /// Added to the face ID of each of its triangles that has one.
+    pub face_id_shift: i32,
+}
+
+impl Manifold {
+    /// The union of `parts` whose bounding boxes are pairwise apart (no two touch), each
+    /// optionally translated (see [`ApartPart`]), without importing them again: their
+    /// half-edges, normals and coplanar groups are copied with their indices shifted, each
+    /// part keeps its own mesh IDs (renumbered as `compose` renumbers them), and the result is
+    /// sorted once for its collider. Linear in the parts' size, plus the sort.
+    ///
+    /// The parts' clean-up (short edges, degenerate triangles) is not run again, so each part
+    /// must already have been cleaned at an epsilon no smaller than the result's; the result
+    /// keeps the parts' largest epsilon and tolerance.
+    ///
+    /// `None` (and nothing composed) when a condition does not hold: no parts; a part empty,
+    /// invalid, a soup, or carrying properties or tangents; positions of the wrong count, not
+    /// finite or not one translation; two boxes not apart; a part's epsilon smaller than the
+    /// result's automatic one. The caller then composes another way (`Manifold::compose`, or a
+    /// fresh import of all the parts).
+    pub fn compose_apart(parts: &[ApartPart<'_>]) -> Option<Manifold> {
+        if parts.is_empty() {
+            return None;
+        }
+        let mut boxes = Vec::with_capacity(parts.len());
+        for p in parts {
+            let m = &p.part.imp;
+            let fit = m.status == Error::NoError
+                && !m.is_soup
+                && !m.halfedge.is_empty()
+                && m.num_prop == 0
+                && m.halfedge_tangent.is_empty()
+                && m.vert_normal.len() == m.vert_pos.len()
+                && m.face_normal.len() == m.num_tri()
+                && m.mesh_relation.tri_ref.len() == m.num_tri();
+            if !fit {
+                return None;
+            }
+            let (lo, hi) = match &p.moved_to {
+                None => (m.bbox.min, m.bbox.max),
+                Some(to) => translation_bounds(&m.vert_pos, to, m.epsilon)?,
+            };
+            boxes.push((lo, hi));
+        }
+        if !pairwise_apart(&boxes) {
+            return None;
+        }
+
+        let num_vert: usize = parts.iter().map(|p| p.part.imp.vert_pos.len()).sum();
+        let num_halfedge: usize = parts.iter().map(|p| p.part.imp.halfedge.len()).sum();
+        let mut out = ManifoldImpl::new();
+        out.vert_pos.reserve_exact(num_vert);
+        out.vert_normal.reserve_exact(num_vert);
+        out.halfedge.reserve_exact(num_halfedge);
+        out.face_normal.reserve_exact(num_halfedge / 3);
+        out.mesh_relation.tri_ref.reserve_exact(num_halfedge / 3);
+        // Each part's mesh IDs become local IDs 1, 2, 3, … in part order, as `compose_meshes`
+        // numbers them, so `increment_mesh_ids` hands out fresh ones in a deterministic order
+        // and two copies of one part stay two instances.
+        let mut next_local = 1i32;
+        for p in parts {
+            let m = &p.part.imp;
+            let (vert_offset, edge_offset) = (out.vert_pos.len() as i32, out.halfedge.len() as i32);
+            let tri_offset = edge_offset / 3;
+            match &p.moved_to {
+                Some(to) => out.vert_pos.extend_from_slice(to),
+                None => out.vert_pos.extend_from_slice(&m.vert_pos),
+            }
+            out.vert_normal.extend_from_slice(&m.vert_normal);
+            out.face_normal.extend_from_slice(&m.face_normal);
+            out.halfedge.extend(m.halfedge.iter().map(|h| Halfedge {
+                start_vert: h.start_vert + vert_offset,
+                end_vert: h.end_vert + vert_offset,
+                paired_halfedge: if h.paired_halfedge < 0 {
+                    h.paired_halfedge
+                } else {
+                    h.paired_halfedge + edge_offset
+                },
+                prop_vert: h.prop_vert + vert_offset,
+            }));
+            let mut local = std::collections::HashMap::new();
+            for (id, relation) in &m.mesh_relation.mesh_id_transform {
+                local.insert(*id, next_local);
+                out.mesh_relation
+                    .mesh_id_transform
+                    .insert(next_local, relation.clone());
+                next_local += 1;
+            }
+            out.mesh_relation
+                .tri_ref
+                .extend(m.mesh_relation.tri_ref.iter().map(|r| TriRef {
+                    mesh_id: local.get(&r.mesh_id).copied().unwrap_or(r.mesh_id),
+                    original_id: r.original_id,
+                    face_id: if r.face_id >= 0 {
+                        r.face_id + p.face_id_shift
+                    } else {
+                        r.face_id
+                    },
+                    coplanar_id: r.coplanar_id + tri_offset,
+                }));
+        }
+        out.mesh_relation.original_id = -1;
+        out.calculate_bbox();
+        out.set_epsilon(-1.0, false);
+        if parts.iter().any(|p| p.part.imp.epsilon < out.epsilon) {
+            return None;
+        }
+        out.epsilon = parts
+            .iter()
+            .map(|p| p.part.imp.epsilon)
+            .fold(out.epsilon, f64::max);
+        out.tolerance = parts
+            .iter()
+            .map(|p| p.part.imp.tolerance)
+            .fold(out.tolerance, f64::max);
+        crate::sort::sort_geometry(&mut out);
+        out.increment_mesh_ids();
+        Some(Manifold::from_impl(out))
+    }
+}
+
+/// The bounds of `to` when it is `from` moved by one vector within `epsilon` (the vector
+/// taken from the first vertex), else `None`.
+fn translation_bounds(from: &[Vec3], to: &[Vec3], epsilon: f64) -> Option<(Vec3, Vec3)> {
+    if from.len() != to.len() || from.is_empty() {
+        return None;
+    }
+    let d = to[0] - from[0];
+    let mut lo = to[0];
+    let mut hi = to[0];
+    for (&a, &b) in from.iter().zip(to) {
+        let off = b - a - d;
+        let finite = b.x.is_finite() && b.y.is_finite() && b.z.is_finite();
+        if !finite || off.x.abs() > epsilon || off.y.abs() > epsilon || off.z.abs() > epsilon {
+            return None;
+        }
+        lo = Vec3::new(lo.x.min(b.x), lo.y.min(b.y), lo.z.min(b.z));
+        hi = Vec3::new(hi.x.max(b.x), hi.y.max(b.y), hi.z.max(b.z));
+    }
+    Some((lo, hi))
+}
+
+/// Whether no two of the boxes `(min, max)` touch: a sweep along x, each box compared with the
+/// earlier ones whose x-range reaches it.
+fn pairwise_apart(boxes: &[(Vec3, Vec3)]) -> bool {
+    let mut order: Vec<usize> = (0..boxes.len()).collect();
+    order.sort_by(|&a, &b| boxes[a].0.x.total_cmp(&boxes[b].0.x).then(a.cmp(&b)));
+    let mut active: Vec<usize> = Vec::new();
+    for &i in &order {
+        let (lo, hi) = boxes[i];
+        active.retain(|&j| boxes[j].1.x >= lo.x);
+        for &j in &active {
+            let (jl, jh) = boxes[j];
+            let apart = jh.x < lo.x
+                || hi.x < jl.x
+                || jh.y < lo.y
+                || hi.y < jl.y
+                || jh.z < lo.z
+                || hi.z < jl.z;
+            if !apart {
+                return false;
+            }
+        }
+        active.push(i);
+    }
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sphere_at(x: f64, y: f64) -> Manifold {
+        Manifold::sphere(1.0, 32).translate(Vec3::new(x, y, 0.0))
+    }
+
+    #[test]
+    fn composing_apart_gives_what_compose_gives() {
+        // Equally far from the origin, so each part's epsilon is the result's.
+        let parts = [
+            sphere_at(0.0, 3.0),
+            sphere_at(3.0, 0.0),
+            sphere_at(-3.0, 0.0),
+        ];
+        let placed: Vec<ApartPart<'_>> = parts
+            .iter()
+            .map(|part| ApartPart {
+                part,
+                moved_to: None,
+                face_id_shift: 0,
+            })
+            .collect();
+        let apart = Manifold::compose_apart(&placed).expect("apart");
+        let composed = Manifold::compose(&parts);
+        assert_eq!(apart.num_tri(), composed.num_tri());
+        assert_eq!(apart.num_vert(), composed.num_vert());
+        assert!((apart.volume() - composed.volume()).abs() < 1e-12 * composed.volume());
+        assert!(apart.as_impl().is_manifold());
+        // Usable in a boolean: a box through all three spheres.
+        let bar = Manifold::cube(Vec3::new(8.0, 0.5, 0.5), true);
+        let a = apart.difference(&bar);
+        let b = composed.difference(&bar);
+        assert_eq!(a.status(), Error::NoError);
+        assert!((a.volume() - b.volume()).abs() < 1e-9 * b.volume());
+        assert_eq!(a.num_tri(), b.num_tri());
+    }
+
+    #[test]
+    fn a_translated_copy_is_the_translated_part() {
+        // The copy no farther from the origin than the part, so the part's epsilon holds.
+        let s = sphere_at(10.0, 0.0);
+        let d = Vec3::new(-20.0, 1.0, -2.0);
+        let moved: Vec<Vec3> = s.as_impl().vert_pos.iter().map(|&p| p + d).collect();
+        let copies = [
+            ApartPart {
+                part: &s,
+                moved_to: None,
+                face_id_shift: 0,
+            },
+            ApartPart {
+                part: &s,
+                moved_to: Some(moved),
+                face_id_shift: 7,
+            },
+        ];
+        let both = Manifold::compose_apart(&copies).expect("apart");
+        assert_eq!(both.num_tri(), 2 * s.num_tri());
+        assert!((both.volume() - 2.0 * s.volume()).abs() < 1e-12 * s.volume());
+        let b = both.bounding_box();
+        assert!((b.min.x - (-11.0)).abs() < 1e-12 && (b.max.x - 11.0).abs() < 1e-12);
+        assert!(both.as_impl().is_manifold());
+        // The copy's face IDs are shifted; the original's are not.
+        let ids: std::collections::BTreeSet<i32> = both
+            .as_impl()
+            .mesh_relation
+            .tri_ref
+            .iter()
+            .map(|r| r.face_id)
+            .collect();
+        let own: std::collections::BTreeSet<i32> = s
+            .as_impl()
+            .mesh_relation
+            .tri_ref
+            .iter()
+            .map(|r| r.face_id)
+            .collect();
+        let shifted: std::collections::BTreeSet<i32> = own
+            .iter()
+            .map(|&f| if f >= 0 { f + 7 } else { f })
+            .collect();
+        assert_eq!(ids, own.union(&shifted).copied().collect());
+    }
+
+    #[test]
+    fn what_does_not_hold_is_refused() {
+        let s = sphere_at(0.0, 0.0);
+        let t = sphere_at(1.5, 0.0);
+        let part = |m| ApartPart {
+            part: m,
+            moved_to: None,
+            face_id_shift: 0,
+        };
+        // Overlapping boxes.
+        assert!(Manifold::compose_apart(&[part(&s), part(&t)]).is_none());
+        assert!(Manifold::compose_apart(&[]).is_none());
+        // Not one translation.
+        let mut bent: Vec<Vec3> = s
+            .as_impl()
+            .vert_pos
+            .iter()
+            .map(|&p| p + Vec3::new(4.0, 0.0, 0.0))
+            .collect();
+        bent[3].y += 0.1;
+        assert!(Manifold::compose_apart(&[
+            part(&s),
+            ApartPart {
+                part: &s,
+                moved_to: Some(bent),
+                face_id_shift: 0
+            }
+        ])
+        .is_none());
+        // The wrong count, or not finite.
+        let short = vec![Vec3::new(9.0, 0.0, 0.0)];
+        assert!(Manifold::compose_apart(&[ApartPart {
+            part: &s,
+            moved_to: Some(short),
+            face_id_shift: 0
+        }])
+        .is_none());
+        let mut nan: Vec<Vec3> = s.as_impl().vert_pos.clone();
+        nan[0].x = f64::NAN;
+        assert!(Manifold::compose_apart(&[ApartPart {
+            part: &s,
+            moved_to: Some(nan),
+            face_id_shift: 0
+        }])
+        .is_none());
+        // A part cleaned at a finer epsilon than the result's: a copy farther from the origin.
+        let far: Vec<Vec3> = s
+            .as_impl()
+            .vert_pos
+            .iter()
+            .map(|&p| p + Vec3::new(1e3, 0.0, 0.0))
+            .collect();
+        assert!(Manifold::compose_apart(&[
+            part(&s),
+            ApartPart {
+                part: &s,
+                moved_to: Some(far),
+                face_id_shift: 0
+            }
+        ])
+        .is_none());
+    }
+}
