@@ -4,7 +4,7 @@
 //! `compose_meshes` (`Manifold::compose`) rebuilds its result from triangles: it pairs every
 //! half-edge again, cleans up, recomputes the normals and coplanar groups and sorts — as much
 //! work as importing the parts afresh. C++ Manifold's `CsgLeafNode::Compose` instead copies its
-//! parts' half-edges with their indices shifted and only sorts, and its lazily transformed
+//! parts' half-edges with their indices shifted and sorts them, and its lazily transformed
 //! leaves share their topology with the manifold they were made from. This is that path for
 //! parts already valid: an instanced pattern (a sphere translated to 21 places) is imported
 //! once and copied 20 times.
@@ -30,8 +30,10 @@ impl Manifold {
     /// The union of `parts` whose bounding boxes are pairwise apart (no two touch), each
     /// optionally translated (see [`ApartPart`]), without importing them again: their
     /// half-edges, normals and coplanar groups are copied with their indices shifted, each
-    /// part keeps its own mesh IDs (renumbered as `compose` renumbers them), and the result is
-    /// sorted once for its collider. Linear in the parts' size, plus the sort.
+    /// part keeps its own mesh IDs (renumbered as `compose` renumbers them), and nothing is
+    /// sorted: the parts go in the Morton order of their boxes' centres, each keeping its own
+    /// order (spatially coherent: every manifold is sorted when made), and the collider is
+    /// built over that order. Linear in the parts' size.
     ///
     /// The parts' clean-up (short edges, degenerate triangles) is not run again, so each part
     /// must already have been cleaned at an epsilon no smaller than the result's; the result
@@ -82,7 +84,8 @@ impl Manifold {
         // numbers them, so `increment_mesh_ids` hands out fresh ones in a deterministic order
         // and two copies of one part stay two instances.
         let mut next_local = 1i32;
-        for p in parts {
+        for &i in &spatial_order(&boxes) {
+            let p = &parts[i];
             let m = &p.part.imp;
             let (vert_offset, edge_offset) = (out.vert_pos.len() as i32, out.halfedge.len() as i32);
             let tri_offset = edge_offset / 3;
@@ -137,10 +140,33 @@ impl Manifold {
             .iter()
             .map(|p| p.part.imp.tolerance)
             .fold(out.tolerance, f64::max);
-        crate::sort::sort_geometry(&mut out);
+        // No sort: the parts come in the order of their boxes' Morton codes, each already in
+        // its own Morton order (every part was sorted when it was made), so the face order is
+        // spatially coherent as it stands and the collider is built over it, with the faces'
+        // positions as their codes.
+        let (face_box, _) = crate::sort::get_face_box_morton(&out);
+        let codes = (0..face_box.len() as u32).collect();
+        out.collider = crate::collider::Collider::new(face_box, codes);
         out.increment_mesh_ids();
         Some(Manifold::from_impl(out))
     }
+}
+
+/// The order of the boxes `(min, max)` by the Morton codes of their centres in the box around
+/// them all (ties in index order).
+fn spatial_order(boxes: &[(Vec3, Vec3)]) -> Vec<usize> {
+    let mut all = crate::types::Box::default();
+    for &(lo, hi) in boxes {
+        all.union_point(lo);
+        all.union_point(hi);
+    }
+    let mut order: Vec<(u32, usize)> = boxes
+        .iter()
+        .enumerate()
+        .map(|(i, &(lo, hi))| (crate::sort::morton_code((lo + hi) / 2.0, &all), i))
+        .collect();
+    order.sort_unstable();
+    order.into_iter().map(|(_, i)| i).collect()
 }
 
 /// The bounds of `to` when it is `from` moved by one vector within `epsilon` (the vector
@@ -220,6 +246,8 @@ mod tests {
         assert_eq!(apart.num_vert(), composed.num_vert());
         assert!((apart.volume() - composed.volume()).abs() < 1e-12 * composed.volume());
         assert!(apart.as_impl().is_manifold());
+        // The collider built over the unsorted order finds every face.
+        assert_eq!(crate::sort::collider_self_misses(apart.as_impl()), 0);
         // Usable in a boolean: a box through all three spheres.
         let bar = Manifold::cube(Vec3::new(8.0, 0.5, 0.5), true);
         let a = apart.difference(&bar);
@@ -253,6 +281,7 @@ mod tests {
         let b = both.bounding_box();
         assert!((b.min.x - (-11.0)).abs() < 1e-12 && (b.max.x - 11.0).abs() < 1e-12);
         assert!(both.as_impl().is_manifold());
+        assert_eq!(crate::sort::collider_self_misses(both.as_impl()), 0);
         // The copy's face IDs are shifted; the original's are not.
         let ids: std::collections::BTreeSet<i32> = both
             .as_impl()
