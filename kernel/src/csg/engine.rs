@@ -19,7 +19,7 @@ use std::time::Duration;
 use manifold_rust::cross_section::CrossSection;
 use manifold_rust::linalg::{Vec2 as EVec2, Vec3 as EVec3};
 use manifold_rust::manifold::Manifold;
-use manifold_rust::types::{BooleanConfig, Error as EngineStatus, MeshGLP, OpType, Polygons};
+use manifold_rust::types::{BooleanConfig, BooleanEngine, Error as EngineStatus, MeshGLP, OpType, Polygons};
 
 use super::CsgOp;
 use crate::limits::CancelToken;
@@ -259,6 +259,21 @@ impl Solid {
     /// [`EngineError::Stopped`] when `stop` was set before the engine finished, else as
     /// [`Solid::boolean`].
     pub fn boolean_until(&self, other: &Solid, op: CsgOp, stop: &Stop) -> Result<Solid, EngineError> {
+        self.boolean_sorted_or_not(other, op, stop, true)
+    }
+
+    /// [`Solid::boolean_until`] for a result that is only exported ([`Solid::paired_triangles`],
+    /// [`Solid::triangles`]), never an operand again: the engine leaves it in the order it makes
+    /// it, without its spatial sort (engine patch 17; a sixth of a large boolean's time).
+    ///
+    /// # Errors
+    /// As [`Solid::boolean_until`].
+    pub fn boolean_for_export_until(&self, other: &Solid, op: CsgOp, stop: &Stop) -> Result<Solid, EngineError> {
+        self.boolean_sorted_or_not(other, op, stop, false)
+    }
+
+    /// [`Solid::boolean_until`], its result sorted (usable as an operand) when `sorted`.
+    fn boolean_sorted_or_not(&self, other: &Solid, op: CsgOp, stop: &Stop, sorted: bool) -> Result<Solid, EngineError> {
         if stop.is_stopped() {
             return Err(EngineError::Stopped);
         }
@@ -280,8 +295,12 @@ impl Solid {
             CsgOp::Difference => OpType::Subtract,
             CsgOp::Intersection => OpType::Intersect,
         };
-        let inner =
-            self.inner.boolean_with_engine_and_token(&other.inner, op, BooleanConfig::default_engine(), Some(&stop.0));
+        let engine = BooleanConfig::default_engine();
+        let inner = if sorted || engine != BooleanEngine::Exact {
+            self.inner.boolean_with_engine_and_token(&other.inner, op, engine, Some(&stop.0))
+        } else {
+            self.inner.boolean_for_export_with_token(&other.inner, op, Some(&stop.0))
+        };
         match inner.status() {
             EngineStatus::NoError => Ok(Solid { inner }),
             EngineStatus::Cancelled => Err(EngineError::Stopped),

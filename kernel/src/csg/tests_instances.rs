@@ -122,3 +122,36 @@ fn a_pattern_of_copies_cut_from_a_block_keeps_each_copy_its_own_faces() {
     assert_eq!(again.positions(), m.positions());
     assert_eq!(again.face_sources(), m.face_sources());
 }
+
+#[test]
+fn a_translated_copy_is_prepared_as_prepare_would_prepare_it() {
+    let mut s = ball();
+    s.set_edge_sharpness_halfedge(0, f64::INFINITY);
+    s.set_edge_sharpness_halfedge(7, 2.0);
+    s.set_corner_sharpness(3, 1.5);
+    let leaves = [
+        Csg::mesh(s.clone()),
+        Csg::mesh(s.translate(Vec3::new(2.0, 0.0, 0.0))),
+        Csg::mesh(s.translate(Vec3::new(-1.25, 3.5, 0.7))),
+        Csg::mesh(s.rotate(Vec3::Y, 45.0).translate(Vec3::new(0.0, -3.0, 0.0))),
+    ];
+    let sided: Vec<(&Csg, Side)> = leaves.iter().map(|l| (l, Side::Right)).collect();
+    assert_eq!(translated_copies(&sided), vec![None, Some(0), Some(0), None]);
+    let first = prepare(&leaves[0], Side::Right, 0).unwrap();
+    for (k, leaf) in leaves.iter().enumerate().take(3).skip(1) {
+        let Csg::Mesh(m) = leaf else { unreachable!() };
+        let moved = first.moved(m, Side::Right, k as u32).unwrap();
+        let fresh = prepare(leaf, Side::Right, k as u32).unwrap();
+        assert_eq!(moved.positions, fresh.positions);
+        assert_eq!(moved.triangles, fresh.triangles);
+        assert_eq!(moved.faces, fresh.faces);
+        assert_eq!(moved.face_sources, fresh.face_sources);
+        assert_eq!(moved.creases, fresh.creases);
+        assert_eq!(moved.creases.len(), 2);
+        assert_eq!(moved.corners, fresh.corners);
+        assert_eq!(moved.corners.len(), 1);
+        assert_eq!(moved.components, fresh.components);
+        assert_eq!(moved.pairs, fresh.pairs);
+        assert_eq!((moved.leaf_span, moved.first_leaf_hint), (fresh.leaf_span, fresh.first_leaf_hint));
+    }
+}

@@ -119,15 +119,40 @@ impl Csg {
     fn evaluate_here(&self, token: &CancelToken, stop: &Stop) -> Result<Mesh, CsgError> {
         let mut leaves = Vec::new();
         collect_leaves(self, Side::Left, &mut leaves);
-        let prepared: Vec<Prepared> = leaves
+        // Mesh leaves that are translated copies of an earlier one (a pattern of one part) take
+        // its preparation, moved ([`Prepared::moved`]).
+        let copy_of = translated_copies(&leaves);
+        let mut prepared: Vec<Option<Prepared>> = leaves
             .par_iter()
             .enumerate()
             .map(|(k, (leaf, side))| {
+                if copy_of[k].is_some() {
+                    return Ok(None);
+                }
                 // The workers' block tessellation and checks charge the caller's token.
                 let _current = crate::limits::install(token.clone());
-                prepare(leaf, *side, k as u32)
+                prepare(leaf, *side, k as u32).map(Some)
             })
             .collect::<Result<_, _>>()?;
+        let moved: Vec<(usize, Prepared)> = copy_of
+            .par_iter()
+            .enumerate()
+            .filter_map(|(k, first)| Some((k, (*first)?)))
+            .filter_map(|(k, first)| match (leaves[k], &prepared[first]) {
+                ((Csg::Mesh(m), side), Some(p)) => {
+                    let _current = crate::limits::install(token.clone());
+                    Some(p.moved(m, side, k as u32).map(|p| (k, p)))
+                }
+                _ => None,
+            })
+            .collect::<Result<_, _>>()?;
+        for (k, p) in moved {
+            prepared[k] = Some(p);
+        }
+        let prepared: Vec<Prepared> = prepared.into_iter().flatten().collect();
+        if prepared.len() != leaves.len() {
+            return Err(CsgError::Engine { reason: "a leaf's preparation is missing".into() });
+        }
         // Leaf numbers and the global face tags: leaf k's faces (coplanar groups, see
         // `Prepared::faces`) are tagged from offsets[k], its leaf ids start at first_leaf[k].
         let total: usize = prepared.iter().map(|p| p.triangles.len()).sum();
@@ -174,7 +199,8 @@ impl Csg {
         let bounds: Vec<Vec<Aabb>> = prepared.iter().map(Prepared::component_bounds).collect();
         let mut leaf_no = 0usize;
         let plan = plan(self, &bounds, &mut leaf_no);
-        let solid = run(&plan, &Inputs { prepared: &prepared, leaves: &leaves, offsets: &offsets, token, stop })?;
+        let inputs = Inputs { prepared: &prepared, leaves: &leaves, offsets: &offsets, token, stop };
+        let solid = run(&plan, &inputs, true)?;
         drop(prepared);
         token.charge(solid_size(&solid))?;
         // The result's half-edge mesh from the engine's own pairing of its half-edges: one
@@ -473,25 +499,32 @@ impl Inputs<'_> {
     }
 }
 
-/// Carries out `plan`: imports in parallel, both sides of every boolean in parallel.
-fn run(plan: &Plan, inputs: &Inputs<'_>) -> Result<Solid, CsgError> {
+/// Carries out `plan`: imports in parallel, both sides of every boolean in parallel. The
+/// result is for export only when `for_export` (the root's boolean skips the engine's spatial
+/// sort, see [`Solid::boolean_for_export_until`]).
+fn run(plan: &Plan, inputs: &Inputs<'_>, for_export: bool) -> Result<Solid, CsgError> {
     if let Some(reason) = inputs.token.stopped() {
         return Err(LimitError::Stopped(reason).into());
     }
     match plan {
         Plan::Import { pieces, id } => import_group(pieces, *id, inputs),
         Plan::Union(parts) => {
-            let solids: Vec<Solid> = parts.par_iter().map(|p| run(p, inputs)).collect::<Result<_, _>>()?;
+            let solids: Vec<Solid> = parts.par_iter().map(|p| run(p, inputs, false)).collect::<Result<_, _>>()?;
             check_precision(&solids.iter().collect::<Vec<_>>())?;
             inputs.token.charge(solids.iter().map(solid_size).sum())?;
             Solid::union_all_until(solids, inputs.stop).map_err(|e| inputs.engine_error(e))
         }
         Plan::Op(op, a, b) => {
-            let (ra, rb) = rayon::join(|| run(a, inputs), || run(b, inputs));
+            let (ra, rb) = rayon::join(|| run(a, inputs, false), || run(b, inputs, false));
             let (ra, rb) = (ra?, rb?);
             check_precision(&[&ra, &rb])?;
             inputs.token.charge(solid_size(&ra) + solid_size(&rb))?;
-            ra.boolean_until(&rb, *op, inputs.stop).map_err(|e| inputs.engine_error(e))
+            let result = if for_export {
+                ra.boolean_for_export_until(&rb, *op, inputs.stop)
+            } else {
+                ra.boolean_until(&rb, *op, inputs.stop)
+            };
+            result.map_err(|e| inputs.engine_error(e))
         }
     }
 }
@@ -810,6 +843,31 @@ struct Prepared {
 }
 
 impl Prepared {
+    /// The preparation of `mesh`, leaf `leaf_no`, a translated copy of the mesh this one was
+    /// prepared from (see [`translated_copies`]): its faces, sources, parts, pairing and
+    /// components are this one's; its positions, creases and corners its own, and it is checked
+    /// as [`prepare`] checks a leaf (closed, not touching itself). What `prepare` would give,
+    /// without grouping faces again.
+    fn moved(&self, mesh: &Mesh, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
+        crate::limits::charge(self.triangles.len() as u64)?;
+        let earlier_result = mesh.face_sources().is_some();
+        check_solid(mesh, &self.triangles, &self.components, !earlier_result, side, leaf_no)?;
+        Ok(Prepared {
+            positions: mesh.positions().to_vec(),
+            triangles: self.triangles.clone(),
+            faces: self.faces.clone(),
+            face_sources: self.face_sources.clone(),
+            group_parts: self.group_parts.clone(),
+            parts: self.parts.clone(),
+            creases: crease_segments(mesh, &self.faces),
+            corners: corner_list(mesh),
+            leaf_span: self.leaf_span,
+            first_leaf_hint: leaf_no,
+            components: self.components.clone(),
+            pairs: self.pairs.clone(),
+        })
+    }
+
     /// The bounds of each component.
     fn component_bounds(&self) -> Vec<Aabb> {
         self.components
@@ -896,10 +954,7 @@ fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
         }
         None => (Vec::new(), Vec::new()),
     };
-    let corners = (0..mesh.vertex_count() as u32)
-        .filter(|&v| mesh.is_corner(v))
-        .map(|v| (mesh.position(v), mesh.corner_sharpness(v)))
-        .collect();
+    let corners = corner_list(&mesh);
     Ok(Prepared {
         positions: mesh.positions().to_vec(),
         triangles,
@@ -914,6 +969,42 @@ fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
         components,
         pairs: corner_pairs(&mesh),
     })
+}
+
+/// The vertices of `mesh` with a corner sharpness: position and sharpness.
+fn corner_list(mesh: &Mesh) -> Vec<(Vec3, f64)> {
+    (0..mesh.vertex_count() as u32)
+        .filter(|&v| mesh.is_corner(v))
+        .map(|v| (mesh.position(v), mesh.corner_sharpness(v)))
+        .collect()
+}
+
+/// For each mesh leaf (a triangle mesh) that is a translated copy of an earlier mesh leaf
+/// ([`Mesh::translation_from`], within the engine's resolution where it lies), that leaf;
+/// `None` for the others. Each leaf is compared with the first of every kind seen so far, and
+/// the comparison stops at the first array that differs.
+fn translated_copies(leaves: &[(&Csg, Side)]) -> Vec<Option<usize>> {
+    let mut firsts: Vec<usize> = Vec::new();
+    leaves
+        .iter()
+        .enumerate()
+        .map(|(k, (leaf, _))| {
+            let Csg::Mesh(m) = leaf else { return None };
+            if m.face_count() == 0 || !m.is_triangle_mesh() {
+                return None;
+            }
+            let magnitude = m.positions().iter().fold(0.0, |a: f64, p| a.max(p.abs().max_element()));
+            let tolerance = ENGINE_PRECISION * magnitude;
+            let first = firsts
+                .iter()
+                .copied()
+                .find(|&r| matches!(leaves[r].0, Csg::Mesh(o) if m.translation_from(o, tolerance).is_some()));
+            if first.is_none() {
+                firsts.push(k);
+            }
+            first
+        })
+        .collect()
 }
 
 /// The pairing of a triangle mesh's half-edges as the engine numbers them (see
@@ -1014,15 +1105,20 @@ pub(super) fn coplanar_faces(
         }
         faces.push(number[r]);
     }
-    let creases = mesh
-        .edges()
+    let creases = crease_segments(mesh, &faces);
+    Ok((faces, face_sources, creases))
+}
+
+/// The crease edges of `mesh` between its faces `faces` (one per triangle, see
+/// [`coplanar_faces`]): the faces on their two sides, the segment and its sharpness.
+fn crease_segments(mesh: &Mesh, faces: &[u32]) -> Vec<(u32, u32, [Vec3; 2], f64)> {
+    mesh.edges()
         .filter(|&h| mesh.is_crease(h))
         .map(|h| {
             let (f, g) = (faces[mesh.face(h) as usize], faces[mesh.face(mesh.twin(h)) as usize]);
             (f, g, [mesh.position(mesh.origin(h)), mesh.position(mesh.target(h))], mesh.edge_sharpness(h))
         })
-        .collect();
-    Ok((faces, face_sources, creases))
+        .collect()
 }
 
 /// Refuses an input that bounds no solid: open, or touching itself (two vertices of one of its

@@ -60,6 +60,38 @@ impl Mesh {
         m
     }
 
+    /// The vector that moves `other` onto this mesh, when this mesh is `other` translated: the
+    /// same vertices, faces, half-edges and attributes (creases, corners, colours, face sources
+    /// and parts), and every vertex moved by one vector within `tolerance` per coordinate (the
+    /// vector taken from the first vertex). `None` otherwise, or for a mesh without vertices.
+    /// Linear, and cheap when the two differ (the counts and arrays are compared first).
+    #[must_use]
+    pub fn translation_from(&self, other: &Mesh, tolerance: f64) -> Option<Vec3> {
+        let same = self.positions.len() == other.positions.len()
+            && !self.positions.is_empty()
+            && self.face_he == other.face_he
+            && self.he_origin == other.he_origin
+            && self.he_next == other.he_next
+            && self.he_twin == other.he_twin
+            && self.he_face == other.he_face
+            && self.he_prev == other.he_prev
+            && self.vertex_out == other.vertex_out
+            && self.he_sharpness == other.he_sharpness
+            && self.vertex_sharpness == other.vertex_sharpness
+            && self.subdiv_options == other.subdiv_options
+            && self.vertex_colors == other.vertex_colors
+            && self.face_sources == other.face_sources
+            && self.face_parts == other.face_parts
+            && self.parts == other.parts;
+        if !same {
+            return None;
+        }
+        let d = self.positions[0] - other.positions[0];
+        let moved =
+            other.positions.iter().zip(&self.positions).all(|(&p, &q)| (q - p - d).abs().max_element() <= tolerance);
+        moved.then_some(d)
+    }
+
     /// Copies crease sharpness (by vertex pair), corner sharpness and colours from `other`, a mesh with
     /// the same vertices, and its face sources and parts when it has as many faces (face ids kept).
     pub(crate) fn copy_attributes_from(&mut self, other: &Mesh) {
@@ -111,6 +143,28 @@ mod tests {
         }
         assert!((m.mirror(Vec3::X).bounds().center().x + 3.0).abs() < 1e-12);
         assert!((m.mirror(Vec3::X).volume() - v).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_translate_is_found_and_nothing_else_is() {
+        let mut m = Mesh::icosphere(1.0, 1);
+        m.crease_all();
+        let d = Vec3::new(3.0, -2.0, 0.5);
+        let t = m.translate(d);
+        let found = t.translation_from(&m, 1e-12).unwrap();
+        assert!((found - d).length() < 1e-12);
+        assert!(m.translation_from(&m, 0.0) == Some(Vec3::ZERO));
+        // Turned, scaled, one vertex moved, another crease: not translates.
+        assert!(m.rotate(Vec3::Z, 10.0).translation_from(&m, 1e-9).is_none());
+        assert!(m.scale(Vec3::splat(2.0)).translation_from(&m, 1e-9).is_none());
+        let mut bent = t.clone();
+        bent.set_position(3, bent.position(3) + Vec3::new(0.0, 1e-6, 0.0)).unwrap();
+        assert!(bent.translation_from(&m, 1e-9).is_none());
+        assert!(bent.translation_from(&m, 1e-5).is_some(), "within the tolerance");
+        let mut smooth = t.clone();
+        smooth.set_edge_sharpness_halfedge(0, 0.0);
+        assert!(smooth.translation_from(&m, 1e-9).is_none());
+        assert!(Mesh::cube(1.0).translation_from(&m, 1e-9).is_none());
     }
 
     #[test]

@@ -482,6 +482,37 @@ pub fn boolean_with_token_and_stage(
     token: Option<&CancelToken>,
     stage: StageSink<'_>,
 ) -> ManifoldImpl {
+    boolean_sorted_or_not(mesh_a, mesh_b, op, token, stage, true)
+}
+
+/// [`boolean_with_token`] whose result is left in the order the boolean
+/// makes it: compacted, but not sorted and without a collider, so it is only
+/// for export (`get_mesh_gl*`, `get_mesh_halfedges`), never an operand of a
+/// later boolean. The spatial sort is a sixth of a large boolean's time, spent
+/// on an order and a collider that an exported result never uses.
+/// blocksmith patch (PATCHES.md, 17).
+pub fn boolean_for_export_with_token(
+    mesh_a: &ManifoldImpl,
+    mesh_b: &ManifoldImpl,
+    op: OpType,
+    token: Option<&CancelToken>,
+) -> ManifoldImpl {
+    crate::cancel::cancellable(token, || {
+        boolean_sorted_or_not(mesh_a, mesh_b, op, token, None, false)
+    })
+    .unwrap_or_else(cancelled_impl)
+}
+
+/// The body of [`boolean_with_token_and_stage`]; its result sorted when
+/// `sorted` (see [`boolean_for_export_with_token`]).
+fn boolean_sorted_or_not(
+    mesh_a: &ManifoldImpl,
+    mesh_b: &ManifoldImpl,
+    op: OpType,
+    token: Option<&CancelToken>,
+    stage: StageSink<'_>,
+    sorted: bool,
+) -> ManifoldImpl {
     // Entry gate: a token cancelled before the call wins over every fast path
     // below, including the empty-input ones. C++ does the same at its outermost
     // gates (csg_tree.cpp:172, execution_impl.cpp's static factories), so an
@@ -530,8 +561,8 @@ pub fn boolean_with_token_and_stage(
         return ManifoldImpl::new();
     }
 
-    crate::boolean_result::boolean_result_with_token_and_stage(
-        mesh_a, mesh_b, op, &bool3, token, stage,
+    crate::boolean_result::boolean_result_sorted_or_not(
+        mesh_a, mesh_b, op, &bool3, token, stage, sorted,
     )
 }
 

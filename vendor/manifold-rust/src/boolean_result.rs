@@ -666,3 +666,4 @@ mod boolean_result_assemble;
 pub use boolean_result_assemble::{
     boolean_result, boolean_result_with_token, boolean_result_with_token_and_stage,
 };
+pub(crate) use boolean_result_assemble::boolean_result_sorted_or_not;

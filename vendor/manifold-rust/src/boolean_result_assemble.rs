@@ -294,6 +294,21 @@ pub fn boolean_result_with_token_and_stage(
     token: Option<&CancelToken>,
     stage: StageSink<'_>,
 ) -> ManifoldImpl {
+    boolean_result_sorted_or_not(in_p, in_q, op, bool3, token, stage, true)
+}
+
+/// [`boolean_result_with_token_and_stage`], the result's final spatial sort
+/// replaced, when not `sorted`, by [`crate::sort::compact_in_order`] (see
+/// `boolean3::boolean_for_export_with_token`; blocksmith patch (PATCHES.md, 17)).
+pub(crate) fn boolean_result_sorted_or_not(
+    in_p: &ManifoldImpl,
+    in_q: &ManifoldImpl,
+    op: OpType,
+    bool3: &Boolean3,
+    token: Option<&CancelToken>,
+    stage: StageSink<'_>,
+    sorted: bool,
+) -> ManifoldImpl {
     debug_assert!(
         bool3.expand_p == (op == OpType::Add),
         "Result op type not compatible with constructor op type."
@@ -658,7 +673,9 @@ pub fn boolean_result_with_token_and_stage(
     // Finalize
     let t = crate::timing::start();
     out_r.calculate_bbox();
-    if !crate::sort::sort_geometry_with_token(&mut out_r, token) {
+    if !sorted {
+        crate::sort::compact_in_order(&mut out_r);
+    } else if !crate::sort::sort_geometry_with_token(&mut out_r, token) {
         return crate::boolean3::cancelled_impl();
     }
     out_r.increment_mesh_ids();

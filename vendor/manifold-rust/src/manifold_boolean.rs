@@ -125,6 +125,21 @@ impl Manifold {
         ))
     }
 
+    /// The exact boolean `self op other` for export only: its result is not
+    /// sorted and has no collider, so it must not be an operand of a later
+    /// boolean (see `boolean3::boolean_for_export_with_token`).
+    /// blocksmith patch (PATCHES.md, 17).
+    pub fn boolean_for_export_with_token(
+        &self,
+        other: &Self,
+        op: OpType,
+        token: Option<&crate::cancel::CancelToken>,
+    ) -> Self {
+        Self::from_impl(boolean3::boolean_for_export_with_token(
+            &self.imp, &other.imp, op, token,
+        ))
+    }
+
     /// [`Manifold::boolean_with_engine_and_token`] that also reports coarse
     /// pipeline progress.
     ///
@@ -348,5 +363,54 @@ impl std::ops::BitXorAssign for Manifold {
 impl std::ops::BitXorAssign<&Manifold> for Manifold {
     fn bitxor_assign(&mut self, rhs: &Self) {
         *self = self.intersection(rhs);
+    }
+}
+
+/// blocksmith patch (PATCHES.md, 17): the boolean for export.
+#[cfg(test)]
+mod for_export_tests {
+    use super::*;
+
+    /// Each triangle as its face ID and its corners' coordinates (bits), from the smallest
+    /// corner on, sorted: the triangles whatever their order.
+    fn triangles(m: &Manifold) -> Vec<(u64, [[u64; 3]; 3])> {
+        let g = m.get_mesh_gl64(-1);
+        let np = g.num_prop as usize;
+        let corner = |v: u64| {
+            let p = &g.vert_properties[np * v as usize..np * v as usize + 3];
+            [p[0].to_bits(), p[1].to_bits(), p[2].to_bits()]
+        };
+        let mut out: Vec<(u64, [[u64; 3]; 3])> = g
+            .tri_verts
+            .chunks_exact(3)
+            .enumerate()
+            .map(|(t, c)| {
+                let mut corners = [corner(c[0]), corner(c[1]), corner(c[2])];
+                let first = (0..3).min_by_key(|&i| corners[i]).unwrap_or(0);
+                corners.rotate_left(first);
+                (g.face_id[t], corners)
+            })
+            .collect();
+        out.sort_unstable();
+        out
+    }
+
+    #[test]
+    fn a_boolean_for_export_is_the_boolean_in_another_order() {
+        let a = Manifold::cube(Vec3::new(2.0, 2.0, 2.0), true);
+        let b = Manifold::sphere(1.3, 48).translate(Vec3::new(0.3, 0.2, 0.1));
+        for op in [OpType::Add, OpType::Subtract, OpType::Intersect] {
+            let sorted = a.boolean(&b, op);
+            let unsorted = a.boolean_for_export_with_token(&b, op, None);
+            assert_eq!(unsorted.status(), Error::NoError);
+            assert!(unsorted.as_impl().is_manifold(), "{op:?}");
+            assert_eq!(unsorted.num_tri(), sorted.num_tri(), "{op:?}");
+            assert_eq!(unsorted.num_vert(), sorted.num_vert(), "{op:?}");
+            assert_eq!(unsorted.genus(), sorted.genus(), "{op:?}");
+            assert_eq!(triangles(&unsorted), triangles(&sorted), "{op:?}");
+            // No vertex flagged for removal is left, and every face is paired.
+            assert!(unsorted.as_impl().vert_pos.iter().all(|p| p.x.is_finite()));
+            assert!(unsorted.as_impl().halfedge.iter().all(|h| h.paired_halfedge >= 0));
+        }
     }
 }

@@ -270,6 +270,36 @@ pub fn gather_faces(mesh: &mut ManifoldImpl, face_new2old: &[usize]) {
     }
 }
 
+/// Removes the vertices (NaN positions) and faces (unpaired first half-edge)
+/// flagged for removal, keeping the others in their order, and leaves the
+/// mesh without a collider: [`sort_geometry`]'s clean-up without its sort, for
+/// a mesh that is only exported. blocksmith patch (PATCHES.md, 17).
+pub fn compact_in_order(mesh: &mut ManifoldImpl) {
+    let num_vert = mesh.vert_pos.len();
+    let kept_verts: Vec<i32> = (0..num_vert)
+        .filter(|&v| !mesh.vert_pos[v].x.is_nan())
+        .map(|v| v as i32)
+        .collect();
+    if kept_verts.len() < num_vert {
+        reindex_verts(mesh, &kept_verts, num_vert);
+        let old_pos = std::mem::take(&mut mesh.vert_pos);
+        mesh.vert_pos = kept_verts.iter().map(|&v| old_pos[v as usize]).collect();
+        if mesh.vert_normal.len() == num_vert {
+            let old_n = std::mem::take(&mut mesh.vert_normal);
+            mesh.vert_normal = kept_verts.iter().map(|&v| old_n[v as usize]).collect();
+        }
+    }
+    let num_tri = mesh.num_tri();
+    let kept_faces: Vec<usize> = (0..num_tri)
+        .filter(|&f| mesh.halfedge[3 * f].paired_halfedge >= 0)
+        .collect();
+    if kept_faces.len() < num_tri {
+        gather_faces(mesh, &kept_faces);
+    }
+    mesh.collider = crate::collider::Collider::default();
+    compact_props(mesh);
+}
+
 // -----------------------------------------------------------------------
 // CompactProps
 // -----------------------------------------------------------------------
