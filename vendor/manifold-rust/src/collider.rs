@@ -403,6 +403,74 @@ impl Collider {
         overlaps && is_internal(node)
     }
 
+    /// The collider of parts put side by side, their leaves concatenated in the order given
+    /// (blocksmith patch (PATCHES.md, 16), for `Manifold::compose_apart`): each part's tree
+    /// is kept, its boxes moved by its offset and widened by its pad (a pad covers a part
+    /// whose leaves moved by the offset only within it), and a balanced tree over the parts
+    /// joins them, its root the root. No radix tree is built and no leaf box computed: linear
+    /// in the nodes, with no search. `None` when a part has no tree.
+    pub(crate) fn compose(parts: &[(&Collider, Vec3, f64)]) -> Option<Collider> {
+        if parts.is_empty() || parts.iter().any(|(c, _, _)| c.node_bbox.is_empty()) {
+            return None;
+        }
+        let n: usize = parts.iter().map(|(c, _, _)| c.num_leaves()).sum();
+        let mut out = Collider {
+            node_bbox: vec![BBox::default(); 2 * n - 1],
+            node_parent: vec![-1; 2 * n - 1],
+            internal_children: vec![[0, 0]; n - 1],
+        };
+        // The parts' nodes: part i's leaves after the earlier parts' leaves, its internal
+        // nodes after the joining tree's (parts.len() - 1) and the earlier parts' own.
+        let mut roots = Vec::with_capacity(parts.len());
+        let (mut leaf_offset, mut internal_offset) = (0i32, parts.len() as i32 - 1);
+        for &(c, offset, pad) in parts {
+            let map = |x: i32| {
+                if is_leaf(x) {
+                    leaf_to_node(leaf_offset + node_to_leaf(x))
+                } else {
+                    internal_to_node(internal_offset + node_to_internal(x))
+                }
+            };
+            for (x, b) in c.node_bbox.iter().enumerate() {
+                let g = map(x as i32) as usize;
+                out.node_bbox[g] = BBox {
+                    min: b.min + offset - Vec3::splat(pad),
+                    max: b.max + offset + Vec3::splat(pad),
+                };
+                let parent = c.node_parent[x];
+                out.node_parent[g] = if parent < 0 { -1 } else { map(parent) };
+            }
+            for (k, children) in c.internal_children.iter().enumerate() {
+                out.internal_children[internal_offset as usize + k] = children.map(map);
+            }
+            roots.push(if c.internal_children.is_empty() { map(0) } else { map(K_ROOT) });
+            leaf_offset += c.num_leaves() as i32;
+            internal_offset += c.internal_children.len() as i32;
+        }
+        // The joining tree, numbered from internal node 0 (the root) in the order it is made.
+        let mut next = 0i32;
+        out.join(&roots, &mut next);
+        Some(out)
+    }
+
+    /// Builds the balanced tree over `roots` (node ids), its internal nodes numbered from
+    /// `*next`, and returns its root's node id.
+    fn join(&mut self, roots: &[i32], next: &mut i32) -> i32 {
+        if roots.len() == 1 {
+            return roots[0];
+        }
+        let me = internal_to_node(*next);
+        let internal = *next as usize;
+        *next += 1;
+        let (left, right) = roots.split_at(roots.len() / 2);
+        let (a, b) = (self.join(left, next), self.join(right, next));
+        self.internal_children[internal] = [a, b];
+        self.node_parent[a as usize] = me;
+        self.node_parent[b as usize] = me;
+        self.node_bbox[me as usize] = self.node_bbox[a as usize].union_box(&self.node_bbox[b as usize]);
+        me
+    }
+
     /// Replace the leaf boxes (given in leaf/tree order — for a face collider
     /// that is face order, since faces are morton-sorted) and refit the
     /// internal boxes. Tree topology is untouched (C++ UpdateBoxes).

@@ -32,8 +32,8 @@ impl Manifold {
     /// half-edges, normals and coplanar groups are copied with their indices shifted, each
     /// part keeps its own mesh IDs (renumbered as `compose` renumbers them), and nothing is
     /// sorted: the parts go in the Morton order of their boxes' centres, each keeping its own
-    /// order (spatially coherent: every manifold is sorted when made), and the collider is
-    /// built over that order. Linear in the parts' size.
+    /// order (spatially coherent: every manifold is sorted when made), and the collider joins
+    /// the parts' own (`Collider::compose`). Linear in the parts' size.
     ///
     /// The parts' clean-up (short edges, degenerate triangles) is not run again, so each part
     /// must already have been cleaned at an epsilon no smaller than the result's; the result
@@ -84,7 +84,8 @@ impl Manifold {
         // numbers them, so `increment_mesh_ids` hands out fresh ones in a deterministic order
         // and two copies of one part stay two instances.
         let mut next_local = 1i32;
-        for &i in &spatial_order(&boxes) {
+        let order = spatial_order(&boxes);
+        for &i in &order {
             let p = &parts[i];
             let m = &p.part.imp;
             let (vert_offset, edge_offset) = (out.vert_pos.len() as i32, out.halfedge.len() as i32);
@@ -142,11 +143,28 @@ impl Manifold {
             .fold(out.tolerance, f64::max);
         // No sort: the parts come in the order of their boxes' Morton codes, each already in
         // its own Morton order (every part was sorted when it was made), so the face order is
-        // spatially coherent as it stands and the collider is built over it, with the faces'
+        // spatially coherent as it stands. The parts' own trees are kept (a copy's moved, and
+        // widened by twice its epsilon, within which it is a translate), joined by a tree over
+        // the parts; a part without a tree has one built over the whole, with the faces'
         // positions as their codes.
-        let (face_box, _) = crate::sort::get_face_box_morton(&out);
-        let codes = (0..face_box.len() as u32).collect();
-        out.collider = crate::collider::Collider::new(face_box, codes);
+        let trees: Vec<(&crate::collider::Collider, Vec3, f64)> = order
+            .iter()
+            .map(|&i| {
+                let m = &parts[i].part.imp;
+                match &parts[i].moved_to {
+                    Some(to) => (&m.collider, to[0] - m.vert_pos[0], 2.0 * m.epsilon),
+                    None => (&m.collider, Vec3::splat(0.0), 0.0),
+                }
+            })
+            .collect();
+        out.collider = match crate::collider::Collider::compose(&trees) {
+            Some(c) if c.num_leaves() == out.num_tri() => c,
+            _ => {
+                let (face_box, _) = crate::sort::get_face_box_morton(&out);
+                let codes = (0..face_box.len() as u32).collect();
+                crate::collider::Collider::new(face_box, codes)
+            }
+        };
         out.increment_mesh_ids();
         Some(Manifold::from_impl(out))
     }
@@ -282,6 +300,15 @@ mod tests {
         assert!((b.min.x - (-11.0)).abs() < 1e-12 && (b.max.x - 11.0).abs() < 1e-12);
         assert!(both.as_impl().is_manifold());
         assert_eq!(crate::sort::collider_self_misses(both.as_impl()), 0);
+        // Cut by a slab through the part's bottom and the copy's top: as the composed pair is.
+        let composed = Manifold::compose(&[s.clone(), s.translate(d)]);
+        let slab =
+            Manifold::cube(Vec3::new(30.0, 30.0, 0.2), true).translate(Vec3::new(0.0, 0.0, -1.0));
+        let (cut, expected) = (both.difference(&slab), composed.difference(&slab));
+        assert_eq!(cut.status(), Error::NoError);
+        assert!(cut.volume() < both.volume() - 1e-3, "the slab cuts");
+        assert!((cut.volume() - expected.volume()).abs() < 1e-9 * expected.volume());
+        assert_eq!(cut.num_tri(), expected.num_tri());
         // The copy's face IDs are shifted; the original's are not.
         let ids: std::collections::BTreeSet<i32> = both
             .as_impl()
