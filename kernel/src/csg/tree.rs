@@ -21,7 +21,7 @@
 
 use std::borrow::Cow;
 use std::collections::HashMap;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 use rayon::prelude::*;
 
@@ -199,9 +199,22 @@ impl Csg {
         let bounds: Vec<Vec<Aabb>> = prepared.iter().map(Prepared::component_bounds).collect();
         let mut leaf_no = 0usize;
         let plan = plan(self, &bounds, &mut leaf_no);
+        // Every import first, all in parallel; then the leaves' prepared arrays go, before the
+        // booleans (they were a third of the stress case's peak memory).
+        let mut groups = Vec::new();
+        plan.import_groups(&mut groups);
         let inputs = Inputs { prepared: &prepared, leaves: &leaves, offsets: &offsets, token, stop };
-        let solid = run(&plan, &inputs, true)?;
+        let imported: Vec<Solid> =
+            groups.par_iter().map(|&(pieces, id)| import_group(pieces, id, &inputs)).collect::<Result<_, _>>()?;
         drop(prepared);
+        let imported = Imported {
+            slot_of: groups.iter().enumerate().map(|(k, &(_, id))| (id, k)).collect(),
+            solids: imported.into_iter().map(|s| Mutex::new(Some(s))).collect(),
+            token,
+            stop,
+        };
+        let solid = run(&plan, &imported, true)?;
+        drop(imported);
         token.charge(solid_size(&solid))?;
         // The result's half-edge mesh from the engine's own pairing of its half-edges: one
         // linear pass, no search for twins.
@@ -475,8 +488,8 @@ fn pair_piece(p: &Prepared, c: usize, place: &mut Vec<u32>, pairs: &mut Vec<u32>
     whole
 }
 
-/// What [`run`] reads: the prepared leaves, the leaves themselves with their sides, each
-/// leaf's first face tag, and the caller's token with the engine's stop flag.
+/// What the imports ([`import_group`]) read: the prepared leaves, the leaves themselves with their
+/// sides, each leaf's first face tag, and the caller's token with the engine's stop flag.
 struct Inputs<'a> {
     prepared: &'a [Prepared],
     leaves: &'a [(&'a Csg, Side)],
@@ -485,16 +498,37 @@ struct Inputs<'a> {
     stop: &'a Stop,
 }
 
-impl Inputs<'_> {
-    /// The engine's error as a [`CsgError`]: stopped by the token, whose reason is read again
-    /// (a deadline or count, once passed, stays passed; an interrupt flag is never cleared by
-    /// the kernel), or failed.
-    fn engine_error(&self, e: EngineError) -> CsgError {
-        match e {
-            EngineError::Stopped => {
-                CsgError::Limit(LimitError::Stopped(self.token.stopped().unwrap_or(StopReason::Interrupted)))
+/// The engine's error as a [`CsgError`]: stopped by `token`, whose reason is read again (a
+/// deadline or count, once passed, stays passed; an interrupt flag is never cleared by the
+/// kernel), or failed.
+fn engine_error(token: &CancelToken, e: EngineError) -> CsgError {
+    match e {
+        EngineError::Stopped => {
+            CsgError::Limit(LimitError::Stopped(token.stopped().unwrap_or(StopReason::Interrupted)))
+        }
+        EngineError::Failed(reason) => CsgError::Engine { reason },
+    }
+}
+
+/// What [`run`] reads: the plan's imports, done ([`Plan::import_groups`]), each taken by the
+/// boolean that uses it (by its engine id), and the caller's token with the engine's stop flag.
+struct Imported<'a> {
+    slot_of: HashMap<u32, usize>,
+    solids: Vec<Mutex<Option<Solid>>>,
+    token: &'a CancelToken,
+    stop: &'a Stop,
+}
+
+impl Plan {
+    /// The imports of the plan, left to right: their pieces and engine ids.
+    fn import_groups<'a>(&'a self, out: &mut Vec<(&'a [(usize, usize)], u32)>) {
+        match self {
+            Plan::Import { pieces, id } => out.push((pieces, *id)),
+            Plan::Union(parts) => parts.iter().for_each(|p| p.import_groups(out)),
+            Plan::Op(_, a, b) => {
+                a.import_groups(out);
+                b.import_groups(out);
             }
-            EngineError::Failed(reason) => CsgError::Engine { reason },
         }
     }
 }
@@ -502,17 +536,22 @@ impl Inputs<'_> {
 /// Carries out `plan`: imports in parallel, both sides of every boolean in parallel. The
 /// result is for export only when `for_export` (the root's boolean skips the engine's spatial
 /// sort, see [`Solid::boolean_for_export_until`]).
-fn run(plan: &Plan, inputs: &Inputs<'_>, for_export: bool) -> Result<Solid, CsgError> {
+fn run(plan: &Plan, inputs: &Imported<'_>, for_export: bool) -> Result<Solid, CsgError> {
     if let Some(reason) = inputs.token.stopped() {
         return Err(LimitError::Stopped(reason).into());
     }
+    let engine_error = |e| engine_error(inputs.token, e);
     match plan {
-        Plan::Import { pieces, id } => import_group(pieces, *id, inputs),
+        Plan::Import { id, .. } => inputs
+            .slot_of
+            .get(id)
+            .and_then(|&k| inputs.solids[k].lock().ok()?.take())
+            .ok_or_else(|| CsgError::Engine { reason: format!("import {id} is missing or used twice") }),
         Plan::Union(parts) => {
             let solids: Vec<Solid> = parts.par_iter().map(|p| run(p, inputs, false)).collect::<Result<_, _>>()?;
             check_precision(&solids.iter().collect::<Vec<_>>())?;
             inputs.token.charge(solids.iter().map(solid_size).sum())?;
-            Solid::union_all_until(solids, inputs.stop).map_err(|e| inputs.engine_error(e))
+            Solid::union_all_until(solids, inputs.stop).map_err(engine_error)
         }
         Plan::Op(op, a, b) => {
             let (ra, rb) = rayon::join(|| run(a, inputs, false), || run(b, inputs, false));
@@ -524,7 +563,7 @@ fn run(plan: &Plan, inputs: &Inputs<'_>, for_export: bool) -> Result<Solid, CsgE
             } else {
                 ra.boolean_until(&rb, *op, inputs.stop)
             };
-            result.map_err(|e| inputs.engine_error(e))
+            result.map_err(engine_error)
         }
     }
 }
@@ -737,7 +776,7 @@ fn import_flat(pieces: &[(usize, usize)], id: u32, tolerance: f64, inputs: &Inpu
         return Err(CsgError::Precision { side, span, magnitude });
     }
     let solid = Solid::from_flat_until(flat, id, stop).map_err(|e| match e {
-        EngineError::Stopped => inputs.engine_error(e),
+        EngineError::Stopped => engine_error(token, e),
         EngineError::Failed(reason) => {
             let (k, _) = pieces[0];
             CsgError::NonManifold {
