@@ -4,10 +4,15 @@
 //! parallel (rayon), and every output face keeps its source ([`FaceSource`]).
 //!
 //! Evaluation: the leaves are tessellated and checked, each grouped into faces (connected
-//! coplanar triangles of one source, see `Prepared`); then a plan says what goes into the
+//! coplanar triangles of one source, see `Prepared`; a mesh leaf that is a translated copy of
+//! an earlier one takes its faces, see `Prepared::moved`); then a plan says what goes into the
 //! engine together — a chain of unions is one batch union whose leaf pieces (a mesh, or one
 //! connected part of a block model) are dealt into groups apart from each other, each group one
-//! import — and the plan runs, imports and both sides of every boolean in parallel; last, flat
+//! import. The imports run first, in parallel; in a group, the translated copies of one piece
+//! (a pattern: one sphere placed at 21 pips) are imported once and placed by the engine
+//! (`import_instances`), as Manifold's lazily transformed leaves share their topology. Then
+//! the prepared leaves are dropped and the booleans run, both sides of each in parallel, the
+//! root's without the engine's final spatial sort (its result is only exported); last, flat
 //! zero-volume shells are dropped, and sources and creases are read back from the face tags.
 //! Creases keep their sharpness (semi-sharp ones included; where pieces of several creases
 //! cover an output edge, the sharpest at its middle), and an input vertex with a corner
@@ -17,7 +22,9 @@
 //! coincident-vertex check sorts); faces by union–find, O(n α(n)); dealing p pieces into g
 //! groups O(p · g · group size) box tests; each boolean is Manifold's, O((n + k) log n) for k
 //! intersecting triangle pairs; provenance costs O(1) per output triangle, creases O(s) per
-//! output edge between two faces that share s crease segments.
+//! output edge between two faces that share s crease segments. Finding translated copies
+//! compares each mesh leaf with the first of each kind (linear per comparison, stopping at the
+//! first difference); a copy then costs a linear pass instead of its import.
 
 use std::borrow::Cow;
 use std::collections::HashMap;
