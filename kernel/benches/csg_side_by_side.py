@@ -10,8 +10,10 @@ manifold3d's batch_boolean of the same solids (../shared/peers/die_manifold.py's
 by num_tri(); the stress case's union and difference both (the tree's total, as ours).
 
 Each side runs in its own process, `--reps` booleans a process; it prints, per boolean, the median
-wall time, user and system CPU seconds (/proc/self/stat), and the peak resident memory above the
-memory before it (the peak is reset with /proc/self/clear_refs before each boolean). Around every
+wall time, user and system CPU seconds (/proc/self/stat), and the largest peak resident memory
+above the memory before a boolean (the peak is reset with /proc/self/clear_refs before each
+boolean; the largest, because later booleans of one process reuse memory the allocator kept from
+the first, mimalloc more than glibc's, so their own peaks understate it). Around every
 process, `perf stat` counts user and kernel instructions (load-independent; the whole process,
 setup included) when perf works. Printed: one line per process, then a table of medians over the
 rounds with the ratios ours / manifold3d.
@@ -88,7 +90,7 @@ def peer(case, segments, reps):
         f"PEER_RUN case={case} segments={segments} tris={tris} reps={reps} "
         f"bool_med_s={statistics.median(times):.6f} bool_min_s={min(times):.6f} "
         f"user_s={(t1.user - t0.user) / reps:.3f} sys_s={(t1.system - t0.system) / reps:.3f} "
-        f"peak_delta_mib={statistics.median(peaks) / 1048576:.1f} peak_mib={status_bytes('VmHWM:') / 1048576:.1f}",
+        f"peak_delta_mib={max(peaks) / 1048576:.1f} peak_mib={status_bytes('VmHWM:') / 1048576:.1f}",
         flush=True,
     )
 
