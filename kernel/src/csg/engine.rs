@@ -362,8 +362,8 @@ impl Solid {
     }
 
     /// The union of `parts`, whose bounds are pairwise apart, by copying them side by side
-    /// (engine patch 16: no import again, one spatial sort), each part optionally a translated
-    /// copy ([`ApartSolid`]). Linear in their size, plus the sort.
+    /// (engine patch 16: no import again, no sort, the parts' colliders joined), each part
+    /// optionally a translated copy ([`ApartSolid`]). Linear in their size.
     ///
     /// `None` when a condition does not hold: bounds not apart, positions of the wrong count
     /// or not one translation, or a part imported at an epsilon finer than the whole's (see
