@@ -90,7 +90,13 @@
 //! stress case 952 → 837 MiB against 876). Instructions (callgrind, die at 128 segments, one
 //! thread): `Csg::evaluate` 2.469 → 1.435 G (the whole process 2.663 → 1.629 G); the stress
 //! case's booleans are now 91 % of its time (the engine's own intersection, assembly,
-//! triangulation and simplification, as manifold3d's).
+//! triangulation and simplification, as manifold3d's). Then mimalloc's purge delay (how long
+//! freed memory stays with the process) from 1 s to 5 s, as the binary sets it
+//! (script/cli/src/allocator.rs): the stress case's system time 0.7–1.1 → 0.3–0.4 s; the same
+//! command gives 0.79 / 0.94 / 0.76 / 0.81, stress 0.93, and three fresh processes of one run
+//! each 0.87 (32 segments) / 0.91 (256) / 0.95 (stress), peaks 10.0 / 358 / 926 MiB against
+//! 6.7 / 364 / 919 (a longer delay keeps freed pages a thread could not yet reuse: the stress
+//! case's peak 837 → 926 MiB).
 
 /// The allocator the `blocksmith` binary uses (script/src/main.rs), so the figures are what a
 /// recipe run gets.
@@ -326,6 +332,10 @@ fn fingerprint(m: &Mesh) -> String {
 }
 
 fn main() {
+    // As the `blocksmith` binary sets it (script/cli/src/allocator.rs): freed memory stays with
+    // the process for 5 s rather than 1 s (mimalloc 3's `mi_option_purge_delay`, index 15).
+    // SAFETY: stores one of mimalloc's option values.
+    unsafe { libmimalloc_sys::mi_option_set(15, 5000) };
     // `CSG_PROFILE=die|die_engine|building`: evaluate 200 times outside criterion (whose
     // analysis threads would otherwise fill a profile), printing best, median and mean — for
     // `perf record`, and for side-by-side figures steadier than criterion's on a busy machine.

@@ -6,6 +6,7 @@
 //! manifests ([`manifest`], sha2) and the process's allocator. It depends on the studio, the
 //! bindings and the kernel; nothing depends on it.
 
+mod allocator;
 mod args;
 mod commands;
 mod interrupt;
@@ -38,6 +39,7 @@ static ALLOCATOR: limits::CountingAllocator<mimalloc::MiMalloc> = limits::Counti
 const STACK_BYTES: usize = 1 << 30;
 
 fn main() -> ExitCode {
+    allocator::keep_freed_memory();
     match std::thread::Builder::new().name("blocksmith".into()).stack_size(STACK_BYTES).spawn(command) {
         Ok(thread) => thread.join().unwrap_or(ExitCode::FAILURE),
         // A system refusing so large a stack: run with the main thread's.
