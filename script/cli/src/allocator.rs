@@ -36,7 +36,10 @@ mod tests {
                 assert_eq!(libmimalloc_sys::mi_option_get(PURGE_DELAY), 1000);
             }
             keep_freed_memory();
-            assert_eq!(i64::from(libmimalloc_sys::mi_option_get(PURGE_DELAY)), PURGE_DELAY_MS);
+            // `c_long` is `i64` here, `i32` elsewhere.
+            #[allow(clippy::useless_conversion)]
+            let set = i64::from(libmimalloc_sys::mi_option_get(PURGE_DELAY));
+            assert_eq!(set, PURGE_DELAY_MS);
         }
     }
 }
