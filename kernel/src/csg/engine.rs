@@ -20,6 +20,7 @@ use manifold_rust::cross_section::CrossSection;
 use manifold_rust::linalg::{Vec2 as EVec2, Vec3 as EVec3};
 use manifold_rust::manifold::Manifold;
 use manifold_rust::types::{BooleanConfig, BooleanEngine, Error as EngineStatus, MeshGLP, OpType, Polygons};
+use rayon::prelude::*;
 
 use super::CsgOp;
 use crate::limits::CancelToken;
@@ -127,10 +128,10 @@ pub struct FlatTriangles {
 pub struct ApartSolid<'a> {
     /// The part.
     pub solid: &'a Solid,
-    /// Where its vertices go, in [`Solid::vertex_positions`]' order, for a translated copy
-    /// (every vertex moved by one vector, within the engine's epsilon); `None` leaves the part
-    /// where it is.
-    pub moved_to: Option<Vec<Vec3>>,
+    /// Where its vertices go, for a translated copy (every vertex moved by one vector, within
+    /// the engine's epsilon): positions, and for each vertex in [`Solid::vertex_positions`]'
+    /// order the index of its position there. `None` leaves the part where it is.
+    pub moved_to: Option<(&'a [Vec3], &'a [u32])>,
     /// Added to each of its triangles' tags.
     pub tag_shift: i32,
 }
@@ -371,10 +372,12 @@ impl Solid {
     #[must_use]
     pub fn compose_apart(parts: &[ApartSolid<'_>]) -> Option<Solid> {
         let parts: Vec<manifold_rust::manifold::ApartPart<'_>> = parts
-            .iter()
+            .par_iter()
             .map(|p| manifold_rust::manifold::ApartPart {
                 part: &p.solid.inner,
-                moved_to: p.moved_to.as_ref().map(|to| to.iter().map(|v| EVec3::new(v.x, v.y, v.z)).collect()),
+                moved_to: p.moved_to.map(|(positions, order)| {
+                    order.iter().map(|&v| positions[v as usize]).map(|v| EVec3::new(v.x, v.y, v.z)).collect()
+                }),
                 face_id_shift: p.tag_shift,
             })
             .collect();

@@ -59,7 +59,9 @@ fn translated_copies_import_once_and_exactly_as_one_import_would() {
     assert_eq!(classes, vec![vec![0, 1, 2, 3, 4]], "the five translates, and only they");
     let token = CancelToken::new();
     let stop = Stop::new();
-    let inputs = Inputs { prepared: &prepared, leaves: &sided, offsets: &offsets, token: &token, stop: &stop };
+    let bounds: Vec<Vec<Aabb>> = prepared.iter().map(Prepared::component_bounds).collect();
+    let inputs =
+        Inputs { prepared: &prepared, bounds: &bounds, leaves: &sided, offsets: &offsets, token: &token, stop: &stop };
     let instanced = import_instances(&pieces, 9, &inputs).unwrap().expect("the copies are instanced");
     let flat = import_flat(&pieces, 9, 0.0, &inputs).unwrap();
     assert_eq!(instanced.triangle_count(), flat.triangle_count());
@@ -83,7 +85,9 @@ fn a_group_without_copies_or_with_a_near_copy_is_imported_as_one() {
     assert!(instance_classes(&pieces, &prepared, 1e-11).is_empty());
     let token = CancelToken::new();
     let stop = Stop::new();
-    let inputs = Inputs { prepared: &prepared, leaves: &sided, offsets: &offsets, token: &token, stop: &stop };
+    let bounds: Vec<Vec<Aabb>> = prepared.iter().map(Prepared::component_bounds).collect();
+    let inputs =
+        Inputs { prepared: &prepared, bounds: &bounds, leaves: &sided, offsets: &offsets, token: &token, stop: &stop };
     assert!(import_instances(&pieces, 3, &inputs).unwrap().is_none());
 }
 
@@ -153,5 +157,22 @@ fn a_translated_copy_is_prepared_as_prepare_would_prepare_it() {
         assert_eq!(moved.components, fresh.components);
         assert_eq!(moved.pairs, fresh.pairs);
         assert_eq!((moved.leaf_span, moved.first_leaf_hint), (fresh.leaf_span, fresh.first_leaf_hint));
+    }
+}
+
+/// A copy but for a non-finite coordinate is no copy: it is refused as `prepare` refuses it,
+/// naming the vertex.
+#[test]
+fn a_copy_with_a_non_finite_coordinate_is_refused_as_any_leaf_is() {
+    let s = ball();
+    // (`set_position` refuses a NaN; a transform passes it on.)
+    let bad = s.translate(Vec3::new(f64::NAN, 3.0, 0.0));
+    let leaves = [Csg::mesh(s), Csg::mesh(bad)];
+    let sided: Vec<(&Csg, Side)> = leaves.iter().map(|l| (l, Side::Right)).collect();
+    assert_eq!(translated_copies(&sided), vec![None, None]);
+    let [a, b] = leaves;
+    match a.union(b).evaluate() {
+        Err(CsgError::NonFinite { leaf: 1, vertex: 0, .. }) => {}
+        other => panic!("{other:?}"),
     }
 }

@@ -36,7 +36,7 @@ use super::engine::{self, ApartSolid, EngineError, FlatTriangles, PairedTriangle
 use super::{CsgError, CsgOp, Side};
 use crate::blocks::{BlockError, BlockModel, MeshOptions};
 use crate::limits::{check_memory, CancelToken, LimitError, StopReason};
-use crate::math::{Aabb, IdMap, Vec3};
+use crate::math::{translation_between, Aabb, IdMap, Vec3};
 use crate::mesh::{FacePart, FaceSource, Mesh, MeshError};
 
 /// A CSG tree. Cloning is cheap (inputs are shared).
@@ -211,7 +211,7 @@ impl Csg {
         // triangles, faces and pairing of 1,000 spheres).
         let mut groups = Vec::new();
         plan.import_groups(&mut groups);
-        let inputs = Inputs { prepared: &prepared, leaves: &leaves, offsets: &offsets, token, stop };
+        let inputs = Inputs { prepared: &prepared, bounds: &bounds, leaves: &leaves, offsets: &offsets, token, stop };
         let imported: Vec<Solid> =
             groups.par_iter().map(|&(pieces, id)| import_group(pieces, id, &inputs)).collect::<Result<_, _>>()?;
         drop(prepared);
@@ -496,10 +496,12 @@ fn pair_piece(p: &Prepared, c: usize, place: &mut Vec<u32>, pairs: &mut Vec<u32>
     whole
 }
 
-/// What the imports ([`import_group`]) read: the prepared leaves, the leaves themselves with their
-/// sides, each leaf's first face tag, and the caller's token with the engine's stop flag.
+/// What the imports ([`import_group`]) read: the prepared leaves with the bounds of each one's
+/// components (the plan's), the leaves themselves with their sides, each leaf's first face tag,
+/// and the caller's token with the engine's stop flag.
 struct Inputs<'a> {
     prepared: &'a [Prepared],
+    bounds: &'a [Vec<Aabb>],
     leaves: &'a [(&'a Csg, Side)],
     offsets: &'a [u32],
     token: &'a CancelToken,
@@ -601,18 +603,9 @@ fn import_group(pieces: &[(usize, usize)], id: u32, inputs: &Inputs<'_>) -> Resu
 fn import_instances(pieces: &[(usize, usize)], id: u32, inputs: &Inputs<'_>) -> Result<Option<Solid>, CsgError> {
     let prepared = inputs.prepared;
     // Each piece's bounds, the whole group's, and the engine's epsilon for them.
-    let piece_bounds: Vec<Aabb> = pieces
-        .iter()
-        .map(|&(k, c)| {
-            prepared[k].components[c]
-                .iter()
-                .flat_map(|&t| prepared[k].triangles[t as usize])
-                .fold(Aabb::EMPTY, |b, v| b.grow(prepared[k].positions[v as usize]))
-        })
-        .collect();
+    let piece_bounds: Vec<Aabb> = pieces.iter().map(|&(k, c)| inputs.bounds[k][c]).collect();
     let bounds = piece_bounds.iter().fold(Aabb::EMPTY, |a, &b| a.union(b));
-    let (span, magnitude) =
-        ((bounds.max - bounds.min).min_element(), bounds.min.abs().max(bounds.max.abs()).max_element());
+    let (span, magnitude) = box_span_and_magnitude(bounds);
     let epsilon = ENGINE_PRECISION * magnitude;
     let classes = instance_classes(pieces, prepared, epsilon);
     if classes.is_empty() {
@@ -636,31 +629,26 @@ fn import_instances(pieces: &[(usize, usize)], id: u32, inputs: &Inputs<'_>) -> 
     }
     let solids: Vec<Solid> =
         jobs.par_iter().map(|job| import_flat(job, id, epsilon, inputs)).collect::<Result<_, _>>()?;
-    // Each class's copies: their positions in the engine's vertex order of the first piece.
-    let mut copies: Vec<Vec<(Vec<Vec3>, i32)>> = Vec::with_capacity(classes.len());
+    // Each class's first piece, then its copies: their own positions, read in the engine's
+    // vertex order of the first piece.
+    let mut orders = Vec::with_capacity(classes.len());
     for (class, first) in classes.iter().zip(&solids) {
-        let (k0, _) = pieces[class[0]];
-        let p0 = &prepared[k0];
+        let p0 = &prepared[pieces[class[0]].0];
         let Some(order) = engine_vertex_order(p0, first) else { return Ok(None) };
         inputs.token.charge((p0.triangles.len() * (class.len() - 1)) as u64)?;
-        copies.push(
-            class[1..]
-                .par_iter()
-                .map(|&i| {
-                    let k = pieces[i].0;
-                    let moved = order.iter().map(|&v| prepared[k].positions[v as usize]).collect();
-                    (moved, inputs.offsets[k] as i32 - inputs.offsets[k0] as i32)
-                })
-                .collect(),
-        );
+        orders.push(order);
     }
     let mut parts = Vec::with_capacity(pieces.len());
-    for (j, class_copies) in copies.into_iter().enumerate() {
-        parts.push(ApartSolid { solid: &solids[j], moved_to: None, tag_shift: 0 });
-        parts.extend(class_copies.into_iter().map(|(moved, shift)| ApartSolid {
-            solid: &solids[j],
-            moved_to: Some(moved),
-            tag_shift: shift,
+    for ((class, first), order) in classes.iter().zip(&solids).zip(&orders) {
+        let k0 = pieces[class[0]].0;
+        parts.push(ApartSolid { solid: first, moved_to: None, tag_shift: 0 });
+        parts.extend(class[1..].iter().map(|&i| {
+            let k = pieces[i].0;
+            ApartSolid {
+                solid: first,
+                moved_to: Some((&prepared[k].positions, order)),
+                tag_shift: inputs.offsets[k] as i32 - inputs.offsets[k0] as i32,
+            }
         }));
     }
     parts.extend(solids[classes.len()..].iter().map(|solid| ApartSolid { solid, moved_to: None, tag_shift: 0 }));
@@ -690,16 +678,11 @@ fn instance_classes(pieces: &[(usize, usize)], prepared: &[Prepared], epsilon: f
 /// Whether `b` is `a` moved by one vector (within `epsilon` per coordinate): the same triangles,
 /// half-edge pairing and faces.
 fn is_translated_copy(a: &Prepared, b: &Prepared, epsilon: f64) -> bool {
-    if a.positions.len() != b.positions.len()
-        || a.positions.is_empty()
-        || a.triangles != b.triangles
-        || a.pairs != b.pairs
-        || a.faces != b.faces
-    {
-        return false;
-    }
-    let d = b.positions[0] - a.positions[0];
-    a.positions.iter().zip(&b.positions).all(|(&p, &q)| (q - p - d).abs().max_element() <= epsilon)
+    a.positions.len() == b.positions.len()
+        && a.triangles == b.triangles
+        && a.pairs == b.pairs
+        && a.faces == b.faces
+        && translation_between(&a.positions, &b.positions, epsilon).is_some()
 }
 
 /// For each vertex of `solid` (the engine's import of the whole of `p`), in the engine's order,
@@ -722,7 +705,7 @@ fn engine_vertex_order(p: &Prepared, solid: &Solid) -> Option<Vec<u32>> {
 /// order of first use, written straight into the arrays the engine reads), cleaned up at
 /// `tolerance` when above the engine's automatic epsilon ([`FlatTriangles::tolerance`]).
 fn import_flat(pieces: &[(usize, usize)], id: u32, tolerance: f64, inputs: &Inputs<'_>) -> Result<Solid, CsgError> {
-    let Inputs { prepared, leaves, offsets, token, stop } = *inputs;
+    let Inputs { prepared, leaves, offsets, token, stop, .. } = *inputs;
     let n: usize = pieces.iter().map(|&(k, c)| prepared[k].components[c].len()).sum();
     let mut flat = FlatTriangles {
         coordinates: Vec::with_capacity(3 * (n / 2 + 2)),
@@ -818,8 +801,12 @@ pub const MIN_SPAN_RESOLUTIONS: f64 = 100.0;
 fn span_and_magnitude(coordinates: &[f64]) -> (f64, f64) {
     let mut points = coordinates.chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2]));
     let Some(first) = points.next() else { return (0.0, 0.0) };
-    let (lo, hi) = points.fold((first, first), |(lo, hi), p| (lo.min(p), hi.max(p)));
-    ((hi - lo).min_element(), lo.abs().max(hi.abs()).max_element())
+    box_span_and_magnitude(points.fold(Aabb { min: first, max: first }, Aabb::grow))
+}
+
+/// The smallest extent of the box `b` and its largest coordinate in absolute value.
+fn box_span_and_magnitude(b: Aabb) -> (f64, f64) {
+    ((b.max - b.min).min_element(), b.min.abs().max(b.max.abs()).max_element())
 }
 
 /// Refuses a boolean whose operands are too small for the precision at their distance from the
@@ -1038,8 +1025,7 @@ fn translated_copies(leaves: &[(&Csg, Side)]) -> Vec<Option<usize>> {
             if m.face_count() == 0 || !m.is_triangle_mesh() {
                 return None;
             }
-            let magnitude = m.positions().iter().fold(0.0, |a: f64, p| a.max(p.abs().max_element()));
-            let tolerance = ENGINE_PRECISION * magnitude;
+            let tolerance = ENGINE_PRECISION * box_span_and_magnitude(m.bounds()).1;
             let first = firsts
                 .iter()
                 .copied()

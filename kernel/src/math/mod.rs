@@ -12,6 +12,7 @@ mod lerp;
 mod mean;
 mod noise;
 mod rng;
+mod translation;
 
 pub use aabb::Aabb;
 pub use closest_point::closest_on_triangle;
@@ -23,6 +24,7 @@ pub use lerp::lerp;
 pub use mean::mean_point;
 pub use noise::{Noise, NoiseError, NoiseKind, NoiseOptions, MAX_LATTICE_COORDINATE, MAX_OCTAVES};
 pub use rng::SplitMix64;
+pub use translation::translation_between;
 
 /// A point or direction in 3D, in double precision.
 pub type Vec3 = glam::DVec3;

@@ -3,7 +3,7 @@
 //! keep facing outward.
 
 use super::Mesh;
-use crate::math::{direction, Mat3, Quat, Vec3};
+use crate::math::{direction, translation_between, Mat3, Quat, Vec3};
 
 impl Mesh {
     /// This mesh moved by `offset`.
@@ -67,29 +67,44 @@ impl Mesh {
     /// Linear, and cheap when the two differ (the counts and arrays are compared first).
     #[must_use]
     pub fn translation_from(&self, other: &Mesh, tolerance: f64) -> Option<Vec3> {
-        let same = self.positions.len() == other.positions.len()
-            && !self.positions.is_empty()
-            && self.face_he == other.face_he
-            && self.he_origin == other.he_origin
-            && self.he_next == other.he_next
-            && self.he_twin == other.he_twin
-            && self.he_face == other.he_face
-            && self.he_prev == other.he_prev
-            && self.vertex_out == other.vertex_out
-            && self.he_sharpness == other.he_sharpness
-            && self.vertex_sharpness == other.vertex_sharpness
-            && self.subdiv_options == other.subdiv_options
-            && self.vertex_colors == other.vertex_colors
-            && self.face_sources == other.face_sources
-            && self.face_parts == other.face_parts
-            && self.parts == other.parts;
-        if !same {
-            return None;
+        // Every field but the positions, named, so that a field added to `Mesh` is compared too.
+        let Mesh {
+            positions,
+            vertex_out,
+            he_origin,
+            he_next,
+            he_prev,
+            he_twin,
+            he_face,
+            face_he,
+            he_sharpness,
+            vertex_sharpness,
+            subdiv_options,
+            vertex_colors,
+            face_sources,
+            face_parts,
+            parts,
+        } = other;
+        let same = self.positions.len() == positions.len()
+            && self.face_he == *face_he
+            && self.he_origin == *he_origin
+            && self.he_next == *he_next
+            && self.he_twin == *he_twin
+            && self.he_face == *he_face
+            && self.he_prev == *he_prev
+            && self.vertex_out == *vertex_out
+            && self.he_sharpness == *he_sharpness
+            && self.vertex_sharpness == *vertex_sharpness
+            && self.subdiv_options == *subdiv_options
+            && self.vertex_colors == *vertex_colors
+            && self.face_sources == *face_sources
+            && self.face_parts == *face_parts
+            && self.parts == *parts;
+        if same {
+            translation_between(positions, &self.positions, tolerance)
+        } else {
+            None
         }
-        let d = self.positions[0] - other.positions[0];
-        let moved =
-            other.positions.iter().zip(&self.positions).all(|(&p, &q)| (q - p - d).abs().max_element() <= tolerance);
-        moved.then_some(d)
     }
 
     /// Copies crease sharpness (by vertex pair), corner sharpness and colours from `other`, a mesh with
