@@ -13,6 +13,7 @@
 //! per face triangulated). [`watching`] sets that flag from a kernel [`CancelToken`] (Ctrl-C, a
 //! deadline, the operation limit) within [`WATCH_PERIOD`] of the token stopping.
 
+use std::borrow::Cow;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
@@ -260,53 +261,29 @@ impl Solid {
     /// [`EngineError::Stopped`] when `stop` was set before the engine finished, else as
     /// [`Solid::boolean`].
     pub fn boolean_until(&self, other: &Solid, op: CsgOp, stop: &Stop) -> Result<Solid, EngineError> {
-        self.boolean_sorted_or_not(other, op, stop, true)
+        boolean_of(Cow::Borrowed(self), Cow::Borrowed(other), op, stop, true)
     }
 
-    /// [`Solid::boolean_until`] for a result that is only exported ([`Solid::paired_triangles`],
-    /// [`Solid::triangles`]), never an operand again: the engine leaves it in the order it makes
-    /// it, without its spatial sort (engine patch 17; a sixth of a large boolean's time).
+    /// [`Solid::boolean_until`] on operands it takes: the engine frees each as soon as the
+    /// result no longer reads it, before the result's triangulation, simplification and sort
+    /// (engine patch 18), so the peak of a large boolean does not hold both operands and their
+    /// colliders beside the result. The same result as [`Solid::boolean_until`].
     ///
     /// # Errors
     /// As [`Solid::boolean_until`].
-    pub fn boolean_for_export_until(&self, other: &Solid, op: CsgOp, stop: &Stop) -> Result<Solid, EngineError> {
-        self.boolean_sorted_or_not(other, op, stop, false)
+    pub fn into_boolean_until(self, other: Solid, op: CsgOp, stop: &Stop) -> Result<Solid, EngineError> {
+        boolean_of(Cow::Owned(self), Cow::Owned(other), op, stop, true)
     }
 
-    /// [`Solid::boolean_until`], its result sorted (usable as an operand) when `sorted`.
-    fn boolean_sorted_or_not(&self, other: &Solid, op: CsgOp, stop: &Stop, sorted: bool) -> Result<Solid, EngineError> {
-        if stop.is_stopped() {
-            return Err(EngineError::Stopped);
-        }
-        // Operands whose bounds are apart (not even touching) do not interact: the union is the
-        // two side by side, the difference the left one, the intersection empty — as Manifold's
-        // own batch union does, without running the intersection pipeline.
-        if !self.is_empty()
-            && !other.is_empty()
-            && aabb(&self.inner.bounding_box()).is_apart(&aabb(&other.inner.bounding_box()))
-        {
-            return Ok(match op {
-                CsgOp::Union => Solid { inner: Manifold::compose(&[self.inner.clone(), other.inner.clone()]) },
-                CsgOp::Difference => self.clone(),
-                CsgOp::Intersection => Solid { inner: Manifold::empty() },
-            });
-        }
-        let op = match op {
-            CsgOp::Union => OpType::Add,
-            CsgOp::Difference => OpType::Subtract,
-            CsgOp::Intersection => OpType::Intersect,
-        };
-        let engine = BooleanConfig::default_engine();
-        let inner = if sorted || engine != BooleanEngine::Exact {
-            self.inner.boolean_with_engine_and_token(&other.inner, op, engine, Some(&stop.0))
-        } else {
-            self.inner.boolean_for_export_with_token(&other.inner, op, Some(&stop.0))
-        };
-        match inner.status() {
-            EngineStatus::NoError => Ok(Solid { inner }),
-            EngineStatus::Cancelled => Err(EngineError::Stopped),
-            e => Err(EngineError::Failed(e.to_str().to_string())),
-        }
+    /// [`Solid::into_boolean_until`] for a result that is only exported
+    /// ([`Solid::paired_triangles`], [`Solid::triangles`]), never an operand again: the engine
+    /// leaves it in the order it makes it, without its spatial sort (engine patch 17; a sixth
+    /// of a large boolean's time).
+    ///
+    /// # Errors
+    /// As [`Solid::boolean_until`].
+    pub fn into_boolean_for_export_until(self, other: Solid, op: CsgOp, stop: &Stop) -> Result<Solid, EngineError> {
+        boolean_of(Cow::Owned(self), Cow::Owned(other), op, stop, false)
     }
 
     /// The solid's bounding box (min, max).
@@ -757,13 +734,58 @@ fn aabb(b: &manifold_rust::types::Box) -> Aabb {
     Aabb { min: Vec3::new(b.min.x, b.min.y, b.min.z), max: Vec3::new(b.max.x, b.max.y, b.max.z) }
 }
 
+/// The boolean `a op b`, its result sorted (usable as an operand) when `sorted`; operands
+/// borrowed, or owned and freed by the engine once read (see [`Solid::into_boolean_until`]).
+fn boolean_of(
+    a: Cow<'_, Solid>,
+    b: Cow<'_, Solid>,
+    op: CsgOp,
+    stop: &Stop,
+    sorted: bool,
+) -> Result<Solid, EngineError> {
+    if stop.is_stopped() {
+        return Err(EngineError::Stopped);
+    }
+    // Operands whose bounds are apart (not even touching) do not interact: the union is the
+    // two side by side, the difference the left one, the intersection empty — as Manifold's
+    // own batch union does, without running the intersection pipeline.
+    if !a.is_empty() && !b.is_empty() && aabb(&a.inner.bounding_box()).is_apart(&aabb(&b.inner.bounding_box())) {
+        return Ok(match op {
+            CsgOp::Union => Solid { inner: Manifold::compose(&[a.into_owned().inner, b.into_owned().inner]) },
+            CsgOp::Difference => a.into_owned(),
+            CsgOp::Intersection => Solid { inner: Manifold::empty() },
+        });
+    }
+    let op = match op {
+        CsgOp::Union => OpType::Add,
+        CsgOp::Difference => OpType::Subtract,
+        CsgOp::Intersection => OpType::Intersect,
+    };
+    let engine = BooleanConfig::default_engine();
+    let token = Some(&stop.0);
+    let inner = match (a, b) {
+        (Cow::Owned(a), Cow::Owned(b)) if engine == BooleanEngine::Exact => {
+            a.inner.into_boolean_with_token(b.inner, op, token, sorted)
+        }
+        (a, b) if sorted || engine != BooleanEngine::Exact => {
+            a.inner.boolean_with_engine_and_token(&b.inner, op, engine, token)
+        }
+        (a, b) => a.inner.boolean_for_export_with_token(&b.inner, op, token),
+    };
+    match inner.status() {
+        EngineStatus::NoError => Ok(Solid { inner }),
+        EngineStatus::Cancelled => Err(EngineError::Stopped),
+        e => Err(EngineError::Failed(e.to_str().to_string())),
+    }
+}
+
 fn union_pairwise(mut parts: Vec<Solid>, stop: &Stop) -> Result<Solid, EngineError> {
     if parts.len() <= 1 {
         return Ok(parts.pop().unwrap_or(Solid { inner: Manifold::empty() }));
     }
     let right = parts.split_off(parts.len() / 2);
     let (a, b) = rayon::join(|| union_pairwise(parts, stop), || union_pairwise(right, stop));
-    a?.boolean_until(&b?, CsgOp::Union, stop)
+    a?.into_boolean_until(b?, CsgOp::Union, stop)
 }
 
 #[cfg(test)]
@@ -881,6 +903,44 @@ mod tests {
         let t = sa.triangles();
         let e = Solid::with_id_until(&t.positions, &t.triangles, &t.tags, Solid::reserve_ids(1), &set).err();
         assert_eq!(e, Some(EngineError::Stopped));
+    }
+
+    #[test]
+    fn a_boolean_that_takes_its_operands_gives_the_borrowing_booleans_result() {
+        let a = Mesh::icosphere(1.0, 3);
+        let near = a.translate(Vec3::new(0.5, 0.2, 0.1));
+        let apart = a.translate(Vec3::new(3.0, 0.0, 0.0));
+        let stop = Stop::new();
+        for b in [&near, &apart] {
+            let (sa, sb) = (solid(&a), solid(b));
+            for op in [CsgOp::Union, CsgOp::Difference, CsgOp::Intersection] {
+                let borrowed = sa.boolean_until(&sb, op, &stop).unwrap();
+                let owned = sa.clone().into_boolean_until(sb.clone(), op, &stop).unwrap();
+                assert_eq!(owned.triangles(), borrowed.triangles(), "{op:?}");
+                // For export: the same triangles, in the order the engine made them.
+                let export = sa.clone().into_boolean_for_export_until(sb.clone(), op, &stop).unwrap();
+                let sorted_triangles = |s: &Solid| {
+                    let t = s.triangles();
+                    let mut corners: Vec<[[u64; 3]; 3]> = t
+                        .triangles
+                        .iter()
+                        .map(|c| {
+                            let mut c = c.map(|v| t.positions[v as usize].to_array().map(f64::to_bits));
+                            let first = (0..3).min_by_key(|&i| c[i]).unwrap();
+                            c.rotate_left(first);
+                            c
+                        })
+                        .collect();
+                    corners.sort_unstable();
+                    corners
+                };
+                assert_eq!(sorted_triangles(&export), sorted_triangles(&borrowed), "{op:?}, for export");
+            }
+        }
+        let set = Stop::new();
+        set.stop();
+        let (sa, sb) = (solid(&a), solid(&near));
+        assert_eq!(sa.into_boolean_until(sb, CsgOp::Difference, &set).err(), Some(EngineError::Stopped));
     }
 
     #[test]

@@ -545,7 +545,7 @@ impl Plan {
 
 /// Carries out `plan`: imports in parallel, both sides of every boolean in parallel. The
 /// result is for export only when `for_export` (the root's boolean skips the engine's spatial
-/// sort, see [`Solid::boolean_for_export_until`]).
+/// sort, see [`Solid::into_boolean_for_export_until`]).
 fn run(plan: &Plan, inputs: &Imported<'_>, for_export: bool) -> Result<Solid, CsgError> {
     if let Some(reason) = inputs.token.stopped() {
         return Err(LimitError::Stopped(reason).into());
@@ -569,9 +569,9 @@ fn run(plan: &Plan, inputs: &Imported<'_>, for_export: bool) -> Result<Solid, Cs
             check_precision(&[&ra, &rb])?;
             inputs.token.charge(solid_size(&ra) + solid_size(&rb))?;
             let result = if for_export {
-                ra.boolean_for_export_until(&rb, *op, inputs.stop)
+                ra.into_boolean_for_export_until(rb, *op, inputs.stop)
             } else {
-                ra.boolean_until(&rb, *op, inputs.stop)
+                ra.into_boolean_until(rb, *op, inputs.stop)
             };
             result.map_err(engine_error)
         }

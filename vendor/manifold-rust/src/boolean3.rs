@@ -29,6 +29,8 @@
 // - v12 = 3D position of each intersection vertex
 
 use crate::boolean_stage_progress::{self as stage_marks, report as report_stage, StageSink};
+use std::borrow::Cow;
+
 use crate::cancel::{is_cancelled, CancelToken};
 use crate::impl_mesh::ManifoldImpl;
 use crate::linalg::{dot, IVec3, Vec3};
@@ -62,6 +64,9 @@ pub struct Intersections {
 // ---------------------------------------------------------------------------
 
 /// Computes all edge-face intersections and winding numbers between two meshes.
+// blocksmith patch (PATCHES.md, 18): `Clone`, so the result's assembly can take
+// it borrowed or owned (`Cow`).
+#[derive(Clone)]
 pub struct Boolean3 {
     pub xv12: Intersections,
     pub xv21: Intersections,
@@ -482,7 +487,14 @@ pub fn boolean_with_token_and_stage(
     token: Option<&CancelToken>,
     stage: StageSink<'_>,
 ) -> ManifoldImpl {
-    boolean_sorted_or_not(mesh_a, mesh_b, op, token, stage, true)
+    boolean_sorted_or_not(
+        Cow::Borrowed(mesh_a),
+        Cow::Borrowed(mesh_b),
+        op,
+        token,
+        stage,
+        true,
+    )
 }
 
 /// [`boolean_with_token`] whose result is left in the order the boolean
@@ -498,16 +510,52 @@ pub fn boolean_for_export_with_token(
     token: Option<&CancelToken>,
 ) -> ManifoldImpl {
     crate::cancel::cancellable(token, || {
-        boolean_sorted_or_not(mesh_a, mesh_b, op, token, None, false)
+        boolean_sorted_or_not(
+            Cow::Borrowed(mesh_a),
+            Cow::Borrowed(mesh_b),
+            op,
+            token,
+            None,
+            false,
+        )
+    })
+    .unwrap_or_else(cancelled_impl)
+}
+
+/// [`boolean_with_token`] (the exact engine) on operands it owns, its result
+/// sorted when `sorted`, else as [`boolean_for_export_with_token`]. Each
+/// operand is freed once the result no longer reads it (see
+/// `boolean_result::boolean_result_sorted_or_not`): at the end of the edges'
+/// assembly all but its triangle references, before the triangulation, the
+/// simplification and the sort, so a large boolean's peak no longer holds both
+/// operands and their colliders beside the result being built. The same result
+/// as the borrowing boolean, bit for bit. blocksmith patch (PATCHES.md, 18).
+pub fn boolean_owned_with_token(
+    mesh_a: ManifoldImpl,
+    mesh_b: ManifoldImpl,
+    op: OpType,
+    token: Option<&CancelToken>,
+    sorted: bool,
+) -> ManifoldImpl {
+    crate::cancel::cancellable(token, || {
+        boolean_sorted_or_not(
+            Cow::Owned(mesh_a),
+            Cow::Owned(mesh_b),
+            op,
+            token,
+            None,
+            sorted,
+        )
     })
     .unwrap_or_else(cancelled_impl)
 }
 
 /// The body of [`boolean_with_token_and_stage`]; its result sorted when
-/// `sorted` (see [`boolean_for_export_with_token`]).
+/// `sorted` (see [`boolean_for_export_with_token`]), the operands borrowed or
+/// owned (see [`boolean_owned_with_token`]).
 fn boolean_sorted_or_not(
-    mesh_a: &ManifoldImpl,
-    mesh_b: &ManifoldImpl,
+    mesh_a: Cow<'_, ManifoldImpl>,
+    mesh_b: Cow<'_, ManifoldImpl>,
     op: OpType,
     token: Option<&CancelToken>,
     stage: StageSink<'_>,
@@ -531,14 +579,14 @@ fn boolean_sorted_or_not(
     }
     if mesh_a.is_empty() {
         return match op {
-            OpType::Add => mesh_b.clone(),
+            OpType::Add => mesh_b.into_owned(),
             OpType::Intersect => ManifoldImpl::new(),
             OpType::Subtract => ManifoldImpl::new(),
         };
     }
     if mesh_b.is_empty() {
         return match op {
-            OpType::Add | OpType::Subtract => mesh_a.clone(),
+            OpType::Add | OpType::Subtract => mesh_a.into_owned(),
             OpType::Intersect => ManifoldImpl::new(),
         };
     }
@@ -547,14 +595,14 @@ fn boolean_sorted_or_not(
         // Non-overlapping fast paths. For Subtract, we still run through the full
         // boolean_result to preserve both meshes' run metadata (C++ behavior).
         match op {
-            OpType::Add => return compose_meshes(&[mesh_a.clone(), mesh_b.clone()]),
+            OpType::Add => return compose_meshes(&[mesh_a.into_owned(), mesh_b.into_owned()]),
             OpType::Intersect => return ManifoldImpl::new(),
             OpType::Subtract => {} // fall through to full boolean
         }
     }
 
     // Full boolean — compute intersections
-    let Some(bool3) = Boolean3::new_with_token_and_stage(mesh_a, mesh_b, op, token, stage) else {
+    let Some(bool3) = Boolean3::new_with_token_and_stage(&mesh_a, &mesh_b, op, token, stage) else {
         return cancelled_impl();
     };
     if !bool3.valid {
@@ -562,7 +610,13 @@ fn boolean_sorted_or_not(
     }
 
     crate::boolean_result::boolean_result_sorted_or_not(
-        mesh_a, mesh_b, op, &bool3, token, stage, sorted,
+        mesh_a,
+        mesh_b,
+        op,
+        Cow::Owned(bool3),
+        token,
+        stage,
+        sorted,
     )
 }
 

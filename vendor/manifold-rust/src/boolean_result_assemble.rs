@@ -1,6 +1,8 @@
 // Boolean result assembly — extracted from boolean_result.rs
 // Contains update_reference, create_properties, and boolean_result entry point
 
+use std::borrow::Cow;
+
 use crate::boolean3::Boolean3;
 use crate::boolean_stage_progress::{self as stage_marks, report as report_stage, StageSink};
 use crate::cancel::{is_cancelled, CancelToken};
@@ -294,17 +296,48 @@ pub fn boolean_result_with_token_and_stage(
     token: Option<&CancelToken>,
     stage: StageSink<'_>,
 ) -> ManifoldImpl {
-    boolean_result_sorted_or_not(in_p, in_q, op, bool3, token, stage, true)
+    boolean_result_sorted_or_not(
+        Cow::Borrowed(in_p),
+        Cow::Borrowed(in_q),
+        op,
+        Cow::Borrowed(bool3),
+        token,
+        stage,
+        true,
+    )
+}
+
+/// Frees what an operand the boolean owns holds beyond its mesh relation (the triangle
+/// references `update_reference` reads); a borrowed operand is left as it is.
+/// blocksmith patch (PATCHES.md, 18).
+fn release_geometry(operand: &mut Cow<'_, ManifoldImpl>) {
+    if let Cow::Owned(m) = operand {
+        m.vert_pos = Vec::new();
+        m.halfedge = Vec::new();
+        m.properties = Vec::new();
+        m.vert_normal = Vec::new();
+        m.face_normal = Vec::new();
+        m.halfedge_tangent = Vec::new();
+        m.collider = crate::collider::Collider::default();
+    }
 }
 
 /// [`boolean_result_with_token_and_stage`], the result's final spatial sort
 /// replaced, when not `sorted`, by [`crate::sort::compact_in_order`] (see
 /// `boolean3::boolean_for_export_with_token`; blocksmith patch (PATCHES.md, 17)).
+///
+/// Operands and intersections it owns (`Cow::Owned`) are freed as soon as the
+/// result no longer reads them: the intersections and the operands' geometry
+/// and colliders once the edges are assembled (the operands' properties and
+/// positions after `create_properties` when either has properties), their
+/// triangle references after `update_reference`; so the triangulation, the
+/// simplification and the sort run without them. Borrowed ones are only read.
+/// blocksmith patch (PATCHES.md, 18).
 pub(crate) fn boolean_result_sorted_or_not(
-    in_p: &ManifoldImpl,
-    in_q: &ManifoldImpl,
+    mut in_p: Cow<'_, ManifoldImpl>,
+    mut in_q: Cow<'_, ManifoldImpl>,
     op: OpType,
-    bool3: &Boolean3,
+    bool3: Cow<'_, Boolean3>,
     token: Option<&CancelToken>,
     stage: StageSink<'_>,
     sorted: bool,
@@ -321,14 +354,14 @@ pub(crate) fn boolean_result_sorted_or_not(
     // Early returns for empty inputs (matches C++ boolean_result.cpp lines 680-690)
     if in_p.is_empty() {
         if !in_q.is_empty() && op == OpType::Add {
-            return in_q.clone();
+            return in_q.into_owned();
         }
         return ManifoldImpl::new();
     } else if in_q.is_empty() {
         if op == OpType::Intersect {
             return ManifoldImpl::new();
         }
-        return in_p.clone();
+        return in_p.into_owned();
     }
 
     // Check for valid (overflow) result
@@ -499,8 +532,8 @@ pub(crate) fn boolean_result_sorted_or_not(
     // Size output
     let (face_edge, face_pq2r) = size_output(
         &mut out_r,
-        in_p,
-        in_q,
+        &in_p,
+        &in_q,
         &i03,
         &i30,
         &i12,
@@ -539,7 +572,7 @@ pub(crate) fn boolean_result_sorted_or_not(
         &mut face_ptr_r,
         &edges_p,
         &mut halfedge_ref,
-        in_p,
+        &in_p,
         &i03,
         &vp2r,
         &face_pq2r[..in_p.num_tri()],
@@ -551,7 +584,7 @@ pub(crate) fn boolean_result_sorted_or_not(
         &mut face_ptr_r,
         &edges_q,
         &mut halfedge_ref,
-        in_q,
+        &in_q,
         &i30,
         &vq2r,
         &face_pq2r[in_p.num_tri()..],
@@ -586,7 +619,7 @@ pub(crate) fn boolean_result_sorted_or_not(
         &mut out_r,
         &mut face_ptr_r,
         &mut halfedge_ref,
-        in_p,
+        &in_p,
         &whole_halfedge_p,
         &i03,
         &vp2r,
@@ -597,7 +630,7 @@ pub(crate) fn boolean_result_sorted_or_not(
         &mut out_r,
         &mut face_ptr_r,
         &mut halfedge_ref,
-        in_q,
+        &in_q,
         &whole_halfedge_q,
         &i30,
         &vq2r,
@@ -615,6 +648,14 @@ pub(crate) fn boolean_result_sorted_or_not(
     drop(vq2r);
     drop(i03);
     drop(i30);
+    // blocksmith patch (PATCHES.md, 18): nothing below reads the intersections,
+    // nor, without properties, the operands beyond their triangle references.
+    drop(bool3);
+    let with_properties = in_p.num_prop > 0 || in_q.num_prop > 0;
+    if !with_properties {
+        release_geometry(&mut in_p);
+        release_geometry(&mut in_q);
+    }
 
     crate::timing::print("Assembly", t_assembly);
     report_stage(stage, stage_marks::AFTER_ASSEMBLY);
@@ -643,7 +684,11 @@ pub(crate) fn boolean_result_sorted_or_not(
 
     let t = crate::timing::start();
     // Create properties via barycentric interpolation
-    create_properties(&mut out_r, in_p, in_q, invert_q);
+    create_properties(&mut out_r, &in_p, &in_q, invert_q);
+    if with_properties {
+        release_geometry(&mut in_p);
+        release_geometry(&mut in_q);
+    }
 
     // Phase 9 (C++ boolean_result.cpp:948): after CreateProperties.
     if is_cancelled(token) {
@@ -651,7 +696,9 @@ pub(crate) fn boolean_result_sorted_or_not(
     }
 
     // Update references
-    update_reference(&mut out_r, in_p, in_q, invert_q);
+    update_reference(&mut out_r, &in_p, &in_q, invert_q);
+    drop(in_p);
+    drop(in_q);
     report_stage(stage, stage_marks::AFTER_REFERENCE);
 
     // Phase 10 (C++ boolean_result.cpp:951): after UpdateReference.

@@ -140,6 +140,26 @@ impl Manifold {
         ))
     }
 
+    /// The exact boolean `self op other` on operands it takes: each is freed
+    /// once the result no longer reads it, before the result's triangulation,
+    /// simplification and sort, so its peak memory does not hold both operands
+    /// and their colliders beside the result (see
+    /// `boolean3::boolean_owned_with_token`). The same result as
+    /// [`Manifold::boolean_with_engine_and_token`] with the exact engine; when
+    /// not `sorted`, as [`Manifold::boolean_for_export_with_token`] (for export
+    /// only). blocksmith patch (PATCHES.md, 18).
+    pub fn into_boolean_with_token(
+        self,
+        other: Self,
+        op: OpType,
+        token: Option<&crate::cancel::CancelToken>,
+        sorted: bool,
+    ) -> Self {
+        Self::from_impl(boolean3::boolean_owned_with_token(
+            self.imp, other.imp, op, token, sorted,
+        ))
+    }
+
     /// [`Manifold::boolean_with_engine_and_token`] that also reports coarse
     /// pipeline progress.
     ///
@@ -410,7 +430,82 @@ mod for_export_tests {
             assert_eq!(triangles(&unsorted), triangles(&sorted), "{op:?}");
             // No vertex flagged for removal is left, and every face is paired.
             assert!(unsorted.as_impl().vert_pos.iter().all(|p| p.x.is_finite()));
-            assert!(unsorted.as_impl().halfedge.iter().all(|h| h.paired_halfedge >= 0));
+            assert!(unsorted
+                .as_impl()
+                .halfedge
+                .iter()
+                .all(|h| h.paired_halfedge >= 0));
         }
+    }
+}
+
+/// blocksmith patch (PATCHES.md, 18): the boolean that takes its operands.
+#[cfg(test)]
+mod owned_tests {
+    use super::*;
+
+    /// Everything an export reads: positions and properties (bits), triangles, face and
+    /// run IDs.
+    fn exported(m: &Manifold) -> (Vec<u64>, Vec<u64>, Vec<u64>, Vec<u32>) {
+        let g = m.get_mesh_gl64(-1);
+        let bits = g.vert_properties.iter().map(|p| p.to_bits()).collect();
+        let ids = g.run_original_id.clone();
+        (bits, g.tri_verts.clone(), g.face_id.clone(), ids)
+    }
+
+    #[test]
+    fn a_boolean_on_operands_it_takes_is_the_borrowing_boolean() {
+        let cube = Manifold::cube(Vec3::new(2.0, 2.0, 2.0), true);
+        let sphere = Manifold::sphere(1.3, 48).translate(Vec3::new(0.3, 0.2, 0.1));
+        // Operands with properties: those are read after the edges' assembly, so the
+        // operands are freed later on that path.
+        let with_props = |m: &Manifold| {
+            m.set_properties(4, |out, p, _| {
+                out.copy_from_slice(&[p.x, p.y, p.z, p.x * p.y])
+            })
+        };
+        let cases = [
+            (cube.clone(), sphere.clone()),
+            (with_props(&cube), with_props(&sphere)),
+            (cube.clone(), with_props(&sphere)),
+            // Apart, and one empty: the fast paths, which move an operand rather than copy it.
+            (cube.clone(), sphere.translate(Vec3::new(5.0, 0.0, 0.0))),
+            (Manifold::empty(), sphere.clone()),
+            (cube.clone(), Manifold::empty()),
+        ];
+        for (k, (a, b)) in cases.iter().enumerate() {
+            for op in [OpType::Add, OpType::Subtract, OpType::Intersect] {
+                let sorted = a.boolean_with_engine_and_token(
+                    b,
+                    op,
+                    crate::types::BooleanEngine::Exact,
+                    None,
+                );
+                let owned = a.clone().into_boolean_with_token(b.clone(), op, None, true);
+                assert_eq!(owned.status(), Error::NoError, "case {k} {op:?}");
+                assert_eq!(owned.num_prop(), sorted.num_prop(), "case {k} {op:?}");
+                assert_eq!(exported(&owned), exported(&sorted), "case {k} {op:?}");
+                let export = a.boolean_for_export_with_token(b, op, None);
+                let owned = a
+                    .clone()
+                    .into_boolean_with_token(b.clone(), op, None, false);
+                assert_eq!(
+                    exported(&owned),
+                    exported(&export),
+                    "case {k} {op:?}, for export"
+                );
+            }
+        }
+        // Cancelled before it starts: the cancelled result, as the borrowing boolean's.
+        let token = crate::cancel::CancelToken::new();
+        token.cancel();
+        let owned = cube.clone().into_boolean_with_token(
+            sphere.clone(),
+            OpType::Subtract,
+            Some(&token),
+            true,
+        );
+        assert_eq!(owned.status(), Error::Cancelled);
+        assert!(owned.is_empty());
     }
 }
