@@ -98,10 +98,18 @@
 //! 6.7 / 364 / 919 (a longer delay keeps freed pages a thread could not yet reuse: the stress
 //! case's peak 837 → 926 MiB).
 
-/// The allocator the `blocksmith` binary uses (script/src/main.rs), so the figures are what a
-/// recipe run gets.
+/// The allocator the `blocksmith` binary uses (script/cli/src/main.rs), so the figures are what
+/// a recipe run gets.
 #[global_allocator]
-static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+static ALLOCATOR: blocksmith_kernel::limits::CountingAllocator<allocator::SplitAllocator> =
+    blocksmith_kernel::limits::CountingAllocator(allocator::SplitAllocator);
+
+/// The binary's own allocator module; the bench sets it up as the binary does, without the
+/// thread that releases memory when idle.
+// Its tests are the binary's, not run here.
+#[allow(dead_code, unused_imports)]
+#[path = "../../script/cli/src/allocator.rs"]
+mod allocator;
 
 use std::hint::black_box;
 use std::path::PathBuf;
@@ -332,10 +340,8 @@ fn fingerprint(m: &Mesh) -> String {
 }
 
 fn main() {
-    // As the `blocksmith` binary sets it (script/cli/src/allocator.rs): freed memory stays with
-    // the process for 5 s rather than 1 s (mimalloc 3's `mi_option_purge_delay`, index 15).
-    // SAFETY: stores one of mimalloc's option values.
-    unsafe { libmimalloc_sys::mi_option_set(15, 5000) };
+    // As the `blocksmith` binary does (script/cli/src/allocator.rs).
+    allocator::configure();
     // `CSG_PROFILE=die|die_engine|building`: evaluate 200 times outside criterion (whose
     // analysis threads would otherwise fill a profile), printing best, median and mean — for
     // `perf record`, and for side-by-side figures steadier than criterion's on a busy machine.

@@ -27,11 +27,11 @@ use clap::Parser;
 use args::{Cli, Command};
 use commands::run::{RunCommand, StatsFormat};
 
-/// mimalloc rather than the system allocator: the boolean engine allocates and frees many
-/// mid-sized arrays per operation, which glibc returns to the system and faults back in.
+/// mimalloc for small blocks, the C library's malloc for large ones (see [`allocator`]).
 /// Counted, so that a script whose data grows over the memory budget stops with an error.
 #[global_allocator]
-static ALLOCATOR: limits::CountingAllocator<mimalloc::MiMalloc> = limits::CountingAllocator(mimalloc::MiMalloc);
+static ALLOCATOR: limits::CountingAllocator<allocator::SplitAllocator> =
+    limits::CountingAllocator(allocator::SplitAllocator);
 
 /// The stack of the thread the command runs on: deep data (an array nested a million deep, made
 /// by a loop) is copied and freed by recursion, more than the main thread's 8 MiB allow. Only
@@ -39,7 +39,8 @@ static ALLOCATOR: limits::CountingAllocator<mimalloc::MiMalloc> = limits::Counti
 const STACK_BYTES: usize = 1 << 30;
 
 fn main() -> ExitCode {
-    allocator::keep_freed_memory();
+    allocator::configure();
+    allocator::release_when_idle();
     match std::thread::Builder::new().name("blocksmith".into()).stack_size(STACK_BYTES).spawn(command) {
         Ok(thread) => thread.join().unwrap_or(ExitCode::FAILURE),
         // A system refusing so large a stack: run with the main thread's.

@@ -268,3 +268,53 @@ fn a_reader_that_stops_early_ends_the_command_quietly() {
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert!(out.status.success(), "{:?} {stderr}", out.status);
 }
+
+/// Large blocks go to the C library's malloc, which keeps freed memory for reuse; the binary
+/// hands it back to the system once the large blocks in use stop changing
+/// (script/cli/src/allocator.rs): after a REPL entry, not at exit only.
+#[cfg(all(target_os = "linux", target_env = "gnu"))]
+#[test]
+fn memory_a_recipe_freed_goes_back_to_the_system_once_idle() {
+    use std::io::{BufRead, BufReader, Write};
+    use std::time::{Duration, Instant};
+    let d = tempfile::tempdir().unwrap();
+    let mut child = blocksmith()
+        .arg("repl")
+        .current_dir(d.path())
+        .env("BLOCKSMITH_HISTORY", d.path().join("history"))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let resident = |pid: u32| -> u64 {
+        let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap();
+        let kib = status.lines().find_map(|l| l.strip_prefix("RssAnon:")).unwrap();
+        kib.split_whitespace().next().unwrap().parse::<u64>().unwrap() * 1024
+    };
+    let (lines, seen) = std::sync::mpsc::channel();
+    let stdout = child.stdout.take().unwrap();
+    std::thread::spawn(move || BufReader::new(stdout).lines().map_while(Result::ok).for_each(|l| drop(lines.send(l))));
+    let mut stdin = child.stdin.take().unwrap();
+    // 327,680 triangles: some 50 MB of mesh.
+    stdin.write_all(b"let s = icosphere(1.0, 7);\ns.face_count\n").unwrap();
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while !seen.recv_timeout(Duration::from_secs(120)).unwrap().contains("327680") {
+        assert!(Instant::now() < deadline, "no answer from the REPL");
+    }
+    let held = resident(child.id());
+    stdin.write_all(b"s = 0;\n").unwrap();
+    let start = Instant::now();
+    let mut now = held;
+    while start.elapsed() < Duration::from_secs(30) {
+        now = resident(child.id());
+        if now + (30 << 20) < held {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(200));
+    }
+    stdin.write_all(b":quit\n").unwrap();
+    drop(stdin);
+    let _ = child.wait();
+    assert!(now + (30 << 20) < held, "resident {held} B with the mesh, {now} B 30 s after it was dropped");
+}
