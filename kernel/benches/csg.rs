@@ -97,6 +97,18 @@
 //! each 0.87 (32 segments) / 0.91 (256) / 0.95 (stress), peaks 10.0 / 358 / 926 MiB against
 //! 6.7 / 364 / 919 (a longer delay keeps freed pages a thread could not yet reuse: the stress
 //! case's peak 837 → 926 MiB).
+//!
+//! Issue 38 (2026-12-07, third session; same command): a boolean of the tree takes its operands
+//! and the engine frees them once the result's edges are assembled (patch 18): the bytes in use
+//! at the peak (a counting allocator), die at 32 / 64 / 128 / 256 segments 5.1 / 19.4 / 75.0 /
+//! 295.6 → 4.1 / 15.6 / 60.8 / 240.5 MiB, stress 602 → 498 MiB. Then the allocator: blocks of
+//! 4 KiB and more go to glibc's malloc with one arena, kept until the program is idle
+//! (script/cli/src/allocator.rs; mimalloc had kept a freed block in its thread's region of the
+//! arena, and resident memory was 1.2–2.4 times the bytes in use). Ratios ours / manifold3d,
+//! time then peak memory, three runs of the command on a machine whose speed drifted by a third
+//! between them: die 0.59–0.83 / 0.63–0.85 / 0.71–0.77 / 0.70–0.85, stress 0.87–0.95; peaks
+//! 5.8–6.0 / 17.5 / 67 / 265 / 528–541 MiB against 6.4–6.6 / 23.5–25.4 / 85–97 / 364 /
+//! 869–977 (memory 0.89–0.91 / 0.69–0.75 / 0.69–0.79 / 0.73 / 0.55–0.61).
 
 /// The allocator the `blocksmith` binary uses (script/cli/src/main.rs), so the figures are what
 /// a recipe run gets.
