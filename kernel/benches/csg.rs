@@ -104,7 +104,7 @@
 //! 295.6 → 4.1 / 15.6 / 60.8 / 240.5 MiB, stress 602 → 498 MiB. Then the allocator: blocks of
 //! 4 KiB and more go to glibc's malloc with one arena, kept until the program is idle
 //! (script/cli/src/allocator.rs; mimalloc had kept a freed block in its thread's region of the
-//! arena, and resident memory was 1.2–2.4 times the bytes in use). Ratios ours / manifold3d,
+//! arena, and resident memory was 1.3–2.4 times the bytes in use). Ratios ours / manifold3d,
 //! time then peak memory, three runs of the command on a machine whose speed drifted by a third
 //! between them: die 0.59–0.83 / 0.63–0.85 / 0.71–0.77 / 0.70–0.85, stress 0.87–0.95; peaks
 //! 5.8–6.0 / 17.5 / 67 / 265 / 528–541 MiB against 6.4–6.6 / 23.5–25.4 / 85–97 / 364 /

@@ -4,7 +4,7 @@
 //! A boolean of a million triangles allocates and frees arrays of megabytes, stage after stage,
 //! from several threads (issue 38). With mimalloc alone, a freed large block stayed with the
 //! thread region of the arena it came from until purged, and the next stage's arrays were
-//! placed in fresh pages beside it: the peak resident memory of a boolean was 1.2–2.4 times the
+//! placed in fresh pages beside it: the peak resident memory of a boolean was 1.3–2.4 times the
 //! bytes in use at its peak (the die of `kernel/benches/csg.rs`: 9.8 MiB resident for 4.1 MiB
 //! used at 9.5k triangles; 312 for 241 MiB at 486k; the stress case 660–700 for 498 MiB).
 //! Purging at once kept the peak down but faulted every stage's pages in afresh (the die at
