@@ -15,18 +15,26 @@ above the memory before a boolean (the peak is reset with /proc/self/clear_refs 
 boolean; the largest, because later booleans of one process reuse memory the allocator kept from
 the first, mimalloc more than glibc's, so their own peaks understate it). Around every
 process, `perf stat` counts user and kernel instructions (load-independent; the whole process,
-setup included) when perf works. Printed: one line per process, then a table of medians over the
-rounds with the ratios ours / manifold3d.
+setup included) when perf works. Printed: one line per process, a table of medians over the
+rounds with the ratios ours / manifold3d, then the die's growth from one size to the next, each side
+(per round, then the median).
+
+`--instructions` counts instead of timing: the die's boolean in instructions with valgrind's
+callgrind, each side on one thread, and their growth from size to size — the same on a busy or a
+quiet machine, where the wall time's growth carries the machine's drift and the peer's fixed cost
+per call.
 
   cargo bench -p blocksmith-kernel --bench csg --no-run    # prints the binary's path
   ~/.cache/blocksmith-peers/venv/bin/python kernel/benches/csg_side_by_side.py \\
       --bin target/release/deps/csg-HASH [--sizes 32,64,128,256] [--stress] [--rounds 3] [--reps 3]
+      [--instructions]
 """
 import argparse
 import os
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -71,6 +79,8 @@ def peer(case, segments, reps):
             r = mf.Manifold.batch_boolean([u] + spheres, mf.OpType.Subtract)
             return r.num_tri()
 
+    if reps == 0:
+        return  # the inputs alone: the baseline of the instruction count (--instructions)
     times, peaks = [], []
     tris = 0
     t0 = os.times()
@@ -123,6 +133,41 @@ def measured(cmd, env, use_perf):
     return out
 
 
+def callgrind_count(cmd, env, toggle=None):
+    """The instructions valgrind's callgrind counts in `cmd` (only inside `toggle` when given)."""
+    with tempfile.TemporaryDirectory() as d:
+        out = os.path.join(d, "callgrind.out")
+        full = ["valgrind", "--tool=callgrind", f"--callgrind-out-file={out}"]
+        full += [f"--toggle-collect={toggle}"] if toggle else []
+        r = subprocess.run(full + cmd, capture_output=True, text=True, env=env)
+        if r.returncode != 0 or not os.path.exists(out):
+            sys.exit(f"callgrind failed on {' '.join(cmd)}:\n{r.stderr[-2000:]}")
+        with open(out) as f:
+            for line in f:
+                if line.startswith("summary:") or line.startswith("totals:"):
+                    return int(line.split()[1])
+    sys.exit(f"no instruction count for {' '.join(cmd)}")
+
+
+def instructions(binary, sizes):
+    """The die's boolean in instructions (load-independent), each side, and their growth per size.
+    Ours: the instructions inside Csg::evaluate_here (the whole of `Csg::evaluate`'s work) on one
+    thread. manifold3d's: a process that runs batch_boolean and num_tri less one that only builds the
+    inputs (OpenBLAS, which numpy loads, on one thread, so its idle workers do not spin into either)."""
+    print("| die segments | ours Ginstr | manifold3d Ginstr | ratio | ours growth | manifold3d growth |")
+    print("|---|---|---|---|---|---|")
+    last = None
+    for seg in sizes:
+        env = dict(os.environ, CSG_RUN="die", CSG_SEGMENTS=str(seg), CSG_REPS="1", RAYON_NUM_THREADS="1",
+                   OPENBLAS_NUM_THREADS="1")
+        ours = callgrind_count([binary], env, toggle="*Csg::evaluate_here")
+        peer_cmd = lambda reps: [sys.executable, __file__, "--peer", "die", str(seg), str(reps)]
+        theirs = callgrind_count(peer_cmd(1), env) - callgrind_count(peer_cmd(0), env)
+        growth = f"| {ours / last[0]:.2f} | {theirs / last[1]:.2f} |" if last else "| | |"
+        print(f"| {seg} | {ours / 1e9:.3f} | {theirs / 1e9:.3f} | {ours / theirs:.2f} {growth}", flush=True)
+        last = (ours, theirs)
+
+
 def load_average():
     with open("/proc/loadavg") as f:
         return " ".join(f.read().split()[:3])
@@ -139,7 +184,12 @@ def main():
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--reps", type=int, default=3)
     ap.add_argument("--no-perf", action="store_true")
+    ap.add_argument("--instructions", action="store_true",
+                    help="count the die's instructions with valgrind's callgrind instead of timing it")
     a = ap.parse_args()
+    if a.instructions:
+        instructions(a.bin, [int(s) for s in a.sizes.split(",") if s])
+        return
     use_perf = not a.no_perf and perf_works()
     cases = [("die", int(s)) for s in a.sizes.split(",") if s]
     if a.stress:
@@ -177,6 +227,25 @@ def main():
               f"{med(t, 'bool_med_s'):.4f} | {ratio['bool_med_s']:.2f} | {ratio['user_s']:.2f} | {ratio['sys_s']:.2f} | "
               f"{med(o, 'peak_delta_mib'):.1f} | {med(t, 'peak_delta_mib'):.1f} | {ratio['peak_delta_mib']:.2f} | "
               f"{ratio['ginstr_user']:.2f} |")
+
+    # Growth from one size to the next: the time of the larger over the smaller, each side, per round (the
+    # sizes of one round run minutes apart at most, so a round's pair shares the machine's speed), then
+    # the median over the rounds; ours grows no faster than theirs when the last column is <= 1.
+    dies = [c for c in cases if c[0] == "die"]
+    if len(dies) > 1:
+        print()
+        print("| die segments | result triangles | ours growth | manifold3d growth | ours / theirs "
+              "| rounds where ours grows no faster |")
+        print("|---|---|---|---|---|---|")
+        for small, large in zip(dies, dies[1:]):
+            grow = [
+                [float(b["bool_med_s"]) / float(l["bool_med_s"]) for l, b in zip(results[small][side], results[large][side])]
+                for side in (0, 1)
+            ]
+            ours_g, theirs_g = statistics.median(grow[0]), statistics.median(grow[1])
+            fewer = sum(1 for o, t in zip(grow[0], grow[1]) if o <= t)
+            print(f"| {small[1]} -> {large[1]} | {results[small][0][-1]['tris']} -> {results[large][0][-1]['tris']} "
+                  f"| {ours_g:.2f} | {theirs_g:.2f} | {ours_g / theirs_g:.2f} | {fewer} of {len(grow[0])} |")
 
 
 if __name__ == "__main__":
