@@ -8,6 +8,19 @@ fn blocksmith() -> Command {
     Command::new(env!("CARGO_BIN_EXE_blocksmith"))
 }
 
+/// The REPL in `dir` (its history there too), reading piped input and writing to a pipe.
+fn repl(dir: &Path, stderr: Stdio) -> std::process::Child {
+    blocksmith()
+        .arg("repl")
+        .current_dir(dir)
+        .env("BLOCKSMITH_HISTORY", dir.join("history"))
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(stderr)
+        .spawn()
+        .unwrap()
+}
+
 fn workspace() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).ancestors().nth(2).unwrap().to_path_buf()
 }
@@ -226,15 +239,7 @@ fn doc_of_a_type_lists_its_methods_and_properties() {
 fn repl_reads_piped_input_and_keeps_definitions() {
     use std::io::Write;
     let d = tempfile::tempdir().unwrap();
-    let mut child = blocksmith()
-        .arg("repl")
-        .current_dir(d.path())
-        .env("BLOCKSMITH_HISTORY", d.path().join("history"))
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let mut child = repl(d.path(), Stdio::piped());
     let input =
         "fn side(n) {\n  n * 2\n}\nlet c = cube(side(1));\nc.volume()\nc.oops()\nc\n:save c.obj\n:save small.stl cube(1)\n:doc area\n:quit\n";
     child.stdin.take().unwrap().write_all(input.as_bytes()).unwrap();
@@ -278,15 +283,7 @@ fn memory_a_recipe_freed_goes_back_to_the_system_once_idle() {
     use std::io::{BufRead, BufReader, Write};
     use std::time::{Duration, Instant};
     let d = tempfile::tempdir().unwrap();
-    let mut child = blocksmith()
-        .arg("repl")
-        .current_dir(d.path())
-        .env("BLOCKSMITH_HISTORY", d.path().join("history"))
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
+    let mut child = repl(d.path(), Stdio::null());
     let resident = |pid: u32| -> u64 {
         let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap();
         let kib = status.lines().find_map(|l| l.strip_prefix("RssAnon:")).unwrap();
