@@ -67,10 +67,14 @@ impl SplitAllocator {
         cfg!(all(target_os = "linux", target_env = "gnu")) && size >= LARGE_BLOCK && align <= MALLOC_ALIGN
     }
 
+    /// `block` (a large block of `size` bytes just allocated, or null) counted as in use.
     #[inline]
-    fn count_large(size: usize) {
-        let now = LARGE_IN_USE.fetch_add(size, Ordering::Relaxed) + size;
-        LARGE_PEAK.fetch_max(now, Ordering::Relaxed);
+    fn counted(block: *mut u8, size: usize) -> *mut u8 {
+        if !block.is_null() {
+            let now = LARGE_IN_USE.fetch_add(size, Ordering::Relaxed) + size;
+            LARGE_PEAK.fetch_max(now, Ordering::Relaxed);
+        }
+        block
     }
 }
 
@@ -80,29 +84,19 @@ impl SplitAllocator {
 // crosses `LARGE_BLOCK` allocates with the other allocator, copies and frees the old block.
 unsafe impl GlobalAlloc for SplitAllocator {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        // SAFETY (both): the caller's contract (a layout of non-zero size) holds for either.
         if Self::is_large(layout.size(), layout.align()) {
-            // SAFETY: the caller's contract (a layout of non-zero size) holds for both.
-            let p = unsafe { System.alloc(layout) };
-            if !p.is_null() {
-                Self::count_large(layout.size());
-            }
-            p
+            Self::counted(unsafe { System.alloc(layout) }, layout.size())
         } else {
-            // SAFETY: as above.
             unsafe { MiMalloc.alloc(layout) }
         }
     }
 
     unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        // SAFETY (both): as for `alloc`.
         if Self::is_large(layout.size(), layout.align()) {
-            // SAFETY: as for `alloc`.
-            let p = unsafe { System.alloc_zeroed(layout) };
-            if !p.is_null() {
-                Self::count_large(layout.size());
-            }
-            p
+            Self::counted(unsafe { System.alloc_zeroed(layout) }, layout.size())
         } else {
-            // SAFETY: as for `alloc`.
             unsafe { MiMalloc.alloc_zeroed(layout) }
         }
     }
@@ -124,10 +118,9 @@ unsafe impl GlobalAlloc for SplitAllocator {
         match (was_large, is_large) {
             (true, true) => {
                 // SAFETY: the block came from `System`; the caller's contract is its.
-                let p = unsafe { System.realloc(ptr, layout, new_size) };
+                let p = Self::counted(unsafe { System.realloc(ptr, layout, new_size) }, new_size);
                 if !p.is_null() {
                     LARGE_IN_USE.fetch_sub(layout.size(), Ordering::Relaxed);
-                    Self::count_large(new_size);
                 }
                 p
             }
