@@ -230,7 +230,7 @@ def main():
 
     # Growth from one size to the next: the time of the larger over the smaller, each side, per round (the
     # sizes of one round run minutes apart at most, so a round's pair shares the machine's speed), then
-    # the median over the rounds; ours grows no faster than theirs when the last column is <= 1.
+    # the median over the rounds; ours grows no faster than theirs where `ours / theirs` is <= 1.
     dies = [c for c in cases if c[0] == "die"]
     if len(dies) > 1:
         print()
@@ -243,9 +243,9 @@ def main():
                 for side in (0, 1)
             ]
             ours_g, theirs_g = statistics.median(grow[0]), statistics.median(grow[1])
-            fewer = sum(1 for o, t in zip(grow[0], grow[1]) if o <= t)
+            no_faster = sum(1 for o, t in zip(grow[0], grow[1]) if o <= t)
             print(f"| {small[1]} -> {large[1]} | {results[small][0][-1]['tris']} -> {results[large][0][-1]['tris']} "
-                  f"| {ours_g:.2f} | {theirs_g:.2f} | {ours_g / theirs_g:.2f} | {fewer} of {len(grow[0])} |")
+                  f"| {ours_g:.2f} | {theirs_g:.2f} | {ours_g / theirs_g:.2f} | {no_faster} of {len(grow[0])} |")
 
 
 if __name__ == "__main__":
