@@ -115,7 +115,9 @@
 //! manifold3d 0.124 / 0.429 / 1.582 / 6.139 / 11.97 — steps of 3.32 / 3.60 / 3.78 / 1.94 against
 //! 3.45 / 3.69 / 3.88 / 1.95 (triangles 3.61 / 3.69 / 3.85 / 1.96). In wall time the steps move by
 //! ±15 % from run to run (both sides' times at 128 segments are bimodal across processes), and
-//! manifold3d's call has a fixed ~3.8 ms, so its 32 → 64 step is 2.7–2.9 against our 3.0–3.1.
+//! manifold3d's time per triangle is higher at the small end (1.3 µs at 9.5k triangles, 0.98 at
+//! 34k, with the same instructions per triangle), so its 32 → 64 step is 2.7–2.9 against our
+//! 3.0–3.1.
 
 /// The allocator the `blocksmith` binary uses (script/cli/src/main.rs), so the figures are what
 /// a recipe run gets.

@@ -21,8 +21,8 @@ rounds with the ratios ours / manifold3d, then the die's growth from one size to
 
 `--instructions` counts instead of timing: the die's boolean in instructions with valgrind's
 callgrind, each side on one thread, and their growth from size to size — the same on a busy or a
-quiet machine, where the wall time's growth carries the machine's drift and the peer's fixed cost
-per call.
+quiet machine, where the wall time's growth carries the machine's drift and the peer's latency at
+small sizes.
 
   cargo bench -p blocksmith-kernel --bench csg --no-run    # prints the binary's path
   ~/.cache/blocksmith-peers/venv/bin/python kernel/benches/csg_side_by_side.py \\
