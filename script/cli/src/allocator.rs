@@ -118,11 +118,13 @@ unsafe impl GlobalAlloc for SplitAllocator {
         match (was_large, is_large) {
             (true, true) => {
                 // SAFETY: the block came from `System`; the caller's contract is its.
-                let p = Self::counted(unsafe { System.realloc(ptr, layout, new_size) }, new_size);
+                let p = unsafe { System.realloc(ptr, layout, new_size) };
+                // The old size leaves the count before the new one enters it, so the peak is
+                // not both at once; a failed resize keeps the old block, and its count.
                 if !p.is_null() {
                     LARGE_IN_USE.fetch_sub(layout.size(), Ordering::Relaxed);
                 }
-                p
+                Self::counted(p, new_size)
             }
             // SAFETY: the block came from mimalloc; as above.
             (false, false) => unsafe { MiMalloc.realloc(ptr, layout, new_size) },
