@@ -45,58 +45,92 @@ impl Manifold {
     /// result's automatic one. The caller then composes another way (`Manifold::compose`, or a
     /// fresh import of all the parts).
     pub fn compose_apart(parts: &[ApartPart<'_>]) -> Option<Manifold> {
+        Self::compose_apart_from(parts, PAR_HALFEDGES)
+    }
+
+    /// [`Manifold::compose_apart`], the parts checked and placed in parallel (one part a
+    /// task) from `par_halfedges` half-edges in all.
+    fn compose_apart_from(parts: &[ApartPart<'_>], par_halfedges: usize) -> Option<Manifold> {
         if parts.is_empty() {
             return None;
         }
-        let mut boxes = Vec::with_capacity(parts.len());
-        for p in parts {
+        let fits = parts.iter().all(|p| {
             let m = &p.part.imp;
-            let fit = m.status == Error::NoError
+            m.status == Error::NoError
                 && !m.is_soup
                 && !m.halfedge.is_empty()
                 && m.num_prop == 0
                 && m.halfedge_tangent.is_empty()
                 && m.vert_normal.len() == m.vert_pos.len()
                 && m.face_normal.len() == m.num_tri()
-                && m.mesh_relation.tri_ref.len() == m.num_tri();
-            if !fit {
-                return None;
-            }
-            let (lo, hi) = match &p.moved_to {
-                None => (m.bbox.min, m.bbox.max),
-                Some(to) => translation_bounds(&m.vert_pos, to, m.epsilon)?,
-            };
-            boxes.push((lo, hi));
+                && m.mesh_relation.tri_ref.len() == m.num_tri()
+        });
+        if !fits {
+            return None;
         }
+        let num_vert: usize = parts.iter().map(|p| p.part.imp.vert_pos.len()).sum();
+        let num_halfedge: usize = parts.iter().map(|p| p.part.imp.halfedge.len()).sum();
+        // The parts' boxes (a copy's checked vertex by vertex).
+        let part_threshold = if num_halfedge >= par_halfedges { 2 } else { usize::MAX };
+        let boxes: Vec<Option<(Vec3, Vec3)>> =
+            crate::par::maybe_par_map(parts.len(), part_threshold, |i| {
+                let (p, m) = (&parts[i], &parts[i].part.imp);
+                match &p.moved_to {
+                    None => Some((m.bbox.min, m.bbox.max)),
+                    Some(to) => translation_bounds(&m.vert_pos, to, m.epsilon),
+                }
+            });
+        let boxes: Vec<(Vec3, Vec3)> = boxes.into_iter().collect::<Option<_>>()?;
         if !pairwise_apart(&boxes) {
             return None;
         }
 
-        let num_vert: usize = parts.iter().map(|p| p.part.imp.vert_pos.len()).sum();
-        let num_halfedge: usize = parts.iter().map(|p| p.part.imp.halfedge.len()).sum();
         let mut out = ManifoldImpl::new();
-        out.vert_pos.reserve_exact(num_vert);
-        out.vert_normal.reserve_exact(num_vert);
-        out.halfedge.reserve_exact(num_halfedge);
-        out.face_normal.reserve_exact(num_halfedge / 3);
-        out.mesh_relation.tri_ref.reserve_exact(num_halfedge / 3);
         // Each part's mesh IDs become local IDs 1, 2, 3, … in part order, as `compose_meshes`
         // numbers them, so `increment_mesh_ids` hands out fresh ones in a deterministic order
         // and two copies of one part stay two instances.
         let mut next_local = 1i32;
         let order = spatial_order(&boxes);
+        let mut locals = Vec::with_capacity(order.len());
         for &i in &order {
-            let p = &parts[i];
-            let m = &p.part.imp;
-            let (vert_offset, edge_offset) = (out.vert_pos.len() as i32, out.halfedge.len() as i32);
-            let tri_offset = edge_offset / 3;
-            match &p.moved_to {
-                Some(to) => out.vert_pos.extend_from_slice(to),
-                None => out.vert_pos.extend_from_slice(&m.vert_pos),
+            let mut local = std::collections::HashMap::new();
+            for (id, relation) in &parts[i].part.imp.mesh_relation.mesh_id_transform {
+                local.insert(*id, next_local);
+                out.mesh_relation
+                    .mesh_id_transform
+                    .insert(next_local, relation.clone());
+                next_local += 1;
             }
-            out.vert_normal.extend_from_slice(&m.vert_normal);
-            out.face_normal.extend_from_slice(&m.face_normal);
-            out.halfedge.extend(m.halfedge.iter().map(|h| Halfedge {
+            locals.push(local);
+        }
+        // The parts laid end to end in `order`: each one's first vertex and first half-edge.
+        let starts = |size: fn(&ManifoldImpl) -> usize| -> Vec<usize> {
+            let mut acc = 0;
+            let mut starts: Vec<usize> = order
+                .iter()
+                .map(|&i| {
+                    let start = acc;
+                    acc += size(&parts[i].part.imp);
+                    start
+                })
+                .collect();
+            starts.push(acc);
+            starts
+        };
+        let vert_starts = starts(|m| m.vert_pos.len());
+        let edge_starts = starts(|m| m.halfedge.len());
+        let tri_starts: Vec<usize> = edge_starts.iter().map(|&e| e / 3).collect();
+        let threshold = if num_halfedge >= par_halfedges { 2 } else { usize::MAX };
+        let imp = |k: usize| &parts[order[k]].part.imp;
+        out.vert_pos = concatenated(&vert_starts, threshold, |k| {
+            let p = &parts[order[k]];
+            p.moved_to.as_deref().unwrap_or(&p.part.imp.vert_pos).iter().copied()
+        });
+        out.vert_normal = concatenated(&vert_starts, threshold, |k| imp(k).vert_normal.iter().copied());
+        out.face_normal = concatenated(&tri_starts, threshold, |k| imp(k).face_normal.iter().copied());
+        out.halfedge = concatenated(&edge_starts, threshold, |k| {
+            let (vert_offset, edge_offset) = (vert_starts[k] as i32, edge_starts[k] as i32);
+            imp(k).halfedge.iter().map(move |h| Halfedge {
                 start_vert: h.start_vert + vert_offset,
                 end_vert: h.end_vert + vert_offset,
                 paired_halfedge: if h.paired_halfedge < 0 {
@@ -105,28 +139,18 @@ impl Manifold {
                     h.paired_halfedge + edge_offset
                 },
                 prop_vert: h.prop_vert + vert_offset,
-            }));
-            let mut local = std::collections::HashMap::new();
-            for (id, relation) in &m.mesh_relation.mesh_id_transform {
-                local.insert(*id, next_local);
-                out.mesh_relation
-                    .mesh_id_transform
-                    .insert(next_local, relation.clone());
-                next_local += 1;
-            }
-            out.mesh_relation
-                .tri_ref
-                .extend(m.mesh_relation.tri_ref.iter().map(|r| TriRef {
-                    mesh_id: local.get(&r.mesh_id).copied().unwrap_or(r.mesh_id),
-                    original_id: r.original_id,
-                    face_id: if r.face_id >= 0 {
-                        r.face_id + p.face_id_shift
-                    } else {
-                        r.face_id
-                    },
-                    coplanar_id: r.coplanar_id + tri_offset,
-                }));
-        }
+            })
+        });
+        out.mesh_relation.tri_ref = concatenated(&tri_starts, threshold, |k| {
+            let (local, shift, tri_offset) = (&locals[k], parts[order[k]].face_id_shift, tri_starts[k] as i32);
+            imp(k).mesh_relation.tri_ref.iter().map(move |r| TriRef {
+                mesh_id: local.get(&r.mesh_id).copied().unwrap_or(r.mesh_id),
+                original_id: r.original_id,
+                face_id: if r.face_id >= 0 { r.face_id + shift } else { r.face_id },
+                coplanar_id: r.coplanar_id + tri_offset,
+            })
+        });
+        debug_assert_eq!(out.vert_pos.len(), num_vert);
         out.mesh_relation.original_id = -1;
         out.calculate_bbox();
         out.set_epsilon(-1.0, false);
@@ -168,6 +192,47 @@ impl Manifold {
         out.increment_mesh_ids();
         Some(Manifold::from_impl(out))
     }
+}
+
+/// Half-edges in all from which the parts are checked and placed in parallel (as `sort.rs`'s
+/// `PAR_THRESHOLD`). blocksmith patch (PATCHES.md, 19).
+const PAR_HALFEDGES: usize = 100_000;
+
+/// The parts' arrays laid end to end: part `k`'s elements, `piece(k)`, from `starts[k]` to
+/// `starts[k + 1]`, written in place (no pass to initialise the result first), the parts in
+/// parallel when there are at least `threshold` of them.
+fn concatenated<T, I, F>(starts: &[usize], threshold: usize, piece: F) -> Vec<T>
+where
+    T: Send,
+    I: Iterator<Item = T>,
+    F: Fn(usize) -> I + Sync + Send,
+{
+    let total = starts.last().copied().unwrap_or(0);
+    let mut out: Vec<T> = Vec::with_capacity(total);
+    let mut slices = Vec::with_capacity(starts.len().saturating_sub(1));
+    let mut rest = &mut out.spare_capacity_mut()[..total];
+    for (k, w) in starts.windows(2).enumerate() {
+        let (slice, tail) = std::mem::take(&mut rest).split_at_mut(w[1] - w[0]);
+        slices.push((k, slice));
+        rest = tail;
+    }
+    let written = std::sync::atomic::AtomicUsize::new(0);
+    crate::par::maybe_par_for_each(slices, threshold, |(k, slice)| {
+        let mut n = 0;
+        for (slot, value) in slice.iter_mut().zip(piece(k)) {
+            slot.write(value);
+            n += 1;
+        }
+        // A part that fills less than its slice leaves the count short: nothing is exposed.
+        if n == slice.len() {
+            written.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
+        }
+    });
+    assert_eq!(written.into_inner(), total, "a part's array is shorter than its count");
+    // SAFETY: the slices partition `0..total` of the capacity, and each was written in
+    // full (counted above) before the length covers them.
+    unsafe { out.set_len(total) };
+    out
 }
 
 /// The order of the boxes `(min, max)` by the Morton codes of their centres in the box around
@@ -273,6 +338,52 @@ mod tests {
         assert_eq!(a.status(), Error::NoError);
         assert!((a.volume() - b.volume()).abs() < 1e-9 * b.volume());
         assert_eq!(a.num_tri(), b.num_tri());
+    }
+
+    #[test]
+    fn parts_placed_in_parallel_are_placed_as_one_at_a_time() {
+        // The copies no farther from the origin than the part, so its epsilon holds.
+        let s = sphere_at(20.0, 0.0);
+        let copies: Vec<ApartPart<'_>> = (0..6)
+            .map(|k| {
+                let d = Vec3::new(-3.0 * k as f64, 1.5 * k as f64, 0.25);
+                ApartPart {
+                    part: &s,
+                    moved_to: (k > 0).then(|| s.as_impl().vert_pos.iter().map(|&p| p + d).collect()),
+                    face_id_shift: 100 * k,
+                }
+            })
+            .collect();
+        let one_at_a_time = Manifold::compose_apart_from(&copies, usize::MAX).expect("apart");
+        let in_parallel = Manifold::compose_apart_from(&copies, 0).expect("apart");
+        let (a, b) = (one_at_a_time.as_impl(), in_parallel.as_impl());
+        assert_eq!(a.num_tri(), 6 * s.num_tri());
+        let bits = |v: &[Vec3]| v.iter().map(|p| [p.x, p.y, p.z].map(f64::to_bits)).collect::<Vec<_>>();
+        assert!(bits(&a.vert_pos) == bits(&b.vert_pos), "positions");
+        assert!(bits(&a.vert_normal) == bits(&b.vert_normal), "vertex normals");
+        assert!(bits(&a.face_normal) == bits(&b.face_normal), "face normals");
+        assert!(a.halfedge == b.halfedge, "half-edges");
+        // Each composition hands out fresh mesh IDs: the same ones, from another start.
+        let relative = |m: &ManifoldImpl| {
+            let first = m.mesh_relation.tri_ref.iter().map(|r| r.mesh_id).min().unwrap_or(0);
+            m.mesh_relation
+                .tri_ref
+                .iter()
+                .map(|r| TriRef { mesh_id: r.mesh_id - first, ..*r })
+                .collect::<Vec<_>>()
+        };
+        let (ra, rb) = (relative(a), relative(b));
+        assert!(ra == rb, "triangle references");
+        let instances: std::collections::BTreeSet<i32> = ra.iter().map(|r| r.mesh_id).collect();
+        assert_eq!(instances.len(), 6, "six instances");
+        assert!(b.is_manifold());
+        // A copy that is not one translation is refused on both paths.
+        let mut bent = copies;
+        if let Some(to) = bent[3].moved_to.as_mut() {
+            to[5].x += 0.5;
+        }
+        assert!(Manifold::compose_apart_from(&bent, 0).is_none());
+        assert!(Manifold::compose_apart_from(&bent, usize::MAX).is_none());
     }
 
     #[test]
