@@ -144,7 +144,7 @@ fn a_translated_copy_is_prepared_as_prepare_would_prepare_it() {
     let first = prepare(&leaves[0], Side::Right, 0).unwrap();
     for (k, leaf) in leaves.iter().enumerate().take(3).skip(1) {
         let Csg::Mesh(m) = leaf else { unreachable!() };
-        let moved = first.moved(m, Side::Right, k as u32).unwrap();
+        let moved = first.moved(m, Side::Right, k as u32, &order_by_x(s.positions())).unwrap();
         let fresh = prepare(leaf, Side::Right, k as u32).unwrap();
         assert_eq!(moved.positions, fresh.positions);
         assert_eq!(moved.triangles, fresh.triangles);
@@ -158,6 +158,53 @@ fn a_translated_copy_is_prepared_as_prepare_would_prepare_it() {
         assert_eq!(moved.pairs, fresh.pairs);
         assert_eq!((moved.leaf_span, moved.first_leaf_hint), (fresh.leaf_span, fresh.first_leaf_hint));
     }
+}
+
+/// Two vertices a rounding apart in x come together when moved far off: the copy touches itself
+/// and is refused as `prepare` refuses it, though its original passed.
+#[test]
+fn a_copy_that_rounding_makes_touch_itself_is_refused_as_prepare_refuses_it() {
+    // A box one rounding thick in x (from 1 to the next double), then moved 1024 along x, where
+    // a rounding is 2^-42: each corner on one side lands on the one across from it.
+    let thin = Mesh::cuboid(Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0 + f64::EPSILON, 1.0, 1.0)).triangulate().unwrap();
+    let far = thin.translate(Vec3::new(1024.0, 0.0, 0.0));
+    let first = prepare(&Csg::mesh(thin.clone()), Side::Right, 0).expect("the original is apart");
+    let by_x = order_by_x(thin.positions());
+    assert!(apart_along(thin.positions(), &by_x));
+    assert!(!apart_along(far.positions(), &by_x), "the copy's corners meet");
+    let moved = first.moved(&far, Side::Right, 1, &by_x);
+    let fresh = prepare(&Csg::mesh(far.clone()), Side::Right, 1);
+    match (moved, fresh) {
+        (Err(CsgError::NonManifold { leaf: 1, reason: a, .. }), Err(CsgError::NonManifold { reason: b, .. })) => {
+            assert_eq!(a, b);
+            assert!(a.contains("touches itself"), "{a}");
+        }
+        (moved, fresh) => panic!("moved: {:?}, prepared: {:?}", moved.err(), fresh.err()),
+    }
+    // Moved a little, the copy stays apart and is taken without a lookup.
+    let near = thin.translate(Vec3::new(0.5, -2.0, 3.0));
+    assert!(apart_along(near.positions(), &by_x));
+    first.moved(&near, Side::Right, 1, &by_x).expect("apart");
+}
+
+/// Walking a grid in x order: equal x in long runs, told apart by y and z; a repeated
+/// position, an order that is not x's, or a short order cannot be told apart.
+#[test]
+fn positions_are_seen_apart_along_their_x_order() {
+    let grid: Vec<Vec3> = (0..4)
+        .flat_map(|i| (0..5).flat_map(move |j| (0..3).map(move |k| Vec3::new(i as f64, j as f64, k as f64))))
+        .collect();
+    let by_x = order_by_x(&grid);
+    assert!(apart_along(&grid, &by_x));
+    let mut twice = grid.clone();
+    twice[17] = twice[4];
+    assert!(!apart_along(&twice, &order_by_x(&twice)));
+    let reversed: Vec<u32> = by_x.iter().rev().copied().collect();
+    assert!(!apart_along(&grid, &reversed));
+    assert!(!apart_along(&grid, &by_x[1..]));
+    // -0.0 and 0.0 are two positions, as the lookup keys them.
+    let zeros = [Vec3::new(0.0, 1.0, 1.0), Vec3::new(-0.0, 1.0, 1.0)];
+    assert!(apart_along(&zeros, &order_by_x(&zeros)));
 }
 
 /// A copy but for a non-finite coordinate is no copy: it is refused as `prepare` refuses it,

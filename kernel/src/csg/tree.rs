@@ -141,14 +141,26 @@ impl Csg {
                 prepare(leaf, *side, k as u32).map(Some)
             })
             .collect::<Result<_, _>>()?;
+        // Each first with copies: its vertices in the order of their x coordinates, for the
+        // copies' check ([`Prepared::moved`]).
+        let mut firsts: Vec<usize> = copy_of.iter().flatten().copied().collect();
+        firsts.sort_unstable();
+        firsts.dedup();
+        let by_x: HashMap<usize, Vec<u32>> = firsts
+            .par_iter()
+            .filter_map(|&f| match leaves[f].0 {
+                Csg::Mesh(m) => Some((f, order_by_x(m.positions()))),
+                _ => None,
+            })
+            .collect();
         let moved: Vec<(usize, Prepared)> = copy_of
             .par_iter()
             .enumerate()
             .filter_map(|(k, first)| Some((k, (*first)?)))
-            .filter_map(|(k, first)| match (leaves[k], &prepared[first]) {
-                ((Csg::Mesh(m), side), Some(p)) => {
+            .filter_map(|(k, first)| match (leaves[k], &prepared[first], by_x.get(&first)) {
+                ((Csg::Mesh(m), side), Some(p), Some(by_x)) => {
                     let _current = crate::limits::install(token.clone());
-                    Some(p.moved(m, side, k as u32).map(|p| (k, p)))
+                    Some(p.moved(m, side, k as u32, by_x).map(|p| (k, p)))
                 }
                 _ => None,
             })
@@ -879,11 +891,14 @@ impl Prepared {
     /// prepared from (see [`translated_copies`]): its faces, sources, parts, pairing and
     /// components are this one's; its positions, creases and corners its own, and it is checked
     /// as [`prepare`] checks a leaf (closed, not touching itself). What `prepare` would give,
-    /// without grouping faces again.
-    fn moved(&self, mesh: &Mesh, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
+    /// without grouping faces again. `by_x`: the first's vertices in the order of their x
+    /// coordinates ([`order_by_x`]), along which a copy's positions are seen to be apart in one
+    /// pass ([`apart_along`]); only when that walk cannot tell is each position looked up.
+    fn moved(&self, mesh: &Mesh, side: Side, leaf_no: u32, by_x: &[u32]) -> Result<Prepared, CsgError> {
         crate::limits::charge(self.triangles.len() as u64)?;
         let earlier_result = mesh.face_sources().is_some();
-        check_solid(mesh, &self.triangles, &self.components, !earlier_result, side, leaf_no)?;
+        let check_touching = !earlier_result && !apart_along(mesh.positions(), by_x);
+        check_solid(mesh, &self.triangles, &self.components, check_touching, side, leaf_no)?;
         Ok(Prepared {
             positions: mesh.positions().to_vec(),
             triangles: self.triangles.clone(),
@@ -911,6 +926,50 @@ impl Prepared {
             })
             .collect()
     }
+}
+
+/// The vertices in the order of their x coordinates (ties in vertex order).
+fn order_by_x(positions: &[Vec3]) -> Vec<u32> {
+    let mut order: Vec<u32> = (0..positions.len() as u32).collect();
+    order.sort_by(|&a, &b| positions[a as usize].x.total_cmp(&positions[b as usize].x));
+    order
+}
+
+/// Whether no two of `positions` are equal (bit for bit, as [`check_solid`] compares them),
+/// seen in one walk along `order` (a permutation of the vertices): when their x coordinates
+/// never fall along it, equal ones are neighbours there, and only runs of one x need their y
+/// and z compared. A translated copy walked in its original's x order ([`order_by_x`]) keeps
+/// that order, rounding being monotone. `false` when the walk cannot tell (an x falls, or two
+/// positions are equal): the caller then checks each position by lookup.
+fn apart_along(positions: &[Vec3], order: &[u32]) -> bool {
+    if order.len() != positions.len() {
+        return false;
+    }
+    let at = |k: usize| positions[order[k] as usize];
+    let mut start = 0;
+    for k in 1..=order.len() {
+        if k < order.len() {
+            let (a, b) = (at(k - 1).x, at(k).x);
+            if a.total_cmp(&b).is_gt() {
+                return false;
+            }
+            if a.to_bits() == b.to_bits() {
+                continue;
+            }
+        }
+        // One run of a single x: order[start..k].
+        let run = &order[start..k];
+        if run.len() > 1 {
+            let mut yz: Vec<[u64; 2]> =
+                run.iter().map(|&v| [positions[v as usize].y.to_bits(), positions[v as usize].z.to_bits()]).collect();
+            yz.sort_unstable();
+            if yz.windows(2).any(|w| w[0] == w[1]) {
+                return false;
+            }
+        }
+        start = k;
+    }
+    true
 }
 
 /// `leaf_no` is the input's position among the tree's inputs, left to right (named in errors).
