@@ -690,10 +690,14 @@ fn instance_classes(pieces: &[(usize, usize)], prepared: &[Prepared], epsilon: f
 /// Whether `b` is `a` moved by one vector (within `epsilon` per coordinate): the same triangles,
 /// half-edge pairing and faces.
 fn is_translated_copy(a: &Prepared, b: &Prepared, epsilon: f64) -> bool {
+    // Shared when one was prepared as the other moved: equal without a look.
+    fn same<T: PartialEq>(a: &Arc<Vec<T>>, b: &Arc<Vec<T>>) -> bool {
+        Arc::ptr_eq(a, b) || a == b
+    }
     a.positions.len() == b.positions.len()
-        && a.triangles == b.triangles
-        && a.pairs == b.pairs
-        && a.faces == b.faces
+        && same(&a.triangles, &b.triangles)
+        && same(&a.pairs, &b.pairs)
+        && same(&a.faces, &b.faces)
         && translation_between(&a.positions, &b.positions, epsilon).is_some()
 }
 
@@ -858,18 +862,21 @@ fn union_operands<'a>(node: &'a Csg, out: &mut Vec<&'a Csg>) {
 /// source changes and bends: the engine gets one face id per face, which lets it merge the
 /// face's triangles in its result as Manifold does for its own faces (about half the triangles
 /// on flat faces, and faster booleans), while every output triangle still names its source.
+///
+/// A translated copy ([`Prepared::moved`]) shares its first's triangles, faces, sources, parts,
+/// components and pairing (`Arc`); its positions, creases and corners are its own.
 struct Prepared {
     positions: Vec<Vec3>,
-    triangles: Vec<[u32; 3]>,
+    triangles: Arc<Vec<[u32; 3]>>,
     /// The face of each triangle, numbered from 0 in order of first triangle.
-    faces: Vec<u32>,
+    faces: Arc<Vec<u32>>,
     /// The source of each face.
-    face_sources: Vec<FaceSource>,
+    face_sources: Arc<Vec<FaceSource>>,
     /// The part (colour, origin) of each face, indexing `parts`; both empty when the input has
     /// no parts. Looked up by face tag rather than through the sources, which name the leaves of
     /// an earlier boolean rather than this input's faces.
-    group_parts: Vec<u32>,
-    parts: Vec<FacePart>,
+    group_parts: Arc<Vec<u32>>,
+    parts: Arc<Vec<FacePart>>,
     /// Crease edges: the faces on their two sides, the segment and its sharpness.
     creases: Vec<(u32, u32, [Vec3; 2], f64)>,
     /// Vertices with a corner sharpness: position and sharpness.
@@ -880,10 +887,10 @@ struct Prepared {
     first_leaf_hint: u32,
     /// The triangles of each solid to union (one for a mesh; one per connected component for
     /// a block model).
-    components: Vec<Vec<u32>>,
+    components: Arc<Vec<Vec<u32>>>,
     /// The half-edge pairing of `triangles` as the engine numbers half-edges (`pairs[3t + i]`
     /// opposite the edge from corner `i` to `i + 1` of triangle `t`), from the mesh's twins.
-    pairs: Vec<u32>,
+    pairs: Arc<Vec<u32>>,
 }
 
 impl Prepared {
@@ -901,17 +908,17 @@ impl Prepared {
         check_solid(mesh, &self.triangles, &self.components, check_touching, side, leaf_no)?;
         Ok(Prepared {
             positions: mesh.positions().to_vec(),
-            triangles: self.triangles.clone(),
-            faces: self.faces.clone(),
-            face_sources: self.face_sources.clone(),
-            group_parts: self.group_parts.clone(),
-            parts: self.parts.clone(),
+            triangles: Arc::clone(&self.triangles),
+            faces: Arc::clone(&self.faces),
+            face_sources: Arc::clone(&self.face_sources),
+            group_parts: Arc::clone(&self.group_parts),
+            parts: Arc::clone(&self.parts),
             creases: crease_segments(mesh, &self.faces),
             corners: corner_list(mesh),
             leaf_span: self.leaf_span,
             first_leaf_hint: leaf_no,
-            components: self.components.clone(),
-            pairs: self.pairs.clone(),
+            components: Arc::clone(&self.components),
+            pairs: Arc::clone(&self.pairs),
         })
     }
 
@@ -1048,17 +1055,17 @@ fn prepare(leaf: &Csg, side: Side, leaf_no: u32) -> Result<Prepared, CsgError> {
     let corners = corner_list(&mesh);
     Ok(Prepared {
         positions: mesh.positions().to_vec(),
-        triangles,
-        faces,
-        face_sources,
-        group_parts,
-        parts,
+        triangles: Arc::new(triangles),
+        faces: Arc::new(faces),
+        face_sources: Arc::new(face_sources),
+        group_parts: Arc::new(group_parts),
+        parts: Arc::new(parts),
         creases,
         corners,
         leaf_span,
         first_leaf_hint: leaf_no,
-        components,
-        pairs: corner_pairs(&mesh),
+        components: Arc::new(components),
+        pairs: Arc::new(corner_pairs(&mesh)),
     })
 }
 
