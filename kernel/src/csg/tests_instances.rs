@@ -160,6 +160,24 @@ fn a_translated_copy_is_prepared_as_prepare_would_prepare_it() {
     }
 }
 
+/// Copies are found whatever first they copy: a rotated ball has the ball's counts but is a first
+/// of its own, and its translates copy it, not the ball; a non-mesh leaf is nobody's copy.
+#[test]
+fn each_copy_names_the_first_it_is_a_translate_of() {
+    let s = ball();
+    let turned = s.rotate(Vec3::Y, 30.0);
+    let leaves = [
+        Csg::mesh(s.clone()),
+        Csg::mesh(turned.clone()),
+        Csg::mesh(turned.translate(Vec3::new(3.0, 0.0, 0.0))),
+        Csg::mesh(s.translate(Vec3::new(0.0, 3.0, 0.0))),
+        Csg::mesh(Mesh::cube(1.0).triangulate().unwrap()),
+        Csg::mesh(turned.translate(Vec3::new(0.0, 0.0, -3.0))),
+    ];
+    let sided: Vec<(&Csg, Side)> = leaves.iter().map(|l| (l, Side::Right)).collect();
+    assert_eq!(translated_copies(&sided), vec![None, None, Some(1), Some(0), None, Some(1)]);
+}
+
 /// Two vertices a rounding apart in x come together when moved far off: the copy touches itself
 /// and is refused as `prepare` refuses it, though its original passed.
 #[test]
