@@ -215,7 +215,7 @@ impl Csg {
         // The import plan: which pieces (a mesh leaf, or one connected part of a block model)
         // go into the engine together, with engine ids reserved in plan order so the same tree
         // gives the same mesh whatever order the parallel imports finish in.
-        let bounds: Vec<Vec<Aabb>> = prepared.iter().map(Prepared::component_bounds).collect();
+        let bounds: Vec<Vec<Aabb>> = prepared.par_iter().map(Prepared::component_bounds).collect();
         let mut leaf_no = 0usize;
         let plan = plan(self, &bounds, &mut leaf_no);
         // Every import first, all in parallel; then the leaves' prepared arrays go, before the
