@@ -301,6 +301,9 @@ const NONE: u32 = u32::MAX;
 /// Shells thinner than this fraction of the result's size (volume / area) are flat.
 const FLAT_SHELL: f64 = 1e-9;
 
+/// Triangles per run of [`without_flat_shells`]'s parallel sums.
+const SHELL_SUM_RUN: usize = 16_384;
+
 /// The engine's triangles without their flat shells: Manifold resolves solids that only touch
 /// (two boxes meeting face to face, intersected) with symbolic perturbation and may leave a
 /// closed shell of no volume there — two coincident sheets facing apart. CSG is regularised
@@ -320,21 +323,50 @@ fn without_flat_shells(t: PairedTriangles) -> PairedTriangles {
             }
         }
     }
+    // Each vertex's shell (its root), in one pass.
+    let shell: Vec<u32> = (0..n as u32).map(|v| root(&mut parent, v)).collect();
+    drop(parent);
+    let size = Aabb::from_points(&t.positions).size().max_element();
+    // Each shell's volume and area: runs of triangles summed in parallel, each into its own
+    // table (shells in order of first triangle), then the runs' sums added in run order — the
+    // same sums whatever the number of threads.
+    let runs: Vec<Vec<(u32, f64, f64)>> = t
+        .corners
+        .par_chunks(3 * SHELL_SUM_RUN)
+        .map(|run| {
+            let mut sums: Vec<(u32, f64, f64)> = Vec::new();
+            let mut slot: IdMap<u32, usize> = IdMap::default();
+            for tri in run.chunks_exact(3) {
+                let r = shell[tri[0] as usize];
+                let [a, b, c] = [0, 1, 2].map(|i| t.positions[tri[i] as usize]);
+                // Relative to the shell's root vertex, so a far-off shell's volume keeps its digits.
+                let o = t.positions[r as usize];
+                let volume = (a - o).dot((b - o).cross(c - o)) / 6.0;
+                let area = (b - a).cross(c - a).length() / 2.0;
+                let k = match sums.last() {
+                    Some(&(last, _, _)) if last == r => sums.len() - 1,
+                    _ => *slot.entry(r).or_insert_with(|| {
+                        sums.push((r, 0.0, 0.0));
+                        sums.len() - 1
+                    }),
+                };
+                sums[k].1 += volume;
+                sums[k].2 += area;
+            }
+            sums
+        })
+        .collect();
     let mut volume = vec![0.0; n];
     let mut area = vec![0.0; n];
-    let size = Aabb::from_points(&t.positions).size().max_element();
-    let roots: Vec<u32> = t.corners.chunks_exact(3).map(|tri| root(&mut parent, tri[0])).collect();
-    for (tri, &r) in t.corners.chunks_exact(3).zip(&roots) {
-        let [a, b, c] = [0, 1, 2].map(|i| t.positions[tri[i] as usize]);
-        // Relative to the shell's root vertex, so a far-off shell's volume keeps its digits.
-        let o = t.positions[r as usize];
-        volume[r as usize] += (a - o).dot((b - o).cross(c - o)) / 6.0;
-        area[r as usize] += (b - a).cross(c - a).length() / 2.0;
+    for &(r, v, a) in runs.iter().flatten() {
+        volume[r as usize] += v;
+        area[r as usize] += a;
     }
     let flat = |r: u32| volume[r as usize].abs() <= FLAT_SHELL * size * area[r as usize];
-    if !roots.iter().any(|&r| flat(r)) {
+    if !runs.iter().flatten().any(|&(r, _, _)| flat(r)) {
         return t;
     }
+    let roots: Vec<u32> = t.corners.chunks_exact(3).map(|tri| shell[tri[0] as usize]).collect();
     // Each kept triangle's new number.
     let mut renumber = vec![u32::MAX; roots.len()];
     let mut kept = 0u32;
@@ -1278,3 +1310,7 @@ fn check_solid(
 #[cfg(test)]
 #[path = "tests_instances.rs"]
 mod tests_instances;
+
+#[cfg(test)]
+#[path = "tests_flat_shells.rs"]
+mod tests_flat_shells;
