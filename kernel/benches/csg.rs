@@ -118,6 +118,22 @@
 //! manifold3d's time per triangle is higher at the small end (1.3 µs at 9.5k triangles, 0.98 at
 //! 34k, with the same instructions per triangle), so its 32 → 64 step is 2.7–2.9 against our
 //! 3.0–3.1.
+//!
+//! Issue 38 (2026-12-07, fourth session; same command, 7 rounds of 3): the engine places the
+//! copies of an instanced import in parallel, each array written once in place (patch 19); a
+//! translated copy is seen apart in one walk along its original's x order (a lookup per vertex
+//! only when the walk cannot tell) and shares its original's arrays instead of cloning them; the
+//! import plan's bounds and the flat-shell sums run in parallel. Stage times at 256 segments
+//! (temporary timers, two threads): the copies' preparation 25–34 → 11–12 ms, the engine's
+//! placement 42–46 → 36–37, the flat-shell check 20 → 11, the join 4.6 → 3.2. Ratios, time then
+//! memory: die 0.59 / 0.57 / 0.70 / 0.66 / 0.65 at 32–360 segments, stress 0.97; peaks 5.7 /
+//! 16.5 / 61 / 239 / 470 MiB against 6.6 / 23.6 / 98 / 364 / 688 (0.86 / 0.70 / 0.62 / 0.66 /
+//! 0.68), stress 518 against 879 (0.59). Instructions 0.117 / 0.385 / 1.385 / 5.231 G at 32–256
+//! segments against 0.125 / 0.428 / 1.585 / 6.147 (0.94 → 0.85), steps 3.28 / 3.60 / 3.78 against
+//! 3.44 / 3.70 / 3.88. Wall-time steps, medians of the rounds: 2.98 / 3.72 / 4.26 / 1.98 against
+//! 2.76 / 3.51 / 3.99 / 2.13 (the fastest round's: 3.01 / 3.63 / 4.28 / 1.98 against 2.71 / 3.69 /
+//! 4.22 / 2.07): ours grows with the triangles (0.61–0.75 µs each from 9.5k to 950k), the peer's
+//! less than them from 9.5k to 126k, its time per triangle falling from 1.27 to 0.99 µs.
 
 /// The allocator the `blocksmith` binary uses (script/cli/src/main.rs), so the figures are what
 /// a recipe run gets.
