@@ -985,6 +985,8 @@ fn apart_along(positions: &[Vec3], order: &[u32]) -> bool {
         return false;
     }
     let at = |k: usize| positions[order[k] as usize];
+    // One buffer for every run's y and z.
+    let mut yz: Vec<[u64; 2]> = Vec::new();
     let mut start = 0;
     for k in 1..=order.len() {
         if k < order.len() {
@@ -999,8 +1001,8 @@ fn apart_along(positions: &[Vec3], order: &[u32]) -> bool {
         // One run of a single x: order[start..k].
         let run = &order[start..k];
         if run.len() > 1 {
-            let mut yz: Vec<[u64; 2]> =
-                run.iter().map(|&v| [positions[v as usize].y.to_bits(), positions[v as usize].z.to_bits()]).collect();
+            yz.clear();
+            yz.extend(run.iter().map(|&v| [positions[v as usize].y.to_bits(), positions[v as usize].z.to_bits()]));
             yz.sort_unstable();
             if yz.windows(2).any(|w| w[0] == w[1]) {
                 return false;

@@ -4,21 +4,12 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
+#[path = "support/repl.rs"]
+mod repl;
+use repl::repl;
+
 fn blocksmith() -> Command {
     Command::new(env!("CARGO_BIN_EXE_blocksmith"))
-}
-
-/// The REPL in `dir` (its history there too), reading piped input and writing to a pipe.
-fn repl(dir: &Path, stderr: Stdio) -> std::process::Child {
-    blocksmith()
-        .arg("repl")
-        .current_dir(dir)
-        .env("BLOCKSMITH_HISTORY", dir.join("history"))
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(stderr)
-        .spawn()
-        .unwrap()
 }
 
 fn workspace() -> PathBuf {

@@ -4,6 +4,10 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+#[path = "support/repl.rs"]
+mod repl;
+use repl::repl;
+
 fn blocksmith() -> Command {
     Command::new(env!("CARGO_BIN_EXE_blocksmith"))
 }
@@ -323,15 +327,7 @@ fn an_interrupt_stops_a_long_icosphere_in_the_repl_and_keeps_the_session() {
     use std::io::{Read, Write};
     use std::process::Stdio;
     let d = tempfile::tempdir().unwrap();
-    let mut child = blocksmith()
-        .arg("repl")
-        .current_dir(d.path())
-        .env("BLOCKSMITH_HISTORY", d.path().join("history"))
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let mut child = repl(d.path(), Stdio::piped());
     let mut stdin = child.stdin.take().unwrap();
     // Nine levels are about 5M triangles, a second or two each even in a debug build with
     // optimised dependencies; forty of them in a row take far longer than the bound below.

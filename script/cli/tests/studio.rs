@@ -8,9 +8,12 @@
 mod browser;
 #[path = "support/http.rs"]
 mod http;
+#[path = "support/repl.rs"]
+mod repl;
 mod support;
 use browser::Browser;
 use http::raw;
+use repl::repl;
 use support::chromium;
 
 use std::io::{BufRead, BufReader, Read, Write};
@@ -582,15 +585,7 @@ fn repl_says(
 #[test]
 fn the_repl_shows_values_on_one_studio_page_started_once() {
     let dir = tempfile::tempdir().unwrap();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_blocksmith"))
-        .arg("repl")
-        .current_dir(dir.path())
-        .env("BLOCKSMITH_HISTORY", dir.path().join("history"))
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
+    let mut child = repl(dir.path(), Stdio::null());
     let mut stdin = child.stdin.take().unwrap();
     let mut out = BufReader::new(child.stdout.take().unwrap()).lines().map_while(Result::ok);
     let said = repl_says(&mut stdin, &mut out, ":show", "nothing to show");

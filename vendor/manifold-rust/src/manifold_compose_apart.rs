@@ -68,12 +68,12 @@ impl Manifold {
         if !fits {
             return None;
         }
-        let num_vert: usize = parts.iter().map(|p| p.part.imp.vert_pos.len()).sum();
+        // One part a task when they are large in all.
         let num_halfedge: usize = parts.iter().map(|p| p.part.imp.halfedge.len()).sum();
+        let threshold = if num_halfedge >= par_halfedges { 2 } else { usize::MAX };
         // The parts' boxes (a copy's checked vertex by vertex).
-        let part_threshold = if num_halfedge >= par_halfedges { 2 } else { usize::MAX };
         let boxes: Vec<Option<(Vec3, Vec3)>> =
-            crate::par::maybe_par_map(parts.len(), part_threshold, |i| {
+            crate::par::maybe_par_map(parts.len(), threshold, |i| {
                 let (p, m) = (&parts[i], &parts[i].part.imp);
                 match &p.moved_to {
                     None => Some((m.bbox.min, m.bbox.max)),
@@ -120,7 +120,6 @@ impl Manifold {
         let vert_starts = starts(|m| m.vert_pos.len());
         let edge_starts = starts(|m| m.halfedge.len());
         let tri_starts: Vec<usize> = edge_starts.iter().map(|&e| e / 3).collect();
-        let threshold = if num_halfedge >= par_halfedges { 2 } else { usize::MAX };
         let imp = |k: usize| &parts[order[k]].part.imp;
         out.vert_pos = concatenated(&vert_starts, threshold, |k| {
             let p = &parts[order[k]];
@@ -150,7 +149,6 @@ impl Manifold {
                 coplanar_id: r.coplanar_id + tri_offset,
             })
         });
-        debug_assert_eq!(out.vert_pos.len(), num_vert);
         out.mesh_relation.original_id = -1;
         out.calculate_bbox();
         out.set_epsilon(-1.0, false);
