@@ -17,7 +17,8 @@ the first, mimalloc more than glibc's, so their own peaks understate it). Around
 process, `perf stat` counts user and kernel instructions (load-independent; the whole process,
 setup included) when perf works. Printed: one line per process, a table of medians over the
 rounds with the ratios ours / manifold3d, then the die's growth from one size to the next, each side
-(per round, then the median).
+(per round, then the median), and that growth split into a cost per triangle and a fixed cost per
+boolean (`cost_per_triangle`).
 
 `--instructions` counts instead of timing: the die's boolean in instructions with valgrind's
 callgrind, each side on one thread, and their growth from size to size — the same on a busy or a
@@ -246,6 +247,57 @@ def main():
             no_faster = sum(1 for o, t in zip(grow[0], grow[1]) if o <= t)
             print(f"| {small[1]} -> {large[1]} | {results[small][0][-1]['tris']} -> {results[large][0][-1]['tris']} "
                   f"| {ours_g:.2f} | {theirs_g:.2f} | {ours_g / theirs_g:.2f} | {no_faster} of {len(grow[0])} |")
+        cost_per_triangle(dies, results)
+
+
+def fit_line(xs, ys):
+    """Least squares y = a x + c over the points: (a, c)."""
+    mx, my = statistics.fmean(xs), statistics.fmean(ys)
+    sxx = sum((x - mx) ** 2 for x in xs)
+    a = sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sxx
+    return a, my - a * mx
+
+
+def cost_per_triangle(dies, results):
+    """The die's time split into a cost per result triangle and a fixed cost, each side.
+
+    A growth ratio mixes the two: a side with a fixed cost per boolean (calls, thread start,
+    conversions) grows less than its triangles at small sizes even when each triangle costs it the
+    same. So, per size, the time per triangle; per step, the cost of the triangles added (the time
+    the larger size adds over the smaller, per added triangle; per round, then the median); and over
+    all sizes, the least-squares line time = per triangle x triangles + fixed, each side."""
+    tris = {c: int(results[c][0][-1]["tris"]) for c in dies}
+    med_time = {c: [statistics.median(float(r["bool_med_s"]) for r in results[c][side]) for side in (0, 1)]
+                for c in dies}
+    print()
+    print("| die segments | result triangles | ours us / triangle | manifold3d us / triangle | ratio |")
+    print("|---|---|---|---|---|")
+    for c in dies:
+        o, t = (1e6 * med_time[c][side] / tris[c] for side in (0, 1))
+        print(f"| {c[1]} | {tris[c]} | {o:.3f} | {t:.3f} | {o / t:.2f} |")
+    print()
+    print("| die segments | triangles added | ours us / added triangle | manifold3d us / added triangle | ratio "
+          "| rounds where ours is no dearer |")
+    print("|---|---|---|---|---|---|")
+    for small, large in zip(dies, dies[1:]):
+        added = tris[large] - tris[small]
+        marginal = [
+            [1e6 * (float(l["bool_med_s"]) - float(s["bool_med_s"])) / added
+             for s, l in zip(results[small][side], results[large][side])]
+            for side in (0, 1)
+        ]
+        o, t = statistics.median(marginal[0]), statistics.median(marginal[1])
+        no_dearer = sum(1 for a, b in zip(*marginal) if a <= b)
+        print(f"| {small[1]} -> {large[1]} | {added} | {o:.3f} | {t:.3f} | {o / t:.2f} "
+              f"| {no_dearer} of {len(marginal[0])} |")
+    if len(dies) > 2:
+        xs = [tris[c] for c in dies]
+        (ao, co), (at, ct) = (fit_line(xs, [med_time[c][side] for c in dies]) for side in (0, 1))
+        print()
+        print("| fit over the die's sizes | us / triangle | fixed ms |")
+        print("|---|---|---|")
+        print(f"| ours | {1e6 * ao:.3f} | {1e3 * co:.2f} |")
+        print(f"| manifold3d | {1e6 * at:.3f} | {1e3 * ct:.2f} |")
 
 
 if __name__ == "__main__":
