@@ -134,6 +134,16 @@
 //! 2.76 / 3.51 / 3.99 / 2.13 (the fastest round's: 3.01 / 3.63 / 4.28 / 1.98 against 2.71 / 3.69 /
 //! 4.22 / 2.07): ours grows with the triangles (0.61–0.75 µs each from 9.5k to 950k), the peer's
 //! less than them from 9.5k to 126k, its time per triangle falling from 1.27 to 0.99 µs.
+//!
+//! Issue 38 (2026-12-07, fifth session; same code, same command, 7 rounds of 3): the script
+//! splits the growth into a cost per triangle and the rest. Ratios, time then memory: die 0.76 /
+//! 0.66 / 0.72 / 0.77 / 0.71 at 32–360 segments, stress 0.89; memory 0.94 / 0.71 / 0.72 / 0.66 /
+//! 0.68, stress 0.60. Steps ours / manifold3d 2.82 / 2.83, 3.74 / 3.66, 3.68 / 3.59, 1.93 / 2.13
+//! (the triangles 3.61 / 3.69 / 3.85 / 1.96); the cost of the triangles each step adds 0.59 /
+//! 0.79 / 0.89 / 0.91 µs each against 0.98 / 1.07 / 1.14 / 1.34 (ours cheaper in 26 of 28 rounds);
+//! from 32 to 360 segments ours grows 85× against 90× (the triangles 100×), the log-log slope
+//! 0.974 against 0.968. The steps' verdict moves with the machine from run to run (a step's two
+//! sides differ by 1–3 %, the run-to-run spread is ±10 %).
 
 /// The allocator the `blocksmith` binary uses (script/cli/src/main.rs), so the figures are what
 /// a recipe run gets.

@@ -18,7 +18,7 @@ process, `perf stat` counts user and kernel instructions (load-independent; the 
 setup included) when perf works. Printed: one line per process, a table of medians over the
 rounds with the ratios ours / manifold3d, then the die's growth from one size to the next, each side
 (per round, then the median), and that growth split into a cost per triangle and a fixed cost per
-boolean (`cost_per_triangle`).
+boolean (`cost_per_triangle`), and the growth over the whole range of sizes.
 
 `--instructions` counts instead of timing: the die's boolean in instructions with valgrind's
 callgrind, each side on one thread, and their growth from size to size — the same on a busy or a
@@ -31,6 +31,7 @@ small sizes.
       [--instructions]
 """
 import argparse
+import math
 import os
 import statistics
 import subprocess
@@ -251,7 +252,7 @@ def main():
 
 
 def fit_line(xs, ys):
-    """Least squares y = a x + c over the points: (a, c)."""
+    """The least-squares line y = a x + c through the points: (a, c)."""
     mx, my = statistics.fmean(xs), statistics.fmean(ys)
     sxx = sum((x - mx) ** 2 for x in xs)
     a = sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sxx
@@ -265,7 +266,7 @@ def cost_per_triangle(dies, results):
     conversions) grows less than its triangles at small sizes even when each triangle costs it the
     same. So, per size, the time per triangle; per step, the cost of the triangles added (the time
     the larger size adds over the smaller, per added triangle; per round, then the median); and over
-    all sizes, the least-squares line time = per triangle x triangles + fixed, each side."""
+    the whole range, the growth and its exponent, each side."""
     tris = {c: int(results[c][0][-1]["tris"]) for c in dies}
     med_time = {c: [statistics.median(float(r["bool_med_s"]) for r in results[c][side]) for side in (0, 1)]
                 for c in dies}
@@ -291,14 +292,22 @@ def cost_per_triangle(dies, results):
         print(f"| {small[1]} -> {large[1]} | {added} | {o:.3f} | {t:.3f} | {o / t:.2f} "
               f"| {no_dearer} of {len(marginal[0])} |")
     if len(dies) > 2:
-        xs = [tris[c] for c in dies]
-        (ao, co), (at, ct) = (fit_line(xs, [med_time[c][side] for c in dies]) for side in (0, 1))
+        # Over the whole range: the exponent k of time ~ triangles^k, a least-squares line through
+        # the sizes in log-log, per round (one round's sizes share the machine's speed), then the
+        # median; k = 1 is linear.
+        xs = [math.log(tris[c]) for c in dies]
+        k = [[fit_line(xs, [math.log(float(results[c][side][r]["bool_med_s"])) for c in dies])[0]
+              for r in range(len(results[dies[0]][side]))] for side in (0, 1)]
+        whole = [statistics.median(float(results[dies[-1]][side][r]["bool_med_s"]) / float(results[dies[0]][side][r]["bool_med_s"])
+                                   for r in range(len(results[dies[0]][side]))) for side in (0, 1)]
+        no_faster = sum(1 for a, b in zip(*k) if a <= b)
         print()
-        print("| fit over the die's sizes | us / triangle | fixed ms |")
-        print("|---|---|---|")
-        print(f"| ours | {1e6 * ao:.3f} | {1e3 * co:.2f} |")
-        print(f"| manifold3d | {1e6 * at:.3f} | {1e3 * ct:.2f} |")
-
+        print(f"| die, {dies[0][1]} -> {dies[-1][1]} segments | growth | exponent k (time ~ triangles^k) "
+              f"| rounds where ours grows no faster |")
+        print("|---|---|---|---|")
+        print(f"| ours | {whole[0]:.1f} | {statistics.median(k[0]):.3f} | {no_faster} of {len(k[0])} |")
+        print(f"| manifold3d | {whole[1]:.1f} | {statistics.median(k[1]):.3f} | |")
+        print(f"| triangles | {tris[dies[-1]] / tris[dies[0]]:.1f} | 1 | |")
 
 if __name__ == "__main__":
     main()
