@@ -144,7 +144,7 @@ fn a_translated_copy_is_prepared_as_prepare_would_prepare_it() {
     let first = prepare(&leaves[0], Side::Right, 0).unwrap();
     for (k, leaf) in leaves.iter().enumerate().take(3).skip(1) {
         let Csg::Mesh(m) = leaf else { unreachable!() };
-        let moved = first.moved(m, Side::Right, k as u32, &order_by_x(s.positions())).unwrap();
+        let moved = first.moved(m, Side::Right, k as u32, &order_by_x(s.positions()).unwrap()).unwrap();
         let fresh = prepare(leaf, Side::Right, k as u32).unwrap();
         assert_eq!(moved.positions, fresh.positions);
         assert_eq!(moved.triangles, fresh.triangles);
@@ -187,9 +187,9 @@ fn a_copy_that_rounding_makes_touch_itself_is_refused_as_prepare_refuses_it() {
     let thin = Mesh::cuboid(Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0 + f64::EPSILON, 1.0, 1.0)).triangulate().unwrap();
     let far = thin.translate(Vec3::new(1024.0, 0.0, 0.0));
     let first = prepare(&Csg::mesh(thin.clone()), Side::Right, 0).expect("the original is apart");
-    let by_x = order_by_x(thin.positions());
-    assert!(apart_along(thin.positions(), &by_x));
-    assert!(!apart_along(far.positions(), &by_x), "the copy's corners meet");
+    let by_x = order_by_x(thin.positions()).unwrap();
+    assert!(apart_along(thin.positions(), &by_x).unwrap());
+    assert!(!apart_along(far.positions(), &by_x).unwrap(), "the copy's corners meet");
     let moved = first.moved(&far, Side::Right, 1, &by_x);
     let fresh = prepare(&Csg::mesh(far.clone()), Side::Right, 1);
     match (moved, fresh) {
@@ -201,7 +201,7 @@ fn a_copy_that_rounding_makes_touch_itself_is_refused_as_prepare_refuses_it() {
     }
     // Moved a little, the copy stays apart and is taken without a lookup.
     let near = thin.translate(Vec3::new(0.5, -2.0, 3.0));
-    assert!(apart_along(near.positions(), &by_x));
+    assert!(apart_along(near.positions(), &by_x).unwrap());
     first.moved(&near, Side::Right, 1, &by_x).expect("apart");
 }
 
@@ -212,17 +212,36 @@ fn positions_are_seen_apart_along_their_x_order() {
     let grid: Vec<Vec3> = (0..4)
         .flat_map(|i| (0..5).flat_map(move |j| (0..3).map(move |k| Vec3::new(i as f64, j as f64, k as f64))))
         .collect();
-    let by_x = order_by_x(&grid);
-    assert!(apart_along(&grid, &by_x));
+    let by_x = order_by_x(&grid).unwrap();
+    assert!(apart_along(&grid, &by_x).unwrap());
     let mut twice = grid.clone();
     twice[17] = twice[4];
-    assert!(!apart_along(&twice, &order_by_x(&twice)));
+    assert!(!apart_along(&twice, &order_by_x(&twice).unwrap()).unwrap());
     let reversed: Vec<u32> = by_x.iter().rev().copied().collect();
-    assert!(!apart_along(&grid, &reversed));
-    assert!(!apart_along(&grid, &by_x[1..]));
+    assert!(!apart_along(&grid, &reversed).unwrap());
+    assert!(!apart_along(&grid, &by_x[1..]).unwrap());
     // -0.0 and 0.0 are two positions, as the lookup keys them.
     let zeros = [Vec3::new(0.0, 1.0, 1.0), Vec3::new(-0.0, 1.0, 1.0)];
-    assert!(apart_along(&zeros, &order_by_x(&zeros)));
+    assert!(apart_along(&zeros, &order_by_x(&zeros).unwrap()).unwrap());
+}
+
+/// The copies' x order and walk stop with the cancellation token, as the per-vertex lookup
+/// does: a walk polls every `POLL_EVERY` positions, the order before and after its sort.
+#[test]
+fn the_copies_walk_stops_when_cancelled() {
+    let line: Vec<Vec3> =
+        (0..crate::limits::POLL_EVERY as u32 + 2).map(|i| Vec3::new(f64::from(i), 0.0, 0.0)).collect();
+    let by_x = order_by_x(&line).unwrap();
+    assert!(apart_along(&line, &by_x).unwrap(), "apart, with no token");
+    let interrupt = Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let token = CancelToken::with(Some(Arc::clone(&interrupt)), None, None);
+    let _current = crate::limits::install(token);
+    assert!(apart_along(&line, &by_x).unwrap(), "apart, with a token running");
+    interrupt.store(true, std::sync::atomic::Ordering::Relaxed);
+    assert!(matches!(apart_along(&line, &by_x), Err(LimitError::Stopped(_))), "the walk stops");
+    assert!(matches!(order_by_x(&line), Err(LimitError::Stopped(_))), "the order stops");
+    // Shorter than one run of polls, the walk finishes.
+    assert_eq!(apart_along(&line[..100], &by_x[..100]).ok(), Some(true), "a walk of fewer positions");
 }
 
 /// A copy but for a non-finite coordinate is no copy: it is refused as `prepare` refuses it,

@@ -149,10 +149,13 @@ impl Csg {
         let by_x: HashMap<usize, Vec<u32>> = firsts
             .par_iter()
             .filter_map(|&f| match leaves[f].0 {
-                Csg::Mesh(m) => Some((f, order_by_x(m.positions()))),
+                Csg::Mesh(m) => {
+                    let _current = crate::limits::install(token.clone());
+                    Some(order_by_x(m.positions()).map(|order| (f, order)))
+                }
                 _ => None,
             })
-            .collect();
+            .collect::<Result<_, _>>()?;
         let moved: Vec<(usize, Prepared)> = copy_of
             .par_iter()
             .enumerate()
@@ -936,7 +939,7 @@ impl Prepared {
     fn moved(&self, mesh: &Mesh, side: Side, leaf_no: u32, by_x: &[u32]) -> Result<Prepared, CsgError> {
         crate::limits::charge(self.triangles.len() as u64)?;
         let earlier_result = mesh.face_sources().is_some();
-        let check_touching = !earlier_result && !apart_along(mesh.positions(), by_x);
+        let check_touching = !earlier_result && !apart_along(mesh.positions(), by_x)?;
         check_solid(mesh, &self.triangles, &self.components, check_touching, side, leaf_no)?;
         Ok(Prepared {
             positions: mesh.positions().to_vec(),
@@ -968,10 +971,16 @@ impl Prepared {
 }
 
 /// The vertices in the order of their x coordinates (ties in vertex order).
-fn order_by_x(positions: &[Vec3]) -> Vec<u32> {
+///
+/// # Errors
+/// [`LimitError::Stopped`] when the current cancellation token stops (seen before and after the
+/// sort, a stable sort on the pool's threads).
+fn order_by_x(positions: &[Vec3]) -> Result<Vec<u32>, LimitError> {
+    crate::limits::check()?;
     let mut order: Vec<u32> = (0..positions.len() as u32).collect();
-    order.sort_by(|&a, &b| positions[a as usize].x.total_cmp(&positions[b as usize].x));
-    order
+    order.par_sort_by(|&a, &b| positions[a as usize].x.total_cmp(&positions[b as usize].x));
+    crate::limits::check()?;
+    Ok(order)
 }
 
 /// Whether no two of `positions` are equal (bit for bit, as [`check_solid`] compares them),
@@ -980,19 +989,24 @@ fn order_by_x(positions: &[Vec3]) -> Vec<u32> {
 /// and z compared. A translated copy walked in its original's x order ([`order_by_x`]) keeps
 /// that order, rounding being monotone. `false` when the walk cannot tell (an x falls, or two
 /// positions are equal): the caller then checks each position by lookup.
-fn apart_along(positions: &[Vec3], order: &[u32]) -> bool {
+///
+/// # Errors
+/// [`LimitError::Stopped`] when the current cancellation token stops (polled every
+/// [`crate::limits::POLL_EVERY`] positions).
+fn apart_along(positions: &[Vec3], order: &[u32]) -> Result<bool, LimitError> {
     if order.len() != positions.len() {
-        return false;
+        return Ok(false);
     }
     let at = |k: usize| positions[order[k] as usize];
     // One buffer for every run's y and z.
     let mut yz: Vec<[u64; 2]> = Vec::new();
     let mut start = 0;
     for k in 1..=order.len() {
+        crate::limits::poll_at(k)?;
         if k < order.len() {
             let (a, b) = (at(k - 1).x, at(k).x);
             if a.total_cmp(&b).is_gt() {
-                return false;
+                return Ok(false);
             }
             if a.to_bits() == b.to_bits() {
                 continue;
@@ -1005,12 +1019,12 @@ fn apart_along(positions: &[Vec3], order: &[u32]) -> bool {
             yz.extend(run.iter().map(|&v| [positions[v as usize].y.to_bits(), positions[v as usize].z.to_bits()]));
             yz.sort_unstable();
             if yz.windows(2).any(|w| w[0] == w[1]) {
-                return false;
+                return Ok(false);
             }
         }
         start = k;
     }
-    true
+    Ok(true)
 }
 
 /// `leaf_no` is the input's position among the tree's inputs, left to right (named in errors).
