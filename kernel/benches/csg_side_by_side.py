@@ -17,8 +17,8 @@ the first, mimalloc more than glibc's, so their own peaks understate it). Around
 process, `perf stat` counts user and kernel instructions (load-independent; the whole process,
 setup included) when perf works. Printed: one line per process, a table of medians over the
 rounds with the ratios ours / manifold3d, then the die's growth from one size to the next, each side
-(per round, then the median), and that growth split into a cost per triangle and a fixed cost per
-boolean (`cost_per_triangle`), and the growth over the whole range of sizes.
+(per round, then the median), the time per triangle and the cost of the triangles each step adds
+(free of any fixed cost per boolean; `cost_per_triangle`), and the growth over the whole range.
 
 `--instructions` counts instead of timing: the die's boolean in instructions with valgrind's
 callgrind, each side on one thread, and their growth from size to size — the same on a busy or a
@@ -260,9 +260,9 @@ def fit_line(xs, ys):
 
 
 def cost_per_triangle(dies, results):
-    """The die's time split into a cost per result triangle and a fixed cost, each side.
+    """The die's time per result triangle, and the cost of the triangles each step adds, each side.
 
-    A growth ratio mixes the two: a side with a fixed cost per boolean (calls, thread start,
+    A growth ratio mixes a cost per triangle with any fixed cost per boolean: a side with a fixed cost per boolean (calls, thread start,
     conversions) grows less than its triangles at small sizes even when each triangle costs it the
     same. So, per size, the time per triangle; per step, the cost of the triangles added (the time
     the larger size adds over the smaller, per added triangle; per round, then the median); and over
@@ -296,10 +296,10 @@ def cost_per_triangle(dies, results):
         # the sizes in log-log, per round (one round's sizes share the machine's speed), then the
         # median; k = 1 is linear.
         xs = [math.log(tris[c]) for c in dies]
-        k = [[fit_line(xs, [math.log(float(results[c][side][r]["bool_med_s"])) for c in dies])[0]
-              for r in range(len(results[dies[0]][side]))] for side in (0, 1)]
-        whole = [statistics.median(float(results[dies[-1]][side][r]["bool_med_s"]) / float(results[dies[0]][side][r]["bool_med_s"])
-                                   for r in range(len(results[dies[0]][side]))) for side in (0, 1)]
+        rounds = range(len(results[dies[0]][0]))
+        time = lambda c, side, r: float(results[c][side][r]["bool_med_s"])
+        k = [[fit_line(xs, [math.log(time(c, side, r)) for c in dies])[0] for r in rounds] for side in (0, 1)]
+        whole = [statistics.median(time(dies[-1], side, r) / time(dies[0], side, r) for r in rounds) for side in (0, 1)]
         no_faster = sum(1 for a, b in zip(*k) if a <= b)
         print()
         print(f"| die, {dies[0][1]} -> {dies[-1][1]} segments | growth | exponent k (time ~ triangles^k) "
@@ -308,6 +308,7 @@ def cost_per_triangle(dies, results):
         print(f"| ours | {whole[0]:.1f} | {statistics.median(k[0]):.3f} | {no_faster} of {len(k[0])} |")
         print(f"| manifold3d | {whole[1]:.1f} | {statistics.median(k[1]):.3f} | |")
         print(f"| triangles | {tris[dies[-1]] / tris[dies[0]]:.1f} | 1 | |")
+
 
 if __name__ == "__main__":
     main()
