@@ -16,6 +16,8 @@
 // Uses a radix tree built from Morton codes for O(n log n) queries,
 // matching the C++ Manifold implementation.
 
+use std::sync::Arc;
+
 use crate::impl_mesh::ManifoldImpl;
 use crate::linalg::{cross, distance2, dot, Mat3x4, Vec3};
 use crate::sort::{get_face_box_morton, morton_code};
@@ -62,6 +64,46 @@ pub struct Collider {
     node_bbox: Vec<BBox>,             // AABBs for all nodes (2*num_leaves - 1)
     node_parent: Vec<i32>,            // parent node per node (-1 at root)
     internal_children: Vec<[i32; 2]>, // child pairs for internal nodes (num_leaves - 1)
+    /// blocksmith patch (PATCHES.md, 20): a collider made by [`Collider::compose`] keeps its
+    /// parts' trees where they are, shared (one for every translated copy of a part), and the
+    /// node arrays above are then the tree over the parts: its leaf `k` is part `k`.
+    placed: Option<Arc<Placed>>,
+}
+
+/// The parts of a composed collider, in leaf order. blocksmith patch (PATCHES.md, 20).
+#[derive(Debug)]
+struct Placed {
+    parts: Vec<PlacedTree>,
+    /// The leaves of all the parts.
+    num_leaves: usize,
+}
+
+/// One part of a composed collider: a tree (shared with the part it was made for), the offset
+/// its leaves moved by, the pad that covers their moving within it, and its first leaf among
+/// the composed collider's leaves. A query is moved back by the offset, not the tree's boxes
+/// forward, and widened by `widen`: the pad and a margin for the rounding of moving the query
+/// instead, so every leaf whose moved, padded box a query overlaps is found (and at most a few
+/// more within that margin, which every caller's exact test then drops).
+#[derive(Debug)]
+struct PlacedTree {
+    tree: Arc<Collider>,
+    offset: Vec3,
+    pad: f64,
+    widen: f64,
+    first_leaf: usize,
+}
+
+/// A collider's box moved by `offset` and widened by `pad` on every side, as
+/// [`Collider::compose`] places a part's boxes.
+fn placed_box(b: &BBox, offset: Vec3, pad: f64) -> BBox {
+    BBox { min: b.min + offset - Vec3::splat(pad), max: b.max + offset + Vec3::splat(pad) }
+}
+
+/// The largest magnitude of a box's coordinates and an offset's.
+fn largest_magnitude(b: &BBox, offset: Vec3) -> f64 {
+    [b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z, offset.x, offset.y, offset.z]
+        .iter()
+        .fold(0.0f64, |m, x| m.max(x.abs()))
 }
 
 impl Collider {
@@ -85,6 +127,7 @@ impl Collider {
             node_parent: vec![-1; num_nodes],
             // Written whole by create_radix_tree. blocksmith patch (PATCHES.md, 9).
             internal_children: Vec::new(),
+            placed: None,
         };
         collider.create_radix_tree(&leaf_morton);
         collider.update_boxes(leaf_bbox);
@@ -92,6 +135,9 @@ impl Collider {
     }
 
     pub(crate) fn num_leaves(&self) -> usize {
+        if let Some(placed) = &self.placed {
+            return placed.num_leaves;
+        }
         if self.node_bbox.is_empty() {
             0
         } else {
@@ -393,6 +439,11 @@ impl Collider {
         let node_box = &self.node_bbox[node as usize];
         let overlaps = query.does_overlap_box(node_box);
         if overlaps && is_leaf(node) {
+            if let Some(placed) = &self.placed {
+                let part = &placed.parts[node_to_leaf(node) as usize];
+                Self::traverse_part(part, query, query_idx, self_collision, record);
+                return false;
+            }
             // Leaves are stored in tree order == input order (pre-sorted by
             // morton), so the leaf index IS the caller's index — no mapping.
             let leaf_idx = node_to_leaf(node) as usize;
@@ -403,14 +454,100 @@ impl Collider {
         overlaps && is_internal(node)
     }
 
+    /// One part of a composed collider searched for `query`: the query moved back by the part's
+    /// offset and widened by its `widen`, the leaves found numbered from the part's first.
+    fn traverse_part<F: FnMut(usize, usize)>(
+        part: &PlacedTree,
+        query: &BBox,
+        query_idx: usize,
+        self_collision: bool,
+        record: &mut F,
+    ) {
+        let moved = placed_box(query, Vec3::splat(0.0) - part.offset, part.widen);
+        let mut found = |_: usize, leaf: usize| {
+            let leaf = part.first_leaf + leaf;
+            if !self_collision || leaf != query_idx {
+                record(query_idx, leaf);
+            }
+        };
+        if part.tree.internal_children.is_empty() {
+            // A tree of one leaf: its box is the node.
+            if part.tree.node_bbox.first().is_some_and(|b| moved.does_overlap_box(b)) {
+                found(query_idx, 0);
+            }
+        } else {
+            // Through `dyn`: a part may itself be composed, and a closure type per depth
+            // would instantiate the traversal without end.
+            let found: &mut dyn FnMut(usize, usize) = &mut found;
+            part.tree.traverse_bvh(&moved, query_idx, false, &mut { found });
+        }
+    }
+
     /// The collider of parts put side by side, their leaves concatenated in the order given
     /// (blocksmith patch (PATCHES.md, 16), for `Manifold::compose_apart`): each part's tree
     /// is kept, its boxes moved by its offset and widened by its pad (a pad covers a part
     /// whose leaves moved by the offset only within it), and a balanced tree over the parts
-    /// joins them, its root the root. No radix tree is built and no leaf box computed: linear
-    /// in the nodes, with no search. `None` when a part has no tree.
-    pub(crate) fn compose(parts: &[(&Collider, Vec3, f64)]) -> Option<Collider> {
+    /// joins them, its root the root. Since patch 20 the parts' trees are not copied: they are
+    /// shared (the same tree for every translated copy of a part) and each query is moved to
+    /// them instead ([`PlacedTree`]); only the tree over the parts is built, linear in the
+    /// parts. [`Collider::flattened`] gives the one tree patch 16 built. `None` when a part has
+    /// no tree, or a box or offset is not finite.
+    pub(crate) fn compose(parts: &[(Arc<Collider>, Vec3, f64)]) -> Option<Collider> {
         if parts.is_empty() || parts.iter().any(|(c, _, _)| c.node_bbox.is_empty()) {
+            return None;
+        }
+        let mut placed = Vec::with_capacity(parts.len());
+        let mut roots = Vec::with_capacity(parts.len());
+        let mut first_leaf = 0usize;
+        for (k, (tree, offset, pad)) in parts.iter().enumerate() {
+            let root = &tree.node_bbox[if tree.internal_children.is_empty() { 0 } else { K_ROOT as usize }];
+            // Rounding moving a box and moving a query back differ by a few units in the last
+            // place of the largest magnitude involved: 2^-48 of it is a margin of 16 and more.
+            let coordinates = [root.min, root.max, *offset].map(|v| [v.x, v.y, v.z]);
+            if !pad.is_finite() || coordinates.iter().flatten().any(|x| !x.is_finite()) {
+                return None;
+            }
+            let widen = pad + (largest_magnitude(root, *offset) + pad) * f64::powi(2.0, -48);
+            placed.push(PlacedTree { tree: Arc::clone(tree), offset: *offset, pad: *pad, widen, first_leaf });
+            roots.push((leaf_to_node(k as i32), placed_box(root, *offset, *pad)));
+            first_leaf += tree.num_leaves();
+        }
+        let n = parts.len();
+        let mut out = Collider {
+            node_bbox: vec![BBox::default(); 2 * n - 1],
+            node_parent: vec![-1; 2 * n - 1],
+            internal_children: vec![[0, 0]; n - 1],
+            placed: None,
+        };
+        for &(node, b) in &roots {
+            out.node_bbox[node as usize] = b;
+        }
+        let roots: Vec<i32> = roots.iter().map(|&(node, _)| node).collect();
+        let mut next = 0i32;
+        out.join(&roots, &mut next);
+        if n > 1 {
+            out.placed = Some(Arc::new(Placed { parts: placed, num_leaves: first_leaf }));
+            Some(out)
+        } else {
+            // One part: its own tree, moved.
+            Self::compose_flat(&[(&parts[0].0.flattened(), parts[0].1, parts[0].2)])
+        }
+    }
+
+    /// The one tree of a composed collider, its parts' boxes copied, moved and widened into it
+    /// (the collider patch 16 built); a clone for any other.
+    pub(crate) fn flattened(&self) -> Collider {
+        let Some(placed) = &self.placed else { return self.clone() };
+        let trees: Vec<Collider> = placed.parts.iter().map(|p| p.tree.flattened()).collect();
+        let parts: Vec<(&Collider, Vec3, f64)> =
+            placed.parts.iter().zip(&trees).map(|(p, t)| (t, p.offset, p.pad)).collect();
+        Self::compose_flat(&parts).unwrap_or_default()
+    }
+
+    /// Patch 16's composition: the parts' trees copied into one, their boxes moved by the
+    /// offset and widened by the pad, joined by a balanced tree over the parts.
+    fn compose_flat(parts: &[(&Collider, Vec3, f64)]) -> Option<Collider> {
+        if parts.is_empty() || parts.iter().any(|(c, _, _)| c.node_bbox.is_empty() || c.placed.is_some()) {
             return None;
         }
         let n: usize = parts.iter().map(|(c, _, _)| c.num_leaves()).sum();
@@ -418,6 +555,7 @@ impl Collider {
             node_bbox: vec![BBox::default(); 2 * n - 1],
             node_parent: vec![-1; 2 * n - 1],
             internal_children: vec![[0, 0]; n - 1],
+            placed: None,
         };
         // The parts' nodes: part i's leaves after the earlier parts' leaves, its internal
         // nodes after the joining tree's (parts.len() - 1) and the earlier parts' own.
@@ -433,10 +571,7 @@ impl Collider {
             };
             for (x, b) in c.node_bbox.iter().enumerate() {
                 let g = map(x as i32) as usize;
-                out.node_bbox[g] = BBox {
-                    min: b.min + offset - Vec3::splat(pad),
-                    max: b.max + offset + Vec3::splat(pad),
-                };
+                out.node_bbox[g] = placed_box(b, offset, pad);
                 let parent = c.node_parent[x];
                 out.node_parent[g] = if parent < 0 { -1 } else { map(parent) };
             }
@@ -476,6 +611,9 @@ impl Collider {
     /// internal boxes. Tree topology is untouched (C++ UpdateBoxes).
     pub fn update_boxes(&mut self, leaf_bbox: Vec<BBox>) {
         debug_assert_eq!(leaf_bbox.len(), self.num_leaves());
+        if self.placed.is_some() {
+            *self = self.flattened();
+        }
         for (i, bbox) in leaf_bbox.into_iter().enumerate() {
             self.node_bbox[leaf_to_node(i as i32) as usize] = bbox;
         }
@@ -487,6 +625,9 @@ impl Collider {
     /// map AABBs to exact AABBs.
     pub fn transform(&mut self, transform: &Mat3x4) {
         debug_assert!(Self::is_axis_aligned(transform));
+        if self.placed.is_some() {
+            *self = self.flattened();
+        }
         for bbox in &mut self.node_bbox {
             *bbox = bbox.transform(transform);
         }
@@ -908,3 +1049,7 @@ mod tests {
         assert_eq!(hits, vec![(0, 50)]);
     }
 }
+
+#[cfg(test)]
+#[path = "collider_placed_tests.rs"]
+mod placed_tests;

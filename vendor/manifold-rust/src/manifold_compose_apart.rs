@@ -9,6 +9,9 @@
 //! parts already valid: an instanced pattern (a sphere translated to 21 places) is imported
 //! once and copied 20 times.
 
+use std::collections::HashMap;
+use std::sync::Arc;
+
 use super::Manifold;
 use crate::impl_mesh::ManifoldImpl;
 use crate::linalg::Vec3;
@@ -169,13 +172,17 @@ impl Manifold {
         // widened by twice its epsilon, within which it is a translate), joined by a tree over
         // the parts; a part without a tree has one built over the whole, with the faces'
         // positions as their codes.
-        let trees: Vec<(&crate::collider::Collider, Vec3, f64)> = order
+        // Each part's tree is shared, not copied (patch 20): one for all the copies of a part.
+        let mut shared: HashMap<*const crate::collider::Collider, Arc<crate::collider::Collider>> = HashMap::new();
+        let trees: Vec<(Arc<crate::collider::Collider>, Vec3, f64)> = order
             .iter()
             .map(|&i| {
                 let m = &parts[i].part.imp;
+                let key: *const crate::collider::Collider = &m.collider;
+                let tree = Arc::clone(shared.entry(key).or_insert_with(|| Arc::new(m.collider.clone())));
                 match &parts[i].moved_to {
-                    Some(to) => (&m.collider, to[0] - m.vert_pos[0], 2.0 * m.epsilon),
-                    None => (&m.collider, Vec3::splat(0.0), 0.0),
+                    Some(to) => (tree, to[0] - m.vert_pos[0], 2.0 * m.epsilon),
+                    None => (tree, Vec3::splat(0.0), 0.0),
                 }
             })
             .collect();
