@@ -378,7 +378,9 @@ impl Collider {
         }
     }
 
-    /// Stack-based depth-first BVH traversal (matches C++ FindCollision).
+    /// Stack-based depth-first BVH traversal (matches C++ FindCollision). In a composed
+    /// collider (patch 20) a leaf reached is a part, searched in turn ([`Self::traverse_part`]);
+    /// the tree's own walk is the same either way, one branch per query apart.
     fn traverse_bvh<F: FnMut(usize, usize)>(
         &self,
         query: &BBox,
@@ -386,6 +388,21 @@ impl Collider {
         self_collision: bool,
         record: &mut F,
     ) {
+        match &self.placed {
+            None => self.descend(query, &mut |leaf_idx| {
+                if !self_collision || leaf_idx != query_idx {
+                    record(query_idx, leaf_idx);
+                }
+            }),
+            Some(placed) => self.descend(query, &mut |part| {
+                Self::traverse_part(&placed.parts[part], query, query_idx, self_collision, record)
+            }),
+        }
+    }
+
+    /// The walk of [`Self::traverse_bvh`]: `on_leaf` for each leaf whose box `query` overlaps,
+    /// in depth-first order.
+    fn descend<L: FnMut(usize)>(&self, query: &BBox, on_leaf: &mut L) {
         let mut stack = [0i32; 64];
         let mut top: i32 = -1;
         let mut node = K_ROOT;
@@ -402,8 +419,8 @@ impl Collider {
             }
             let [child1, child2] = self.internal_children[internal as usize];
 
-            let traverse1 = self.check_node(query, child1, query_idx, self_collision, record);
-            let traverse2 = self.check_node(query, child2, query_idx, self_collision, record);
+            let traverse1 = self.check_node(query, child1, on_leaf);
+            let traverse2 = self.check_node(query, child2, on_leaf);
 
             if !traverse1 && !traverse2 {
                 if top < 0 {
@@ -422,34 +439,19 @@ impl Collider {
         }
     }
 
-    /// Check if a node's AABB overlaps the query. If it's a leaf, record the hit.
+    /// Check if a node's AABB overlaps the query. If it's a leaf, hand it to `on_leaf`.
     /// Returns true if the node is internal and overlaps (should traverse deeper).
     #[inline]
-    fn check_node<F: FnMut(usize, usize)>(
-        &self,
-        query: &BBox,
-        node: i32,
-        query_idx: usize,
-        self_collision: bool,
-        record: &mut F,
-    ) -> bool {
+    fn check_node<L: FnMut(usize)>(&self, query: &BBox, node: i32, on_leaf: &mut L) -> bool {
         if node < 0 || node as usize >= self.node_bbox.len() {
             return false;
         }
         let node_box = &self.node_bbox[node as usize];
         let overlaps = query.does_overlap_box(node_box);
         if overlaps && is_leaf(node) {
-            if let Some(placed) = &self.placed {
-                let part = &placed.parts[node_to_leaf(node) as usize];
-                Self::traverse_part(part, query, query_idx, self_collision, record);
-                return false;
-            }
             // Leaves are stored in tree order == input order (pre-sorted by
             // morton), so the leaf index IS the caller's index — no mapping.
-            let leaf_idx = node_to_leaf(node) as usize;
-            if !self_collision || leaf_idx != query_idx {
-                record(query_idx, leaf_idx);
-            }
+            on_leaf(node_to_leaf(node) as usize);
         }
         overlaps && is_internal(node)
     }
