@@ -503,8 +503,9 @@ impl Collider {
         let mut first_leaf = 0usize;
         for (k, (tree, offset, pad)) in parts.iter().enumerate() {
             let root = &tree.node_bbox[if tree.internal_children.is_empty() { 0 } else { K_ROOT as usize }];
-            // Rounding moving a box and moving a query back differ by a few units in the last
-            // place of the largest magnitude involved: 2^-48 of it is a margin of 16 and more.
+            // Moving a box forward and moving a query back round differently, by a few units
+            // in the last place of the largest magnitude involved: 2^-48 of that magnitude is
+            // sixteen such units and more.
             let coordinates = [root.min, root.max, *offset].map(|v| [v.x, v.y, v.z]);
             if !pad.is_finite() || coordinates.iter().flatten().any(|x| !x.is_finite()) {
                 return None;
