@@ -67,15 +67,8 @@ pub struct Collider {
     /// blocksmith patch (PATCHES.md, 20): a collider made by [`Collider::compose`] keeps its
     /// parts' trees where they are, shared (one for every translated copy of a part), and the
     /// node arrays above are then the tree over the parts: its leaf `k` is part `k`.
-    placed: Option<Arc<Placed>>,
-}
-
-/// The parts of a composed collider, in leaf order. blocksmith patch (PATCHES.md, 20).
-#[derive(Debug)]
-struct Placed {
-    parts: Vec<PlacedTree>,
-    /// The leaves of all the parts.
-    num_leaves: usize,
+    /// The parts, in leaf order.
+    placed: Option<Arc<[PlacedTree]>>,
 }
 
 /// One part of a composed collider: a tree (shared with the part it was made for), the offset
@@ -99,11 +92,11 @@ fn placed_box(b: &BBox, offset: Vec3, pad: f64) -> BBox {
     BBox { min: b.min + offset - Vec3::splat(pad), max: b.max + offset + Vec3::splat(pad) }
 }
 
-/// The largest magnitude of a box's coordinates and an offset's.
-fn largest_magnitude(b: &BBox, offset: Vec3) -> f64 {
+/// The largest magnitude of a box's coordinates and an offset's; `None` when one is not finite.
+fn largest_magnitude(b: &BBox, offset: Vec3) -> Option<f64> {
     [b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z, offset.x, offset.y, offset.z]
         .iter()
-        .fold(0.0f64, |m, x| m.max(x.abs()))
+        .try_fold(0.0f64, |m, x| x.is_finite().then(|| m.max(x.abs())))
 }
 
 impl Collider {
@@ -136,7 +129,7 @@ impl Collider {
 
     pub(crate) fn num_leaves(&self) -> usize {
         if let Some(placed) = &self.placed {
-            return placed.num_leaves;
+            return placed.last().map_or(0, |p| p.first_leaf + p.tree.num_leaves());
         }
         if self.node_bbox.is_empty() {
             0
@@ -395,7 +388,7 @@ impl Collider {
                 }
             }),
             Some(placed) => self.descend(query, &mut |part| {
-                Self::traverse_part(&placed.parts[part], query, query_idx, self_collision, record)
+                Self::traverse_part(&placed[part], query, query_idx, self_collision, record)
             }),
         }
     }
@@ -498,22 +491,9 @@ impl Collider {
         if parts.is_empty() || parts.iter().any(|(c, _, _)| c.node_bbox.is_empty()) {
             return None;
         }
-        let mut placed = Vec::with_capacity(parts.len());
-        let mut roots = Vec::with_capacity(parts.len());
-        let mut first_leaf = 0usize;
-        for (k, (tree, offset, pad)) in parts.iter().enumerate() {
-            let root = &tree.node_bbox[if tree.internal_children.is_empty() { 0 } else { K_ROOT as usize }];
-            // Moving a box forward and moving a query back round differently, by a few units
-            // in the last place of the largest magnitude involved: 2^-48 of that magnitude is
-            // sixteen such units and more.
-            let coordinates = [root.min, root.max, *offset].map(|v| [v.x, v.y, v.z]);
-            if !pad.is_finite() || coordinates.iter().flatten().any(|x| !x.is_finite()) {
-                return None;
-            }
-            let widen = pad + (largest_magnitude(root, *offset) + pad) * f64::powi(2.0, -48);
-            placed.push(PlacedTree { tree: Arc::clone(tree), offset: *offset, pad: *pad, widen, first_leaf });
-            roots.push((leaf_to_node(k as i32), placed_box(root, *offset, *pad)));
-            first_leaf += tree.num_leaves();
+        if let [(tree, offset, pad)] = parts {
+            // One part: its own tree, moved.
+            return Self::compose_flat(&[(&tree.flattened(), *offset, *pad)]);
         }
         let n = parts.len();
         let mut out = Collider {
@@ -522,28 +502,33 @@ impl Collider {
             internal_children: vec![[0, 0]; n - 1],
             placed: None,
         };
-        for &(node, b) in &roots {
-            out.node_bbox[node as usize] = b;
+        let mut placed = Vec::with_capacity(n);
+        let mut first_leaf = 0usize;
+        for (k, (tree, offset, pad)) in parts.iter().enumerate() {
+            let root = &tree.node_bbox[if tree.internal_children.is_empty() { 0 } else { K_ROOT as usize }];
+            // Moving a box forward and moving a query back round differently, by a few units
+            // in the last place of the largest magnitude involved: 2^-48 of that magnitude is
+            // sixteen such units and more.
+            let magnitude = largest_magnitude(root, *offset).filter(|_| pad.is_finite())?;
+            let widen = pad + (magnitude + pad) * f64::powi(2.0, -48);
+            placed.push(PlacedTree { tree: Arc::clone(tree), offset: *offset, pad: *pad, widen, first_leaf });
+            out.node_bbox[leaf_to_node(k as i32) as usize] = placed_box(root, *offset, *pad);
+            first_leaf += tree.num_leaves();
         }
-        let roots: Vec<i32> = roots.iter().map(|&(node, _)| node).collect();
+        let roots: Vec<i32> = (0..n as i32).map(leaf_to_node).collect();
         let mut next = 0i32;
         out.join(&roots, &mut next);
-        if n > 1 {
-            out.placed = Some(Arc::new(Placed { parts: placed, num_leaves: first_leaf }));
-            Some(out)
-        } else {
-            // One part: its own tree, moved.
-            Self::compose_flat(&[(&parts[0].0.flattened(), parts[0].1, parts[0].2)])
-        }
+        out.placed = Some(placed.into());
+        Some(out)
     }
 
     /// The one tree of a composed collider, its parts' boxes copied, moved and widened into it
     /// (the collider patch 16 built); a clone for any other.
     pub(crate) fn flattened(&self) -> Collider {
         let Some(placed) = &self.placed else { return self.clone() };
-        let trees: Vec<Collider> = placed.parts.iter().map(|p| p.tree.flattened()).collect();
+        let trees: Vec<Collider> = placed.iter().map(|p| p.tree.flattened()).collect();
         let parts: Vec<(&Collider, Vec3, f64)> =
-            placed.parts.iter().zip(&trees).map(|(p, t)| (t, p.offset, p.pad)).collect();
+            placed.iter().zip(&trees).map(|(p, t)| (t, p.offset, p.pad)).collect();
         Self::compose_flat(&parts).unwrap_or_default()
     }
 
