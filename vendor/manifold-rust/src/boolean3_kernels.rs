@@ -475,32 +475,34 @@ pub(super) fn winding03(
     // Build union-find: unite vertices along unbroken edges. This loop is the
     // Rust counterpart of the ctx-passing `for_each` at boolean3.cpp:425, and
     // checks the token once per C++ kSeqCancelChunk (= 1024) halfedges
-    // (parallel.h:424), in the search and again in the unions.
+    // (parallel.h:424).
     const CHUNK: usize = 1024;
     let u_a = DisjointSets::new(a.vert_pos.len() as u32);
     let n = a.halfedge.len();
-    // Find each chunk's unbroken edges in parallel, but unite them in index
+    // blocksmith patch (PATCHES.md, 21): the edges an intersection cuts,
+    // flagged once, rather than each edge binary-searched among the
+    // intersections (C++ `std::binary_search`, O(E log I); this port had run
+    // those searches in parallel chunks). The same edges, united in index
     // order: the union-find's roots, where windings are computed, depend on it.
-    let unbroken = crate::par::maybe_par_map_ct(n.div_ceil(CHUNK), 10, token, |c| {
-        (c * CHUNK..n.min((c + 1) * CHUNK))
-            .filter(|&edge| {
-                // Unbroken: no intersection on it.
-                a.halfedge[edge].is_forward()
-                    && p1q2
-                        .binary_search_by(|pair| pair[sort_idx].cmp(&(edge as i32)))
-                        .is_err()
-            })
-            .collect::<Vec<usize>>()
-    })?;
-    for chunk in unbroken {
+    let mut cut = vec![false; n];
+    for pair in p1q2 {
+        if let Some(c) = cut.get_mut(pair[sort_idx] as usize) {
+            *c = true;
+        }
+    }
+    for c in 0..n.div_ceil(CHUNK) {
         if is_cancelled(token) {
             return None;
         }
-        for edge in chunk {
+        for edge in c * CHUNK..n.min((c + 1) * CHUNK) {
             let he = &a.halfedge[edge];
-            u_a.unite(he.start_vert as u32, he.end_vert as u32);
+            // Unbroken: no intersection on it.
+            if he.is_forward() && !cut[edge] {
+                u_a.unite(he.start_vert as u32, he.end_vert as u32);
+            }
         }
     }
+    drop(cut);
 
     // Post-loop check, matching C++ boolean3.cpp:437.
     if is_cancelled(token) {

@@ -827,3 +827,47 @@ fn test_boolean_multi_coplanar_complex() {
         out.surface_area()
     );
 }
+
+/// blocksmith patch (PATCHES.md, 21): the flood fill of winding numbers takes the edges the
+/// intersections cut from a flag array. Every vertex's winding number against the other solid
+/// must be its inside-or-out: a cut edge the fill crossed would carry one side's number to the
+/// other. A 2-unit cube against spheres across its faces (centres just off them), one inside,
+/// one outside and one around a corner, composed into one mesh.
+#[test]
+fn windings_flood_no_cut_edge() {
+    use crate::manifold::Manifold;
+    let cube = Manifold::cube(Vec3::splat(2.0), true);
+    let (radius, corner) = (0.4, Vec3::new(1.1, 1.05, 0.95));
+    let centres = [
+        Vec3::new(1.0123, 0.2, -0.1),
+        Vec3::new(-0.3, -1.0071, 0.4),
+        Vec3::new(0.1, 0.35, 1.0049),
+        Vec3::new(-0.2, 0.1, -0.3),
+        Vec3::new(3.0, 0.0, 0.0),
+        corner,
+    ];
+    let spheres: Vec<ManifoldImpl> = centres
+        .iter()
+        .map(|&c| Manifold::sphere(radius, 48).translate(c).as_impl().clone())
+        .collect();
+    let p = cube.as_impl();
+    let q = compose_meshes(&spheres);
+    let bool3 = Boolean3::new(p, &q, OpType::Subtract);
+    assert!(bool3.valid);
+    assert!(bool3.xv21.p1q2.len() > 100, "the faces cut the spheres");
+    // The spheres' vertices against the cube: inside when within it on every axis.
+    let in_cube = |v: Vec3| v.x.abs() < 1.0 && v.y.abs() < 1.0 && v.z.abs() < 1.0;
+    let wrong: Vec<usize> = (0..q.num_vert())
+        .filter(|&v| (bool3.w30[v] != 0) != in_cube(q.vert_pos[v]))
+        .collect();
+    let inside = (0..q.num_vert()).filter(|&v| bool3.w30[v] != 0).count();
+    assert!(wrong.is_empty(), "{} sphere vertices misplaced", wrong.len());
+    assert!(inside > q.num_vert() / 4 && inside < q.num_vert() * 3 / 4);
+    // The cube's corners against the spheres: one corner is inside one.
+    let in_sphere = |v: Vec3| centres.iter().any(|&c| crate::linalg::length(v - c) < radius * 0.9);
+    for v in 0..p.num_vert() {
+        let at = p.vert_pos[v];
+        assert_eq!(bool3.w03[v] != 0, in_sphere(at), "cube vertex {at:?}");
+    }
+    assert_eq!((0..p.num_vert()).filter(|&v| bool3.w03[v] != 0).count(), 1);
+}

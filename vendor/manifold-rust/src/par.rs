@@ -17,8 +17,6 @@
 //                         disjoint `split_at_mut` slices             2 runs
 //   boolean3_kernels.rs   `intersect12` query map_ct; result stable
 //                         sort and gathers                           10,000
-//                         `winding03` unbroken-edge search, chunks of
-//                         1,024 halfedges (unions stay sequential)   10 chunks
 //                         `winding03` per-vert winding query map_ct  1,000 verts
 //   boolean_result.rs     `EdgeGroups::new` stable sort of the
 //                         AddNewEdgeVerts edge lists                 10,000 entries
