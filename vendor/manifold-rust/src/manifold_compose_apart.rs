@@ -124,13 +124,13 @@ impl Manifold {
         let edge_starts = starts(|m| m.halfedge.len());
         let tri_starts: Vec<usize> = edge_starts.iter().map(|&e| e / 3).collect();
         let imp = |k: usize| &parts[order[k]].part.imp;
-        out.vert_pos = concatenated(&vert_starts, threshold, |k| {
+        out.vert_pos = crate::par::concatenated(&vert_starts, threshold, |k| {
             let p = &parts[order[k]];
             p.moved_to.as_deref().unwrap_or(&p.part.imp.vert_pos).iter().copied()
         });
-        out.vert_normal = concatenated(&vert_starts, threshold, |k| imp(k).vert_normal.iter().copied());
-        out.face_normal = concatenated(&tri_starts, threshold, |k| imp(k).face_normal.iter().copied());
-        out.halfedge = concatenated(&edge_starts, threshold, |k| {
+        out.vert_normal = crate::par::concatenated(&vert_starts, threshold, |k| imp(k).vert_normal.iter().copied());
+        out.face_normal = crate::par::concatenated(&tri_starts, threshold, |k| imp(k).face_normal.iter().copied());
+        out.halfedge = crate::par::concatenated(&edge_starts, threshold, |k| {
             let (vert_offset, edge_offset) = (vert_starts[k] as i32, edge_starts[k] as i32);
             imp(k).halfedge.iter().map(move |h| Halfedge {
                 start_vert: h.start_vert + vert_offset,
@@ -143,7 +143,7 @@ impl Manifold {
                 prop_vert: h.prop_vert + vert_offset,
             })
         });
-        out.mesh_relation.tri_ref = concatenated(&tri_starts, threshold, |k| {
+        out.mesh_relation.tri_ref = crate::par::concatenated(&tri_starts, threshold, |k| {
             let (local, shift, tri_offset) = (&locals[k], parts[order[k]].face_id_shift, tri_starts[k] as i32);
             imp(k).mesh_relation.tri_ref.iter().map(move |r| TriRef {
                 mesh_id: local.get(&r.mesh_id).copied().unwrap_or(r.mesh_id),
@@ -202,43 +202,6 @@ impl Manifold {
 /// Half-edges in all from which the parts are checked and placed in parallel (as `sort.rs`'s
 /// `PAR_THRESHOLD`). blocksmith patch (PATCHES.md, 19).
 const PAR_HALFEDGES: usize = 100_000;
-
-/// The parts' arrays laid end to end: part `k`'s elements, `piece(k)`, from `starts[k]` to
-/// `starts[k + 1]`, written in place (no pass to initialise the result first), the parts in
-/// parallel when there are at least `threshold` of them.
-fn concatenated<T, I, F>(starts: &[usize], threshold: usize, piece: F) -> Vec<T>
-where
-    T: Send,
-    I: Iterator<Item = T>,
-    F: Fn(usize) -> I + Sync + Send,
-{
-    let total = starts.last().copied().unwrap_or(0);
-    let mut out: Vec<T> = Vec::with_capacity(total);
-    let mut slices = Vec::with_capacity(starts.len().saturating_sub(1));
-    let mut rest = &mut out.spare_capacity_mut()[..total];
-    for (k, w) in starts.windows(2).enumerate() {
-        let (slice, tail) = std::mem::take(&mut rest).split_at_mut(w[1] - w[0]);
-        slices.push((k, slice));
-        rest = tail;
-    }
-    let written = std::sync::atomic::AtomicUsize::new(0);
-    crate::par::maybe_par_for_each(slices, threshold, |(k, slice)| {
-        let mut n = 0;
-        for (slot, value) in slice.iter_mut().zip(piece(k)) {
-            slot.write(value);
-            n += 1;
-        }
-        // A part that fills less than its slice leaves the count short: nothing is exposed.
-        if n == slice.len() {
-            written.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
-        }
-    });
-    assert_eq!(written.into_inner(), total, "a part's array is shorter than its count");
-    // SAFETY: the slices partition `0..total` of the capacity, and each was written in
-    // full (counted above) before the length covers them.
-    unsafe { out.set_len(total) };
-    out
-}
 
 /// The order of the boxes `(min, max)` by the Morton codes of their centres in the box around
 /// them all (ties in index order).

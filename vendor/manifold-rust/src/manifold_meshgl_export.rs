@@ -13,6 +13,13 @@ use super::Manifold;
 use crate::linalg::Vec3;
 use crate::types::{MeshGLP, MeshHalfedges, MeshIndex, MeshPrecision};
 
+/// Triangles from which `get_mesh_halfedges` gathers in parallel (as `sort.rs`'s
+/// `PAR_THRESHOLD`). blocksmith patch (PATCHES.md, 22).
+const EXPORT_PAR_TRIANGLES: usize = 10_000;
+
+/// Triangles per parallel run of `get_mesh_halfedges`.
+const EXPORT_RUN: usize = 4096;
+
 impl Manifold {
     /// The order in which the export writes the triangles: by (originalID, meshID) for run
     /// grouping, equal keys in their order here — a stable sort, as C++ `GetMeshGLImpl`'s
@@ -53,26 +60,39 @@ impl Manifold {
             new_of_old[old] = new as u32;
         }
         let halfedge = &self.imp.halfedge;
-        let mut tri_verts = Vec::with_capacity(3 * num_tri);
-        let mut paired_halfedge = Vec::with_capacity(3 * num_tri);
-        let mut face_id = Vec::with_capacity(num_tri);
-        for &old in &order {
-            if old < tri_ref.len() {
-                let r = &tri_ref[old];
-                face_id.push((if r.face_id >= 0 { r.face_id } else { r.coplanar_id }) as u32);
-            } else {
-                face_id.push(0);
-            }
-            for he in &halfedge[3 * old..3 * old + 3] {
-                tri_verts.push(he.start_vert as u32);
+        // blocksmith patch (PATCHES.md, 22): runs of triangles gathered in parallel, each run
+        // writing its own part of each array (the same arrays, in the same order).
+        let starts: Vec<usize> = (0..num_tri.div_ceil(EXPORT_RUN))
+            .map(|k| k * EXPORT_RUN)
+            .chain([num_tri])
+            .collect();
+        let corner_starts: Vec<usize> = starts.iter().map(|&t| 3 * t).collect();
+        let threshold = if num_tri >= EXPORT_PAR_TRIANGLES {
+            2
+        } else {
+            usize::MAX
+        };
+        let run = |k: usize| &order[starts[k]..starts[k + 1]];
+        let corners = |k: usize| run(k).iter().flat_map(|&old| &halfedge[3 * old..3 * old + 3]);
+        let face_id = crate::par::concatenated(&starts, threshold, |k| {
+            run(k).iter().map(|&old| match tri_ref.get(old) {
+                Some(r) => (if r.face_id >= 0 { r.face_id } else { r.coplanar_id }) as u32,
+                None => 0,
+            })
+        });
+        let tri_verts = crate::par::concatenated(&corner_starts, threshold, |k| {
+            corners(k).map(|he| he.start_vert as u32)
+        });
+        let paired_halfedge = crate::par::concatenated(&corner_starts, threshold, |k| {
+            corners(k).map(|he| {
                 let p = he.paired_halfedge;
-                paired_halfedge.push(if p < 0 {
+                if p < 0 {
                     u32::MAX
                 } else {
                     3 * new_of_old[p as usize / 3] + p as u32 % 3
-                });
-            }
-        }
+                }
+            })
+        });
         MeshHalfedges {
             vert_pos: self.imp.vert_pos.clone(),
             tri_verts,

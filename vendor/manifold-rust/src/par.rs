@@ -18,6 +18,8 @@
 //   boolean3_kernels.rs   `intersect12` query map_ct; result stable
 //                         sort and gathers                           10,000
 //                         `winding03` per-vert winding query map_ct  1,000 verts
+//   manifold_meshgl_export.rs `get_mesh_halfedges` gathers, runs of
+//                         4,096 triangles (`concatenated`)            10,000 triangles
 //   boolean_result.rs     `EdgeGroups::new` stable sort of the
 //                         AddNewEdgeVerts edge lists                 10,000 entries
 //   sort.rs               `sort_geometry`: Morton codes, stable sorts,
@@ -471,6 +473,44 @@ where
         }
     }
     Some(false)
+}
+
+/// Pieces laid end to end in one array: piece `k`'s elements, `piece(k)`, from `starts[k]` to
+/// `starts[k + 1]`, written in place (no pass to initialise the result first), the pieces in
+/// parallel when there are at least `threshold` of them. blocksmith patch (PATCHES.md, 19;
+/// shared with the export of patch 22).
+pub(crate) fn concatenated<T, I, F>(starts: &[usize], threshold: usize, piece: F) -> Vec<T>
+where
+    T: Send,
+    I: Iterator<Item = T>,
+    F: Fn(usize) -> I + Sync + Send,
+{
+    let total = starts.last().copied().unwrap_or(0);
+    let mut out: Vec<T> = Vec::with_capacity(total);
+    let mut slices = Vec::with_capacity(starts.len().saturating_sub(1));
+    let mut rest = &mut out.spare_capacity_mut()[..total];
+    for (k, w) in starts.windows(2).enumerate() {
+        let (slice, tail) = std::mem::take(&mut rest).split_at_mut(w[1] - w[0]);
+        slices.push((k, slice));
+        rest = tail;
+    }
+    let written = std::sync::atomic::AtomicUsize::new(0);
+    crate::par::maybe_par_for_each(slices, threshold, |(k, slice)| {
+        let mut n = 0;
+        for (slot, value) in slice.iter_mut().zip(piece(k)) {
+            slot.write(value);
+            n += 1;
+        }
+        // A part that fills less than its slice leaves the count short: nothing is exposed.
+        if n == slice.len() {
+            written.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
+        }
+    });
+    assert_eq!(written.into_inner(), total, "a part's array is shorter than its count");
+    // SAFETY: the slices partition `0..total` of the capacity, and each was written in
+    // full (counted above) before the length covers them.
+    unsafe { out.set_len(total) };
+    out
 }
 
 #[cfg(test)]

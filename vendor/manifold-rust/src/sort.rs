@@ -39,6 +39,18 @@ pub(crate) fn stable_order_by_key(n: usize, bits: u32, key: impl Fn(usize) -> u6
         order.sort_by_key(|&i| key(i));
         return order;
     }
+    // blocksmith patch (PATCHES.md, 22): keys already in order (a boolean's triangles for
+    // export come in runs of one mesh ID) are their own order, without the passes; other keys
+    // leave this scan at their first descent.
+    let mut last = key(0);
+    if (1..n).all(|i| {
+        let k = key(i);
+        let in_order = k >= last;
+        last = k;
+        in_order
+    }) {
+        return (0..n).collect();
+    }
     let shifts: Vec<u32> = (0..bits).step_by(DIGIT as usize).collect();
     let digit = |k: u64, shift: u32| ((k >> shift) as usize) & (BUCKETS - 1);
     // blocksmith patch (PATCHES.md, 7): built a chunk at a time, a cancel seen between chunks.
@@ -461,6 +473,21 @@ mod tests {
     use super::*;
     use crate::impl_mesh::ManifoldImpl;
     use crate::linalg::Mat3x4;
+
+    /// blocksmith patch (PATCHES.md, 22): keys in order are their own order, and keys that
+    /// descend only at the end are sorted all the same.
+    #[test]
+    fn keys_in_order_give_their_order_and_a_late_descent_is_sorted() {
+        for n in [64usize, 1000, 5000] {
+            let runs = |i: usize| (i / 7) as u64;
+            assert_eq!(stable_order_by_key(n, 64, runs), (0..n).collect::<Vec<_>>(), "n {n}");
+            let late = |i: usize| if i == n - 1 { 3 } else { runs(i) + 5 };
+            let mut expected: Vec<usize> = (0..n).collect();
+            expected.sort_by_key(|&i| late(i));
+            assert_eq!(expected[0], n - 1);
+            assert_eq!(stable_order_by_key(n, 64, late), expected, "n {n}, late descent");
+        }
+    }
 
     #[test]
     fn stable_order_by_code_is_a_stable_sort() {
