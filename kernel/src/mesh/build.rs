@@ -7,6 +7,7 @@
 
 use super::{Mesh, MeshError, SubdivOptions, NONE};
 use crate::math::{is_finite, Vec3};
+use rayon::prelude::*;
 
 /// [`MeshError::NonFinite`] naming the first vertex with a NaN or infinite coordinate.
 ///
@@ -32,6 +33,12 @@ pub(super) fn check_finite(positions: &[Vec3]) -> Result<(), MeshError> {
 /// Buckets of outgoing half-edges up to this size are searched by a scan, larger ones by
 /// bisection after sorting.
 const SCAN_VALENCE: usize = 16;
+
+/// Vertices per parallel run of [`Mesh::from_paired_triangles`]'s fan walks.
+const FAN_WALK_RUN: usize = 4096;
+
+/// Half-edges from which [`face_cycles`] fills its arrays in parallel.
+const FACE_CYCLES_PAR: usize = 1 << 16;
 
 /// The stoppable build charges its cancellation token once per this many faces or vertices (a
 /// power of two).
@@ -444,18 +451,24 @@ impl Mesh {
             return bad("a half-edge without a pair");
         }
         let mut mesh = Mesh::from_paired_faces(positions, 3, corners, pairs, vec![0.0; nfh], vec![0.0; nv])?;
-        // Each vertex's half-edges, counted, against the walk around it from its first one.
-        let mut count = vec![0u32; nv];
-        for &v in &mesh.he_origin {
-            count[v as usize] += 1;
+        // Each vertex's fan, walked from its first half-edge. A walk stays among its vertex's
+        // half-edges and meets each once, so the walks cover them all (their lengths add up to
+        // the half-edges) exactly when no vertex has a second fan. Runs of vertices in
+        // parallel; the first error in vertex order, as one walk after another would give.
+        let walks: Vec<Result<usize, MeshError>> = mesh
+            .vertex_out
+            .par_chunks(FAN_WALK_RUN)
+            .map(|run| {
+                run.iter()
+                    .filter(|&&first| first != NONE)
+                    .try_fold(0, |sum, &first| Ok(sum + mesh.walk_fan(first, |_| {})? as usize))
+            })
+            .collect();
+        let mut walked = 0;
+        for w in walks {
+            walked += w?;
         }
-        let mut pinched = false;
-        for (&first, &n) in mesh.vertex_out.iter().zip(&count) {
-            if first != NONE {
-                pinched |= mesh.walk_fan(first, |_| {})? != n;
-            }
-        }
-        if pinched {
+        if walked != mesh.he_origin.len() {
             mesh.split_fans();
         }
         Ok(mesh)
@@ -553,15 +566,35 @@ impl Mesh {
 /// such as quads, next and previous are branch-free masks, which vectorise).
 fn face_cycles<const A: u32>(nfh: usize, face: &mut Vec<u32>, next: &mut Vec<u32>, prev: &mut Vec<u32>) {
     let n = nfh as u32;
-    face.extend((0..n).map(|h| h / A));
-    if A.is_power_of_two() {
-        // The face's first half-edge plus the corner after (before) h's, modulo A.
-        let m = A - 1;
-        next.extend((0..n).map(|h| (h & !m) | ((h + 1) & m)));
-        prev.extend((0..n).map(|h| (h & !m) | (h.wrapping_add(m) & m)));
+    // The face's first half-edge plus the corner after (before) h's, modulo A.
+    let m = A - 1;
+    let face_of = |h: u32| h / A;
+    let next_of = |h: u32| {
+        if A.is_power_of_two() {
+            (h & !m) | ((h + 1) & m)
+        } else if (h + 1) % A == 0 {
+            h + 1 - A
+        } else {
+            h + 1
+        }
+    };
+    let prev_of = |h: u32| {
+        if A.is_power_of_two() {
+            (h & !m) | (h.wrapping_add(m) & m)
+        } else if h % A == 0 {
+            h + A - 1
+        } else {
+            h - 1
+        }
+    };
+    if nfh >= FACE_CYCLES_PAR {
+        face.par_extend((0..n).into_par_iter().map(face_of));
+        next.par_extend((0..n).into_par_iter().map(next_of));
+        prev.par_extend((0..n).into_par_iter().map(prev_of));
     } else {
-        next.extend((0..n).map(|h| if (h + 1) % A == 0 { h + 1 - A } else { h + 1 }));
-        prev.extend((0..n).map(|h| if h % A == 0 { h + A - 1 } else { h - 1 }));
+        face.extend((0..n).map(face_of));
+        next.extend((0..n).map(next_of));
+        prev.extend((0..n).map(prev_of));
     }
 }
 
@@ -747,6 +780,38 @@ mod tests {
         assert_eq!((4..8).filter(|&f| m.face_vertices(f).any(|v| v == 7)).count(), 3);
         assert!((4..8).all(|f| m.face_vertices(f).all(|v| v != 0)));
         assert!((m.volume() - (a.volume() + b.volume())).abs() < 1e-12);
+    }
+
+    /// Over many runs of the parallel fan walks and face cycles: a fine sphere builds as
+    /// `from_indexed` builds it, and two fine spheres sharing one vertex get it split.
+    #[test]
+    fn paired_triangles_over_many_runs_build_the_same_and_split_a_shared_vertex() {
+        let m = Mesh::icosphere(1.0, 6);
+        let (corners, pairs) = corners_and_pairs(&m);
+        let (nv, nfh) = (m.vertex_count(), corners.len());
+        assert!(nv > 4 * FAN_WALK_RUN && nfh > FACE_CYCLES_PAR);
+        let arities = vec![3; m.face_count()];
+        let indexed = Mesh::from_indexed(m.positions().to_vec(), &corners, &arities).unwrap();
+        let paired = Mesh::from_paired_triangles(m.positions().to_vec(), corners.clone(), pairs.clone()).unwrap();
+        assert!(paired == indexed);
+        // A second sphere whose vertex `shared` is the first sphere's vertex 7 (moved there).
+        let shared = nv as u32 - 5;
+        let renumber = |v: u32| match v {
+            v if v == shared => 7,
+            v if v > shared => v + nv as u32 - 1,
+            v => v + nv as u32,
+        };
+        let mut positions = m.positions().to_vec();
+        let offset = m.position(7) - m.position(shared);
+        positions.extend((0..nv as u32).filter(|&v| v != shared).map(|v| m.position(v) + offset));
+        let mut both_corners = corners.clone();
+        both_corners.extend(corners.iter().map(|&v| renumber(v)));
+        let mut both_pairs = pairs.clone();
+        both_pairs.extend(pairs.iter().map(|&h| h + nfh as u32));
+        let two = Mesh::from_paired_triangles(positions, both_corners, both_pairs).unwrap();
+        assert!(two.is_closed() && two.is_manifold());
+        assert_eq!((two.vertex_count(), two.component_count()), (2 * nv, 2));
+        assert_eq!(two.position(2 * nv as u32 - 1), m.position(7));
     }
 
     #[test]
