@@ -510,15 +510,15 @@ pub(super) fn winding03(
     }
 
     // Find unique component representatives. blocksmith patch (PATCHES.md, 9):
-    // marked in a flag array rather than hashed into a set (one SipHash insert
-    // per vertex), in ascending order rather than the set's; each
-    // representative's winding number is written at its own index below, so
-    // the order changes nothing.
-    let mut is_rep = vec![false; a.vert_pos.len()];
-    for v in 0..a.vert_pos.len() {
-        is_rep[u_a.find(v as u32) as usize] = true;
-    }
-    let verts: Vec<usize> = (0..is_rep.len()).filter(|&v| is_rep[v]).collect();
+    // listed in ascending order rather than hashed into a set (one SipHash
+    // insert per vertex); each representative's winding number is written at
+    // its own index below, so the order changes nothing. Patch 21: each
+    // vertex's root found once, for this and for the flood fill below
+    // (upstream finds them twice; no union comes between); the roots are the
+    // vertices that are their own.
+    let root: Vec<u32> = (0..a.vert_pos.len() as u32).map(|v| u_a.find(v)).collect();
+    drop(u_a);
+    let verts: Vec<usize> = (0..root.len()).filter(|&v| root[v] as usize == v).collect();
 
     // Post-scan check, matching C++ boolean3.cpp:456.
     if is_cancelled(token) {
@@ -567,10 +567,9 @@ pub(super) fn winding03(
     }
 
     // Flood fill: propagate representative's winding number to all component members
-    for i in 0..w03.len() {
-        let root = u_a.find(i as u32) as usize;
-        if root != i {
-            w03[i] = w03[root];
+    for (i, &r) in root.iter().enumerate() {
+        if r as usize != i {
+            w03[i] = w03[r as usize];
         }
     }
 
