@@ -572,7 +572,7 @@ fn face_cycles<const A: u32>(nfh: usize, face: &mut Vec<u32>, next: &mut Vec<u32
     let next_of = |h: u32| {
         if A.is_power_of_two() {
             (h & !m) | ((h + 1) & m)
-        } else if (h + 1) % A == 0 {
+        } else if (h + 1).is_multiple_of(A) {
             h + 1 - A
         } else {
             h + 1
@@ -581,7 +581,7 @@ fn face_cycles<const A: u32>(nfh: usize, face: &mut Vec<u32>, next: &mut Vec<u32
     let prev_of = |h: u32| {
         if A.is_power_of_two() {
             (h & !m) | (h.wrapping_add(m) & m)
-        } else if h % A == 0 {
+        } else if h.is_multiple_of(A) {
             h + A - 1
         } else {
             h - 1
