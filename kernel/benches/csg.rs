@@ -155,6 +155,22 @@
 //! 2.89 / 3.58 / 4.07 / 1.89; the cost of the added triangles 0.70 / 0.84 / 0.87 / 0.76 µs
 //! against 1.21 / 1.23 / 1.27 / 1.07 (ours cheaper in 28 of 28 rounds); 32 → 360 segments ours
 //! ×77 against ×73, the log-log slope 0.940 against 0.957.
+//!
+//! Issue 38 (2026-12-07, sixth session; same command, 7 rounds of 3): engine patches 21 (the
+//! winding fill flags the cut edges instead of a binary search per edge, one root search per
+//! vertex) and 22 (the export with its pairing gathered in parallel, its order's sort skipped
+//! for keys in order), and the result's `Mesh` build walking its fans in parallel. Instructions
+//! 0.110 / 0.355 / 1.264 / 4.735 G at 32–256 segments (were 0.113 / 0.369 / 1.321 / 4.973)
+//! against 0.124 / 0.426 / 1.582 / 6.148: ratio 0.89 → 0.77, steps 3.23 / 3.56 / 3.75 against
+//! 3.44 / 3.71 / 3.89. Three side-by-side runs as the work went in (the first with patch 21's
+//! flags only, the last with everything; load 0.8–1.8), time ratios at
+//! 32–360 segments 0.58–0.56–0.53 / 0.60–0.54–0.55 / 0.59–0.55–0.69 / 0.63–0.64–0.63 /
+//! 0.60–0.67–0.61, stress 0.91 / 0.87 / 0.95; memory 0.61–0.73 / 0.49–0.51 / 0.44–0.50 / 0.46 /
+//! 0.48, stress 0.58–0.60. Wall-time steps ours / manifold3d, run by run: 32 → 64 2.89 / 2.89,
+//! 2.72 / 2.72, 2.43 / 3.11; 64 → 128 3.47 / 3.70, 3.73 / 3.51, 3.95 / 3.25; 128 → 256 4.08 /
+//! 3.82, 4.57 / 4.07, 3.96 / 4.29; 256 → 360 1.93 / 2.07, 2.02 / 1.97, 1.89 / 1.86: each step
+//! won in some runs and lost in others, the cost of the added triangles ours cheaper in 27 or
+//! 28 rounds of 28 in each.
 
 /// The allocator the `blocksmith` binary uses (script/cli/src/main.rs), so the figures are what
 /// a recipe run gets.
