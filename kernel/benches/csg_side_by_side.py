@@ -262,9 +262,9 @@ def fit_line(xs, ys):
 def cost_per_triangle(dies, results):
     """The die's time per result triangle, and the cost of the triangles each step adds, each side.
 
-    A growth ratio mixes a cost per triangle with any fixed cost per boolean: a side with a fixed cost per boolean (calls, thread start,
-    conversions) grows less than its triangles at small sizes even when each triangle costs it the
-    same. So, per size, the time per triangle; per step, the cost of the triangles added (the time
+    A growth ratio mixes a cost per triangle with any fixed cost per boolean: a side with a fixed
+    cost per boolean (calls, thread start, conversions) grows less than its triangles at small
+    sizes even when each triangle costs it the same. So, per size, the time per triangle; per step, the cost of the triangles added (the time
     the larger size adds over the smaller, per added triangle; per round, then the median); and over
     the whole range, the growth and its exponent, each side."""
     tris = {c: int(results[c][0][-1]["tris"]) for c in dies}

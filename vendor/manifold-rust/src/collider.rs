@@ -458,7 +458,7 @@ impl Collider {
         self_collision: bool,
         record: &mut F,
     ) {
-        let moved = placed_box(query, Vec3::splat(0.0) - part.offset, part.widen);
+        let moved = placed_box(query, -part.offset, part.widen);
         let mut found = |_: usize, leaf: usize| {
             let leaf = part.first_leaf + leaf;
             if !self_collision || leaf != query_idx {

@@ -495,18 +495,18 @@ where
         rest = tail;
     }
     let written = std::sync::atomic::AtomicUsize::new(0);
-    crate::par::maybe_par_for_each(slices, threshold, |(k, slice)| {
+    maybe_par_for_each(slices, threshold, |(k, slice)| {
         let mut n = 0;
         for (slot, value) in slice.iter_mut().zip(piece(k)) {
             slot.write(value);
             n += 1;
         }
-        // A part that fills less than its slice leaves the count short: nothing is exposed.
+        // A piece that fills less than its slice leaves the count short: nothing is exposed.
         if n == slice.len() {
             written.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
         }
     });
-    assert_eq!(written.into_inner(), total, "a part's array is shorter than its count");
+    assert_eq!(written.into_inner(), total, "a piece is shorter than its count");
     // SAFETY: the slices partition `0..total` of the capacity, and each was written in
     // full (counted above) before the length covers them.
     unsafe { out.set_len(total) };
