@@ -278,7 +278,8 @@ impl Solid {
     /// [`Solid::into_boolean_until`] for a result that is only exported
     /// ([`Solid::paired_triangles`], [`Solid::triangles`]), never an operand again: the engine
     /// leaves it in the order it makes it, without its spatial sort (engine patch 17; a sixth
-    /// of a large boolean's time).
+    /// of a large boolean's time) and without the vertex normals only an operand needs (engine
+    /// patch 23; a tenth).
     ///
     /// # Errors
     /// As [`Solid::boolean_until`].

@@ -501,8 +501,9 @@ pub fn boolean_with_token_and_stage(
 /// makes it: compacted, but not sorted and without a collider, so it is only
 /// for export (`get_mesh_gl*`, `get_mesh_halfedges`), never an operand of a
 /// later boolean. The spatial sort is a sixth of a large boolean's time, spent
-/// on an order and a collider that an exported result never uses.
-/// blocksmith patch (PATCHES.md, 17).
+/// on an order and a collider that an exported result never uses; nor are the
+/// vertex normals computed, a tenth (`edge_op::simplify_topology_for_export`).
+/// blocksmith patches (PATCHES.md, 17, 23).
 pub fn boolean_for_export_with_token(
     mesh_a: &ManifoldImpl,
     mesh_b: &ManifoldImpl,

@@ -6,7 +6,7 @@ use std::borrow::Cow;
 use crate::boolean3::Boolean3;
 use crate::boolean_stage_progress::{self as stage_marks, report as report_stage, StageSink};
 use crate::cancel::{is_cancelled, CancelToken};
-use crate::edge_op::simplify_topology;
+use crate::edge_op::{simplify_topology, simplify_topology_for_export};
 use crate::face_op::{face2tri_ct, get_barycentric, reorder_halfedges};
 use crate::impl_mesh::{reserve_ids, ManifoldImpl};
 use crate::linalg::Vec3;
@@ -706,8 +706,13 @@ pub(crate) fn boolean_result_sorted_or_not(
         return crate::boolean3::cancelled_impl();
     }
 
-    // Simplify topology
-    simplify_topology(&mut out_r, n_pv + n_qv);
+    // Simplify topology (an export-only result without the vertex normals: blocksmith
+    // patch (PATCHES.md, 23)).
+    if sorted {
+        simplify_topology(&mut out_r, n_pv + n_qv);
+    } else {
+        simplify_topology_for_export(&mut out_r, n_pv + n_qv);
+    }
     out_r.remove_unreferenced_verts();
     crate::timing::print("Simplification", t);
     report_stage(stage, stage_marks::AFTER_SIMPLIFY);

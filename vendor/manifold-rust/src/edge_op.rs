@@ -12,7 +12,7 @@ use crate::types::{next_halfedge, Halfedge};
 
 #[path = "edge_op_orbits.rs"]
 mod orbits;
-use orbits::{dedupe_orbit, orbit_owners, ORBIT_PAR_THRESHOLD};
+use orbits::{dedupe_orbit, orbit_owners, orbits_clean, ORBIT_PAR_THRESHOLD};
 
 // -----------------------------------------------------------------------
 // Private helpers (mirrors anonymous-namespace functions in edge_op.cpp)
@@ -934,6 +934,10 @@ pub fn cleanup_topology(mesh: &mut ManifoldImpl) {
     if mesh.halfedge.is_empty() {
         return;
     }
+    // blocksmith patch (PATCHES.md, 24): nothing to repair, told in one walk per orbit.
+    if orbits_clean(&mesh.halfedge, mesh.vert_pos.len(), ORBIT_PAR_THRESHOLD) {
+        return;
+    }
     let owners = split_pinched_verts_with_owners(mesh);
     dedupe_edges_from(mesh, owners);
 }
@@ -941,14 +945,46 @@ pub fn cleanup_topology(mesh: &mut ManifoldImpl) {
 /// Collapses short edges and colinear edges, and swaps degenerate edge diagonals.
 /// `first_new_vert` constrains which verts can be collapsed.
 pub fn simplify_topology(mesh: &mut ManifoldImpl, first_new_vert: i32) {
+    simplify_topology_then(mesh, first_new_vert, true);
+}
+
+/// [`simplify_topology`] without the vertex normals it ends by computing, for a
+/// boolean's result that is only exported (`boolean3::boolean_for_export_with_token`):
+/// an export reads positions, triangles, properties and triangle references, never
+/// the vertex normals (a later boolean's tie-breaks and the smoothing do), and they
+/// cost a tenth of a large boolean's work (an angle-weighted walk around every
+/// vertex, six `acos` each). The result's `vert_normal` is left empty, as an
+/// unsorted export-only result already has no collider. blocksmith patch
+/// (PATCHES.md, 23).
+pub(crate) fn simplify_topology_for_export(mesh: &mut ManifoldImpl, first_new_vert: i32) {
+    simplify_topology_then(mesh, first_new_vert, false);
+}
+
+/// The body of [`simplify_topology`], its closing vertex normals computed when
+/// `vert_normals` (see [`simplify_topology_for_export`]).
+fn simplify_topology_then(mesh: &mut ManifoldImpl, first_new_vert: i32, vert_normals: bool) {
     if mesh.halfedge.is_empty() {
         return;
     }
+    let t = crate::timing::start();
     cleanup_topology(mesh);
+    crate::timing::print("  Simplification: cleanup", t);
+    let t = crate::timing::start();
     collapse_short_edges(mesh, first_new_vert);
+    crate::timing::print("  Simplification: short edges", t);
+    let t = crate::timing::start();
     collapse_colinear_edges(mesh, first_new_vert);
+    crate::timing::print("  Simplification: colinear edges", t);
+    let t = crate::timing::start();
     swap_degenerates(mesh, first_new_vert);
-    calculate_vert_normals(mesh);
+    crate::timing::print("  Simplification: swaps", t);
+    if vert_normals {
+        let t = crate::timing::start();
+        calculate_vert_normals(mesh);
+        crate::timing::print("  Simplification: vertex normals", t);
+    } else {
+        mesh.vert_normal = Vec::new();
+    }
 }
 
 /// Like simplify_topology but without colinear-edge collapse.

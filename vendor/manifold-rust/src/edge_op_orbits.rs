@@ -208,6 +208,101 @@ where
     Some((0..n).filter(|&i| owner[i]).collect())
 }
 
+/// Halfedges, or vertices, per parallel piece of [`orbits_clean`]'s scatter and walks.
+const CLEAN_RUN: usize = 4096;
+
+/// The end vertices [`orbits_clean`] searches for a repeat as it walks an orbit; a longer
+/// orbit's are sorted once it closes (a search per step would be quadratic in the valence).
+pub(super) const CLEAN_SEARCHED: usize = 32;
+
+/// Whether `cleanup_topology` has nothing to do on `halfedge` (over `num_vert`
+/// vertices): every halfedge has both its vertices, the pairing is an
+/// involution, the halfedges leaving each vertex form one closed orbit (no
+/// pinched vertex to split) and no two of an orbit end at the same vertex (no
+/// duplicate edge). Both of its scans are then no-ops, with the same result,
+/// so the common case, a boolean's result or an import with nothing to
+/// repair, is told in two parallel passes: each vertex is given some halfedge
+/// leaving it, and each vertex's orbit is walked once from it, checking as it
+/// goes. `false` sends the caller to the scans, which repair what is wrong.
+/// blocksmith patch (PATCHES.md, 24): the scans' owner search, their
+/// involution check and the duplicate search each walked every orbit.
+///
+/// Which halfedge a vertex is given depends on the threads (the last store
+/// wins), the answer does not: walks that all close, visiting only their own
+/// vertex's halfedges, each at most once (a walk that entered a loop not
+/// through its start would pass two halfedges with one pair, failing the
+/// involution check at one of them), are disjoint, and visit `n` halfedges in
+/// all exactly when every halfedge is in its vertex's one orbit, whichever
+/// halfedge each started from.
+pub(super) fn orbits_clean(halfedge: &[Halfedge], num_vert: usize, threshold: usize) -> bool {
+    use std::sync::atomic::{AtomicU32, Ordering};
+    let n = halfedge.len();
+    if n >= u32::MAX as usize || num_vert >= i32::MAX as usize {
+        return false;
+    }
+    let start: Vec<AtomicU32> = (0..num_vert).map(|_| AtomicU32::new(u32::MAX)).collect();
+    let runs = n.div_ceil(CLEAN_RUN);
+    let in_range = |v: i32| v >= 0 && (v as usize) < num_vert;
+    let scattered = crate::par::maybe_par_map(runs, threshold / CLEAN_RUN, |r| {
+        let first = r * CLEAN_RUN;
+        halfedge[first..(first + CLEAN_RUN).min(n)].iter().zip(first..).all(|(h, i)| {
+            let ok = in_range(h.start_vert) && in_range(h.end_vert);
+            if ok {
+                start[h.start_vert as usize].store(i as u32, Ordering::Relaxed);
+            }
+            ok
+        })
+    });
+    if !scattered.iter().all(|&ok| ok) {
+        return false;
+    }
+    let start: Vec<u32> = start.into_iter().map(AtomicU32::into_inner).collect();
+    // The halfedges each vertex's walk visits, or `None` if a check fails.
+    let walk = |v: usize, end_verts: &mut Vec<i32>| -> Option<usize> {
+        let first = start[v] as usize;
+        if start[v] == u32::MAX {
+            return Some(0);
+        }
+        end_verts.clear();
+        let mut current = first;
+        for count in 1..=n {
+            let h = &halfedge[current];
+            if h.start_vert as usize != v {
+                return None;
+            }
+            // A repeated end vertex, by search up to the usual valences, by sort beyond.
+            if end_verts.len() < CLEAN_SEARCHED && end_verts.contains(&h.end_vert) {
+                return None;
+            }
+            end_verts.push(h.end_vert);
+            let pair = usize::try_from(h.paired_halfedge).ok().filter(|&p| p < n)?;
+            if halfedge[pair].paired_halfedge as usize != current {
+                return None;
+            }
+            current = next_halfedge(pair as i32) as usize;
+            if current >= n {
+                return None;
+            }
+            if current == first {
+                if end_verts.len() > CLEAN_SEARCHED {
+                    end_verts.sort_unstable();
+                    if end_verts.windows(2).any(|w| w[0] == w[1]) {
+                        return None;
+                    }
+                }
+                return Some(count);
+            }
+        }
+        None
+    };
+    let vert_runs = num_vert.div_ceil(CLEAN_RUN);
+    let visited = crate::par::maybe_par_map(vert_runs, threshold / CLEAN_RUN, |r| {
+        let mut end_verts = Vec::with_capacity(16);
+        (r * CLEAN_RUN..((r + 1) * CLEAN_RUN).min(num_vert)).try_fold(0usize, |sum, v| Some(sum + walk(v, &mut end_verts)?))
+    });
+    visited.into_iter().try_fold(0usize, |sum, c| Some(sum + c?)) == Some(n)
+}
+
 /// Appends the duplicate edges of the orbit walked from `i`, in walk order:
 /// halfedges whose end vertex a smaller halfedge of the orbit also ends at.
 /// `mark` sees each halfedge the walk visits.

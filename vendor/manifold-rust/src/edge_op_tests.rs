@@ -309,3 +309,109 @@ fn test_orbit_owners_match_the_sequential_scan_at_a_pinched_vertex() {
     let owners = orbit_owners(&imp.halfedge, 0, |h: &Halfedge| h.start_vert >= 0).unwrap();
     assert_eq!(owners.iter().filter(|&&i| imp.halfedge[i].start_vert == 0).count(), 2);
 }
+
+/// The halfedges of the orbit walked from `start`, in walk order.
+fn orbit_from(halfedge: &[Halfedge], start: usize) -> Vec<usize> {
+    let mut orbit = vec![start];
+    let mut current = next_halfedge(halfedge[start].paired_halfedge) as usize;
+    while current != start {
+        orbit.push(current);
+        current = next_halfedge(halfedge[current].paired_halfedge) as usize;
+    }
+    orbit
+}
+
+/// Whether the scans `orbits_clean` stands in for leave `m` as it is.
+fn scans_leave_alone(m: &ManifoldImpl) -> bool {
+    let mut scanned = m.clone();
+    let owners = split_pinched_verts_with_owners(&mut scanned);
+    dedupe_edges_from(&mut scanned, owners);
+    scanned.halfedge == m.halfedge && scanned.vert_pos.len() == m.vert_pos.len()
+}
+
+/// `orbits_clean`, in parallel pieces (threshold 0) and in one (no threshold met).
+fn clean_both_ways(m: &ManifoldImpl) -> bool {
+    let parallel = orbits_clean(&m.halfedge, m.vert_pos.len(), 0);
+    let serial = orbits_clean(&m.halfedge, m.vert_pos.len(), usize::MAX);
+    assert_eq!(parallel, serial);
+    parallel
+}
+
+/// blocksmith patch (PATCHES.md, 24): `orbits_clean` says a mesh needs no cleanup exactly when
+/// the scans would leave it alone, on clean meshes (orbits of valence 300 among them) and on
+/// each thing the scans repair: a pinched vertex and a duplicate edge whose orbit is longer
+/// than the end vertices searched as it is walked; and it turns down what the scans assume
+/// away: a pairing that is not an involution though every orbit still closes, a halfedge
+/// without a vertex.
+#[test]
+fn test_orbits_clean_exactly_when_the_scans_have_nothing_to_do() {
+    use crate::linalg::IVec3;
+    use crate::manifold::Manifold;
+    let sphere = Manifold::sphere(1.0, 48);
+    let cube = Manifold::cube(Vec3::splat(1.0), false);
+    let touching = cube.union(&cube.translate(Vec3::new(1.0, 1.0, 0.0)));
+    for m in [sphere.as_impl(), touching.as_impl()] {
+        assert!(clean_both_ways(m));
+        assert!(scans_leave_alone(m));
+    }
+
+    // Two pillows sharing vertices 0 and 1: each a loop 0, 1, w_1 … w_ring closed by a fan
+    // from 0 on top and one from 1 below, so 0 and 1 both have valence ring + 1. The four
+    // halfedges along 0–1, paired within each pillow, pinch both vertices (two orbits each);
+    // paired across, they make each one orbit of valence 2 * (ring + 1) that reaches the
+    // other twice: a duplicate edge whose both orbits are longer than the search.
+    let ring = 40;
+    let mut tris = Vec::new();
+    for first in [2, ring + 2] {
+        let w = |i: i32| first + i - 1;
+        tris.push(IVec3::new(0, 1, w(1)));
+        tris.push(IVec3::new(1, 0, w(ring)));
+        for i in 1..ring {
+            tris.push(IVec3::new(0, w(i), w(i + 1)));
+            tris.push(IVec3::new(1, w(i + 1), w(i)));
+        }
+    }
+    let mut imp = ManifoldImpl::new();
+    imp.vert_pos = (0..2 * ring + 2).map(|i| Vec3::new(f64::from(i), 0.0, 0.0)).collect();
+    imp.create_halfedges(&tris, &[]);
+    let along = |from: i32, to: i32| -> Vec<usize> {
+        (0..imp.halfedge.len())
+            .filter(|&i| imp.halfedge[i].start_vert == from && imp.halfedge[i].end_vert == to)
+            .collect()
+    };
+    let (down, up) = (along(0, 1), along(1, 0));
+    assert_eq!((down.len(), up.len()), (2, 2));
+    let mut valences = Vec::new();
+    for swap in [false, true] {
+        let mut m = imp.clone();
+        for (k, &d) in down.iter().enumerate() {
+            let u = up[if swap { 1 - k } else { k }];
+            pair_up(&mut m.halfedge, d, u);
+        }
+        valences.push(orbit_from(&m.halfedge, down[0]).len());
+        assert!(!clean_both_ways(&m), "swap {swap}");
+        assert!(!scans_leave_alone(&m), "swap {swap}");
+    }
+    valences.sort_unstable();
+    assert_eq!(valences, [ring as usize + 1, 2 * ring as usize + 2]);
+    assert!(ring as usize + 1 > orbits::CLEAN_SEARCHED);
+
+    // Three halfedges leaving one vertex of the sphere take one another's pairs in turn: every
+    // orbit still closes, and the vertex's is still one orbit, but the pairing is no longer an
+    // involution.
+    let mut m = sphere.as_impl().clone();
+    let orbit = (0..m.halfedge.len()).map(|i| orbit_from(&m.halfedge, i)).find(|o| o.len() >= 6).unwrap();
+    let (a, b, c) = (orbit[0], orbit[2], orbit[4]);
+    let pair = |h: usize| m.halfedge[h].paired_halfedge;
+    let (pa, pb, pc) = (pair(a), pair(b), pair(c));
+    m.halfedge[a].paired_halfedge = pb;
+    m.halfedge[b].paired_halfedge = pc;
+    m.halfedge[c].paired_halfedge = pa;
+    assert_eq!(orbit_from(&m.halfedge, a).len(), orbit.len());
+    assert!(!clean_both_ways(&m));
+
+    // A halfedge without its start vertex.
+    let mut m = sphere.as_impl().clone();
+    m.halfedge[5].start_vert = -1;
+    assert!(!clean_both_ways(&m));
+}

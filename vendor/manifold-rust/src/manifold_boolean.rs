@@ -126,9 +126,9 @@ impl Manifold {
     }
 
     /// The exact boolean `self op other` for export only: its result is not
-    /// sorted and has no collider, so it must not be an operand of a later
-    /// boolean (see `boolean3::boolean_for_export_with_token`).
-    /// blocksmith patch (PATCHES.md, 17).
+    /// sorted and has neither a collider nor vertex normals, so it must not be
+    /// an operand of a later boolean (see `boolean3::boolean_for_export_with_token`).
+    /// blocksmith patches (PATCHES.md, 17, 23).
     pub fn boolean_for_export_with_token(
         &self,
         other: &Self,
@@ -428,6 +428,9 @@ mod for_export_tests {
             assert_eq!(unsorted.num_vert(), sorted.num_vert(), "{op:?}");
             assert_eq!(unsorted.genus(), sorted.genus(), "{op:?}");
             assert_eq!(triangles(&unsorted), triangles(&sorted), "{op:?}");
+            // Patch 23: the vertex normals only an operand needs are left out.
+            assert!(unsorted.as_impl().vert_normal.is_empty(), "{op:?}");
+            assert_eq!(sorted.as_impl().vert_normal.len(), sorted.num_vert(), "{op:?}");
             // No vertex flagged for removal is left, and every face is paired.
             assert!(unsorted.as_impl().vert_pos.iter().all(|p| p.x.is_finite()));
             assert!(unsorted

@@ -35,6 +35,10 @@
 //                         then one sequential pass)                  100,001 halfedges
 //                                                                    (ORBIT_PAR_THRESHOLD)
 //                         `dedupe_edges` per-owner orbit map         12,500 owners
+//                         `orbits_clean`: a half-edge per vertex
+//                         (relaxed stores, any one will do) and a
+//                         walk per vertex, runs of 4,096; a boolean
+//                         whichever half-edges the stores kept      2 runs
 //   sdf.rs                level-set voxel evaluation                 10,000 voxels
 //   minkowski.rs          per-face hull maps                         8
 //   robust/intersection_graph.rs (via progress.rs) map_ct stages     64 / 16
