@@ -176,6 +176,41 @@ fn each_copy_names_the_first_it_is_a_translate_of() {
     ];
     let sided: Vec<(&Csg, Side)> = leaves.iter().map(|l| (l, Side::Right)).collect();
     assert_eq!(translated_copies(&sided), vec![None, None, Some(1), Some(0), None, Some(1)]);
+    assert_eq!(in_order(&sided), vec![None, None, Some(1), Some(0), None, Some(1)]);
+}
+
+/// [`copies_in_order`] of the leaves.
+fn in_order(leaves: &[(&Csg, Side)]) -> Vec<Option<usize>> {
+    let meshes: Vec<Option<&Mesh>> = leaves.iter().map(|(leaf, _)| copyable(leaf)).collect();
+    copies_in_order(&meshes)
+}
+
+/// The copies found all at once are the ones found in order: a pattern of balls among other
+/// leaves (a cube, a block model, a ball's mirror image of the same counts that copies nothing
+/// and sends the search back to the order), each arrangement with and without the odd ones.
+#[test]
+fn copies_found_at_once_are_the_copies_found_in_order() {
+    let s = ball();
+    let cube = Mesh::cube(1.0).triangulate().unwrap();
+    let mirrored = s.scale(Vec3::new(-1.0, 1.0, 1.0));
+    let pattern: Vec<Csg> = (0..12).map(|i| Csg::mesh(s.translate(Vec3::new(2.0 * f64::from(i), 1.0, -3.0)))).collect();
+    let blocks = Csg::Blocks(Arc::new(BlockModel::new()), MeshOptions::default());
+    for odd in [
+        vec![],
+        vec![Csg::mesh(cube.clone())],
+        vec![Csg::mesh(cube.clone()), blocks.clone(), Csg::mesh(mirrored.clone())],
+    ] {
+        for at in [0, 5, 12] {
+            let mut leaves: Vec<Csg> = pattern.clone();
+            for (i, leaf) in odd.iter().enumerate() {
+                leaves.insert((at + i).min(leaves.len()), leaf.clone());
+            }
+            let sided: Vec<(&Csg, Side)> = leaves.iter().map(|l| (l, Side::Left)).collect();
+            let found = translated_copies(&sided);
+            assert_eq!(found, in_order(&sided), "{} odd leaves at {at}", odd.len());
+            assert_eq!(found.iter().filter(|f| f.is_some()).count(), 11, "{} odd leaves at {at}", odd.len());
+        }
+    }
 }
 
 /// Two vertices a rounding apart in x come together when moved far off: the copy touches itself

@@ -1127,23 +1127,59 @@ fn corner_list(mesh: &Mesh) -> Vec<(Vec3, f64)> {
 
 /// For each mesh leaf (a triangle mesh) that is a translated copy of an earlier mesh leaf
 /// ([`Mesh::translation_from`], within the engine's resolution where it lies), that leaf;
-/// `None` for the others. Each leaf is compared with the first of every kind seen so far, and
-/// the comparison stops at the first array that differs.
+/// `None` for the others: [`copies_in_order`]'s answer. A copy has its original's
+/// counts of vertices, faces and half-edges, so it can only copy the first leaf of those counts;
+/// when every leaf is a copy of the first of its counts (a pattern of one part), that is the
+/// answer, found by comparing every leaf with that first in parallel (the pieces of a pattern
+/// are compared all at once, not one after another); otherwise the leaves are compared in
+/// order.
 fn translated_copies(leaves: &[(&Csg, Side)]) -> Vec<Option<usize>> {
-    let mut firsts: Vec<usize> = Vec::new();
-    leaves
+    let meshes: Vec<Option<&Mesh>> = leaves.par_iter().map(|(leaf, _)| copyable(leaf)).collect();
+    let mut first_of_counts: HashMap<(usize, usize, usize), usize> = HashMap::new();
+    let guess: Vec<Option<usize>> = meshes
         .iter()
         .enumerate()
-        .map(|(k, (leaf, _))| {
-            let Csg::Mesh(m) = leaf else { return None };
-            if m.face_count() == 0 || !m.is_triangle_mesh() {
-                return None;
-            }
-            let tolerance = ENGINE_PRECISION * box_span_and_magnitude(m.bounds()).1;
-            let first = firsts
-                .iter()
-                .copied()
-                .find(|&r| matches!(leaves[r].0, Csg::Mesh(o) if m.translation_from(o, tolerance).is_some()));
+        .map(|(k, m)| {
+            let m = (*m)?;
+            let first = *first_of_counts.entry((m.vertex_count(), m.face_count(), m.halfedge_count())).or_insert(k);
+            (first != k).then_some(first)
+        })
+        .collect();
+    let all_copies = guess.par_iter().zip(&meshes).all(|(first, m)| match (*first, *m) {
+        (Some(first), Some(m)) => meshes[first].is_some_and(|o| is_copy(m, o)),
+        _ => true,
+    });
+    if all_copies {
+        guess
+    } else {
+        copies_in_order(&meshes)
+    }
+}
+
+/// The mesh of a leaf that can be a translated copy or have some (a triangle mesh with faces).
+fn copyable<'a>(leaf: &'a Csg) -> Option<&'a Mesh> {
+    match leaf {
+        Csg::Mesh(m) if m.face_count() > 0 && m.is_triangle_mesh() => Some(m),
+        _ => None,
+    }
+}
+
+/// Whether `m` is `o` moved, within the engine's resolution at `m`.
+fn is_copy(m: &Mesh, o: &Mesh) -> bool {
+    m.translation_from(o, ENGINE_PRECISION * box_span_and_magnitude(m.bounds()).1).is_some()
+}
+
+/// [`translated_copies`] one leaf after another (`meshes`: each leaf's mesh when
+/// [`copyable`]): each is compared with the first of every kind seen so far, and the
+/// comparison stops at the first array that differs.
+fn copies_in_order(meshes: &[Option<&Mesh>]) -> Vec<Option<usize>> {
+    let mut firsts: Vec<usize> = Vec::new();
+    meshes
+        .iter()
+        .enumerate()
+        .map(|(k, m)| {
+            let m = (*m)?;
+            let first = firsts.iter().copied().find(|&r| meshes[r].is_some_and(|o| is_copy(m, o)));
             if first.is_none() {
                 firsts.push(k);
             }
