@@ -13,7 +13,6 @@
 
 
 use crate::cancel::{is_cancelled, CancelToken};
-use crate::disjoint_sets::DisjointSets;
 use crate::impl_mesh::ManifoldImpl;
 use crate::linalg::{Vec2, Vec3, Vec4};
 use crate::types::Box as BBox;
@@ -458,6 +457,60 @@ pub(super) fn intersect12(
 // of the other mesh. Then flood-fills that winding number to all vertices in
 // the component.
 
+/// Halfedges between two looks at the cancellation token in `winding03`'s unions.
+const CHUNK: usize = 1024;
+
+/// A union-find over a range of vertices, for `winding03`'s unions: `DisjointSets`'s linking
+/// (by rank; on a tie the higher index under the lower) and path halving, over the vertices of
+/// one part (blocksmith patch (PATCHES.md, 26)), so parts are united on their own threads.
+struct RunSets {
+    first: u32,
+    parent: Vec<u32>,
+    rank: Vec<u8>,
+}
+
+impl RunSets {
+    fn new(verts: std::ops::Range<usize>) -> Self {
+        RunSets { first: verts.start as u32, parent: (0..verts.len() as u32).collect(), rank: vec![0; verts.len()] }
+    }
+
+    /// The root of local vertex `x`, halving the path to it as `DisjointSets::find` does.
+    fn find(&mut self, mut x: u32) -> u32 {
+        loop {
+            let p = self.parent[x as usize];
+            if p == x {
+                return x;
+            }
+            let gp = self.parent[p as usize];
+            self.parent[x as usize] = gp;
+            x = gp;
+        }
+    }
+
+    /// Unites the sets of global vertices `a` and `b` as `DisjointSets::unite` does: the
+    /// root of lower rank goes under the other, on a tie the higher index under the lower.
+    fn unite(&mut self, a: u32, b: u32) {
+        let (mut x, mut y) = (self.find(a - self.first), self.find(b - self.first));
+        if x == y {
+            return;
+        }
+        let (mut rx, mut ry) = (self.rank[x as usize], self.rank[y as usize]);
+        if rx > ry || (rx == ry && x < y) {
+            std::mem::swap(&mut x, &mut y);
+            std::mem::swap(&mut rx, &mut ry);
+        }
+        self.parent[x as usize] = y;
+        if rx == ry {
+            self.rank[y as usize] += 1;
+        }
+    }
+
+    /// Each vertex's root, as global vertices.
+    fn roots(mut self) -> Vec<u32> {
+        (0..self.parent.len() as u32).map(|v| self.find(v) + self.first).collect()
+    }
+}
+
 /// `None` means `token` was cancelled part-way through; the partial winding
 /// numbers are discarded, mirroring C++ `Winding03` returning `Vec<int>{}` at
 /// each of its `IsCancelled` checks (boolean3.cpp:437, 456, 472, 480).
@@ -472,12 +525,8 @@ pub(super) fn winding03(
     let (a, b) = if forward { (in_p, in_q) } else { (in_q, in_p) };
     let sort_idx = if forward { 0 } else { 1 };
 
-    // Build union-find: unite vertices along unbroken edges. This loop is the
-    // Rust counterpart of the ctx-passing `for_each` at boolean3.cpp:425, and
-    // checks the token once per C++ kSeqCancelChunk (= 1024) halfedges
-    // (parallel.h:424).
-    const CHUNK: usize = 1024;
-    let u_a = DisjointSets::new(a.vert_pos.len() as u32);
+    // Build union-find: unite vertices along unbroken edges (C++ boolean3.cpp:425, checking
+    // the token once per C++ kSeqCancelChunk (= 1024) halfedges, parallel.h:424).
     let n = a.halfedge.len();
     // blocksmith patch (PATCHES.md, 21): the edges an intersection cuts,
     // flagged once, rather than each edge binary-searched among the
@@ -490,34 +539,45 @@ pub(super) fn winding03(
             *c = true;
         }
     }
-    for c in 0..n.div_ceil(CHUNK) {
-        if is_cancelled(token) {
-            return None;
-        }
-        for edge in c * CHUNK..n.min((c + 1) * CHUNK) {
-            let he = &a.halfedge[edge];
-            // Unbroken: no intersection on it.
-            if he.is_forward() && !cut[edge] {
-                u_a.unite(he.start_vert as u32, he.end_vert as u32);
+    // Each vertex's root, found once for the representatives and the flood fill below
+    // (patch 21; upstream finds them twice, with no union between); the roots are the
+    // vertices that are their own. blocksmith patch (PATCHES.md, 26): a mesh of parts apart
+    // is united part by part in parallel, each part's edges in index order, which are the
+    // unions the whole mesh's pass makes on that part's vertices, in the same order: the
+    // same roots.
+    let whole = [crate::apart_runs::ApartRun { faces: 0..n / 3, verts: 0..a.vert_pos.len() }];
+    let runs = crate::apart_runs::apart_runs(a);
+    let runs: &[crate::apart_runs::ApartRun] = runs.as_deref().unwrap_or(&whole);
+    let run_roots = crate::par::maybe_par_map(runs.len(), 2, |k| {
+        let run = &runs[k];
+        let mut sets = RunSets::new(run.verts.clone());
+        let edges = 3 * run.faces.start..(3 * run.faces.end).min(n);
+        for (c, chunk) in a.halfedge[edges.clone()].chunks(CHUNK).enumerate() {
+            if is_cancelled(token) {
+                return None;
+            }
+            let first = edges.start + c * CHUNK;
+            for (edge, he) in (first..).zip(chunk) {
+                // Unbroken: no intersection on it.
+                if he.is_forward() && !cut[edge] {
+                    sets.unite(he.start_vert as u32, he.end_vert as u32);
+                }
             }
         }
-    }
+        Some(sets.roots())
+    });
     drop(cut);
-
     // Post-loop check, matching C++ boolean3.cpp:437.
     if is_cancelled(token) {
         return None;
     }
-
-    // Find unique component representatives. blocksmith patch (PATCHES.md, 9):
-    // listed in ascending order rather than hashed into a set (one SipHash
-    // insert per vertex); each representative's winding number is written at
-    // its own index below, so the order changes nothing. Patch 21: each
-    // vertex's root found once, for this and for the flood fill below
-    // (upstream finds them twice; no union comes between); the roots are the
-    // vertices that are their own.
-    let root: Vec<u32> = (0..a.vert_pos.len() as u32).map(|v| u_a.find(v)).collect();
-    drop(u_a);
+    let mut root: Vec<u32> = (0..a.vert_pos.len() as u32).collect();
+    for (run, roots) in runs.iter().zip(run_roots) {
+        root[run.verts.clone()].copy_from_slice(&roots?);
+    }
+    // blocksmith patch (PATCHES.md, 9): representatives listed in ascending order rather
+    // than hashed into a set (one SipHash insert per vertex); each representative's
+    // winding number is written at its own index below, so the order changes nothing.
     let verts: Vec<usize> = (0..root.len()).filter(|&v| root[v] as usize == v).collect();
 
     // Post-scan check, matching C++ boolean3.cpp:456.

@@ -595,7 +595,37 @@ pub(super) fn append_whole_edges(
     face_p2r: &[i32],
     forward: bool,
 ) {
-    for idx in 0..in_p.halfedge.len() {
+    let out = WholeEdgesOut { halfedge: &mut out_r.halfedge, face_ptr: face_ptr_r, halfedge_ref, face_base: 0, slot_base: 0 };
+    let input = WholeEdgesIn { in_p, whole_halfedge_p, i03, vp2r, face_p2r, forward };
+    append_whole_edges_of(out, &input, 0..in_p.halfedge.len());
+}
+
+/// What [`append_whole_edges`] reads.
+struct WholeEdgesIn<'a> {
+    in_p: &'a ManifoldImpl,
+    whole_halfedge_p: &'a [bool],
+    i03: &'a [i32],
+    vp2r: &'a [i32],
+    face_p2r: &'a [i32],
+    forward: bool,
+}
+
+/// Where [`append_whole_edges`] writes: the output faces from `face_base` (their next free
+/// slots in `face_ptr`) and their slots from `slot_base` (`halfedge`, `halfedge_ref`).
+struct WholeEdgesOut<'a> {
+    halfedge: &'a mut [Halfedge],
+    face_ptr: &'a mut [i32],
+    halfedge_ref: &'a mut [TriRef],
+    face_base: usize,
+    slot_base: usize,
+}
+
+/// [`append_whole_edges`] of the input half-edges `edges`, whose faces and pairs' faces all
+/// map to output faces `out` holds.
+fn append_whole_edges_of(out: WholeEdgesOut<'_>, input: &WholeEdgesIn<'_>, edges: std::ops::Range<usize>) {
+    let WholeEdgesIn { in_p, whole_halfedge_p, i03, vp2r, face_p2r, forward } = *input;
+    let WholeEdgesOut { halfedge: out_halfedge, face_ptr: face_ptr_r, halfedge_ref, face_base, slot_base } = out;
+    for idx in edges {
         if !whole_halfedge_p[idx] {
             continue;
         }
@@ -616,9 +646,9 @@ pub(super) fn append_whole_edges(
         halfedge.end_vert = vp2r[halfedge.end_vert as usize];
 
         let face_left_p = idx / 3;
-        let new_face = face_p2r[face_left_p];
+        let new_face = face_p2r[face_left_p] as usize - face_base;
         let face_right_p = halfedge.paired_halfedge as usize / 3;
-        let face_right = face_p2r[face_right_p];
+        let face_right = face_p2r[face_right_p] as usize - face_base;
 
         let forward_ref = TriRef {
             mesh_id: if forward { 0 } else { 1 },
@@ -634,10 +664,10 @@ pub(super) fn append_whole_edges(
         };
 
         for i in 0..inclusion.abs() {
-            let forward_edge = face_ptr_r[new_face as usize];
-            face_ptr_r[new_face as usize] += 1;
-            let backward_edge = face_ptr_r[face_right as usize];
-            face_ptr_r[face_right as usize] += 1;
+            let forward_edge = face_ptr_r[new_face];
+            face_ptr_r[new_face] += 1;
+            let backward_edge = face_ptr_r[face_right];
+            face_ptr_r[face_right] += 1;
 
             let he = Halfedge {
                 start_vert: halfedge.start_vert + i,
@@ -645,8 +675,8 @@ pub(super) fn append_whole_edges(
                 paired_halfedge: backward_edge,
                 prop_vert: -1,
             };
-            out_r.halfedge[forward_edge as usize] = he;
-            halfedge_ref[forward_edge as usize] = forward_ref;
+            out_halfedge[forward_edge as usize - slot_base] = he;
+            halfedge_ref[forward_edge as usize - slot_base] = forward_ref;
 
             let rev = Halfedge {
                 start_vert: halfedge.end_vert + i,
@@ -654,10 +684,55 @@ pub(super) fn append_whole_edges(
                 paired_halfedge: forward_edge,
                 prop_vert: -1,
             };
-            out_r.halfedge[backward_edge as usize] = rev;
-            halfedge_ref[backward_edge as usize] = backward_ref;
+            out_halfedge[backward_edge as usize - slot_base] = rev;
+            halfedge_ref[backward_edge as usize - slot_base] = backward_ref;
         }
     }
+}
+
+/// [`append_whole_edges`], part by part in parallel when `in_p` is made of parts apart
+/// ([`crate::apart_runs::apart_runs`]). A part's whole edges go to its own output faces
+/// (their pairs are in the part), and those faces and their slots are contiguous runs of the
+/// output's, so each part writes its own slices, its edges in index order: the writes the
+/// one pass over every edge makes to those faces, in the same order. `face_edge` is each
+/// output face's first slot; `faces_end` the end of `in_p`'s output faces.
+/// blocksmith patch (PATCHES.md, 26).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn append_whole_edges_in_parts(
+    out_r: &mut ManifoldImpl,
+    face_ptr_r: &mut [i32],
+    halfedge_ref: &mut [TriRef],
+    in_p: &ManifoldImpl,
+    whole_halfedge_p: &[bool],
+    i03: &[i32],
+    vp2r: &[i32],
+    face_p2r: &[i32],
+    forward: bool,
+    face_edge: &[i32],
+    faces_end: usize,
+) {
+    let Some(runs) = crate::apart_runs::apart_runs(in_p) else {
+        return append_whole_edges(out_r, face_ptr_r, halfedge_ref, in_p, whole_halfedge_p, i03, vp2r, face_p2r, forward);
+    };
+    let input = WholeEdgesIn { in_p, whole_halfedge_p, i03, vp2r, face_p2r, forward };
+    // Each part's first output face, and the end of the last part's.
+    let first_faces: Vec<usize> = runs.iter().map(|r| face_p2r[r.faces.start] as usize).chain([faces_end]).collect();
+    let mut pieces = Vec::with_capacity(runs.len());
+    let first_slot = face_edge[first_faces[0]] as usize;
+    let (_, mut halfedge_rest) = out_r.halfedge.split_at_mut(first_slot);
+    let (_, mut ref_rest) = halfedge_ref.split_at_mut(first_slot);
+    let (_, mut ptr_rest) = face_ptr_r.split_at_mut(first_faces[0]);
+    for (k, run) in runs.iter().enumerate() {
+        let (f0, f1) = (first_faces[k], first_faces[k + 1]);
+        let (s0, s1) = (face_edge[f0] as usize, face_edge[f1] as usize);
+        let (halfedge, h) = std::mem::take(&mut halfedge_rest).split_at_mut(s1 - s0);
+        let (refs, r) = std::mem::take(&mut ref_rest).split_at_mut(s1 - s0);
+        let (face_ptr, p) = std::mem::take(&mut ptr_rest).split_at_mut(f1 - f0);
+        (halfedge_rest, ref_rest, ptr_rest) = (h, r, p);
+        let out = WholeEdgesOut { halfedge, face_ptr, halfedge_ref: refs, face_base: f0, slot_base: s0 };
+        pieces.push((out, 3 * run.faces.start..3 * run.faces.end));
+    }
+    crate::par::maybe_par_for_each(pieces, 2, |(out, edges)| append_whole_edges_of(out, &input, edges));
 }
 
 // Sub-module: update_reference, create_properties, boolean_result entry point

@@ -13,7 +13,7 @@ use crate::linalg::Vec3;
 use crate::types::{OpType, TriRef};
 
 use super::{
-    abs_sum, add_new_edge_verts, append_new_edges, append_partial_edges, append_whole_edges,
+    abs_sum, add_new_edge_verts, append_new_edges, append_partial_edges, append_whole_edges_in_parts,
     exclusive_scan_abs, size_output, EdgeGroups, EdgeList,
 };
 
@@ -615,7 +615,11 @@ pub(crate) fn boolean_result_sorted_or_not(
         return crate::boolean3::cancelled_impl();
     }
 
-    append_whole_edges(
+    // blocksmith patch (PATCHES.md, 26): an operand made of parts apart, part by part in
+    // parallel (the same slots, written in the same order within each face).
+    let num_face_r = face_edge.len() - 1;
+    let p_faces_end = face_pq2r.get(in_p.num_tri()).map_or(num_face_r, |&f| f as usize);
+    append_whole_edges_in_parts(
         &mut out_r,
         &mut face_ptr_r,
         &mut halfedge_ref,
@@ -625,8 +629,10 @@ pub(crate) fn boolean_result_sorted_or_not(
         &vp2r,
         &face_pq2r[..in_p.num_tri()],
         true,
+        &face_edge,
+        p_faces_end,
     );
-    append_whole_edges(
+    append_whole_edges_in_parts(
         &mut out_r,
         &mut face_ptr_r,
         &mut halfedge_ref,
@@ -636,6 +642,8 @@ pub(crate) fn boolean_result_sorted_or_not(
         &vq2r,
         &face_pq2r[in_p.num_tri()..],
         false,
+        &face_edge,
+        num_face_r,
     );
 
     // C++ clears wholeHalfedgeP/Q, vP2R/vQ2R and friends after

@@ -127,6 +127,12 @@ impl Collider {
         collider
     }
 
+    /// Each part's first leaf, in order, when this collider was composed of parts
+    /// ([`Collider::compose`]); `None` for any other. blocksmith patch (PATCHES.md, 26).
+    pub(crate) fn part_first_leaves(&self) -> Option<Vec<usize>> {
+        self.placed.as_ref().map(|placed| placed.iter().map(|p| p.first_leaf).collect())
+    }
+
     pub(crate) fn num_leaves(&self) -> usize {
         if let Some(placed) = &self.placed {
             return placed.last().map_or(0, |p| p.first_leaf + p.tree.num_leaves());

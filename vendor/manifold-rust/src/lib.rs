@@ -65,6 +65,7 @@
     clippy::field_reassign_with_default
 )]
 
+mod apart_runs;
 pub mod boolean3;
 pub mod boolean_result;
 pub mod boolean_stage_progress;

@@ -20,6 +20,11 @@
 //                         `winding03` per-vert winding query map_ct  1,000 verts
 //   manifold_meshgl_export.rs `get_mesh_halfedges` gathers, runs of
 //                         4,096 triangles (`concatenated`)            10,000 triangles
+//   boolean3_kernels.rs   `winding03` unions, one task per part of an
+//                         operand of parts apart (`apart_runs`)        10,000 halfedges
+//   boolean_result.rs     `append_whole_edges_in_parts`, one task
+//                         per part, each its own output slices        10,000 halfedges
+//   apart_runs.rs         the parts' check, one task per part          10,000 halfedges
 //   boolean_result.rs     `EdgeGroups::new` stable sort of the
 //                         AddNewEdgeVerts edge lists                 10,000 entries
 //   sort.rs               `sort_geometry`: Morton codes, stable sorts,
