@@ -1157,7 +1157,7 @@ fn translated_copies(leaves: &[(&Csg, Side)]) -> Vec<Option<usize>> {
 }
 
 /// The mesh of a leaf that can be a translated copy or have some (a triangle mesh with faces).
-fn copyable<'a>(leaf: &'a Csg) -> Option<&'a Mesh> {
+fn copyable(leaf: &Csg) -> Option<&Mesh> {
     match leaf {
         Csg::Mesh(m) if m.face_count() > 0 && m.is_triangle_mesh() => Some(m),
         _ => None,
