@@ -171,6 +171,19 @@
 //! 3.82, 4.57 / 4.07, 3.96 / 4.29; 256 → 360 1.93 / 2.07, 2.02 / 1.97, 1.89 / 1.86: each step
 //! won in some runs and lost in others, the cost of the added triangles ours cheaper in 27 or
 //! 28 rounds of 28 in each.
+//!
+//! Issue 38 (2026-12-07, seventh session; same command, 7 rounds of 3): engine patches 23 (a
+//! boolean for export without vertex normals), 24 (a cleanup with nothing to repair told in one
+//! walk per vertex), 25 (an export-only result compacted in place) and 26 (an operand of parts
+//! apart united and assembled part by part in parallel), and translated copies found at once.
+//! Instructions 0.099 / 0.315 / 1.118 / 4.163 G at 32–256 segments against 0.124 / 0.429 /
+//! 1.583 / 6.148: ratio 0.80 / 0.74 / 0.71 / 0.68, steps 3.20 / 3.55 / 3.72 against 3.46 /
+//! 3.69 / 3.88. Two side-by-side runs (after patches 23–24, load 0.9–1.9; after everything,
+//! load 1.8): time ratios at 32–360 segments 0.60–0.49 / 0.48–0.47 / 0.52–0.45 / 0.52–0.50 /
+//! 0.48–0.48, stress 0.80 / 0.92; memory 0.70–0.71 / 0.50 / 0.46–0.48 / 0.46 / 0.48, stress
+//! 0.58–0.61. Wall-time steps ours / manifold3d: 32 → 64 2.72 / 2.73, 2.68 / 2.79; 64 → 128
+//! 3.46 / 3.54, 3.55 / 3.71; 128 → 256 4.26 / 4.16, 3.81 / 4.12; 256 → 360 1.94 / 1.90, 2.13 /
+//! 1.91; the cost of the added triangles ours cheaper in 28 of 28 rounds in both.
 
 /// The allocator the `blocksmith` binary uses (script/cli/src/main.rs), so the figures are what
 /// a recipe run gets.
