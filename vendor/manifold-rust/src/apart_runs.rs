@@ -28,8 +28,16 @@ static ONE_RUN_ONLY: AtomicBool = AtomicBool::new(false);
 /// parts' vertices to come in order, so a mesh changed since its composition, or any other,
 /// gives `None` or parts that are true.
 pub(crate) fn apart_runs(mesh: &ManifoldImpl) -> Option<Vec<ApartRun>> {
+    if ONE_RUN_ONLY.load(Ordering::Relaxed) {
+        return None;
+    }
+    parts_apart(mesh)
+}
+
+/// [`apart_runs`] whatever tests ask of it (see [`set_one_run_only`]).
+fn parts_apart(mesh: &ManifoldImpl) -> Option<Vec<ApartRun>> {
     let n = mesh.halfedge.len();
-    if n < RUNS_PAR_THRESHOLD || ONE_RUN_ONLY.load(Ordering::Relaxed) || n % 3 != 0 {
+    if n < RUNS_PAR_THRESHOLD || n % 3 != 0 {
         return None;
     }
     let mut starts = mesh.collider.part_first_leaves()?;
@@ -64,7 +72,8 @@ pub(crate) fn apart_runs(mesh: &ManifoldImpl) -> Option<Vec<ApartRun>> {
     Some(starts.windows(2).zip(verts).map(|(f, verts)| ApartRun { faces: f[0]..f[1], verts }).collect())
 }
 
-/// Makes [`apart_runs`] find none, or find them again; for tests comparing the two paths.
+/// Makes [`apart_runs`] find none, or find them again; for tests comparing the two paths
+/// (both give the same results, so another test running meanwhile is not disturbed).
 #[cfg(test)]
 pub(crate) fn set_one_run_only(on: bool) {
     ONE_RUN_ONLY.store(on, Ordering::Relaxed);

@@ -23,7 +23,7 @@ fn spheres(n: usize) -> (Vec<Manifold>, Manifold) {
 #[test]
 fn a_composition_gives_its_parts_and_a_changed_one_none() {
     let (parts, composed) = spheres(4);
-    let runs = apart_runs(composed.as_impl()).expect("the parts");
+    let runs = parts_apart(composed.as_impl()).expect("the parts");
     assert_eq!(runs.len(), 4);
     let (mut face, mut vert) = (0, 0);
     for (run, part) in runs.iter().zip(&parts) {
@@ -35,14 +35,14 @@ fn a_composition_gives_its_parts_and_a_changed_one_none() {
     assert_eq!(face, composed.num_tri());
     // One mesh is no parts; neither is a composition whose half-edge pairs or vertices cross
     // from one part into another.
-    assert_eq!(apart_runs(parts[0].as_impl()), None);
+    assert_eq!(parts_apart(parts[0].as_impl()), None);
     let second = 3 * runs[1].faces.start;
     let mut paired_across = composed.as_impl().clone();
     paired_across.halfedge[1].paired_halfedge = second as i32;
-    assert_eq!(apart_runs(&paired_across), None);
+    assert_eq!(parts_apart(&paired_across), None);
     let mut vertex_across = composed.as_impl().clone();
     vertex_across.halfedge[1].end_vert = runs[2].verts.start as i32;
-    assert_eq!(apart_runs(&vertex_across), None);
+    assert_eq!(parts_apart(&vertex_across), None);
     // Too small to gain: a part of two.
     let (_, small) = {
         let parts: Vec<Manifold> =
@@ -52,7 +52,7 @@ fn a_composition_gives_its_parts_and_a_changed_one_none() {
         let composed = Manifold::compose_apart(&placed).expect("apart");
         (parts, composed)
     };
-    assert_eq!(apart_runs(small.as_impl()), None);
+    assert_eq!(parts_apart(small.as_impl()), None);
 }
 
 /// Everything an export reads: positions (bits), triangles, face IDs.
@@ -67,7 +67,7 @@ fn exported(m: &Manifold) -> (Vec<u64>, Vec<u64>, Vec<u64>) {
 #[test]
 fn a_boolean_on_parts_apart_is_the_boolean_in_one_run() {
     let (_, composed) = spheres(4);
-    assert!(apart_runs(composed.as_impl()).is_some());
+    assert!(parts_apart(composed.as_impl()).is_some());
     let slab = Manifold::cube(Vec3::new(12.0, 12.0, 1.2), false).translate(Vec3::new(-6.0, -6.0, -0.3));
     for op in [OpType::Add, OpType::Subtract, OpType::Intersect] {
         for (a, b) in [(&slab, &composed), (&composed, &slab)] {
@@ -134,7 +134,9 @@ fn whole_edges_part_by_part_are_the_one_pass_slot_for_slot() {
         let mut refs = vec![TriRef::default(); slots];
         if parts {
             let end = face_edge.len() - 1;
-            append_whole_edges_in_parts(&mut out, &mut face_ptr, &mut refs, m, &whole, &i03, &vp2r, &face_p2r, false, &face_edge, end);
+            let parts = parts_apart(m);
+            assert!(parts.is_some());
+            append_whole_edges_in_parts(&mut out, &mut face_ptr, &mut refs, m, &whole, &i03, &vp2r, &face_p2r, false, parts.as_deref(), &face_edge, end);
         } else {
             append_whole_edges(&mut out, &mut face_ptr, &mut refs, m, &whole, &i03, &vp2r, &face_p2r, false);
         }

@@ -74,6 +74,11 @@ pub struct Boolean3 {
     pub w30: Vec<i32>,
     pub expand_p: bool,
     pub valid: bool,
+    /// Each operand's parts apart, when it has them (`apart_runs`), found once for both
+    /// steps that work part by part: the windings' unions and the whole edges' assembly.
+    /// blocksmith patch (PATCHES.md, 26).
+    pub(crate) apart_p: Option<Vec<crate::apart_runs::ApartRun>>,
+    pub(crate) apart_q: Option<Vec<crate::apart_runs::ApartRun>>,
 }
 
 // ---------------------------------------------------------------------------
@@ -103,6 +108,8 @@ impl Boolean3 {
                     w30: Vec::new(),
                     expand_p: op == OpType::Add,
                     valid: false,
+                    apart_p: None,
+                    apart_q: None,
                 }
             }
         }
@@ -145,6 +152,8 @@ impl Boolean3 {
                 w30: vec![0; in_q.num_vert()],
                 expand_p,
                 valid: true,
+                apart_p: None,
+                apart_q: None,
             });
         }
 
@@ -175,6 +184,8 @@ impl Boolean3 {
                 w30: Vec::new(),
                 expand_p,
                 valid: false,
+                apart_p: None,
+                apart_q: None,
             });
         }
 
@@ -183,14 +194,15 @@ impl Boolean3 {
         if is_cancelled(token) {
             return None;
         }
-        let w03 = winding03(in_p, in_q, &xv12.p1q2, expand_p, true, token)?;
+        let (apart_p, apart_q) = (crate::apart_runs::apart_runs(in_p), crate::apart_runs::apart_runs(in_q));
+        let w03 = winding03(in_p, in_q, &xv12.p1q2, expand_p, true, apart_p.as_deref(), token)?;
         crate::timing::print("  Winding03 P", t);
         report_stage(stage, stage_marks::AFTER_WINDING_P);
         let t = crate::timing::start();
         if is_cancelled(token) {
             return None;
         }
-        let w30 = winding03(in_p, in_q, &xv21.p1q2, expand_p, false, token)?;
+        let w30 = winding03(in_p, in_q, &xv21.p1q2, expand_p, false, apart_q.as_deref(), token)?;
         crate::timing::print("  Winding03 Q", t);
         report_stage(stage, stage_marks::AFTER_WINDING_Q);
         crate::timing::print("Intersections (total)", t_total);
@@ -202,6 +214,8 @@ impl Boolean3 {
             w30,
             expand_p,
             valid: true,
+            apart_p,
+            apart_q,
         })
     }
 }

@@ -520,6 +520,7 @@ pub(super) fn winding03(
     p1q2: &[[i32; 2]],
     expand_p: bool,
     forward: bool,
+    apart: Option<&[crate::apart_runs::ApartRun]>,
     token: Option<&CancelToken>,
 ) -> Option<Vec<i32>> {
     let (a, b) = if forward { (in_p, in_q) } else { (in_q, in_p) };
@@ -545,9 +546,9 @@ pub(super) fn winding03(
     // is united part by part in parallel, each part's edges in index order, which are the
     // unions the whole mesh's pass makes on that part's vertices, in the same order: the
     // same roots.
+    // `apart`: the parts of `a` (`apart_runs`), if it has them.
     let whole = [crate::apart_runs::ApartRun { faces: 0..n / 3, verts: 0..a.vert_pos.len() }];
-    let runs = crate::apart_runs::apart_runs(a);
-    let runs: &[crate::apart_runs::ApartRun] = runs.as_deref().unwrap_or(&whole);
+    let runs = apart.unwrap_or(&whole);
     let run_roots = crate::par::maybe_par_map(runs.len(), 2, |k| {
         let run = &runs[k];
         let mut sets = RunSets::new(run.verts.clone());

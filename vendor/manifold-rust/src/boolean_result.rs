@@ -694,9 +694,9 @@ fn append_whole_edges_of(out: WholeEdgesOut<'_>, input: &WholeEdgesIn<'_>, edges
 /// ([`crate::apart_runs::apart_runs`]). A part's whole edges go to its own output faces
 /// (their pairs are in the part), and those faces and their slots are contiguous runs of the
 /// output's, so each part writes its own slices, its edges in index order: the writes the
-/// one pass over every edge makes to those faces, in the same order. `face_edge` is each
-/// output face's first slot; `faces_end` the end of `in_p`'s output faces.
-/// blocksmith patch (PATCHES.md, 26).
+/// one pass over every edge makes to those faces, in the same order. `apart`: the parts of
+/// `in_p`, if it has them; `face_edge` is each output face's first slot; `faces_end` the end
+/// of `in_p`'s output faces. blocksmith patch (PATCHES.md, 26).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn append_whole_edges_in_parts(
     out_r: &mut ManifoldImpl,
@@ -708,10 +708,11 @@ pub(super) fn append_whole_edges_in_parts(
     vp2r: &[i32],
     face_p2r: &[i32],
     forward: bool,
+    apart: Option<&[crate::apart_runs::ApartRun]>,
     face_edge: &[i32],
     faces_end: usize,
 ) {
-    let Some(runs) = crate::apart_runs::apart_runs(in_p) else {
+    let Some(runs) = apart else {
         return append_whole_edges(out_r, face_ptr_r, halfedge_ref, in_p, whole_halfedge_p, i03, vp2r, face_p2r, forward);
     };
     let input = WholeEdgesIn { in_p, whole_halfedge_p, i03, vp2r, face_p2r, forward };

@@ -629,6 +629,7 @@ pub(crate) fn boolean_result_sorted_or_not(
         &vp2r,
         &face_pq2r[..in_p.num_tri()],
         true,
+        bool3.apart_p.as_deref(),
         &face_edge,
         p_faces_end,
     );
@@ -642,6 +643,7 @@ pub(crate) fn boolean_result_sorted_or_not(
         &vq2r,
         &face_pq2r[in_p.num_tri()..],
         false,
+        bool3.apart_q.as_deref(),
         &face_edge,
         num_face_r,
     );
