@@ -1146,7 +1146,7 @@ fn translated_copies(leaves: &[(&Csg, Side)]) -> Vec<Option<usize>> {
         })
         .collect();
     let all_copies = guess.par_iter().zip(&meshes).all(|(first, m)| match (*first, *m) {
-        (Some(first), Some(m)) => meshes[first].is_some_and(|o| is_copy(m, o)),
+        (Some(first), Some(m)) => meshes[first].is_some_and(|o| is_copy(m, o, copy_tolerance(m))),
         _ => true,
     });
     if all_copies {
@@ -1164,9 +1164,14 @@ fn copyable(leaf: &Csg) -> Option<&Mesh> {
     }
 }
 
-/// Whether `m` is `o` moved, within the engine's resolution at `m`.
-fn is_copy(m: &Mesh, o: &Mesh) -> bool {
-    m.translation_from(o, ENGINE_PRECISION * box_span_and_magnitude(m.bounds()).1).is_some()
+/// Whether `m` is `o` moved, within `tolerance` ([`copy_tolerance`] of `m`).
+fn is_copy(m: &Mesh, o: &Mesh, tolerance: f64) -> bool {
+    m.translation_from(o, tolerance).is_some()
+}
+
+/// The engine's resolution at `m`: how far a copy's positions may be from its original's moved.
+fn copy_tolerance(m: &Mesh) -> f64 {
+    ENGINE_PRECISION * box_span_and_magnitude(m.bounds()).1
 }
 
 /// [`translated_copies`] one leaf after another (`meshes`: each leaf's mesh when
@@ -1179,7 +1184,8 @@ fn copies_in_order(meshes: &[Option<&Mesh>]) -> Vec<Option<usize>> {
         .enumerate()
         .map(|(k, m)| {
             let m = (*m)?;
-            let first = firsts.iter().copied().find(|&r| meshes[r].is_some_and(|o| is_copy(m, o)));
+            let tolerance = copy_tolerance(m);
+            let first = firsts.iter().copied().find(|&r| meshes[r].is_some_and(|o| is_copy(m, o, tolerance)));
             if first.is_none() {
                 firsts.push(k);
             }
