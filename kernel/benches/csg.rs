@@ -16,7 +16,7 @@
 //! `/usr/bin/time -v target/release/deps/csg-* --bench` under `CSG_STRESS=1`.
 //! `CSG_PROFILE=die` (or `building`, or `die_engine` for the engine-only die) evaluates outside
 //! criterion (best, median, mean), for a profiler and for steadier side-by-side figures.
-//! `CSG_RUN=die|stress` (with `CSG_SEGMENTS`, `CSG_REPS`) is the side-by-side mode that
+//! `CSG_RUN=die|stress|plate` (with `CSG_SEGMENTS`, `CSG_REPS`) is the side-by-side mode that
 //! `kernel/benches/csg_side_by_side.py` drives against manifold3d (time, user and system CPU,
 //! peak memory per boolean; the die at 32/64/128/256 segments, issue 38).
 //! Peer: `PEERS_OUT=target/peers ~/.cache/blocksmith-peers/venv/bin/python
@@ -226,6 +226,22 @@ fn die(segments: i32) -> Csg {
     )
 }
 
+/// The perforated plate: a 100 × 100 × 2 plate minus `n` × `n` cylinders (radius 30 % of the
+/// pitch, 32 segments, through the plate), one boolean. Its two large faces each become one
+/// polygon with `n`² holes: the case where the triangulation's keyholes and ears see the whole face.
+fn plate(n: i32) -> Csg {
+    let n = n.max(1);
+    let pitch = 100.0 / f64::from(n);
+    let cylinder = Mesh::cylinder(0.3 * pitch, 4.0, 32);
+    let holes = (0..n * n)
+        .map(|k| {
+            let (i, j) = (f64::from(k % n), f64::from(k / n));
+            Csg::mesh(cylinder.translate(Vec3::new((i + 0.5) * pitch, (j + 0.5) * pitch, 1.0)))
+        })
+        .collect();
+    Csg::mesh(Mesh::cuboid(Vec3::ZERO, Vec3::new(100.0, 100.0, 2.0))).difference(Csg::union_all(holes).unwrap())
+}
+
 fn stress() -> Csg {
     stress_with(56)
 }
@@ -353,17 +369,26 @@ fn cpu() -> (f64, f64) {
     }
 }
 
-/// `CSG_RUN=die|stress` (`CSG_SEGMENTS`, default 32 for the die and 56 for the stress case;
+/// `CSG_RUN=die|stress|plate` (`CSG_SEGMENTS`, default 32 for the die, 56 for the stress case and
+/// 10 holes a side for the plate;
 /// `CSG_REPS`, default 5): the side-by-side script's measurement (kernel/benches/csg_side_by_side.py).
 /// Each run starts with the peak resident memory reset to the current one (`/proc/self/clear_refs`),
 /// so the peak it prints is the boolean's own on top of its inputs: the largest of the runs' (later
 /// runs reuse memory the allocator kept from the first, so their own peaks understate it); one
 /// line, key=value.
 fn side_by_side(case: &str) {
-    let default_segments = if case == "stress" { 56 } else { 32 };
+    let default_segments = match case {
+        "stress" => 56,
+        "plate" => 10,
+        _ => 32,
+    };
     let var = |name: &str, default: i32| std::env::var(name).ok().and_then(|v| v.parse().ok()).unwrap_or(default);
     let (segments, reps) = (var("CSG_SEGMENTS", default_segments), var("CSG_REPS", 5).max(1) as usize);
-    let tree = if case == "stress" { stress_with(segments) } else { die(segments) };
+    let tree = match case {
+        "stress" => stress_with(segments),
+        "plate" => plate(segments),
+        _ => die(segments),
+    };
     let mut times = Vec::new();
     let mut peaks = Vec::new();
     let mut tris = 0;

@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """Booleans side by side with manifold3d (issue 38): the die (a cube of side 2 minus 21 spheres of
 radius 0.15, Manifold's sphere at 32, 64, 128 and 256 segments) and the stress case (10^3 unit
-cubes united, minus 1,000 spheres of radius 0.55, 56 segments, ~1M triangles), on the same inputs,
-interleaved (the order of the two sides alternates from round to round).
+cubes united, minus 1,000 spheres of radius 0.55, 56 segments, ~1M triangles) and, with
+`--plates 10,20,40`, the perforated plate (a 100 x 100 x 2 plate minus n x n cylinders of 32
+segments: two faces of n^2 holes each, where the triangulation of a face with holes dominates), on
+the same inputs, interleaved (the order of the two sides alternates from round to round).
 
 Ours: the csg bench binary in its CSG_RUN mode (kernel/benches/csg.rs): `cube(2) - combine(spheres)`
 as the CSG tree a recipe builds, evaluated into our Mesh with a source per face. Theirs:
@@ -27,7 +29,8 @@ small sizes.
 
   cargo bench -p blocksmith-kernel --bench csg --no-run    # prints the binary's path
   ~/.cache/blocksmith-peers/venv/bin/python kernel/benches/csg_side_by_side.py \\
-      --bin target/release/deps/csg-HASH [--sizes 32,64,128,256] [--stress] [--rounds 3] [--reps 3]
+      --bin target/release/deps/csg-HASH [--sizes 32,64,128,256] [--stress] [--plates 10,20,40]
+      [--rounds 3] [--reps 3]
       [--instructions]
 """
 import argparse
@@ -66,6 +69,18 @@ def peer(case, segments, reps):
 
         def boolean():
             r = mf.Manifold.batch_boolean([cube] + spheres, mf.OpType.Subtract)
+            return r.num_tri()
+    elif case == "plate":
+        n = max(1, segments)
+        pitch = 100.0 / n
+        plate = mf.Manifold.cube((100.0, 100.0, 2.0))
+        cylinder = mf.Manifold.cylinder(4.0, 0.3 * pitch, 0.3 * pitch, 32)
+        holes = [cylinder.translate(((k % n + 0.5) * pitch, (k // n + 0.5) * pitch, -1.0)) for k in range(n * n)]
+        for s in [plate] + holes:
+            s.num_tri()
+
+        def boolean():
+            r = mf.Manifold.batch_boolean([plate] + holes, mf.OpType.Subtract)
             return r.num_tri()
     else:
         centres = [(i * 0.9, j * 0.9, k * 0.9) for i in range(10) for j in range(10) for k in range(10)]
@@ -183,6 +198,7 @@ def main():
     ap.add_argument("--bin", required=True, help="the csg bench binary (target/release/deps/csg-*)")
     ap.add_argument("--sizes", default="32,64,128,256")
     ap.add_argument("--stress", action="store_true", help="also the ~1M-triangle stress case")
+    ap.add_argument("--plates", default="", help="also the perforated plate, n x n holes for each n given (10,20,40)")
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--reps", type=int, default=3)
     ap.add_argument("--no-perf", action="store_true")
@@ -196,6 +212,7 @@ def main():
     cases = [("die", int(s)) for s in a.sizes.split(",") if s]
     if a.stress:
         cases.append(("stress", 56))
+    cases += [("plate", int(n)) for n in a.plates.split(",") if n]
     results = {c: ([], []) for c in cases}
     print(f"load average before: {load_average()}", flush=True)
     for rnd in range(a.rounds):
@@ -233,10 +250,15 @@ def main():
     # Growth from one size to the next: the time of the larger over the smaller, each side, per round (the
     # sizes of one round run minutes apart at most, so a round's pair shares the machine's speed), then
     # the median over the rounds; ours grows no faster than theirs where `ours / theirs` is <= 1.
-    dies = [c for c in cases if c[0] == "die"]
+    for kind in ("die", "plate"):
+        growth(kind, [c for c in cases if c[0] == kind], results)
+
+
+def growth(kind, dies, results):
+    """The growth tables of one kind of case (the die's sizes, or the plate's)."""
     if len(dies) > 1:
         print()
-        print("| die segments | result triangles | ours growth | manifold3d growth | ours / theirs "
+        print(f"| {kind} size | result triangles | ours growth | manifold3d growth | ours / theirs "
               "| rounds where ours grows no faster |")
         print("|---|---|---|---|---|---|")
         for small, large in zip(dies, dies[1:]):
@@ -271,13 +293,13 @@ def cost_per_triangle(dies, results):
     med_time = {c: [statistics.median(float(r["bool_med_s"]) for r in results[c][side]) for side in (0, 1)]
                 for c in dies}
     print()
-    print("| die segments | result triangles | ours us / triangle | manifold3d us / triangle | ratio |")
+    print(f"| {dies[0][0]} size | result triangles | ours us / triangle | manifold3d us / triangle | ratio |")
     print("|---|---|---|---|---|")
     for c in dies:
         o, t = (1e6 * med_time[c][side] / tris[c] for side in (0, 1))
         print(f"| {c[1]} | {tris[c]} | {o:.3f} | {t:.3f} | {o / t:.2f} |")
     print()
-    print("| die segments | triangles added | ours us / added triangle | manifold3d us / added triangle | ratio "
+    print(f"| {dies[0][0]} size | triangles added | ours us / added triangle | manifold3d us / added triangle | ratio "
           "| rounds where ours is no dearer |")
     print("|---|---|---|---|---|---|")
     for small, large in zip(dies, dies[1:]):
@@ -302,7 +324,7 @@ def cost_per_triangle(dies, results):
         whole = [statistics.median(time(dies[-1], side, r) / time(dies[0], side, r) for r in rounds) for side in (0, 1)]
         no_faster = sum(1 for a, b in zip(*k) if a <= b)
         print()
-        print(f"| die, {dies[0][1]} -> {dies[-1][1]} segments | growth | exponent k (time ~ triangles^k) "
+        print(f"| {dies[0][0]}, {dies[0][1]} -> {dies[-1][1]} segments | growth | exponent k (time ~ triangles^k) "
               f"| rounds where ours grows no faster |")
         print("|---|---|---|---|")
         print(f"| ours | {whole[0]:.1f} | {statistics.median(k[0]):.3f} | {no_faster} of {len(k[0])} |")

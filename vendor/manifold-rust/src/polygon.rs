@@ -104,17 +104,24 @@ fn query_two_d_tree<F: FnMut(PolyVert)>(points: &[PolyVert], r: Rect, mut f: F) 
         return;
     }
 
-    // Stack-based traversal
-    let mut stack: Vec<(Rect, usize, usize, i32)> = Vec::with_capacity(64); // (current_rect, start, len, level)
+    // blocksmith patch (PATCHES.md, 27). Stack-based traversal, on a fixed array rather than a vector allocated per query (the ear
+    // clipper queries once per ear it weighs). Each node holds at most half its parent's points
+    // and a node is split only above 8 points, so the tree is at most 64 levels deep; a pop pushes
+    // at most its two children, so the stack holds at most one node per level plus one.
+    let mut stack = [(Rect::new(), 0usize, 0usize, 0i32); 66]; // (current_rect, start, len, level)
+    let mut depth = 0usize;
 
     // Initial rect: infinite
     let inf_rect = Rect {
         min: Vec2::new(f64::NEG_INFINITY, f64::NEG_INFINITY),
         max: Vec2::new(f64::INFINITY, f64::INFINITY),
     };
-    stack.push((inf_rect, 0, points.len(), 0));
+    stack[0] = (inf_rect, 0, points.len(), 0);
+    depth += 1;
 
-    while let Some((current, start, len, level)) = stack.pop() {
+    while depth > 0 {
+        depth -= 1;
+        let (current, start, len, level) = stack[depth];
         if len <= 8 {
             for p in &points[start..start + len] {
                 if r.contains_point(p.pos) {
@@ -142,10 +149,12 @@ fn query_two_d_tree<F: FnMut(PolyVert)>(points: &[PolyVert], r: Rect, mut f: F) 
         }
 
         if left.does_overlap(&r) {
-            stack.push((left, start, mid, level + 1));
+            stack[depth] = (left, start, mid, level + 1);
+            depth += 1;
         }
         if right.does_overlap(&r) {
-            stack.push((right, start + mid + 1, len - mid - 1, level + 1));
+            stack[depth] = (right, start + mid + 1, len - mid - 1, level + 1);
+            depth += 1;
         }
     }
 }

@@ -268,3 +268,76 @@ fn keyhole_cull_keeps_a_bridge_whose_ccw_overflows() {
         ]
     );
 }
+
+/// The ear clipper builds its verts' tree again as verts are clipped (half of them at a time);
+/// an ear's cost is the largest over the unclipped verts in its box, so the triangles must be
+/// those of the tree built once, in the same order. Random plates: a rectangle with a jittered
+/// grid of holes (octagons and 5- to 40-gons of random phase, some with an island inside), at
+/// a fixed and the automatic epsilon; each case must rebuild its tree at least once.
+#[test]
+fn ear_costs_from_a_rebuilt_tree_are_the_costs_from_the_first() {
+    let mut seed = 0x2545_f491_4f6c_dd1du64;
+    let mut random = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let ring = |cx: f64, cy: f64, r: f64, n: usize, phase: f64, hole: bool| -> Vec<Vec2> {
+        let mut ring: Vec<Vec2> = (0..n)
+            .map(|k| {
+                let a = phase + std::f64::consts::TAU * k as f64 / n as f64;
+                Vec2::new(cx + r * a.cos(), cy + r * a.sin())
+            })
+            .collect();
+        if hole {
+            ring.reverse();
+        }
+        ring
+    };
+    for case in 0..12 {
+        let (nx, ny) = (3 + case % 5, 2 + case % 4);
+        let size = (3.0 * nx as f64 + 2.0, 3.0 * ny as f64 + 2.0);
+        let mut polys = vec![vec![
+            Vec2::new(0.0, 0.0),
+            Vec2::new(size.0, 0.0),
+            Vec2::new(size.0, size.1),
+            Vec2::new(0.0, size.1),
+        ]];
+        for i in 0..nx {
+            for j in 0..ny {
+                let (cx, cy) = (3.0 * i as f64 + 2.5 + 0.4 * random(), 3.0 * j as f64 + 2.5 + 0.4 * random());
+                let n = if random() < 0.3 { 8 } else { 5 + (random() * 36.0) as usize };
+                polys.push(ring(cx, cy, 1.0 + 0.2 * random(), n, random(), true));
+                if random() < 0.25 {
+                    polys.push(ring(cx, cy, 0.5, 6, random(), false));
+                }
+            }
+        }
+        let mut idx = 0;
+        let indexed: PolygonsIdx = polys
+            .iter()
+            .map(|p| {
+                p.iter()
+                    .map(|&pos| {
+                        idx += 1;
+                        PolyVert { pos, idx: idx - 1 }
+                    })
+                    .collect()
+            })
+            .collect();
+        for epsilon in [1e-9, -1.0] {
+            let clipped = |rebuild: bool| {
+                let mut ear_clip = EarClip::new(&indexed, epsilon);
+                ear_clip.rebuild_collider = rebuild;
+                ear_clip.clip_all();
+                (tri_list(&ear_clip.triangles), ear_clip.collider_rebuilds)
+            };
+            let (once, none) = clipped(false);
+            let (rebuilt, rebuilds) = clipped(true);
+            assert_eq!(none, 0);
+            assert!(rebuilds > 0, "case {case}: the tree was never built again");
+            assert_eq!(rebuilt, once, "case {case}, epsilon {epsilon}");
+        }
+    }
+}
