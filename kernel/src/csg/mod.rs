@@ -53,6 +53,7 @@
 
 pub mod engine;
 mod error;
+mod shells;
 pub mod tree;
 
 pub use error::{CsgError, Side};

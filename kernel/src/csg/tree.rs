@@ -33,6 +33,7 @@ use std::sync::{Arc, Mutex};
 use rayon::prelude::*;
 
 use super::engine::{self, ApartSolid, EngineError, FlatTriangles, PairedTriangles, Solid, Stop};
+use super::shells::vertex_shells;
 use super::{CsgError, CsgOp, Side};
 use crate::blocks::{BlockError, BlockModel, MeshOptions};
 use crate::limits::{check_memory, CancelToken, LimitError, StopReason};
@@ -316,19 +317,8 @@ const SHELL_SUM_RUN: usize = 16_384;
 /// the result's largest extent.
 fn without_flat_shells(t: PairedTriangles) -> PairedTriangles {
     let n = t.positions.len();
-    let mut parent: Vec<u32> = (0..n as u32).collect();
-    for tri in t.corners.chunks_exact(3) {
-        let a = root(&mut parent, tri[0]);
-        for &v in &tri[1..] {
-            let b = root(&mut parent, v);
-            if a != b {
-                parent[b as usize] = a;
-            }
-        }
-    }
-    // Each vertex's shell (its root), in one pass.
-    let shell: Vec<u32> = (0..n as u32).map(|v| root(&mut parent, v)).collect();
-    drop(parent);
+    // Each vertex's shell, named by its smallest vertex ([`vertex_shells`], on all threads).
+    let shell = vertex_shells(n, &t.corners);
     let size = Aabb::from_points(&t.positions).size().max_element();
     // Each shell's volume and area: runs of triangles summed in parallel, each into its own
     // table (shells in order of first triangle), then the runs' sums added in run order — the

@@ -104,10 +104,11 @@ fn query_two_d_tree<F: FnMut(PolyVert)>(points: &[PolyVert], r: Rect, mut f: F) 
         return;
     }
 
-    // blocksmith patch (PATCHES.md, 27). Stack-based traversal, on a fixed array rather than a vector allocated per query (the ear
-    // clipper queries once per ear it weighs). Each node holds at most half its parent's points
-    // and a node is split only above 8 points, so the tree is at most 64 levels deep; a pop pushes
-    // at most its two children, so the stack holds at most one node per level plus one.
+    // blocksmith patch (PATCHES.md, 27). Stack-based traversal, on a fixed array rather than a
+    // vector allocated per query (the ear clipper queries once per ear it weighs). Each node
+    // holds at most half its parent's points and a node is split only above 8 points, so the
+    // tree is at most 64 levels deep; a pop pushes at most its two children, so the stack holds
+    // at most one node per level plus one.
     let mut stack = [(Rect::new(), 0usize, 0usize, 0i32); 66]; // (current_rect, start, len, level)
     let mut depth = 0usize;
 

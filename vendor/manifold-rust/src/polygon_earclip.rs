@@ -676,8 +676,9 @@ impl EarClip {
 
     /// Main ear-clipping loop for a simple polygon.
     ///
-    /// blocksmith patch (PATCHES.md, 27). Not in C++, and speed only: the verts' 2D tree is built again from the ring's unclipped
-    /// verts once half the verts it holds are clipped (`COLLIDER_REBUILD_MIN`). An ear's cost
+    /// blocksmith patch (PATCHES.md, 27). Not in C++, and speed only: the verts' 2D tree is
+    /// built again from the ring's unclipped verts once half the verts it holds are clipped
+    /// (from `COLLIDER_REBUILD_MIN` verts). An ear's cost
     /// query passes over the clipped verts in its box without using them, and on a face with
     /// many holes those were most of what it visited (three in four, at the die's 256 segments
     /// and on a plate of 40 × 40 holes), so the query does the same work on fewer verts. The
