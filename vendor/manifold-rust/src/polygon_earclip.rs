@@ -7,6 +7,8 @@ use crate::linalg::Vec2;
 use crate::types::{PolyVert, PolygonsIdx, Rect, K_PRECISION};
 use std::collections::HashMap;
 
+use keyhole_index::{KeyholeIndex, KEYHOLE_INDEX_MIN_HOLES};
+
 use super::{
     build_two_d_tree, ccw, determinant2x2, dot2d, query_two_d_tree, safe_normalize_2d, IVec3Out,
     INVALID, K_BEST,
@@ -107,6 +109,13 @@ pub(super) struct EarClip {
     rebuild_collider: bool,
     /// The trees built again so far (for the tests).
     collider_rebuilds: usize,
+    /// Whether the keyhole searches may use `keyhole_index` (always, but for the tests that
+    /// compare with the walks).
+    use_keyhole_index: bool,
+    /// The keyhole searches' index (polygon_earclip_keyhole_index.rs), while holes are keyholed.
+    keyhole_index: Option<KeyholeIndex>,
+    /// Keyhole searches the index answered, and those that walked (for the tests).
+    pub(super) keyhole_searches: [usize; 2],
 }
 
 impl EarClip {
@@ -126,6 +135,9 @@ impl EarClip {
             epsilon,
             rebuild_collider: true,
             collider_rebuilds: 0,
+            use_keyhole_index: true,
+            keyhole_index: None,
+            keyhole_searches: [0, 0],
         };
 
         let starts = ec.initialize(polys);
@@ -161,9 +173,13 @@ impl EarClip {
     fn clip_all(&mut self) {
         // Key-hole all holes into outer polygons
         let holes: Vec<usize> = self.holes.clone();
+        if self.use_keyhole_index && holes.len() >= KEYHOLE_INDEX_MIN_HOLES {
+            self.keyhole_index = self.new_keyhole_index();
+        }
         for start in holes {
             self.cut_keyhole(start);
         }
+        self.keyhole_index = None;
 
         // Ear-clip each simple polygon
         let simples: Vec<usize> = self.simples.clone();
@@ -185,6 +201,9 @@ impl EarClip {
         self.polygon[right].left = left;
         let dir = self.polygon[right].pos - self.polygon[left].pos;
         self.polygon[left].right_dir = safe_normalize_2d(dir);
+        if let Some(index) = &mut self.keyhole_index {
+            index.link(left, self.polygon[left].pos, self.polygon[right].pos);
+        }
     }
 
     /// The unclipped verts of the ring starting from `first`, or `None` if
@@ -755,6 +774,9 @@ impl EarClip {
 
 #[path = "polygon_earclip_keyhole.rs"]
 mod keyhole;
+
+#[path = "polygon_earclip_keyhole_index.rs"]
+mod keyhole_index;
 
 #[cfg(test)]
 #[path = "polygon_earclip_tests.rs"]

@@ -74,35 +74,34 @@ impl EarClip {
         // skipped it, so the connector is restored if the walk stops part-way.
         // C++ `Loop` keeps what it saw before the degenerate vert; the file
         // header explains why no output differs.
-        for (k, &outer_start) in self.outers.iter().enumerate() {
-            let rb = &self.outer_bbox[k];
-            if rb.min.y > start_pos.y + slack || rb.max.y < start_pos.y - slack {
-                continue;
-            }
-            let before = (connector, ring);
-            let complete = self.for_each_loop_vert(outer_start, |edge| {
-                let x = self.vert_interp_y2x(edge, start_pos, on_top);
-                if x.is_finite()
-                    && self.vert_inside_edge(start, edge, true)
-                    && (connector == INVALID
-                        || ccw(
-                            Vec2::new(x, start_pos.y),
-                            self.polygon[connector].pos,
-                            self.polygon[self.polygon[connector].right].pos,
-                            self.epsilon,
-                        ) == 1
-                        || (if self.polygon[connector].pos.y < self.polygon[edge].pos.y {
-                            self.vert_inside_edge(edge, connector, false)
-                        } else {
-                            !self.vert_inside_edge(connector, edge, false)
-                        }))
-                {
-                    connector = edge;
-                    ring = k;
+        // blocksmith patch (PATCHES.md, 28): the index's answer when it has one.
+        let searched = if self.keyhole_index.is_some() {
+            self.keyhole_edge_by_index(start, start_pos, on_top)
+        } else {
+            None
+        };
+        if let Some(found) = searched {
+            (connector, ring) = found;
+        } else {
+            for (k, &outer_start) in self.outers.iter().enumerate() {
+                let rb = &self.outer_bbox[k];
+                if rb.min.y > start_pos.y + slack || rb.max.y < start_pos.y - slack {
+                    continue;
                 }
-            });
-            if !complete {
-                (connector, ring) = before;
+                let before = (connector, ring);
+                let complete = self.for_each_loop_vert(outer_start, |edge| {
+                    let x = self.vert_interp_y2x(edge, start_pos, on_top);
+                    if x.is_finite()
+                        && self.vert_inside_edge(start, edge, true)
+                        && (connector == INVALID || self.edge_beats(edge, x, start_pos, connector))
+                    {
+                        connector = edge;
+                        ring = k;
+                    }
+                });
+                if !complete {
+                    (connector, ring) = before;
+                }
             }
         }
 
@@ -112,7 +111,27 @@ impl EarClip {
         }
 
         let (connector, ring) = self.find_closer_bridge(start, connector, ring);
+        let hole = if self.keyhole_index.is_some() { self.loop_verts(start) } else { None };
+        if hole.is_none() {
+            // A hole the walk calls degenerate (it has at least three verts, so none is) would
+            // join verts the index cannot name: the searches walk from here on.
+            self.keyhole_index = None;
+        }
+        let first_new = self.polygon.len();
         self.join_polygons(start, connector);
+        if let Some(index) = &mut self.keyhole_index {
+            // The two copies the join made, placed, with their edges (one is a copy of the
+            // start's edge, which no `link` registered).
+            for v in first_new..self.polygon.len() {
+                let (pos, right) = (self.polygon[v].pos, self.polygon[v].right);
+                index.place(v, pos);
+                index.link(v, pos, self.polygon[right].pos);
+            }
+            // The hole's verts and the copies are now the ring's.
+            for v in hole.into_iter().flatten().chain(first_new..self.polygon.len()) {
+                index.ring_of[v] = ring as u32;
+            }
+        }
         // The hole's verts are now part of that ring. The joined verts are
         // copies of verts already in one box or the other, and clipping only
         // removes verts, so the box still holds every vert the ring walks.
@@ -121,10 +140,45 @@ impl EarClip {
         rb.union_point(bbox.max);
     }
 
+    /// Whether `edge`, which the ray from `start_pos` crosses at `x`, beats `connector` as the
+    /// keyhole's edge (C++ CheckEdge's comparison).
+    pub(super) fn edge_beats(&self, edge: usize, x: f64, start_pos: Vec2, connector: usize) -> bool {
+        ccw(
+            Vec2::new(x, start_pos.y),
+            self.polygon[connector].pos,
+            self.polygon[self.polygon[connector].right].pos,
+            self.epsilon,
+        ) == 1
+            || (if self.polygon[connector].pos.y < self.polygon[edge].pos.y {
+                self.vert_inside_edge(edge, connector, false)
+            } else {
+                !self.vert_inside_edge(connector, edge, false)
+            })
+    }
+
+    /// Whether `vert` passes `find_closer_bridge`'s tests of its own: right of `start_pos`, on
+    /// the `above` side, inside `edge` and reflex.
+    pub(super) fn bridge_vert_qualifies(&self, vert: usize, start_pos: Vec2, above: f64, edge: usize) -> bool {
+        let vp = self.polygon[vert].pos;
+        vp.x > start_pos.x - self.epsilon
+            && vp.y * above > start_pos.y * above - self.epsilon
+            && self.vert_inside_edge(vert, edge, true)
+            && self.vert_is_reflex(vert)
+    }
+
+    /// Whether `vert` is closer than `connector` to the ray from `start_pos`
+    /// (`find_closer_bridge`'s comparison).
+    pub(super) fn bridge_vert_beats(&self, vert: usize, start_pos: Vec2, above: f64, connector: usize) -> bool {
+        let inside = above * ccw(start_pos, self.polygon[vert].pos, self.polygon[connector].pos, self.epsilon) as f64;
+        let vp = self.polygon[vert].pos;
+        let cp = self.polygon[connector].pos;
+        inside > 0.0 || (inside == 0.0 && vp.x < cp.x && vp.y * above < cp.y * above)
+    }
+
     /// Refine keyhole connector: find any reflex vert closer to start.
     /// Also returns the `outers` index of the connector's ring, which starts
     /// as `edge_ring`, the ring `edge` came from.
-    fn find_closer_bridge(&self, start: usize, edge: usize, edge_ring: usize) -> (usize, usize) {
+    fn find_closer_bridge(&mut self, start: usize, edge: usize, edge_ring: usize) -> (usize, usize) {
         let start_pos = self.polygon[start].pos;
         let edge_right = self.polygon[edge].right;
         // The four branches mirror the C++ connector choice one for one.
@@ -149,6 +203,12 @@ impl EarClip {
         } else {
             -1.0
         };
+        // blocksmith patch (PATCHES.md, 28): the index's answer when it has one.
+        if self.keyhole_index.is_some() {
+            if let Some((closer, ring)) = self.closer_bridge_by_index(start_pos, edge, connector, above) {
+                return (closer, ring.unwrap_or(edge_ring));
+            }
+        }
 
         // Degenerate rings are skipped whole, as in `cut_keyhole`.
         //
@@ -212,19 +272,10 @@ impl EarClip {
             }
             let before = (connector, ring);
             let complete = self.for_each_loop_vert(outer_start, |vert| {
-                let inside = above
-                    * ccw(
-                        start_pos,
-                        self.polygon[vert].pos,
-                        self.polygon[connector].pos,
-                        self.epsilon,
-                    ) as f64;
                 let vp = self.polygon[vert].pos;
-                let cp = self.polygon[connector].pos;
                 if vp.x > start_pos.x - self.epsilon
                     && vp.y * above > start_pos.y * above - self.epsilon
-                    && (inside > 0.0
-                        || (inside == 0.0 && vp.x < cp.x && vp.y * above < cp.y * above))
+                    && self.bridge_vert_beats(vert, start_pos, above, connector)
                     && self.vert_inside_edge(vert, edge, true)
                     && self.vert_is_reflex(vert)
                 {

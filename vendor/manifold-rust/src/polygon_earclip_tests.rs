@@ -341,3 +341,87 @@ fn ear_costs_from_a_rebuilt_tree_are_the_costs_from_the_first() {
         }
     }
 }
+
+/// The keyhole searches answered from the index (polygon_earclip_keyhole_index.rs) must find the
+/// walks' bridges, so the triangles are the same, in the same order. Random plates: aligned
+/// grids (rays through verts of the holes to the right, equal heights everywhere), jittered
+/// grids, holes of 3 to 40 verts at random phases, islands in some holes, and two sizes of
+/// plate, each at a fixed and the automatic epsilon; the index must answer most searches.
+#[test]
+fn ear_clip_with_the_keyhole_index_is_the_walk() {
+    let mut seed = 0x5851_f42d_4c95_7f2du64;
+    let mut random = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let ring = |cx: f64, cy: f64, r: f64, n: usize, phase: f64, hole: bool| -> Vec<Vec2> {
+        let mut ring: Vec<Vec2> = (0..n)
+            .map(|k| {
+                let a = phase + std::f64::consts::TAU * k as f64 / n as f64;
+                Vec2::new(cx + r * a.cos(), cy + r * a.sin())
+            })
+            .collect();
+        if hole {
+            ring.reverse();
+        }
+        ring
+    };
+    let (mut answered, mut walked) = (0, 0);
+    for case in 0..60 {
+        let aligned = case % 3 == 0;
+        // Every other row shifted by a quarter of the pitch, so bridges run between holes
+        // (and to the copies earlier bridges made) rather than to the plate's edge.
+        let shift = if case % 2 == 1 { 0.75 } else { 0.0 };
+        let (nx, ny) = (3 + case % 9, 3 + (case / 3) % 7);
+        let size = (3.0 * nx as f64 + 3.0, 3.0 * ny as f64 + 2.0);
+        let mut polys = vec![vec![
+            Vec2::new(0.0, 0.0),
+            Vec2::new(size.0, 0.0),
+            Vec2::new(size.0, size.1),
+            Vec2::new(0.0, size.1),
+        ]];
+        for i in 0..nx {
+            for j in 0..ny {
+                let jitter = if aligned { 0.0 } else { 0.6 };
+                let row_shift = if j % 2 == 1 { shift } else { 0.0 };
+                let (cx, cy) =
+                    (3.0 * i as f64 + 2.5 + row_shift + jitter * random(), 3.0 * j as f64 + 2.5 + jitter * random());
+                let n = if aligned { 8 } else { 3 + (random() * 38.0) as usize };
+                let phase = if aligned { 0.0 } else { random() };
+                polys.push(ring(cx, cy, 1.0 + if aligned { 0.0 } else { 0.2 * random() }, n, phase, true));
+                if random() < 0.2 {
+                    polys.push(ring(cx, cy, 0.5, 5, random(), false));
+                }
+            }
+        }
+        let mut idx = 0;
+        let indexed: PolygonsIdx = polys
+            .iter()
+            .map(|p| {
+                p.iter()
+                    .map(|&pos| {
+                        idx += 1;
+                        PolyVert { pos, idx: idx - 1 }
+                    })
+                    .collect()
+            })
+            .collect();
+        for epsilon in [1e-9, -1.0] {
+            let clipped = |index: bool| {
+                let mut ear_clip = EarClip::new(&indexed, epsilon);
+                ear_clip.use_keyhole_index = index;
+                ear_clip.clip_all();
+                (tri_list(&ear_clip.triangles), ear_clip.keyhole_searches)
+            };
+            let (walks, none) = clipped(false);
+            let (indexed_tris, searches) = clipped(true);
+            assert_eq!(none, [0, 0]);
+            assert_eq!(indexed_tris, walks, "case {case}, epsilon {epsilon}");
+            answered += searches[0];
+            walked += searches[1];
+        }
+    }
+    assert!(answered > 4 * walked, "the index answered {answered} searches and walked {walked}");
+}
