@@ -119,7 +119,7 @@ mod tests {
                 // A triangle's corners near one another (small shells and long strips), or anywhere.
                 let a = random(vertex_count);
                 for _ in 0..3 {
-                    corners.push((a + random(reach)).min(vertex_count as u32 - 1));
+                    corners.push((a + random(reach)).min(vertex_count - 1));
                 }
             }
             let expected = shells_by_search(vertex_count as usize, &corners);
