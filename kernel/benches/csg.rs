@@ -184,6 +184,22 @@
 //! 0.58–0.61. Wall-time steps ours / manifold3d: 32 → 64 2.72 / 2.73, 2.68 / 2.79; 64 → 128
 //! 3.46 / 3.54, 3.55 / 3.71; 128 → 256 4.26 / 4.16, 3.81 / 4.12; 256 → 360 1.94 / 1.90, 2.13 /
 //! 1.91; the cost of the added triangles ours cheaper in 28 of 28 rounds in both.
+//!
+//! Issue 38 (2026-12-08, eighth session): the perforated plate (`CSG_RUN=plate`, a 100 × 100 × 2
+//! plate minus n × n cylinders of 32 segments; `--plates 10,20,40` in the script), where both
+//! sides grew faster than their triangles: the triangulation of the two faces of n² holes, its
+//! keyholing O(holes × verts) (30 % of the CPU at 40 × 40) and its ear queries over clipped
+//! verts. Engine patches 27 (the ear clipper's tree built again as verts are clipped) and 28 (the
+//! keyhole searches answered from a grid index), both with the walks' exact triangles, and the
+//! flat-shell check's union-find on all threads. The plate, ours alone: 40 × 40 1.03–1.33 →
+//! 0.72–0.75 s, 80 × 80 (845k triangles) 9.0 → 3.6 s (manifold3d 10.0 s, one run each). Side by
+//! side (5 rounds of 3, load 1.5–2.0): plate time ratios 0.92 / 0.91 / 0.63 at 10 / 20 / 40
+//! holes a side (0.87–0.96 / 0.90–0.98 / 0.88–0.93 before), memory 1.07 / 0.75 / 0.75, growth
+//! 10 → 40 ×16.6 against ×24.3 (exponent 1.014 against 1.152, ours no faster in 5 of 5
+//! rounds; triangles ×16.0); the die 0.55 / 0.47 / 0.58 / 0.48 / 0.54 at 32–360 segments,
+//! stress 0.91, memory 0.73 / 0.51 / 0.47 / 0.46 / 0.48, stress 0.62. Instructions (one
+//! thread, callgrind): the plate at 20 × 20 2.972 → 2.538 G, the die at 128 segments 1.114 →
+//! 1.078 G.
 
 /// The allocator the `blocksmith` binary uses (script/cli/src/main.rs), so the figures are what
 /// a recipe run gets.
