@@ -5,7 +5,7 @@
 
 use crate::linalg::{IVec3, Vec2};
 use crate::types::{Halfedge, PolyVert, Polygons, PolygonsIdx, Rect, SimplePolygonIdx};
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 #[path = "polygon_earclip.rs"]
 mod polygon_earclip;
@@ -240,14 +240,23 @@ impl HalfedgeTriangulation {
     }
 }
 
+/// The unpaired half-edges of a triangulation being paired, by directed edge: a stack per edge
+/// (C++ keeps a vector per edge), held as the newest half-edge of each edge and, per half-edge,
+/// the one it covered (-1 for none).
+///
+/// blocksmith patch (PATCHES.md, 29): C++'s `std::map` of vectors was a hash map of vectors
+/// here, one allocation per unpaired edge and a SipHash per lookup; a general face of a few
+/// edges (a side quad a boolean cut) paid both for each of its edges. The same stacks, so the
+/// same pairs, in the same order.
+#[derive(Default)]
+struct UnpairedHalfedges {
+    newest: FxHashMap<(i32, i32), i32>,
+    covered: Vec<i32>,
+}
+
 /// Mirrors `HalfedgeTriangulation::AddHalfedge`: pair against the most
 /// recently added unpaired opposite edge, else record as unpaired.
-fn add_halfedge(
-    halfedges: &mut Vec<Halfedge>,
-    edge2halfedge: &mut HashMap<(i32, i32), Vec<i32>>,
-    start: i32,
-    end: i32,
-) {
+fn add_halfedge(halfedges: &mut Vec<Halfedge>, unpaired: &mut UnpairedHalfedges, start: i32, end: i32) {
     let idx = halfedges.len() as i32;
     let mut data = Halfedge {
         start_vert: start,
@@ -255,18 +264,20 @@ fn add_halfedge(
         paired_halfedge: -1,
         prop_vert: -1,
     };
-    if let Some(reverse) = edge2halfedge.get_mut(&(end, start)) {
-        if let Some(pair) = reverse.pop() {
-            data.paired_halfedge = pair;
-            halfedges[pair as usize].paired_halfedge = idx;
-            if reverse.is_empty() {
-                edge2halfedge.remove(&(end, start));
-            }
-            halfedges.push(data);
-            return;
-        }
+    if let Some(&pair) = unpaired.newest.get(&(end, start)) {
+        // Pop the reverse edge's newest: the one it covered becomes the newest, if any.
+        match unpaired.covered[pair as usize] {
+            -1 => unpaired.newest.remove(&(end, start)),
+            below => unpaired.newest.insert((end, start), below),
+        };
+        data.paired_halfedge = pair;
+        halfedges[pair as usize].paired_halfedge = idx;
+        halfedges.push(data);
+        unpaired.covered.push(-1);
+        return;
     }
-    edge2halfedge.entry((start, end)).or_default().push(idx);
+    let below = unpaired.newest.insert((start, end), idx).unwrap_or(-1);
+    unpaired.covered.push(below);
     halfedges.push(data);
 }
 
@@ -287,7 +298,7 @@ pub fn triangulate_idx_halfedges(
         halfedges: Vec::new(),
         contour_end: 0,
     };
-    let mut edge2halfedge: HashMap<(i32, i32), Vec<i32>> = HashMap::new();
+    let mut edge2halfedge = UnpairedHalfedges::default();
 
     // AddContours: store the exterior contour halfedge, opposite the filled
     // contour, so each triangle edge on the boundary pairs against it.
@@ -310,7 +321,7 @@ pub fn triangulate_idx_halfedges(
     #[cfg(debug_assertions)]
     {
         debug_assert!(
-            edge2halfedge.is_empty(),
+            edge2halfedge.newest.is_empty(),
             "triangulation has unpaired halfedges"
         );
         for (i, he) in result.halfedges.iter().enumerate() {
