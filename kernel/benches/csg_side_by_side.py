@@ -254,14 +254,14 @@ def main():
         growth(kind, [c for c in cases if c[0] == kind], results)
 
 
-def growth(kind, dies, results):
+def growth(kind, sized, results):
     """The growth tables of one kind of case (the die's sizes, or the plate's)."""
-    if len(dies) > 1:
+    if len(sized) > 1:
         print()
         print(f"| {kind} size | result triangles | ours growth | manifold3d growth | ours / theirs "
               "| rounds where ours grows no faster |")
         print("|---|---|---|---|---|---|")
-        for small, large in zip(dies, dies[1:]):
+        for small, large in zip(sized, sized[1:]):
             grow = [
                 [float(b["bool_med_s"]) / float(l["bool_med_s"]) for l, b in zip(results[small][side], results[large][side])]
                 for side in (0, 1)
@@ -270,7 +270,7 @@ def growth(kind, dies, results):
             no_faster = sum(1 for o, t in zip(grow[0], grow[1]) if o <= t)
             print(f"| {small[1]} -> {large[1]} | {results[small][0][-1]['tris']} -> {results[large][0][-1]['tris']} "
                   f"| {ours_g:.2f} | {theirs_g:.2f} | {ours_g / theirs_g:.2f} | {no_faster} of {len(grow[0])} |")
-        cost_per_triangle(dies, results)
+        cost_per_triangle(sized, results)
 
 
 def fit_line(xs, ys):
@@ -281,7 +281,7 @@ def fit_line(xs, ys):
     return a, my - a * mx
 
 
-def cost_per_triangle(dies, results):
+def cost_per_triangle(sized, results):
     """The die's time per result triangle, and the cost of the triangles each step adds, each side.
 
     A growth ratio mixes a cost per triangle with any fixed cost per boolean: a side with a fixed
@@ -289,20 +289,20 @@ def cost_per_triangle(dies, results):
     sizes even when each triangle costs it the same. So, per size, the time per triangle; per step, the cost of the triangles added (the time
     the larger size adds over the smaller, per added triangle; per round, then the median); and over
     the whole range, the growth and its exponent, each side."""
-    tris = {c: int(results[c][0][-1]["tris"]) for c in dies}
+    tris = {c: int(results[c][0][-1]["tris"]) for c in sized}
     med_time = {c: [statistics.median(float(r["bool_med_s"]) for r in results[c][side]) for side in (0, 1)]
-                for c in dies}
+                for c in sized}
     print()
-    print(f"| {dies[0][0]} size | result triangles | ours us / triangle | manifold3d us / triangle | ratio |")
+    print(f"| {sized[0][0]} size | result triangles | ours us / triangle | manifold3d us / triangle | ratio |")
     print("|---|---|---|---|---|")
-    for c in dies:
+    for c in sized:
         o, t = (1e6 * med_time[c][side] / tris[c] for side in (0, 1))
         print(f"| {c[1]} | {tris[c]} | {o:.3f} | {t:.3f} | {o / t:.2f} |")
     print()
-    print(f"| {dies[0][0]} size | triangles added | ours us / added triangle | manifold3d us / added triangle | ratio "
+    print(f"| {sized[0][0]} size | triangles added | ours us / added triangle | manifold3d us / added triangle | ratio "
           "| rounds where ours is no dearer |")
     print("|---|---|---|---|---|---|")
-    for small, large in zip(dies, dies[1:]):
+    for small, large in zip(sized, sized[1:]):
         added = tris[large] - tris[small]
         marginal = [
             [1e6 * (float(l["bool_med_s"]) - float(s["bool_med_s"])) / added
@@ -313,23 +313,23 @@ def cost_per_triangle(dies, results):
         no_dearer = sum(1 for a, b in zip(*marginal) if a <= b)
         print(f"| {small[1]} -> {large[1]} | {added} | {o:.3f} | {t:.3f} | {o / t:.2f} "
               f"| {no_dearer} of {len(marginal[0])} |")
-    if len(dies) > 2:
+    if len(sized) > 2:
         # Over the whole range: the exponent k of time ~ triangles^k, a least-squares line through
         # the sizes in log-log, per round (one round's sizes share the machine's speed), then the
         # median; k = 1 is linear.
-        xs = [math.log(tris[c]) for c in dies]
-        rounds = range(len(results[dies[0]][0]))
+        xs = [math.log(tris[c]) for c in sized]
+        rounds = range(len(results[sized[0]][0]))
         time = lambda c, side, r: float(results[c][side][r]["bool_med_s"])
-        k = [[fit_line(xs, [math.log(time(c, side, r)) for c in dies])[0] for r in rounds] for side in (0, 1)]
-        whole = [statistics.median(time(dies[-1], side, r) / time(dies[0], side, r) for r in rounds) for side in (0, 1)]
+        k = [[fit_line(xs, [math.log(time(c, side, r)) for c in sized])[0] for r in rounds] for side in (0, 1)]
+        whole = [statistics.median(time(sized[-1], side, r) / time(sized[0], side, r) for r in rounds) for side in (0, 1)]
         no_faster = sum(1 for a, b in zip(*k) if a <= b)
         print()
-        print(f"| {dies[0][0]}, {dies[0][1]} -> {dies[-1][1]} segments | growth | exponent k (time ~ triangles^k) "
+        print(f"| {sized[0][0]}, {sized[0][1]} -> {sized[-1][1]} | growth | exponent k (time ~ triangles^k) "
               f"| rounds where ours grows no faster |")
         print("|---|---|---|---|")
         print(f"| ours | {whole[0]:.1f} | {statistics.median(k[0]):.3f} | {no_faster} of {len(k[0])} |")
         print(f"| manifold3d | {whole[1]:.1f} | {statistics.median(k[1]):.3f} | |")
-        print(f"| triangles | {tris[dies[-1]] / tris[dies[0]]:.1f} | 1 | |")
+        print(f"| triangles | {tris[sized[-1]] / tris[sized[0]]:.1f} | 1 | |")
 
 
 if __name__ == "__main__":

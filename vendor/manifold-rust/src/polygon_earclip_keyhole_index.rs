@@ -181,6 +181,11 @@ const NEAR_START_EPSILONS: f64 = 1e4;
 /// The angle (radians) the closer-bridge search's wedge is widened by.
 const WEDGE_SLACK: f64 = 1e-3;
 
+/// The angle of `p` seen from `start`, from the ray towards +x, turning towards `above`'s side.
+fn angle_from_ray(start: Vec2, above: f64, p: Vec2) -> f64 {
+    (above * (p.y - start.y)).atan2(p.x - start.x)
+}
+
 impl super::EarClip {
     /// The index over the polygons as they stand before keyholing: every vert placed, every
     /// edge registered, the outer rings' verts marked. `None` (the searches walk) when the
@@ -299,9 +304,8 @@ impl super::EarClip {
         above: f64,
     ) -> Option<(usize, Option<usize>)> {
         let near = NEAR_START_EPSILONS * self.epsilon;
-        let angle = |p: Vec2| (above * (p.y - start_pos.y)).atan2(p.x - start_pos.x);
         let c0 = self.polygon[connector].pos;
-        let angle0 = angle(c0);
+        let angle0 = angle_from_ray(start_pos, above, c0);
         if !(dot2d(c0 - start_pos, c0 - start_pos).sqrt() >= near && angle0 < std::f64::consts::FRAC_PI_2 - 0.01) {
             self.keyhole_searches[1] += 1;
             return None;
@@ -330,13 +334,12 @@ impl super::EarClip {
             },
             &mut verts,
         );
-        let found = self.strict_bridge(&index, start_pos, edge, connector, above, &verts, angle0, &angle);
+        let found = self.strict_bridge(&index, start_pos, edge, connector, above, &verts);
         self.keyhole_index = Some(index);
         self.keyhole_searches[usize::from(found.is_none())] += 1;
         found
     }
 
-    #[allow(clippy::too_many_arguments)]
     fn strict_bridge(
         &self,
         index: &KeyholeIndex,
@@ -345,10 +348,9 @@ impl super::EarClip {
         connector: usize,
         above: f64,
         verts: &[usize],
-        angle0: f64,
-        angle: &dyn Fn(Vec2) -> f64,
     ) -> Option<(usize, Option<usize>)> {
         let near = NEAR_START_EPSILONS * self.epsilon;
+        let angle0 = angle_from_ray(start_pos, above, self.polygon[connector].pos);
         let mut candidates = Vec::new();
         for &v in verts {
             if self.clipped(v) || index.ring_of[v] == NO_RING || !self.bridge_vert_qualifies(v, start_pos, above, edge) {
@@ -358,7 +360,7 @@ impl super::EarClip {
             if dot2d(p - start_pos, p - start_pos).sqrt() < near || self.in_degenerate_ring(v) {
                 return None;
             }
-            let a = angle(p);
+            let a = angle_from_ray(start_pos, above, p);
             if a > angle0 + WEDGE_SLACK {
                 // Outside the wedge, where no connector this search can hold lies.
                 continue;
